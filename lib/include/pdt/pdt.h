@@ -1,0 +1,15 @@
+/*
+ * pdtfit: first- and second-order-plus-dead-time model identification for
+ * controllers, in fixed memory. Umbrella header: include this, or only the
+ * module headers you use.
+ */
+#ifndef PDT_H
+#define PDT_H
+
+#include "pdt/pdt_common.h"
+#include "pdt/pdt_cost.h"
+#include "pdt/pdt_discrete.h"
+#include "pdt/pdt_fft.h"
+#include "pdt/pdt_model.h"
+
+#endif /* PDT_H */

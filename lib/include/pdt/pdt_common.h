@@ -1,0 +1,64 @@
+/*
+ * pdtfit: types and status codes shared by every module.
+ */
+#ifndef PDT_COMMON_H
+#define PDT_COMMON_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "pdt/pdt_config.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The one version number of pdtfit; CMake reads it from here. */
+#define PDT_VERSION_MAJOR 0
+#define PDT_VERSION_MINOR 1
+#define PDT_VERSION_PATCH 0
+#define PDT_VERSION_STRING "0.1.0"
+
+#if PDT_REAL_DOUBLE
+typedef double pdt_real_t;
+#else
+typedef float pdt_real_t;
+#endif
+
+/*
+ * Status returned by every fallible call. PDT_OK is zero, errors are
+ * negative, so positive values stay free for calls that report progress.
+ * A call that returns an error has written none of its outputs.
+ */
+typedef enum pdt_status {
+    PDT_OK = 0,
+    /* A pointer is NULL, a number is outside its domain (e.g. Ts <= 0,
+     * tau <= 0), an enum value is unknown, or memory is misaligned. */
+    PDT_ERR_ARG = -1,
+    /* A length the routine does not support, e.g. an FFT size that is not a
+     * power of two in [16, 2^PDT_FFT_MAX_LOG2]. */
+    PDT_ERR_LENGTH = -2,
+    /* The workspace is NULL or smaller than its size query says. */
+    PDT_ERR_NOMEM = -3,
+    /* The data holds NaN or infinity. */
+    PDT_ERR_NONFINITE = -4,
+    /* Too few samples: fewer than PDT_MIN_SAMPLES remain after the delay
+     * bound, or the delay bound is not below the record length. */
+    PDT_ERR_TOO_SHORT = -5,
+    /* A lower bound lies above its upper bound. */
+    PDT_ERR_BOUNDS = -6,
+    /* The model has no representation in the requested form, e.g. real time
+     * constants for an underdamped SOPDT, or a DC gain for an integrator. */
+    PDT_ERR_NO_FORM = -7
+} pdt_status_t;
+
+/* A short, static, English name of a status ("bad argument", ...). Never
+ * returns NULL; unknown values give "unknown status". */
+const char *pdt_status_str(pdt_status_t status);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PDT_COMMON_H */

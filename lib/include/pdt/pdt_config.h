@@ -1,0 +1,53 @@
+/*
+ * pdtfit build configuration.
+ *
+ * Every setting has a default here. To change one, either define it on the
+ * compiler command line (CMake does this for PDT_REAL_DOUBLE) or define
+ * PDT_USER_CONFIG_FILE as the name of a header of your own, e.g.
+ * -DPDT_USER_CONFIG_FILE='"my_pdt_config.h"', that sets the values you want.
+ * This file is the only place the defaults live; CMake options mirror it.
+ */
+#ifndef PDT_CONFIG_H
+#define PDT_CONFIG_H
+
+#ifdef PDT_USER_CONFIG_FILE
+#include PDT_USER_CONFIG_FILE
+#endif
+
+/* 0: pdt_real_t is float (the default: single-precision FPUs such as the
+ * Cortex-M4F run it in hardware). 1: pdt_real_t is double. */
+#ifndef PDT_REAL_DOUBLE
+#define PDT_REAL_DOUBLE 0
+#endif
+#if (PDT_REAL_DOUBLE != 0) && (PDT_REAL_DOUBLE != 1)
+#error "PDT_REAL_DOUBLE must be 0 (float) or 1 (double)"
+#endif
+
+/* Largest real FFT the library accepts, as log2 of the size. The FFT code
+ * has no tables of its own, so this bounds only the sizes callers may ask
+ * for (and therefore the record length the frequency cost accepts). */
+#ifndef PDT_FFT_MAX_LOG2
+#define PDT_FFT_MAX_LOG2 16
+#endif
+#if (PDT_FFT_MAX_LOG2 < 4) || (PDT_FFT_MAX_LOG2 > 24)
+#error "PDT_FFT_MAX_LOG2 must be between 4 and 24"
+#endif
+
+/* Fewest samples a cost may be computed from (after the delay bound has
+ * removed the start of the record). Fewer than this cannot tell a model
+ * from noise, so such records are refused with PDT_ERR_TOO_SHORT. */
+#ifndef PDT_MIN_SAMPLES
+#define PDT_MIN_SAMPLES 16
+#endif
+#if PDT_MIN_SAMPLES < 4
+#error "PDT_MIN_SAMPLES must be at least 4"
+#endif
+
+/* Checks of programmer errors that cost time on every call. By default they
+ * compile to nothing; define PDT_ASSERT(x) to your handler to enable them.
+ * Argument checks that return a status are always on and do not use this. */
+#ifndef PDT_ASSERT
+#define PDT_ASSERT(x) ((void)0)
+#endif
+
+#endif /* PDT_CONFIG_H */

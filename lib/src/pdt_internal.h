@@ -1,0 +1,68 @@
+/*
+ * Private helpers shared by the pdtfit sources: the real-type math mapping
+ * and small checks. Not installed.
+ */
+#ifndef PDT_INTERNAL_H
+#define PDT_INTERNAL_H
+
+#include <math.h>
+
+#include "pdt/pdt_common.h"
+
+/* Literals and libm calls in the build's real type, so that the float build
+ * never promotes to double (-Wdouble-promotion) and the double build never
+ * truncates. */
+#if PDT_REAL_DOUBLE
+#define PDT_R(x) (x)
+#define pdt_sqrt sqrt
+#define pdt_exp exp
+#define pdt_expm1 expm1
+#define pdt_log log
+#define pdt_log1p log1p
+#define pdt_sin sin
+#define pdt_cos cos
+#define pdt_sinh sinh
+#define pdt_cosh cosh
+#define pdt_atan atan
+#define pdt_atan2 atan2
+#define pdt_fabs fabs
+#define pdt_floor floor
+#define pdt_pow pow
+#define pdt_hypot hypot
+#define PDT_REAL_EPS 2.220446049250313e-16
+#define PDT_REAL_MAX 1.7976931348623157e308
+#else
+#define PDT_R(x) (x##f)
+#define pdt_sqrt sqrtf
+#define pdt_exp expf
+#define pdt_expm1 expm1f
+#define pdt_log logf
+#define pdt_log1p log1pf
+#define pdt_sin sinf
+#define pdt_cos cosf
+#define pdt_sinh sinhf
+#define pdt_cosh coshf
+#define pdt_atan atanf
+#define pdt_atan2 atan2f
+#define pdt_fabs fabsf
+#define pdt_floor floorf
+#define pdt_pow powf
+#define pdt_hypot hypotf
+#define PDT_REAL_EPS 1.1920929e-07f
+#define PDT_REAL_MAX 3.4028235e+38f
+#endif
+
+#define PDT_PI PDT_R(3.14159265358979323846)
+
+static inline bool pdt_finite(pdt_real_t x)
+{
+    return isfinite(x) != 0;
+}
+
+/* True when p is aligned for pdt_real_t arrays. */
+static inline bool pdt_aligned(const void *p)
+{
+    return ((uintptr_t)p % sizeof(pdt_real_t)) == 0u;
+}
+
+#endif /* PDT_INTERNAL_H */

@@ -1,0 +1,25 @@
+#include "pdt/pdt_common.h"
+
+const char *pdt_status_str(pdt_status_t status)
+{
+    switch (status) {
+    case PDT_OK:
+        return "ok";
+    case PDT_ERR_ARG:
+        return "bad argument";
+    case PDT_ERR_LENGTH:
+        return "unsupported length";
+    case PDT_ERR_NOMEM:
+        return "workspace missing or too small";
+    case PDT_ERR_NONFINITE:
+        return "data not finite (NaN or infinity)";
+    case PDT_ERR_TOO_SHORT:
+        return "too few samples";
+    case PDT_ERR_BOUNDS:
+        return "lower bound above upper bound";
+    case PDT_ERR_NO_FORM:
+        return "model has no such form";
+    default:
+        return "unknown status";
+    }
+}

@@ -1,0 +1,1 @@
+"""Generators of the C test vectors; see tools/gen_vectors.py."""
