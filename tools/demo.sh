@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Builds pdtfit (float) and runs the demo. Needs gcc, cmake and ninja; installs
+# them with apt when run as root on Debian and they are missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+missing=()
+for tool in gcc cmake ninja; do
+    command -v $tool >/dev/null 2>&1 || missing+=("$([ $tool = ninja ] && echo ninja-build || echo $tool)")
+done
+if ((${#missing[@]})); then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${missing[@]}"
+    else
+        echo "missing: ${missing[*]} (apt-get install ${missing[*]})"
+        exit 1
+    fi
+fi
+cmake -S . -B build/demo -G Ninja -DCMAKE_BUILD_TYPE=Release -DPDT_BUILD_TESTS=OFF >/dev/null
+cmake --build build/demo --target pdt_demo >/dev/null
+exec build/demo/tools/pdt_demo "$@"

@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# Runs every pdtfit test:
+#   1. installs missing dependencies (apt, pip) where it can, else names them;
+#   2. the numpy reference's own tests and the vectors' reproducibility;
+#   3. the CMocka unit tests in the float build, the double build, and the
+#      float build under AddressSanitizer + UndefinedBehaviorSanitizer;
+#   4. the Cortex-M4F build of lib/ under -Werror, a check that it references
+#      no allocator or stdio symbol, and its size per module.
+# Build trees go to build/test-*; nothing outside the checkout is written
+# except by the package installers.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+out=$root/build
+jobs=$(nproc 2>/dev/null || echo 2)
+
+step() { printf '\n==== %s\n' "$*"; }
+have() { command -v "$1" >/dev/null 2>&1; }
+
+step "dependencies"
+apt_missing=()
+have cmake || apt_missing+=(cmake)
+have ninja || apt_missing+=(ninja-build)
+have gcc || apt_missing+=(gcc)
+have python3 || apt_missing+=(python3 python3-pip)
+[ -e /usr/include/cmocka.h ] || apt_missing+=(libcmocka-dev)
+have arm-none-eabi-gcc || apt_missing+=(gcc-arm-none-eabi)
+[ -e /usr/include/newlib/math.h ] || apt_missing+=(libnewlib-arm-none-eabi)
+if ((${#apt_missing[@]})); then
+    if [ "$(id -u)" = 0 ] && have apt-get; then
+        apt-get update -q
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${apt_missing[@]}"
+    elif have sudo && sudo -n true 2>/dev/null; then
+        sudo apt-get update -q
+        sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${apt_missing[@]}"
+    else
+        echo "missing Debian packages: ${apt_missing[*]}"
+        echo "install them with: sudo apt-get install ${apt_missing[*]}"
+        exit 1
+    fi
+fi
+if ! python3 tools/check_requirements.py tools/requirements.txt; then
+    python3 -m pip install -q -r tools/requirements.txt ||
+        python3 -m pip install -q --break-system-packages -r tools/requirements.txt || {
+        echo "could not install the Python packages in tools/requirements.txt with pip"
+        exit 1
+    }
+    python3 tools/check_requirements.py tools/requirements.txt
+fi
+echo "all dependencies present"
+
+build_and_test() { # name, extra cmake args...
+    local name=$1
+    shift
+    step "$name build"
+    cmake -S "$root" -B "$out/test-$name" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@" >/dev/null
+    cmake --build "$out/test-$name" -j "$jobs"
+    ctest --test-dir "$out/test-$name" --output-on-failure -j "$jobs"
+}
+
+build_and_test float -DPDT_PYTHON_TESTS=ON
+build_and_test double -DPDT_REAL_DOUBLE=ON
+build_and_test sanitize -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug
+
+step "Cortex-M4F build of lib/"
+cmake -S "$root" -B "$out/test-cm4" -G Ninja \
+    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/arm-none-eabi-cm4.cmake" \
+    -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF >/dev/null
+cmake --build "$out/test-cm4" -j "$jobs" --target pdtfit
+tools/check_symbols.sh "$out/test-cm4/lib/libpdtfit.a"
+cmake --build "$out/test-cm4" --target pdtfit_size
+
+step "all tests passed"
