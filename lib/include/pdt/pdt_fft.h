@@ -18,38 +18,53 @@
 extern "C" {
 #endif
 
-/* Bytes of workspace a size-n transform needs (its twiddle table):
- * 3n/4 reals. Usable for static arrays. */
-#define PDT_RFFT_WORKSPACE_SIZE(n) ((size_t)(3u * (size_t)(n) / 4u) * sizeof(pdt_real_t))
+/* Bytes of workspace a size-n transform needs: its twiddle table, n/2
+ * reals (cos and sin of 2 pi k / n for k = 0 .. n/4 - 1). A constant
+ * expression for static arrays; it does not check n (the function below
+ * does). */
+#define PDT_RFFT_WORKSPACE_SIZE(n) (((size_t)(n) / 2u) * sizeof(pdt_real_t))
 
 /* The transform instance. Fill it with pdt_rfft_init; its fields are private
- * and constant after init, so one instance may serve several callers. */
+ * and constant after init, so one instance may serve several callers (the
+ * transforms only read it and the twiddle table). A zero-filled instance is
+ * "uninitialised" and refused by every call. */
 typedef struct pdt_rfft {
-    size_t n;                /* transform size */
-    unsigned log2n;          /* log2(n) */
-    const pdt_real_t *twid;  /* n/2 reals: cos, sin of the n/2-point complex FFT (n/4 pairs) */
-    const pdt_real_t *split; /* n/4 pairs: cos, sin for the real split, caller memory */
+    size_t n;                /* transform size, 0 before init */
+    const pdt_real_t *twid;  /* n/4 pairs (cos, sin) of 2 pi k / n, caller memory */
 } pdt_rfft_t;
 
-/* Workspace bytes for size n, or 0 if n is not a supported size. */
+/* Workspace bytes for a size-n transform, or 0 if n is not a power of two
+ * in [16, 2^PDT_FFT_MAX_LOG2]. */
 size_t pdt_rfft_workspace_size(size_t n);
 
-/* Prepares a size-n transform in work (at least pdt_rfft_workspace_size(n)
- * bytes, aligned for pdt_real_t, owned by the caller and left untouched
- * while the instance is in use).
- * Returns PDT_ERR_ARG (NULL f, misaligned work), PDT_ERR_LENGTH (n not a
- * power of two in range), PDT_ERR_NOMEM (work NULL or too small). */
+/* Prepares f for size-n transforms and writes the twiddle table into work.
+ * work: at least pdt_rfft_workspace_size(n) bytes, aligned for pdt_real_t,
+ * owned by the caller, which must keep it alive and unchanged while f is in
+ * use; f keeps a pointer to it. O(n) sin/cos evaluations.
+ * Returns:
+ *  PDT_ERR_ARG    f NULL, or work not aligned for pdt_real_t;
+ *  PDT_ERR_LENGTH n not a power of two in [16, 2^PDT_FFT_MAX_LOG2];
+ *  PDT_ERR_NOMEM  work NULL, or work_len below pdt_rfft_workspace_size(n).
+ * On error neither f nor work is written. */
 pdt_status_t pdt_rfft_init(pdt_rfft_t *f, size_t n, void *work, size_t work_len);
 
-/* Forward transform of n reals in buf, in place, into the packed layout
- * above. O(n log n). Returns PDT_ERR_ARG for NULL or an uninitialised f. */
+/* Forward transform, in place: buf holds n real samples on entry and the
+ * packed spectrum above on return (unnormalised, same units as the samples
+ * times the sample count). O(n log n), no other memory.
+ * Returns PDT_ERR_ARG for a NULL f or buf or an uninitialised f; buf is then
+ * untouched. */
 pdt_status_t pdt_rfft_forward(const pdt_rfft_t *f, pdt_real_t *buf);
 
-/* Inverse of pdt_rfft_forward, in place, scaled by 1/n. Same errors. */
+/* Inverse of pdt_rfft_forward, in place: buf holds a packed spectrum on entry
+ * and n real samples on return, scaled by 1/n so that the round trip gives
+ * the samples back. Same cost and errors as pdt_rfft_forward. */
 pdt_status_t pdt_rfft_inverse(const pdt_rfft_t *f, pdt_real_t *buf);
 
-/* Magnitudes |X[k]| for k = 0 .. n/2 (n/2 + 1 values) from a packed
- * spectrum. mag must not overlap spec. Returns PDT_ERR_ARG for NULL. */
+/* Magnitudes |X[k]| for k = 0 .. n/2 (n/2 + 1 values into mag) of the packed
+ * spectrum spec (n values). mag may be spec itself (in
+ * place: spec is then overwritten) but must not overlap it otherwise.
+ * Returns PDT_ERR_ARG for a NULL f, spec or mag, or an uninitialised f; mag
+ * is then untouched. */
 pdt_status_t pdt_rfft_magnitude(const pdt_rfft_t *f, const pdt_real_t *spec, pdt_real_t *mag);
 
 #ifdef __cplusplus
