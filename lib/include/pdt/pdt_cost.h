@@ -2,28 +2,53 @@
  * pdtfit cost functions of the paper (section 2.2) on one measured record.
  *
  * A pdt_cost_t is prepared once per data set (pdt_cost_init); everything that
- * does not depend on the model — the DFT magnitudes of u and y, the weights,
- * constant sums — is computed there, so one evaluation is O(N) for the time
- * costs and O(N_f / 2) for the frequency cost.
+ * does not depend on the model - the DFT magnitudes of u and y and the
+ * per-bin weights - is computed there, so one evaluation is O(n) for the
+ * time costs and O(N_f / 2) for the frequency cost, with O(1) extra memory.
  *
  * Data: u[0..n-1] and y[0..n-1] sampled every Ts, the plant at rest at the
- * operating point (u0, y0) before sample 0. The costs work on deviations
- * u - u0 and y - y0. The arrays are the caller's; the cost object keeps
- * pointers to them, so they must stay valid and unchanged while it is used.
+ * operating point (u0, y0) before sample 0. The costs work on the deviations
+ * u(k) = u[k] - u0 and y(k) = y[k] - y0, both taken as 0 for k < 0. The
+ * arrays are the caller's; the cost object keeps pointers to them, so they
+ * must stay valid and unchanged while it is used.
+ *
+ * Delay bounds: l_u = delay_max (PDT_DELAY_AUTO means n / 2, rounded down)
+ * and l_l = delay_min, in samples. A discrete model's order is 1 (FOPDT) or
+ * 2 (SOPDT).
  *
  * Costs (all are mean squares in output units squared, so they mix evenly):
- *  - prediction, paper (6)/(7): one-step prediction from measured past
- *    outputs (equation error), mean over k = l_u + order .. n-1.
- *  - simulation: the model fed its own past outputs (output error), mean
- *    over the same samples. Unbiased under output noise, unlike prediction.
- *  - frequency, paper (8)-(10): sum_k W(k) (|Y(k)| - |G(j w_k)| |U(k)|)^2
- *    over k = 1 .. N_f/2 with w_k = 2 pi k / (N_f Ts), counting each bin
- *    below Nyquist twice (for its mirror image), divided by N_f n. The
- *    paper divides by N_f only; our extra 1/n makes Cf a mean square like Ct.
- *    N_f is the smallest power of two >= max(2 (n - l_u) - 3, n, 16).
- *  - combined, paper (11): phi_t * (time cost) + phi_f * Cf.
- * With estimate_offset, the time costs remove the mean residual, i.e. they
- * are minimised over an unknown constant output offset in closed form.
+ *  - prediction, paper (6)/(7): residual r(k) = y(k) - yhat(k), where yhat(k)
+ *    is the model's one-step prediction from the measured y(k-1), y(k-2) and
+ *    the input (equation error). Mean of r(k)^2 over the M = n - l_u - order
+ *    samples k = l_u + order .. n-1 (0-based), so every candidate delay in
+ *    the bounds is scored on the same samples.
+ *  - simulation: the model run from rest over the whole record (k = 0 ..
+ *    n-1) on the input alone, fed its own past outputs (output error);
+ *    r(k) = y(k) - ysim(k), mean of r(k)^2 over the same M samples. Unlike
+ *    prediction it is not biased by output noise. Nothing is stored: the
+ *    residuals are accumulated as the model runs.
+ *  - With estimate_offset, both time costs are mean(r^2) - mean(r)^2 (the
+ *    variance of the residual), i.e. the cost minimised over an unknown
+ *    constant output offset in closed form. Adding a constant to y then
+ *    leaves them unchanged.
+ *  - frequency, paper (8)-(10): with U(k), Y(k) the DFTs of the deviations
+ *    zero-padded to N_f samples and w_k = 2 pi k / (N_f Ts) rad/s,
+ *      Cf = sum_{k=1}^{N_f/2} W(k) m_k (|Y(k)| - |G(j w_k)| |U(k)|)^2 / (N_f n)
+ *    with m_k = 2 below the Nyquist bin (each bin stands for its mirror
+ *    image) and m_{N_f/2} = 1. The DC bin is left out: it carries the
+ *    offset, which the operating point only approximates. The paper divides
+ *    by N_f only; the extra 1/n makes Cf a mean square like the time costs:
+ *    with W = 1 and G = 0, Parseval gives
+ *      Cf = (sum y(k)^2 - (sum y(k))^2 / N_f) / n.
+ *    |G| is |K| / sqrt(1 + (w tau)^2) for a FOPDT and
+ *    |k| / sqrt((b - w^2)^2 + (a w)^2) for a SOPDT; the dead time does not
+ *    enter. N_f is the smallest power of two >= max(2 (n - l_u) - 3, n, 16),
+ *    long enough that the linear convolution of the model does not wrap.
+ *  - combined, paper (11): phi_t * (time cost of time_kind) + phi_f * Cf.
+ *    A term whose weight phi is 0 is left out (so an infinite part there
+ *    cannot turn the sum into NaN).
+ * A cost that overflows (e.g. an unstable discrete model given directly) is
+ * returned as +infinity, never NaN.
  */
 #ifndef PDT_COST_H
 #define PDT_COST_H
@@ -58,7 +83,8 @@ typedef enum pdt_delay_mode {
 } pdt_delay_mode_t;
 
 typedef struct pdt_cost_config {
-    pdt_real_t Ts;          /* sampling period, s; > 0. Default: 0 (must be set) */
+    pdt_real_t Ts;          /* sampling period, s; finite and > 0. Default 0
+                             * (must be set) */
     pdt_real_t u0;          /* input operating point. Default 0 */
     pdt_real_t y0;          /* output operating point. Default 0 */
     size_t delay_min;       /* l_l, samples. Default 0 */
@@ -66,17 +92,21 @@ typedef struct pdt_cost_config {
     pdt_cost_kind_t kind;   /* what pdt_cost_eval computes. Default COMBINED */
     pdt_cost_kind_t time_kind; /* time part of COMBINED: PREDICTION or
                                 * SIMULATION. Default SIMULATION (the paper
-                                * uses PREDICTION; see the docs) */
+                                * uses PREDICTION, which output noise biases) */
     pdt_delay_mode_t delay_mode; /* Default FRACTIONAL */
     bool estimate_offset;   /* time costs fit a constant output offset. Default true */
     bool use_frequency;     /* prepare spectra (needed for FREQUENCY and
-                             * COMBINED; costs 7 N_f/4 + 3 reals). Default true */
-    pdt_real_t phi_t;       /* weight of the time cost in COMBINED. Default 1 */
-    pdt_real_t phi_f;       /* weight of Cf in COMBINED. Default 1 */
+                             * COMBINED; needs a workspace, see
+                             * pdt_cost_workspace_size). Default true */
+    pdt_real_t phi_t;       /* weight of the time cost in COMBINED, >= 0. Default 1 */
+    pdt_real_t phi_f;       /* weight of Cf in COMBINED, >= 0. Default 1 */
     pdt_weight_kind_t weight; /* Default UNIFORM */
     pdt_real_t f_lo;        /* BAND: lower edge, Hz, >= 0. Default 0 */
     pdt_real_t f_hi;        /* BAND: upper edge, Hz, >= f_lo. Default 0 */
-    const pdt_real_t *weights; /* CUSTOM: N_f/2 + 1 values >= 0, copied at init */
+    const pdt_real_t *weights; /* CUSTOM: N_f/2 + 1 values >= 0 for bins
+                                * k = 0 .. N_f/2 (weights[0], the DC bin, is
+                                * ignored but must be valid), copied at init,
+                                * not used afterwards. Default NULL */
 } pdt_cost_config_t;
 
 /* delay_max value meaning "n / 2". */
@@ -89,60 +119,117 @@ typedef struct pdt_cost {
     const pdt_real_t *y;
     size_t n;                /* samples */
     size_t nf;               /* FFT size N_f (0 without frequency data) */
-    size_t nbins;            /* bins used: N_f / 2 */
-    pdt_real_t *umag;        /* |U(k)|, k = 1 .. N_f/2 (workspace) */
-    pdt_real_t *ymag;        /* |Y(k)| (workspace) */
-    pdt_real_t *wgt;         /* W(k) times the mirror factor and 1/(N_f n) (workspace) */
-    pdt_real_t yy;           /* sum_k wgt(k) |Y(k)|^2 */
+    size_t k_first;          /* first and last bin with a non-zero weight */
+    size_t k_last;           /* (k_first > k_last: none) */
+    pdt_real_t *umag;        /* |U(k)| at umag[k - 1], k = 1 .. N_f/2 (workspace) */
+    pdt_real_t *ymag;        /* |Y(k)|, same indexing (workspace) */
+    pdt_real_t *wgt;         /* W(k) m_k / (N_f n), same indexing (workspace) */
     pdt_real_t w_step;       /* 2 pi / (N_f Ts), rad/s per bin */
 } pdt_cost_t;
 
-/* Fills cfg with the documented defaults (Ts is left 0: the caller sets it). */
+/* Fills cfg with the documented defaults (Ts is left 0: the caller sets it).
+ * Does nothing for NULL. */
 void pdt_cost_config_default(pdt_cost_config_t *cfg);
 
-/* N_f for a record of n samples and delay bound delay_max (resolved as in
- * pdt_cost_init), or 0 if unsupported (too long for PDT_FFT_MAX_LOG2). */
+/* N_f for a record of n samples and delay bound delay_max (PDT_DELAY_AUTO
+ * resolved to n / 2 as in pdt_cost_init), or 0 if unsupported: n = 0,
+ * delay_max >= n, or N_f beyond 2^PDT_FFT_MAX_LOG2. */
 size_t pdt_cost_fft_size(size_t n, size_t delay_max);
 
-/* Workspace bytes pdt_cost_init needs for this config and record length:
- * 0 when use_frequency is false, and 0 when cfg is NULL or n or the delay
- * bound is unsupported (pdt_cost_init then says why). */
+/* Workspace bytes pdt_cost_init needs for this config and record length,
+ * exactly: 3 N_f/2 reals (|U|, |Y| and the weight per bin, kept for the life
+ * of the cost) plus pdt_rfft_workspace_size(N_f) bytes for the FFT's
+ * twiddle table, used only during init. The FFT buffer (N_f reals) needed
+ * during init lies over the |Y| and weight arrays before they are filled,
+ * so it costs nothing extra. With the current FFT that is 2 N_f reals.
+ * Returns 0 when use_frequency is false (no workspace needed), and 0 when
+ * cfg is NULL or n or the delay bound is unsupported (pdt_cost_init then
+ * says why). */
 size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
 
-/* Compile-time upper bound of the workspace for n samples, any delay bound,
- * use_frequency = true: for static arrays. N_f <= 4 n here. */
-#define PDT_COST_WORKSPACE_SIZE(n) \
-    ((size_t)(4u * 2u * (size_t)(n) + 4u * 3u * (size_t)(n) / 4u + 3u) * sizeof(pdt_real_t) \
-     + 4u * (size_t)(n) * sizeof(pdt_real_t))
+/* Smallest power of two >= x among 16 .. 2^PDT_FFT_MAX_LOG2, or 0 beyond
+ * (x a size_t expression). A constant expression; internal to the macro
+ * below. */
+#define PDT_COST_POW2_(x) \
+    ((x) <= 16u ? (size_t)16u : (x) <= 32u ? (size_t)32u : (x) <= 64u ? (size_t)64u : \
+     (x) <= 128u ? (size_t)128u : (x) <= 256u ? (size_t)256u : (x) <= 512u ? (size_t)512u : \
+     (x) <= 1024u ? (size_t)1024u : (x) <= 2048u ? (size_t)2048u : \
+     (x) <= 4096u ? (size_t)4096u : (x) <= 8192u ? (size_t)8192u : \
+     (x) <= 16384u ? (size_t)16384u : (x) <= 32768u ? (size_t)32768u : \
+     (x) <= 65536ul ? (size_t)65536ul : (x) <= 131072ul ? (size_t)131072ul : \
+     (x) <= 262144ul ? (size_t)262144ul : (x) <= 524288ul ? (size_t)524288ul : \
+     (x) <= 1048576ul ? (size_t)1048576ul : (x) <= 2097152ul ? (size_t)2097152ul : \
+     (x) <= 4194304ul ? (size_t)4194304ul : (x) <= 8388608ul ? (size_t)8388608ul : \
+     (x) <= 16777216ul ? (size_t)16777216ul : (size_t)0u)
 
-/* Prepares c for the record u, y of n samples.
+/* The largest N_f of n samples over all delay bounds (delay_max = 0 gives
+ * the longest zero padding: N_f = next power of two >= 2n - 3), or 0 when
+ * that exceeds 2^PDT_FFT_MAX_LOG2. Valid for n >= 2. */
+#define PDT_COST_FFT_SIZE_MAX(n) \
+    ((PDT_COST_POW2_(2u * (size_t)(n) - 3u) <= ((size_t)1u << PDT_FFT_MAX_LOG2)) \
+         ? PDT_COST_POW2_(2u * (size_t)(n) - 3u) : (size_t)0u)
+
+/* Compile-time workspace bytes for n samples, any delay bound, with
+ * use_frequency = true: the formula of pdt_cost_workspace_size at the
+ * largest N_f (PDT_COST_FFT_SIZE_MAX), so it equals
+ * pdt_cost_workspace_size for delay_max = 0 and bounds it for every other
+ * delay bound. Sized by it, a static array of pdt_real_t (for alignment)
+ * always fits. It is 0 when n is too long for PDT_FFT_MAX_LOG2, so such an
+ * array fails to compile instead of failing at run time. */
+#define PDT_COST_WORKSPACE_SIZE(n) \
+    (3u * (PDT_COST_FFT_SIZE_MAX(n) / 2u) * sizeof(pdt_real_t) \
+     + PDT_RFFT_WORKSPACE_SIZE(PDT_COST_FFT_SIZE_MAX(n)))
+
+/* Prepares c for the record u, y of n samples: checks the config and the
+ * data and, with use_frequency, computes the DFT magnitudes and weights
+ * into work. c keeps pointers to u, y and work (all caller memory, which
+ * must stay valid and unchanged while c is used); the rest is copied.
+ * work must be aligned for pdt_real_t; it is not needed (may be NULL) when
+ * use_frequency is false.
  * Returns:
- *  PDT_ERR_ARG       NULL c/cfg/u/y, Ts not finite and > 0, an unknown enum,
- *                    phi_t or phi_f negative or not finite, CUSTOM without
- *                    weights or with a negative or non-finite weight,
- *                    misaligned work;
- *  PDT_ERR_BOUNDS    delay_min > delay_max, or f_lo > f_hi;
+ *  PDT_ERR_ARG       NULL c/cfg/u/y, Ts not finite and > 0 (or so small
+ *                    that 2 pi / (N_f Ts) overflows), an unknown enum,
+ *                    time_kind other than PREDICTION or SIMULATION, phi_t
+ *                    or phi_f negative or not finite, f_lo or f_hi
+ *                    negative or not finite, CUSTOM without weights or
+ *                    (with use_frequency) with a negative or non-finite
+ *                    weight, misaligned work;
  *  PDT_ERR_TOO_SHORT delay_max >= n, or n - delay_max - 2 < PDT_MIN_SAMPLES;
+ *  PDT_ERR_BOUNDS    delay_min > delay_max, or f_lo > f_hi;
  *  PDT_ERR_NONFINITE NaN or infinity in u, y, u0 or y0;
- *  PDT_ERR_LENGTH    N_f beyond 2^PDT_FFT_MAX_LOG2;
- *  PDT_ERR_NOMEM     work NULL or smaller than pdt_cost_workspace_size
- *                    (only when use_frequency is true).
+ *  PDT_ERR_LENGTH    N_f beyond 2^PDT_FFT_MAX_LOG2 (only with use_frequency);
+ *  PDT_ERR_NOMEM     work NULL or work_len below pdt_cost_workspace_size
+ *                    (only with use_frequency).
+ * When several apply, the first in this list is returned. On error *c and
+ * work are untouched.
  * Work: O(n) for the checks, plus O(N_f log N_f) with use_frequency. */
 pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pdt_real_t *u,
                            const pdt_real_t *y, size_t n, void *work, size_t work_len);
 
-/* Time costs of a discrete model. PDT_ERR_ARG for NULL, a bad order, or a
- * delay outside [delay_min, delay_max]. O(n). */
+/* Time costs (prediction, simulation) of a discrete model d (see
+ * pdt_discrete.h; its d[] delta form is what is used, a[] is ignored), with
+ * the offset handling of cfg.estimate_offset, into *cost (output units
+ * squared). Returns PDT_ERR_ARG for NULL, a c not prepared by
+ * pdt_cost_init, an order other than 1 or 2, a non-finite coefficient, or a
+ * delay outside [delay_min, delay_max]; *cost is then untouched.
+ * O(n) time, O(1) memory. */
 pdt_status_t pdt_cost_prediction(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *cost);
 pdt_status_t pdt_cost_simulation(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *cost);
 
-/* Frequency cost of a continuous model (its dead time does not enter).
- * PDT_ERR_ARG for NULL, an invalid model, or a cost prepared without
- * use_frequency. O(N_f / 2). */
+/* Frequency cost Cf of a continuous model (its dead time does not enter)
+ * into *cost. Returns PDT_ERR_ARG for NULL, an invalid model
+ * (pdt_model_check), or a c prepared without use_frequency; *cost is then
+ * untouched. O(N_f / 2), or fewer bins with BAND weights. */
 pdt_status_t pdt_cost_frequency(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *cost);
 
-/* The cost cfg.kind of model m: discretises m (per delay_mode) for the time
- * part. PDT_ERR_ARG as above, including a dead time outside the delay bounds. */
+/* The cost cfg.kind of model m into *cost. For the time part, m is first
+ * discretised with period Ts: FRACTIONAL by pdt_discretize (delay
+ * l = floor(Td / Ts), so Td must be < (delay_max + 1) Ts), INTEGER by
+ * pdt_discretize_int with l = round(Td / Ts) (halves round up).
+ * Returns PDT_ERR_ARG for NULL, a c not prepared, an invalid model, a
+ * delay l outside [delay_min, delay_max] (not checked for FREQUENCY, where
+ * Td does not matter), or FREQUENCY / COMBINED on a c prepared without
+ * use_frequency; *cost is then untouched. */
 pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *cost);
 
 #ifdef __cplusplus

@@ -1,0 +1,615 @@
+/*
+ * pdtfit cost functions: time-domain (prediction, simulation), frequency-
+ * domain and combined costs of a model on one record. See pdt_cost.h.
+ */
+#include "pdt/pdt_cost.h"
+
+#include "pdt_internal.h"
+
+/* Samples per partial sum. Summing blocks first and then the block totals
+ * keeps the rounding error of a float sum over thousands of samples near
+ * (BLOCK + n / BLOCK) eps instead of n eps. */
+#define PDT_COST_BLOCK 128u
+
+void pdt_cost_config_default(pdt_cost_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return;
+    }
+    cfg->Ts = PDT_R(0.0);
+    cfg->u0 = PDT_R(0.0);
+    cfg->y0 = PDT_R(0.0);
+    cfg->delay_min = 0u;
+    cfg->delay_max = PDT_DELAY_AUTO;
+    cfg->kind = PDT_COST_COMBINED;
+    cfg->time_kind = PDT_COST_SIMULATION;
+    cfg->delay_mode = PDT_DELAY_FRACTIONAL;
+    cfg->estimate_offset = true;
+    cfg->use_frequency = true;
+    cfg->phi_t = PDT_R(1.0);
+    cfg->phi_f = PDT_R(1.0);
+    cfg->weight = PDT_WEIGHT_UNIFORM;
+    cfg->f_lo = PDT_R(0.0);
+    cfg->f_hi = PDT_R(0.0);
+    cfg->weights = NULL;
+}
+
+static size_t resolve_delay_max(size_t n, size_t delay_max)
+{
+    return (delay_max == PDT_DELAY_AUTO) ? n / 2u : delay_max;
+}
+
+size_t pdt_cost_fft_size(size_t n, size_t delay_max)
+{
+    const size_t max_nf = (size_t)1u << PDT_FFT_MAX_LOG2;
+    size_t lu = resolve_delay_max(n, delay_max);
+    size_t need = n;
+    size_t nf = 16u;
+
+    if (n == 0u || lu >= n || n > max_nf) {
+        return 0u;
+    }
+    /* n <= 2^24 here, so 2 (n - lu) cannot overflow. */
+    if (n - lu >= 2u && 2u * (n - lu) - 3u > need) {
+        need = 2u * (n - lu) - 3u;
+    }
+    while (nf < need) {
+        nf <<= 1u;
+    }
+    return (nf <= max_nf) ? nf : 0u;
+}
+
+/* Workspace bytes for FFT size nf, 0 if the FFT does not support nf. */
+static size_t workspace_bytes(size_t nf)
+{
+    size_t fft = pdt_rfft_workspace_size(nf);
+    if (fft == 0u) {
+        return 0u;
+    }
+    return 3u * (nf / 2u) * sizeof(pdt_real_t) + fft;
+}
+
+size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n)
+{
+    size_t nf;
+    if (cfg == NULL || !cfg->use_frequency) {
+        return 0u;
+    }
+    nf = pdt_cost_fft_size(n, cfg->delay_max);
+    return (nf == 0u) ? 0u : workspace_bytes(nf);
+}
+
+static bool kind_ok(pdt_cost_kind_t k)
+{
+    switch (k) {
+    case PDT_COST_PREDICTION:
+    case PDT_COST_SIMULATION:
+    case PDT_COST_FREQUENCY:
+    case PDT_COST_COMBINED:
+        return true;
+    default:
+        return false;
+    }
+}
+
+static bool weight_ok(pdt_weight_kind_t w)
+{
+    switch (w) {
+    case PDT_WEIGHT_UNIFORM:
+    case PDT_WEIGHT_BAND:
+    case PDT_WEIGHT_CUSTOM:
+        return true;
+    default:
+        return false;
+    }
+}
+
+static bool mode_ok(pdt_delay_mode_t m)
+{
+    return m == PDT_DELAY_FRACTIONAL || m == PDT_DELAY_INTEGER;
+}
+
+/* The PDT_ERR_ARG checks of a config that need neither n nor N_f. */
+static bool config_ok(const pdt_cost_config_t *cfg)
+{
+    if (!pdt_finite(cfg->Ts) || !(cfg->Ts > PDT_R(0.0))) {
+        return false;
+    }
+    if (!kind_ok(cfg->kind) || !weight_ok(cfg->weight) || !mode_ok(cfg->delay_mode)) {
+        return false;
+    }
+    if (cfg->time_kind != PDT_COST_PREDICTION && cfg->time_kind != PDT_COST_SIMULATION) {
+        return false;
+    }
+    if (!pdt_finite(cfg->phi_t) || cfg->phi_t < PDT_R(0.0) || !pdt_finite(cfg->phi_f) ||
+        cfg->phi_f < PDT_R(0.0)) {
+        return false;
+    }
+    if (!pdt_finite(cfg->f_lo) || cfg->f_lo < PDT_R(0.0) || !pdt_finite(cfg->f_hi) ||
+        cfg->f_hi < PDT_R(0.0)) {
+        return false;
+    }
+    if (cfg->weight == PDT_WEIGHT_CUSTOM && cfg->weights == NULL) {
+        return false;
+    }
+    return true;
+}
+
+/* FFT of the zero-padded deviations x - x0 in buf (nf reals), then
+ * |X(k)|, k = 1 .. nf/2, compacted in place into buf[0 .. nf/2 - 1]. Bin k
+ * is read from buf[2k], buf[2k+1] and written to buf[k - 1], below
+ * anything still to be read, once the Nyquist value in buf[1] is saved. */
+static pdt_status_t spectrum_magnitude(const pdt_rfft_t *f, const pdt_real_t *x, pdt_real_t x0,
+                                       size_t n, size_t nf, pdt_real_t *buf)
+{
+    pdt_status_t st;
+    pdt_real_t nyquist;
+    size_t k;
+
+    for (k = 0u; k < n; k++) {
+        buf[k] = x[k] - x0;
+    }
+    for (k = n; k < nf; k++) {
+        buf[k] = PDT_R(0.0);
+    }
+    st = pdt_rfft_forward(f, buf);
+    if (st != PDT_OK) {
+        return st;
+    }
+    nyquist = pdt_fabs(buf[1]);
+    for (k = 1u; k < nf / 2u; k++) {
+        buf[k - 1u] = pdt_hypot(buf[2u * k], buf[2u * k + 1u]);
+    }
+    buf[nf / 2u - 1u] = nyquist;
+    return PDT_OK;
+}
+
+/* Fills wgt[k - 1] = W(k) m_k / (N_f n) for k = 1 .. nf/2 and the range of
+ * non-zero weights. */
+static void fill_weights(const pdt_cost_config_t *cfg, size_t n, size_t nf, pdt_real_t *wgt,
+                         size_t *k_first, size_t *k_last)
+{
+    const size_t nb = nf / 2u;
+    const pdt_real_t scale = PDT_R(1.0) / ((pdt_real_t)nf * (pdt_real_t)n);
+    const pdt_real_t nf_ts = (pdt_real_t)nf * cfg->Ts;
+    size_t first = nb + 1u;
+    size_t last = 0u;
+    size_t k;
+
+    for (k = 1u; k <= nb; k++) {
+        pdt_real_t w = PDT_R(1.0);
+        if (cfg->weight == PDT_WEIGHT_BAND) {
+            pdt_real_t fk = (pdt_real_t)k / nf_ts;
+            w = (fk >= cfg->f_lo && fk <= cfg->f_hi) ? PDT_R(1.0) : PDT_R(0.0);
+        } else if (cfg->weight == PDT_WEIGHT_CUSTOM) {
+            w = cfg->weights[k];
+        }
+        w *= scale;
+        if (k < nb) {
+            w *= PDT_R(2.0);
+        }
+        wgt[k - 1u] = w;
+        if (w != PDT_R(0.0)) {
+            if (first > nb) {
+                first = k;
+            }
+            last = k;
+        }
+    }
+    *k_first = first;
+    *k_last = last;
+}
+
+pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pdt_real_t *u,
+                           const pdt_real_t *y, size_t n, void *work, size_t work_len)
+{
+    pdt_cost_t t;
+    size_t lu;
+    size_t k;
+
+    if (c == NULL || cfg == NULL || u == NULL || y == NULL || !config_ok(cfg)) {
+        return PDT_ERR_ARG;
+    }
+    lu = resolve_delay_max(n, cfg->delay_max);
+    if (lu >= n || n - lu < (size_t)PDT_MIN_SAMPLES + 2u) {
+        return PDT_ERR_TOO_SHORT;
+    }
+    if (cfg->delay_min > lu || cfg->f_lo > cfg->f_hi) {
+        return PDT_ERR_BOUNDS;
+    }
+    if (!pdt_finite(cfg->u0) || !pdt_finite(cfg->y0)) {
+        return PDT_ERR_NONFINITE;
+    }
+    for (k = 0u; k < n; k++) {
+        if (!pdt_finite(u[k]) || !pdt_finite(y[k])) {
+            return PDT_ERR_NONFINITE;
+        }
+    }
+
+    t.cfg = *cfg;
+    t.cfg.delay_max = lu;
+    t.u = u;
+    t.y = y;
+    t.n = n;
+    t.nf = 0u;
+    t.k_first = 1u;
+    t.k_last = 0u;
+    t.umag = NULL;
+    t.ymag = NULL;
+    t.wgt = NULL;
+    t.w_step = PDT_R(0.0);
+
+    if (cfg->use_frequency) {
+        size_t nf = pdt_cost_fft_size(n, lu);
+        size_t nb;
+        size_t need;
+        pdt_real_t *base;
+        pdt_rfft_t fft;
+        pdt_status_t st;
+
+        if (nf == 0u) {
+            return PDT_ERR_LENGTH;
+        }
+        nb = nf / 2u;
+        t.w_step = (PDT_R(2.0) * PDT_PI) / ((pdt_real_t)nf * cfg->Ts);
+        if (!pdt_finite(t.w_step)) {
+            return PDT_ERR_ARG;
+        }
+        if (cfg->weight == PDT_WEIGHT_CUSTOM) {
+            for (k = 0u; k <= nb; k++) {
+                if (!pdt_finite(cfg->weights[k]) || cfg->weights[k] < PDT_R(0.0)) {
+                    return PDT_ERR_ARG;
+                }
+            }
+        }
+        need = workspace_bytes(nf);
+        if (work == NULL) {
+            return PDT_ERR_NOMEM;
+        }
+        if (!pdt_aligned(work)) {
+            return PDT_ERR_ARG;
+        }
+        if (need == 0u || work_len < need) {
+            return PDT_ERR_NOMEM;
+        }
+
+        /* Layout (reals): [0, nb) |U|, [nb, 2nb) |Y|, [2nb, 3nb) weights,
+         * then the twiddles. u's FFT buffer is [0, 2nb) and leaves |U| at
+         * its start; y's is [nb, 3nb) and leaves |Y| at its start; the
+         * weights come last, over the end of y's buffer. */
+        base = (pdt_real_t *)work;
+        st = pdt_rfft_init(&fft, nf, base + 3u * nb, work_len - 3u * nb * sizeof(pdt_real_t));
+        if (st == PDT_OK) {
+            st = spectrum_magnitude(&fft, u, cfg->u0, n, nf, base);
+        }
+        if (st == PDT_OK) {
+            st = spectrum_magnitude(&fft, y, cfg->y0, n, nf, base + nb);
+        }
+        if (st != PDT_OK) {
+            return st;
+        }
+        fill_weights(cfg, n, nf, base + 2u * nb, &t.k_first, &t.k_last);
+        t.nf = nf;
+        t.umag = base;
+        t.ymag = base + nb;
+        t.wgt = base + 2u * nb;
+    }
+    /* Only the weights were needed from the caller's array; do not keep a
+     * pointer that the caller may let go. */
+    t.cfg.weights = NULL;
+    *c = t;
+    return PDT_OK;
+}
+
+/* Sum of squares (and of values) of residuals, in blocks, shifted by the
+ * first residual when the mean is to be removed: the variance then comes
+ * from numbers near the residual's own spread instead of from two large
+ * sums that cancel. */
+typedef struct pdt_cost_acc {
+    pdt_real_t shift;
+    pdt_real_t s1, s2; /* completed blocks */
+    pdt_real_t b1, b2; /* current block */
+    unsigned fill;
+    bool started;
+    bool offset;
+} pdt_cost_acc_t;
+
+static void acc_start(pdt_cost_acc_t *a, bool offset)
+{
+    a->shift = PDT_R(0.0);
+    a->s1 = PDT_R(0.0);
+    a->s2 = PDT_R(0.0);
+    a->b1 = PDT_R(0.0);
+    a->b2 = PDT_R(0.0);
+    a->fill = 0u;
+    a->started = false;
+    a->offset = offset;
+}
+
+static inline void acc_add(pdt_cost_acc_t *a, pdt_real_t r)
+{
+    pdt_real_t e;
+    if (!a->started) {
+        a->started = true;
+        if (a->offset) {
+            a->shift = r;
+        }
+    }
+    e = r - a->shift;
+    a->b1 += e;
+    a->b2 += e * e;
+    if (++a->fill == PDT_COST_BLOCK) {
+        a->s1 += a->b1;
+        a->s2 += a->b2;
+        a->b1 = PDT_R(0.0);
+        a->b2 = PDT_R(0.0);
+        a->fill = 0u;
+    }
+}
+
+static pdt_real_t acc_result(const pdt_cost_acc_t *a, size_t count)
+{
+    pdt_real_t cnt = (pdt_real_t)count;
+    pdt_real_t m2 = (a->s2 + a->b2) / cnt;
+    pdt_real_t v = m2;
+    if (a->offset) {
+        pdt_real_t m1 = (a->s1 + a->b1) / cnt;
+        v = m2 - m1 * m1;
+        if (v < PDT_R(0.0)) {
+            v = PDT_R(0.0); /* rounding of an (almost) constant residual */
+        }
+    }
+    if (!pdt_finite(v)) {
+        v = (pdt_real_t)INFINITY;
+    }
+    return v;
+}
+
+static bool prepared(const pdt_cost_t *c)
+{
+    return c != NULL && c->u != NULL && c->y != NULL && c->n != 0u;
+}
+
+static pdt_status_t check_dmodel(const pdt_cost_t *c, const pdt_dmodel_t *d)
+{
+    size_t i;
+    if (d->order != 1u && d->order != 2u) {
+        return PDT_ERR_ARG;
+    }
+    if (d->delay < c->cfg.delay_min || d->delay > c->cfg.delay_max) {
+        return PDT_ERR_ARG;
+    }
+    for (i = 0u; i < 3u; i++) {
+        if (!pdt_finite(d->b[i])) {
+            return PDT_ERR_ARG;
+        }
+    }
+    if (!pdt_finite(d->d[0]) || (d->order == 2u && !pdt_finite(d->d[1]))) {
+        return PDT_ERR_ARG;
+    }
+    return PDT_OK;
+}
+
+/* Input deviation u(k - back), 0 before the record. */
+static inline pdt_real_t u_dev(const pdt_cost_t *c, size_t k, size_t back)
+{
+    return (k >= back) ? c->u[k - back] - c->cfg.u0 : PDT_R(0.0);
+}
+
+static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
+{
+    const pdt_real_t *y = c->y;
+    const pdt_real_t y0 = c->cfg.y0;
+    const size_t l = d->delay;
+    const size_t k0 = c->cfg.delay_max + d->order;
+    pdt_real_t p1 = u_dev(c, k0, l + 2u); /* u(k-2-l) and u(k-3-l) at k = k0 */
+    pdt_real_t p2 = u_dev(c, k0, l + 3u);
+    pdt_cost_acc_t acc;
+    size_t k;
+
+    acc_start(&acc, c->cfg.estimate_offset);
+    for (k = k0; k < c->n; k++) {
+        pdt_real_t u1 = u_dev(c, k, l + 1u);
+        pdt_real_t bu = d->b[0] * u1 + d->b[1] * p1 + d->b[2] * p2;
+        pdt_real_t dy = y[k] - y[k - 1u];
+        pdt_real_t r;
+        if (d->order == 1u) {
+            /* A(q) y = (1 - q) y + d0 q y */
+            r = dy + d->d[0] * (y[k - 1u] - y0) - bu;
+        } else {
+            /* A(q) y = (1 - q)^2 y + d0 q (1 - q) y + d1 q^2 y */
+            pdt_real_t dy1 = y[k - 1u] - y[k - 2u];
+            r = (dy - dy1) + d->d[0] * dy1 + d->d[1] * (y[k - 2u] - y0) - bu;
+        }
+        acc_add(&acc, r);
+        p2 = p1;
+        p1 = u1;
+    }
+    return acc_result(&acc, c->n - k0);
+}
+
+static pdt_real_t simulation_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
+{
+    const pdt_real_t *y = c->y;
+    const pdt_real_t y0 = c->cfg.y0;
+    const size_t l = d->delay;
+    const size_t k0 = c->cfg.delay_max + d->order;
+    pdt_real_t p1 = PDT_R(0.0);
+    pdt_real_t p2 = PDT_R(0.0);
+    /* State in delta form: ys = ysim(k-1) and dys = ysim(k-1) - ysim(k-2),
+     * so a slow pole updates the output by small steps instead of
+     * recomputing it from large terms that nearly cancel. */
+    pdt_real_t ys = PDT_R(0.0);
+    pdt_real_t dys = PDT_R(0.0);
+    pdt_cost_acc_t acc;
+    size_t k;
+
+    acc_start(&acc, c->cfg.estimate_offset);
+    for (k = 0u; k < c->n; k++) {
+        pdt_real_t u1 = u_dev(c, k, l + 1u);
+        pdt_real_t bu = d->b[0] * u1 + d->b[1] * p1 + d->b[2] * p2;
+        if (d->order == 1u) {
+            ys += bu - d->d[0] * ys;
+        } else {
+            pdt_real_t ys2 = ys - dys;
+            dys += bu - d->d[0] * dys - d->d[1] * ys2;
+            ys += dys;
+        }
+        if (k >= k0) {
+            acc_add(&acc, (y[k] - y0) - ys);
+        }
+        p2 = p1;
+        p1 = u1;
+    }
+    return acc_result(&acc, c->n - k0);
+}
+
+pdt_status_t pdt_cost_prediction(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *cost)
+{
+    if (!prepared(c) || d == NULL || cost == NULL || check_dmodel(c, d) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    *cost = prediction_cost(c, d);
+    return PDT_OK;
+}
+
+pdt_status_t pdt_cost_simulation(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *cost)
+{
+    if (!prepared(c) || d == NULL || cost == NULL || check_dmodel(c, d) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    *cost = simulation_cost(c, d);
+    return PDT_OK;
+}
+
+/* Cf of a checked model on a cost prepared with spectra. */
+static pdt_real_t frequency_cost(const pdt_cost_t *c, const pdt_model_t *m)
+{
+    pdt_real_t gain;
+    pdt_real_t tau = PDT_R(0.0);
+    pdt_real_t a = PDT_R(0.0);
+    pdt_real_t b = PDT_R(0.0);
+    bool first_order = (m->kind == PDT_MODEL_FOPDT);
+    pdt_real_t s = PDT_R(0.0);
+    pdt_real_t blk = PDT_R(0.0);
+    unsigned fill = 0u;
+    size_t k;
+
+    if (first_order) {
+        gain = pdt_fabs(m->p.fopdt.K);
+        tau = m->p.fopdt.tau;
+    } else {
+        gain = pdt_fabs(m->p.sopdt.k);
+        a = m->p.sopdt.a;
+        b = m->p.sopdt.b;
+    }
+    for (k = c->k_first; k <= c->k_last; k++) {
+        pdt_real_t w = (pdt_real_t)k * c->w_step;
+        pdt_real_t g;
+        pdt_real_t e;
+        if (first_order) {
+            pdt_real_t wt = w * tau;
+            g = gain / pdt_sqrt(PDT_R(1.0) + wt * wt);
+        } else {
+            pdt_real_t re = b - w * w;
+            pdt_real_t im = a * w;
+            g = gain / pdt_sqrt(re * re + im * im);
+        }
+        e = c->ymag[k - 1u] - g * c->umag[k - 1u];
+        blk += c->wgt[k - 1u] * e * e;
+        if (++fill == PDT_COST_BLOCK) {
+            s += blk;
+            blk = PDT_R(0.0);
+            fill = 0u;
+        }
+    }
+    s += blk;
+    return pdt_finite(s) ? s : (pdt_real_t)INFINITY;
+}
+
+pdt_status_t pdt_cost_frequency(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *cost)
+{
+    if (!prepared(c) || m == NULL || cost == NULL || c->nf == 0u ||
+        pdt_model_check(m) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    *cost = frequency_cost(c, m);
+    return PDT_OK;
+}
+
+/* The discrete model pdt_cost_eval scores m with, per delay_mode. */
+static pdt_status_t eval_discretize(const pdt_cost_t *c, const pdt_model_t *m, pdt_dmodel_t *d)
+{
+    const pdt_real_t Ts = c->cfg.Ts;
+    pdt_status_t st;
+
+    if (c->cfg.delay_mode == PDT_DELAY_INTEGER) {
+        pdt_real_t x = pdt_floor(pdt_model_dead_time(m) / Ts + PDT_R(0.5));
+        size_t l;
+        /* Range check in reals first: the conversion of a value beyond
+         * size_t would be undefined. delay_max < n <= 2^24 fits exactly. */
+        if (!pdt_finite(x) || x < PDT_R(0.0) || x > (pdt_real_t)c->cfg.delay_max) {
+            return PDT_ERR_ARG;
+        }
+        l = (size_t)x;
+        st = pdt_discretize_int(m, Ts, l, d);
+    } else {
+        st = pdt_discretize(m, Ts, d);
+    }
+    if (st != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    return check_dmodel(c, d);
+}
+
+pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *cost)
+{
+    pdt_cost_kind_t kind;
+    pdt_cost_kind_t tkind;
+    pdt_real_t ct = PDT_R(0.0);
+    pdt_real_t cf = PDT_R(0.0);
+    pdt_real_t total;
+    pdt_dmodel_t d;
+    bool need_time;
+    bool need_freq;
+
+    if (!prepared(c) || m == NULL || cost == NULL || pdt_model_check(m) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    kind = c->cfg.kind;
+    tkind = (kind == PDT_COST_COMBINED) ? c->cfg.time_kind : kind;
+    need_freq = (kind == PDT_COST_FREQUENCY || kind == PDT_COST_COMBINED);
+    need_time = (kind != PDT_COST_FREQUENCY);
+    if (need_freq && c->nf == 0u) {
+        return PDT_ERR_ARG;
+    }
+    if (need_time) {
+        if (eval_discretize(c, m, &d) != PDT_OK) {
+            return PDT_ERR_ARG;
+        }
+        /* A zero weight leaves the time cost out of COMBINED: skip its O(n). */
+        if (kind != PDT_COST_COMBINED || c->cfg.phi_t > PDT_R(0.0)) {
+            ct = (tkind == PDT_COST_PREDICTION) ? prediction_cost(c, &d)
+                                                : simulation_cost(c, &d);
+        }
+    }
+    if (need_freq && (kind != PDT_COST_COMBINED || c->cfg.phi_f > PDT_R(0.0))) {
+        cf = frequency_cost(c, m);
+    }
+    if (kind == PDT_COST_COMBINED) {
+        total = PDT_R(0.0);
+        if (c->cfg.phi_t > PDT_R(0.0)) {
+            total += c->cfg.phi_t * ct;
+        }
+        if (c->cfg.phi_f > PDT_R(0.0)) {
+            total += c->cfg.phi_f * cf;
+        }
+        if (!pdt_finite(total)) {
+            total = (pdt_real_t)INFINITY;
+        }
+    } else {
+        total = need_time ? ct : cf;
+    }
+    *cost = total;
+    return PDT_OK;
+}
