@@ -3,6 +3,8 @@
 const char *pdt_status_str(pdt_status_t status)
 {
     switch (status) {
+    case PDT_RUNNING:
+        return "running";
     case PDT_OK:
         return "ok";
     case PDT_ERR_ARG:
@@ -19,6 +21,10 @@ const char *pdt_status_str(pdt_status_t status)
         return "lower bound above upper bound";
     case PDT_ERR_NO_FORM:
         return "model has no such form";
+    case PDT_ERR_NO_EXCITATION:
+        return "data do not excite the process";
+    case PDT_ERR_STATE:
+        return "call out of order";
     default:
         return "unknown status";
     }

@@ -32,6 +32,8 @@ typedef float pdt_real_t;
  * A call that returns an error has written none of its outputs.
  */
 typedef enum pdt_status {
+    /* Not finished: call again (steppable calls such as pdt_ident_step). */
+    PDT_RUNNING = 1,
     PDT_OK = 0,
     /* A pointer is NULL, a number is outside its domain (e.g. Ts <= 0,
      * tau <= 0), an enum value is unknown, or memory is misaligned. */
@@ -50,7 +52,14 @@ typedef enum pdt_status {
     PDT_ERR_BOUNDS = -6,
     /* The model has no representation in the requested form, e.g. real time
      * constants for an underdamped SOPDT, or a DC gain for an integrator. */
-    PDT_ERR_NO_FORM = -7
+    PDT_ERR_NO_FORM = -7,
+    /* The data cannot support a model: the input or the output does not
+     * move (beyond its quantisation), so nothing about the process can be
+     * learnt from it. */
+    PDT_ERR_NO_EXCITATION = -8,
+    /* A call out of order, e.g. a result asked for before the search is
+     * done, or a step on an object that was never initialised. */
+    PDT_ERR_STATE = -9
 } pdt_status_t;
 
 /* A short, static, English name of a status ("bad argument", ...). Never
