@@ -1,0 +1,202 @@
+/*
+ * pdtfit identification: a FOPDT or SOPDT model from one measured record,
+ * found by a real-coded genetic algorithm (Yang and Seested 2013, section 3)
+ * followed by a local Nelder-Mead refinement, in fixed memory, in steps of
+ * bounded work so that a PLC or MCU task can spread it over scan cycles.
+ *
+ * The search. The dead time makes the cost non-convex, so a global search
+ * runs over the model's shape: for a FOPDT the genes are log(tau) and Td,
+ * for a SOPDT log(1/a), 1/zeta and Td (form (2) with b = (a / (2 zeta))^2,
+ * which covers overdamped, critically damped, underdamped and, at 1/zeta =
+ * 0, the integrating process). The gain and the output offset are not
+ * searched: for a given shape the cost is quadratic in them, so each
+ * evaluation solves for them in closed form and writes the gain back into
+ * the individual (see pdt_cost_profile). Selection is a binary tournament
+ * on shared costs (fitness sharing keeps several dead-time niches alive),
+ * variation is bounded SBX and polynomial mutation, the best individuals
+ * survive each generation, and the random numbers come from the library's
+ * own PCG32 seeded by the caller: the same seed, data and build give the
+ * same result.
+ *
+ * Data as it comes from plants: u and y in engineering units around an
+ * operating point. The record must start at steady state; the input
+ * operating point is u[0], the output operating point is estimated with the
+ * model (never from a few noisy samples).
+ */
+#ifndef PDT_IDENT_H
+#define PDT_IDENT_H
+
+#include "pdt/pdt_common.h"
+#include "pdt/pdt_cost.h"
+#include "pdt/pdt_model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Most individuals a population may have (sizes the context's fixed
+ * arrays only through the workspace; this bounds the O(P^2) sharing work). */
+#define PDT_IDENT_MAX_POPULATION 256u
+
+typedef struct pdt_ident_config {
+    pdt_model_kind_t model;   /* FOPDT or SOPDT. Default FOPDT */
+    pdt_real_t Ts;            /* sampling period, s. Must be set (> 0) */
+    pdt_cost_kind_t cost;     /* criterion. Default SIMULATION: the output
+                               * error, unbiased under measurement noise */
+    pdt_cost_kind_t time_kind; /* time part of COMBINED. Default SIMULATION */
+    pdt_real_t phi_t;         /* COMBINED weights, >= 0. Default 1, 1 */
+    pdt_real_t phi_f;
+    pdt_weight_kind_t weight; /* frequency weighting, as in pdt_cost_config_t */
+    pdt_real_t f_lo;
+    pdt_real_t f_hi;
+    const pdt_real_t *weights;
+    pdt_delay_mode_t delay_mode; /* FRACTIONAL: Td continuous (default);
+                                  * INTEGER: Td in whole samples, the paper */
+    /* Search bounds. A pair left at 0, 0 is derived from Ts and the record
+     * length T = n Ts: time constants in [Ts / 4, 2 T], dead time in
+     * [0, T / 3]. */
+    pdt_real_t tau_min;       /* s: FOPDT tau; SOPDT 1/a = T1 T2 / (T1 + T2)
+                               * from tau_min / 2 */
+    pdt_real_t tau_max;       /* s */
+    pdt_real_t Td_min;        /* s */
+    pdt_real_t Td_max;        /* s */
+    pdt_real_t zeta_min;      /* SOPDT: least damping searched. Default 0.2 */
+    bool integrating;         /* SOPDT: allow b = 0 (1/zeta down to 0).
+                               * Default true */
+    /* Gain bounds (output units per input unit; SOPDT: the DC gain, or the
+     * integrating gain when b = 0). 0, 0 means unbounded. */
+    pdt_real_t K_min;
+    pdt_real_t K_max;
+    /* The search. */
+    uint32_t population;      /* individuals, 4 .. PDT_IDENT_MAX_POPULATION,
+                               * even. Default 24 */
+    uint32_t max_evaluations; /* cost evaluations in all (GA + refinement).
+                               * Default 2000 */
+    uint32_t refine_evaluations; /* of those, kept for the refinement.
+                                  * Default 200 */
+    pdt_real_t tolerance;     /* stop the GA when the best cost improved by
+                               * less than this fraction over stall_generations.
+                               * Default 1e-4 */
+    uint32_t stall_generations; /* Default 8 */
+    uint64_t seed;            /* PCG32 seed. Default 1 */
+    pdt_real_t eta_c;         /* SBX distribution index. Default 15 */
+    pdt_real_t eta_m;         /* mutation distribution index. Default 20 */
+    pdt_real_t p_crossover;   /* per pair. Default 0.9 */
+    pdt_real_t p_mutation;    /* per gene; 0 means 1 / genes. Default 0 */
+    pdt_real_t sigma_share;   /* niche radius, normalised distance. Default 0.1 */
+    uint32_t elite;           /* best individuals kept each generation. Default 2 */
+} pdt_ident_config_t;
+
+/* One record: n samples of input u and output y, every Ts seconds, in the
+ * caller's memory, unchanged while the identification runs. */
+typedef struct pdt_ident_data {
+    const pdt_real_t *u;
+    const pdt_real_t *y;
+    size_t n;
+} pdt_ident_data_t;
+
+typedef struct pdt_ident_result {
+    pdt_model_t model;        /* the identified model, in engineering units */
+    pdt_real_t u0;            /* input operating point (u[0]) */
+    pdt_real_t y0;            /* output operating point, estimated */
+    pdt_real_t cost;          /* the criterion's value at the model */
+    pdt_real_t fit;           /* normalised RMS fit of the simulated output,
+                               * percent: 100 (1 - |y - ysim| / |y - mean y|);
+                               * 100 is perfect, 0 no better than a constant */
+    uint32_t evaluations;     /* cost evaluations used */
+    uint32_t generations;     /* GA generations run */
+} pdt_ident_result_t;
+
+/* The identification context. Fields are private. */
+typedef struct pdt_ident {
+    pdt_ident_config_t cfg;
+    pdt_cost_t cost;
+    void *cost_work;          /* the cost's part of the workspace */
+    size_t cost_work_len;
+    pdt_ident_data_t data;
+    uint32_t magic;           /* set by init: catches use before init */
+    uint32_t phase;
+    uint32_t genes;
+    uint32_t next;            /* next individual to evaluate in this phase */
+    uint32_t evaluations;
+    uint32_t generations;
+    uint32_t stall;
+    uint64_t rng_state;
+    uint64_t rng_inc;
+    pdt_real_t lo[3];         /* gene bounds */
+    pdt_real_t hi[3];
+    pdt_real_t best_history;  /* best cost at the last stall check */
+    pdt_real_t *pop;          /* P x genes (workspace) */
+    pdt_real_t *pop_cost;     /* P */
+    pdt_real_t *pop_gain;     /* P */
+    pdt_real_t *pop_offset;   /* P */
+    pdt_real_t *off;          /* offspring, same layout */
+    pdt_real_t *off_cost;
+    pdt_real_t *off_gain;
+    pdt_real_t *off_offset;
+    pdt_real_t *shared;       /* P */
+    pdt_real_t *scratch;      /* n: profile scratch */
+    pdt_real_t best[3];       /* best genes so far, its cost, gain, offset */
+    pdt_real_t best_cost;
+    pdt_real_t best_gain;
+    pdt_real_t best_offset;
+    /* Nelder-Mead refinement state (at most 3 genes: 4 vertices). */
+    pdt_real_t nm_x[4][3];
+    pdt_real_t nm_f[4];
+    pdt_real_t nm_trial[3];
+    pdt_real_t nm_trial2[3];
+    pdt_real_t nm_ftrial;
+    uint32_t nm_state;
+    uint32_t nm_index;
+    uint32_t nm_budget;
+    /* The answer, once done. */
+    pdt_model_t model;
+    pdt_real_t y0;
+    pdt_real_t fit;
+} pdt_ident_t;
+
+/* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */
+void pdt_ident_config_default(pdt_ident_config_t *cfg);
+
+/* Workspace bytes pdt_ident_init needs for cfg and n samples; 0 when cfg is
+ * NULL or the configuration is unsupported (init then says why). */
+size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
+
+/* Compile-time upper bound of the workspace for n samples and a population
+ * of pop, any configuration: for static arrays. */
+#define PDT_IDENT_WORKSPACE_SIZE(n, pop) \
+    (PDT_COST_WORKSPACE_SIZE(n) + ((size_t)(n) + 9u * (size_t)(pop) + 16u) * sizeof(pdt_real_t))
+
+/* Prepares ctx for one identification: checks cfg and the data, derives the
+ * bounds, prepares the cost (O(n), plus O(N_f log N_f) when the criterion
+ * uses the frequency domain). Does no cost evaluation.
+ * Returns PDT_ERR_ARG (NULL, bad config value), PDT_ERR_BOUNDS (a lower
+ * bound above its upper bound), PDT_ERR_NONFINITE (NaN or infinity in the
+ * data), PDT_ERR_TOO_SHORT (fewer samples than the dead-time bound and
+ * PDT_MIN_SAMPLES need), PDT_ERR_NO_EXCITATION (u or y constant),
+ * PDT_ERR_LENGTH (record too long for the FFT), PDT_ERR_NOMEM (work NULL or
+ * too small). ctx is left untouched on error. */
+pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
+                            const pdt_ident_data_t *data, void *work, size_t work_len);
+
+/* Advances the search by at most max_evaluations cost evaluations (each
+ * O(n) time domain, O(N_f / 2) frequency domain) plus at most one breeding
+ * step (O(P^2 genes) for the sharing). Returns PDT_RUNNING while there is
+ * work left, PDT_OK when done (also on every later call), PDT_ERR_ARG for
+ * NULL or max_evaluations = 0, PDT_ERR_STATE if ctx was not initialised. */
+pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations);
+
+/* The result once pdt_ident_step has returned PDT_OK. PDT_ERR_STATE before
+ * that, PDT_ERR_ARG for NULL. Costs one simulation (O(n)) for the fit. */
+pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out);
+
+/* Blocking convenience: init, step until done, result. Same statuses. */
+pdt_status_t pdt_identify(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
+                          const pdt_ident_data_t *data, void *work, size_t work_len,
+                          pdt_ident_result_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PDT_IDENT_H */
