@@ -1,0 +1,204 @@
+/*
+ * Operators of the real-coded genetic algorithm: the PCG32 generator, bounded
+ * SBX, bounded polynomial mutation, fitness sharing and the binary
+ * tournament. Contract in pdt_ga.h.
+ */
+#include "pdt_ga.h"
+
+#include "pdt_internal.h"
+
+#define PDT_PCG_MULT 6364136223846793005ull
+
+/* Parents closer than this fraction of the range are not crossed. Relative
+ * to the range, it also bounds the spread factor beta below 1 + 2e14, so
+ * nothing in SBX can overflow. */
+#define PDT_SBX_MIN_GAP PDT_R(1e-14)
+
+void pdt_rng_seed(pdt_rng_t *r, uint64_t seed, uint64_t stream)
+{
+    PDT_ASSERT(r != NULL);
+    r->state = 0u;
+    r->inc = (stream << 1u) | 1u;
+    (void)pdt_rng_u32(r);
+    r->state += seed;
+    (void)pdt_rng_u32(r);
+}
+
+uint32_t pdt_rng_u32(pdt_rng_t *r)
+{
+    PDT_ASSERT(r != NULL);
+    uint64_t old = r->state;
+    r->state = old * PDT_PCG_MULT + r->inc;
+    uint32_t xorshifted = (uint32_t)(((old >> 18u) ^ old) >> 27u);
+    uint32_t rot = (uint32_t)(old >> 59u);
+    return (xorshifted >> rot) | (xorshifted << ((0u - rot) & 31u));
+}
+
+pdt_real_t pdt_rng_uniform(pdt_rng_t *r)
+{
+    uint32_t x = pdt_rng_u32(r);
+#if PDT_REAL_DOUBLE
+    /* All 32 bits fit the 53-bit mantissa: exact, at most 1 - 2^-32. */
+    return (pdt_real_t)x * PDT_R(2.3283064365386962890625e-10);
+#else
+    /* 24 bits fill the float mantissa exactly; more bits could round the
+     * largest draws up to 1.0. At most 1 - 2^-24. */
+    return (pdt_real_t)(x >> 8u) * PDT_R(5.9604644775390625e-08);
+#endif
+}
+
+uint32_t pdt_rng_below(pdt_rng_t *r, uint32_t n)
+{
+    PDT_ASSERT(n >= 1u);
+    if (n <= 1u) {
+        return 0u;
+    }
+    uint64_t m = (uint64_t)pdt_rng_u32(r) * n;
+    uint32_t low = (uint32_t)m;
+    if (low < n) {
+        /* 2^32 mod n: the low words below it belong to an incomplete
+         * last block of multiples and would bias the result. */
+        uint32_t threshold = (0u - n) % n;
+        while (low < threshold) {
+            m = (uint64_t)pdt_rng_u32(r) * n;
+            low = (uint32_t)m;
+        }
+    }
+    return (uint32_t)(m >> 32u);
+}
+
+static pdt_real_t clamp(pdt_real_t x, pdt_real_t lo, pdt_real_t hi)
+{
+    if (x < lo) {
+        return lo;
+    }
+    if (x > hi) {
+        return hi;
+    }
+    return x;
+}
+
+/* Spread factor of one child of bounded SBX. room: the distance from the
+ * nearer parent to the bound on its side (>= 0), gap: the distance between
+ * the parents (> 0). */
+static pdt_real_t sbx_beta_q(pdt_real_t room, pdt_real_t gap, pdt_real_t eta, pdt_real_t u)
+{
+    pdt_real_t e1 = eta + PDT_R(1.0);
+    pdt_real_t beta = PDT_R(1.0) + PDT_R(2.0) * room / gap;
+    /* tail = beta^-(eta+1) in [0, 1]: the part of the unbounded
+     * distribution beyond the bound, times two. alpha = 2 - tail. */
+    pdt_real_t tail = pdt_pow(beta, -e1);
+    pdt_real_t alpha = PDT_R(2.0) - tail;
+    pdt_real_t ua = u * alpha;
+    if (ua <= PDT_R(1.0)) {
+        return pdt_pow(ua, PDT_R(1.0) / e1);
+    }
+    /* 2 - u alpha written without the cancellation that loses every digit
+     * when u is near 1 and alpha near 2; it is at least 2 (1 - u) > 0. */
+    pdt_real_t den = PDT_R(2.0) * (PDT_R(1.0) - u) + u * tail;
+    if (!(den > PDT_REAL_EPS * PDT_REAL_EPS)) {
+        den = PDT_REAL_EPS * PDT_REAL_EPS;
+    }
+    return pdt_pow(PDT_R(1.0) / den, PDT_R(1.0) / e1);
+}
+
+void pdt_ga_sbx(pdt_real_t p1, pdt_real_t p2, pdt_real_t lo, pdt_real_t hi, pdt_real_t eta,
+                pdt_real_t u, pdt_real_t *c1, pdt_real_t *c2)
+{
+    PDT_ASSERT(c1 != NULL && c2 != NULL && lo < hi && eta > PDT_R(0.0));
+    PDT_ASSERT(u >= PDT_R(0.0) && u < PDT_R(1.0));
+    pdt_real_t y1 = p1 < p2 ? p1 : p2;
+    pdt_real_t y2 = p1 < p2 ? p2 : p1;
+    pdt_real_t gap = y2 - y1;
+    if (!(gap >= PDT_SBX_MIN_GAP * (hi - lo))) {
+        *c1 = y1;
+        *c2 = y2;
+        return;
+    }
+    /* Parents outside the bounds would make beta < 1; treat them as on the
+     * bound instead. */
+    pdt_real_t room_lo = y1 - lo;
+    pdt_real_t room_hi = hi - y2;
+    if (room_lo < PDT_R(0.0)) {
+        room_lo = PDT_R(0.0);
+    }
+    if (room_hi < PDT_R(0.0)) {
+        room_hi = PDT_R(0.0);
+    }
+    pdt_real_t sum = y1 + y2;
+    pdt_real_t bq1 = sbx_beta_q(room_lo, gap, eta, u);
+    pdt_real_t bq2 = sbx_beta_q(room_hi, gap, eta, u);
+    *c1 = clamp(PDT_R(0.5) * (sum - bq1 * gap), lo, hi);
+    *c2 = clamp(PDT_R(0.5) * (sum + bq2 * gap), lo, hi);
+}
+
+pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t eta,
+                         pdt_real_t u)
+{
+    PDT_ASSERT(lo < hi && eta > PDT_R(0.0) && u >= PDT_R(0.0) && u < PDT_R(1.0));
+    pdt_real_t range = hi - lo;
+    pdt_real_t e1 = eta + PDT_R(1.0);
+    pdt_real_t p = PDT_R(1.0) / e1;
+    pdt_real_t dq;
+    if (u <= PDT_R(0.5)) {
+        pdt_real_t d1 = clamp((x - lo) / range, PDT_R(0.0), PDT_R(1.0));
+        pdt_real_t v = PDT_R(2.0) * u + (PDT_R(1.0) - PDT_R(2.0) * u) * pdt_pow(PDT_R(1.0) - d1, e1);
+        dq = pdt_pow(v, p) - PDT_R(1.0);
+    } else {
+        pdt_real_t d2 = clamp((hi - x) / range, PDT_R(0.0), PDT_R(1.0));
+        pdt_real_t v = PDT_R(2.0) * (PDT_R(1.0) - u) +
+                       PDT_R(2.0) * (u - PDT_R(0.5)) * pdt_pow(PDT_R(1.0) - d2, e1);
+        dq = PDT_R(1.0) - pdt_pow(v, p);
+    }
+    return clamp(x + dq * range, lo, hi);
+}
+
+void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t *lo,
+                  const pdt_real_t *hi, const pdt_real_t *cost, pdt_real_t sigma,
+                  pdt_real_t alpha, pdt_real_t *shared)
+{
+    PDT_ASSERT(n == 0u || (genes != NULL && cost != NULL && shared != NULL));
+    PDT_ASSERT(g == 0u || (lo != NULL && hi != NULL));
+    PDT_ASSERT(sigma > PDT_R(0.0) && alpha > PDT_R(0.0));
+    /* One row at a time, reading only cost[i] before writing shared[i], so
+     * shared may be the cost array itself. */
+    for (size_t i = 0; i < n; i++) {
+        const pdt_real_t *xi = genes + i * g;
+        pdt_real_t m = PDT_R(1.0); /* j == i */
+        for (size_t j = 0; j < n; j++) {
+            if (j == i) {
+                continue;
+            }
+            const pdt_real_t *xj = genes + j * g;
+            pdt_real_t d2 = PDT_R(0.0);
+            for (size_t k = 0; k < g; k++) {
+                pdt_real_t t = (xi[k] - xj[k]) / (hi[k] - lo[k]);
+                d2 += t * t;
+            }
+            pdt_real_t ratio = pdt_sqrt(d2) / sigma;
+            if (ratio < PDT_R(1.0)) {
+                m += PDT_R(1.0) - (alpha == PDT_R(1.0) ? ratio : pdt_pow(ratio, alpha));
+            }
+        }
+        shared[i] = cost[i] * m;
+    }
+}
+
+size_t pdt_ga_tournament(const pdt_real_t *shared, size_t a, size_t b, uint32_t coin)
+{
+    PDT_ASSERT(shared != NULL);
+    pdt_real_t fa = shared[a];
+    pdt_real_t fb = shared[b];
+    bool na = isnan(fa) != 0;
+    bool nb = isnan(fb) != 0;
+    if (na != nb) {
+        return na ? b : a;
+    }
+    if (fa < fb) {
+        return a;
+    }
+    if (fb < fa) {
+        return b;
+    }
+    return coin == 0u ? a : b;
+}
