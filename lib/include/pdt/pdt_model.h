@@ -59,8 +59,8 @@ typedef struct pdt_sopdt_tc {
     pdt_real_t Td; /* dead time, s */
 } pdt_sopdt_tc_t;
 
-/* Integrator with a lag: Ki e^{-Td s} / (s (T s + 1)), Ki != 0 allowed any
- * sign, T > 0. This is form (2) with b = 0. */
+/* Integrator with a lag: Ki e^{-Td s} / (s (T s + 1)), Ki any finite value
+ * (either sign), T > 0, Td >= 0. This is form (2) with b = 0. */
 typedef struct pdt_sopdt_integ {
     pdt_real_t Ki; /* integrating gain, output units per input unit per s */
     pdt_real_t T;  /* lag, s */
@@ -95,6 +95,8 @@ pdt_real_t pdt_model_dead_time(const pdt_model_t *m);
 pdt_status_t pdt_sopdt_from_natural(const pdt_sopdt_natural_t *in, pdt_sopdt_t *out);
 /* PDT_ERR_NO_FORM when b = 0 (no DC gain). */
 pdt_status_t pdt_sopdt_to_natural(const pdt_sopdt_t *in, pdt_sopdt_natural_t *out);
+/* A real pair is accepted in either order (T1, T2 > 0); a complex pair needs
+ * re = T1 > 0 and im = T2 > 0. */
 pdt_status_t pdt_sopdt_from_tc(const pdt_sopdt_tc_t *in, pdt_sopdt_t *out);
 /* Real pair when a^2 >= 4b (zeta >= 1), else complex pair. PDT_ERR_NO_FORM
  * when b = 0. */
@@ -115,9 +117,11 @@ pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n,
 
 /* Frequency response at angular frequencies w[0..n-1] (rad/s, >= 0):
  * magnitude |G(jw)| and phase arg G(jw) in radians, continuous (not wrapped
- * to (-pi, pi]) and including -w Td. Either output may be NULL if not
- * wanted. At w = 0 an integrating model has infinite magnitude (returned as
- * +infinity) and phase -pi/2.
+ * to (-pi, pi]) and including -w Td. A negative gain shows as magnitude
+ * |K| (|k|) and the phase shifted by -pi, so the phase starts at -pi rather
+ * than 0. Either output may be NULL if not wanted. At w = 0 an integrating
+ * model has infinite magnitude (returned as +infinity; 0 if k = 0) and phase
+ * -pi/2.
  * Returns PDT_ERR_ARG (NULL m or w, invalid model, w < 0) or
  * PDT_ERR_NONFINITE (a w is not finite). */
 pdt_status_t pdt_model_freq(const pdt_model_t *m, const pdt_real_t *w, size_t n,
