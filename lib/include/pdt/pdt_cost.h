@@ -200,8 +200,11 @@ size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
  *  PDT_ERR_LENGTH    N_f beyond 2^PDT_FFT_MAX_LOG2 (only with use_frequency);
  *  PDT_ERR_NOMEM     work NULL or work_len below pdt_cost_workspace_size
  *                    (only with use_frequency).
- * When several apply, the first in this list is returned. On error *c and
- * work are untouched.
+ * Checked in this order: pointers and the config's own values (ARG),
+ * lengths (TOO_SHORT), bounds (BOUNDS), data (NONFINITE); then, with
+ * use_frequency only: N_f (LENGTH), the bin spacing and custom weight
+ * values (ARG), the workspace (NOMEM if NULL, ARG if misaligned, NOMEM if
+ * short). On error *c and work are untouched.
  * Work: O(n) for the checks, plus O(N_f log N_f) with use_frequency. */
 pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pdt_real_t *u,
                            const pdt_real_t *y, size_t n, void *work, size_t work_len);
