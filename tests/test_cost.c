@@ -393,6 +393,103 @@ static void test_exact_model_zero_cost(void **state)
     }
 }
 
+/* 8000 samples around a large operating point: the blocked sums keep the
+ * float costs close to a double computation of the same model on the same
+ * (float) data. */
+#define COST_NBIG 8000u
+static pdt_real_t g_ubig[COST_NBIG];
+static pdt_real_t g_ybig[COST_NBIG];
+
+static double time_cost_double(const pdt_dmodel_t *d, const pdt_real_t *u, const pdt_real_t *y,
+                               double u0, double y0, size_t n, size_t lu, bool sim, bool ofs)
+{
+    double ys = 0.0, dys = 0.0, s1 = 0.0, s2 = 0.0;
+    size_t k0 = lu + d->order;
+    for (size_t k = 0; k < n; k++) {
+        double bu = 0.0;
+        double r;
+        for (size_t j = 0; j < 3; j++) {
+            size_t back = d->delay + 1u + j;
+            if (k >= back) {
+                bu += (double)d->b[j] * ((double)u[k - back] - u0);
+            }
+        }
+        if (d->order == 1) {
+            ys += bu - (double)d->d[0] * ys;
+        } else {
+            double ys2 = ys - dys;
+            dys += bu - (double)d->d[0] * dys - (double)d->d[1] * ys2;
+            ys += dys;
+        }
+        if (k < k0) {
+            continue;
+        }
+        if (sim) {
+            r = ((double)y[k] - y0) - ys;
+        } else if (d->order == 1) {
+            r = ((double)y[k] - y0) - (1.0 - (double)d->d[0]) * ((double)y[k - 1] - y0) - bu;
+        } else {
+            double y1 = (double)y[k - 1] - y0, y2 = (double)y[k - 2] - y0;
+            r = ((double)y[k] - y0) - (2.0 - (double)d->d[0]) * y1
+                - ((double)d->d[0] - 1.0 - (double)d->d[1]) * y2 - bu;
+        }
+        s1 += r;
+        s2 += r * r;
+    }
+    s1 /= (double)(n - k0);
+    s2 /= (double)(n - k0);
+    return ofs ? s2 - s1 * s1 : s2;
+}
+
+static void test_long_record_accuracy(void **state)
+{
+    const pdt_real_t u0 = (pdt_real_t)250.0;
+    const pdt_real_t y0 = (pdt_real_t)1000.0;
+    const size_t lu = 50;
+    pdt_dmodel_t models[2];
+    uint32_t x = 777u;
+    double worst = 0.0;
+    (void)state;
+    models[0] = fopdt_dmodel(2.5, 4.0, 0.1, 7);
+    models[1] = sopdt_dmodel(0.97, 0.12, 3);
+    make_input(g_ubig, COST_NBIG, u0, 4242u);
+    for (size_t mi = 0; mi < 2; mi++) {
+        pdt_dmodel_t truth = models[mi];
+        pdt_dmodel_t off = truth;
+        pdt_cost_config_t cfg;
+        simulate_ref(&truth, g_ubig, u0, y0, COST_NBIG, g_ybig);
+        for (size_t k = 0; k < COST_NBIG; k++) {
+            x = 1664525u * x + 1013904223u;
+            g_ybig[k] += (pdt_real_t)((double)(x >> 8) / 16777216.0 - 0.5) * (pdt_real_t)0.02;
+        }
+        off.b[0] *= (pdt_real_t)1.05;
+        pdt_cost_config_default(&cfg);
+        cfg.Ts = (pdt_real_t)0.1;
+        cfg.u0 = u0;
+        cfg.y0 = y0;
+        cfg.delay_max = lu;
+        cfg.use_frequency = false;
+        for (int ofs = 0; ofs < 2; ofs++) {
+            pdt_cost_t c;
+            cfg.estimate_offset = (ofs != 0);
+            assert_int_equal(pdt_cost_init(&c, &cfg, g_ubig, g_ybig, COST_NBIG, NULL, 0), PDT_OK);
+            for (int which = 0; which < 4; which++) {
+                const pdt_dmodel_t *d = (which & 1) ? &off : &truth;
+                bool sim = (which & 2) != 0;
+                pdt_real_t v;
+                double want = time_cost_double(d, g_ubig, g_ybig, (double)u0, (double)y0,
+                                               COST_NBIG, lu, sim, ofs != 0);
+                assert_int_equal(sim ? pdt_cost_simulation(&c, d, &v)
+                                     : pdt_cost_prediction(&c, d, &v),
+                                 PDT_OK);
+                worst = fmax(worst, rel_err((double)v, want));
+                assert_close(v, want, COST_RTOL, 0.0);
+            }
+        }
+    }
+    print_message("worst relative error, 8000 samples: %.3g\n", worst);
+}
+
 static void test_frequency_ignores_dead_time(void **state)
 {
     const cost_vec_set_t *s = &cost_vec_sets[1];
@@ -929,6 +1026,7 @@ int main(void)
         cmocka_unit_test(test_vectors_frequency),
         cmocka_unit_test(test_vectors_eval),
         cmocka_unit_test(test_exact_model_zero_cost),
+        cmocka_unit_test(test_long_record_accuracy),
         cmocka_unit_test(test_frequency_ignores_dead_time),
         cmocka_unit_test(test_offset_invariance),
         cmocka_unit_test(test_parseval),
