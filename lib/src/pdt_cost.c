@@ -24,6 +24,7 @@ void pdt_cost_config_default(pdt_cost_config_t *cfg)
     cfg->kind = PDT_COST_COMBINED;
     cfg->time_kind = PDT_COST_SIMULATION;
     cfg->delay_mode = PDT_DELAY_FRACTIONAL;
+    cfg->whole_record = false;
     cfg->estimate_offset = true;
     cfg->use_frequency = true;
     cfg->phi_t = PDT_R(1.0);
@@ -211,7 +212,7 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
         return PDT_ERR_ARG;
     }
     lu = resolve_delay_max(n, cfg->delay_max);
-    if (lu >= n || n - lu < (size_t)PDT_MIN_SAMPLES + 2u) {
+    if (lu >= n || n - (cfg->whole_record ? 0u : lu) < (size_t)PDT_MIN_SAMPLES + 2u) {
         return PDT_ERR_TOO_SHORT;
     }
     if (cfg->delay_min > lu || cfg->f_lo > cfg->f_hi) {
@@ -390,6 +391,12 @@ static pdt_status_t check_dmodel(const pdt_cost_t *c, const pdt_dmodel_t *d)
     return PDT_OK;
 }
 
+/* The first sample the time costs score. */
+static size_t first_scored(const pdt_cost_t *c, uint8_t order)
+{
+    return (c->cfg.whole_record ? 0u : c->cfg.delay_max) + order;
+}
+
 /* Input deviation u(k - back), 0 before the record. */
 static inline pdt_real_t u_dev(const pdt_cost_t *c, size_t k, size_t back)
 {
@@ -401,7 +408,7 @@ static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
     const pdt_real_t *y = c->y;
     const pdt_real_t y0 = c->cfg.y0;
     const size_t l = d->delay;
-    const size_t k0 = c->cfg.delay_max + d->order;
+    const size_t k0 = first_scored(c, d->order);
     pdt_real_t p1 = u_dev(c, k0, l + 2u); /* u(k-2-l) and u(k-3-l) at k = k0 */
     pdt_real_t p2 = u_dev(c, k0, l + 3u);
     pdt_cost_acc_t acc;
@@ -433,7 +440,7 @@ static pdt_real_t simulation_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
     const pdt_real_t *y = c->y;
     const pdt_real_t y0 = c->cfg.y0;
     const size_t l = d->delay;
-    const size_t k0 = c->cfg.delay_max + d->order;
+    const size_t k0 = first_scored(c, d->order);
     pdt_real_t p1 = PDT_R(0.0);
     pdt_real_t p2 = PDT_R(0.0);
     /* State in delta form: ys = ysim(k-1) and dys = ysim(k-1) - ysim(k-2),
@@ -611,5 +618,296 @@ pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t
         total = need_time ? ct : cf;
     }
     *cost = total;
+    return PDT_OK;
+}
+
+/* Response of d, from rest, to the input deviations u - u0, into out[0..n-1]
+ * (delta-form recursion as in simulation_cost). */
+static void simulate_dev(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *out)
+{
+    const size_t l = d->delay;
+    pdt_real_t p1 = PDT_R(0.0);
+    pdt_real_t p2 = PDT_R(0.0);
+    pdt_real_t ys = PDT_R(0.0);
+    pdt_real_t dys = PDT_R(0.0);
+    size_t k;
+
+    for (k = 0u; k < c->n; k++) {
+        pdt_real_t u1 = u_dev(c, k, l + 1u);
+        pdt_real_t bu = d->b[0] * u1 + d->b[1] * p1 + d->b[2] * p2;
+        if (d->order == 1u) {
+            ys += bu - d->d[0] * ys;
+        } else {
+            pdt_real_t ys2 = ys - dys;
+            dys += bu - d->d[0] * dys - d->d[1] * ys2;
+            ys += dys;
+        }
+        out[k] = ys;
+        p2 = p1;
+        p1 = u1;
+    }
+}
+
+/* The equation-error regressor: B(q) applied to the input deviations,
+ * i.e. the prediction's input part, into out[0..n-1]. */
+static void filter_input(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *out)
+{
+    const size_t l = d->delay;
+    size_t k;
+    for (k = 0u; k < c->n; k++) {
+        out[k] = d->b[0] * u_dev(c, k, l + 1u) + d->b[1] * u_dev(c, k, l + 2u) +
+                 d->b[2] * u_dev(c, k, l + 3u);
+    }
+}
+
+/* The data side of the time part at sample k: y(k) - y0 for the
+ * simulation, A(q) (y - y0) at k for the prediction (k >= order). */
+static inline pdt_real_t data_side(const pdt_cost_t *c, const pdt_dmodel_t *d, bool pred,
+                                   size_t k)
+{
+    const pdt_real_t *y = c->y;
+    const pdt_real_t y0 = c->cfg.y0;
+    if (!pred) {
+        return y[k] - y0;
+    }
+    if (d->order == 1u) {
+        return (y[k] - y[k - 1u]) + d->d[0] * (y[k - 1u] - y0);
+    }
+    pdt_real_t dy1 = y[k - 1u] - y[k - 2u];
+    return ((y[k] - y[k - 1u]) - dy1) + d->d[0] * dy1 + d->d[1] * (y[k - 2u] - y0);
+}
+
+/* Blocked sum, as the residual accumulator: accurate float sums over long
+ * records without a wider type. */
+typedef struct bsum {
+    pdt_real_t total, block;
+    unsigned fill;
+} bsum_t;
+
+static inline void bsum_add(bsum_t *s, pdt_real_t x)
+{
+    s->block += x;
+    if (++s->fill == PDT_COST_BLOCK) {
+        s->total += s->block;
+        s->block = PDT_R(0.0);
+        s->fill = 0u;
+    }
+}
+
+static inline pdt_real_t bsum_get(const bsum_t *s)
+{
+    return s->total + s->block;
+}
+
+/* |G(j w)| of a model, dead time aside. */
+static inline pdt_real_t model_mag(const pdt_model_t *m, pdt_real_t w)
+{
+    if (m->kind == PDT_MODEL_FOPDT) {
+        pdt_real_t wt = w * m->p.fopdt.tau;
+        return pdt_fabs(m->p.fopdt.K) / pdt_sqrt(PDT_R(1.0) + wt * wt);
+    }
+    pdt_real_t re = m->p.sopdt.b - w * w;
+    pdt_real_t im = m->p.sopdt.a * w;
+    return pdt_fabs(m->p.sopdt.k) / pdt_sqrt(re * re + im * im);
+}
+
+/* J(K) = a (K - kt)^2 + b (|K| - kf)^2 up to constants: the profiled
+ * combined cost's dependence on the gain. */
+static pdt_real_t gain_objective(pdt_real_t a, pdt_real_t kt, pdt_real_t b, pdt_real_t kf,
+                                 pdt_real_t K)
+{
+    pdt_real_t et = K - kt;
+    pdt_real_t ef = pdt_fabs(K) - kf;
+    return a * et * et + b * ef * ef;
+}
+
+static pdt_real_t clamp_gain(pdt_real_t K, bool bounded, pdt_real_t lo, pdt_real_t hi)
+{
+    if (!bounded) {
+        return K;
+    }
+    return K < lo ? lo : (K > hi ? hi : K);
+}
+
+/* The gain minimising J over the bounds. J is a convex quadratic on each
+ * half-line, so its minimum is one of the two half-line minima, clamped,
+ * or a bound. */
+static pdt_real_t best_gain(pdt_real_t a, pdt_real_t kt, pdt_real_t b, pdt_real_t kf, bool bounded,
+                            pdt_real_t lo, pdt_real_t hi)
+{
+    pdt_real_t cand[4];
+    size_t nc = 0u;
+    pdt_real_t w = a + b;
+    if (w > PDT_R(0.0)) {
+        pdt_real_t kp = (a * kt + b * kf) / w;
+        pdt_real_t kn = (a * kt - b * kf) / w;
+        cand[nc++] = clamp_gain(kp > PDT_R(0.0) ? kp : PDT_R(0.0), bounded, lo, hi);
+        cand[nc++] = clamp_gain(kn < PDT_R(0.0) ? kn : PDT_R(0.0), bounded, lo, hi);
+    } else {
+        cand[nc++] = clamp_gain(PDT_R(0.0), bounded, lo, hi);
+    }
+    if (bounded) {
+        cand[nc++] = lo;
+        cand[nc++] = hi;
+    }
+    pdt_real_t best = cand[0];
+    pdt_real_t jbest = gain_objective(a, kt, b, kf, best);
+    for (size_t i = 1u; i < nc; i++) {
+        pdt_real_t j = gain_objective(a, kt, b, kf, cand[i]);
+        if (j < jbest) {
+            jbest = j;
+            best = cand[i];
+        }
+    }
+    return best;
+}
+
+pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t gain_min,
+                              pdt_real_t gain_max, pdt_real_t *scratch, pdt_cost_profile_t *out)
+{
+    const pdt_cost_kind_t kind = (c != NULL) ? c->cfg.kind : PDT_COST_SIMULATION;
+    const bool combined = (kind == PDT_COST_COMBINED);
+    const pdt_cost_kind_t tkind = combined ? c->cfg.time_kind : kind;
+    bool need_time, need_freq, pred, bounded;
+    pdt_dmodel_t d;
+    pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    /* Regression summaries: time part a (K - kt)^2, frequency part
+     * b (|K| - kf)^2, each up to its constant. */
+    pdt_real_t at = PDT_R(0.0), kt = PDT_R(0.0), af = PDT_R(0.0), kf = PDT_R(0.0);
+    pdt_real_t smean = PDT_R(0.0), emean = PDT_R(0.0);
+    size_t k0 = 0u, m = 0u, k;
+
+    if (!prepared(c) || shape == NULL || scratch == NULL || out == NULL ||
+        pdt_model_check(shape) != PDT_OK || !pdt_finite(gain_min) || !pdt_finite(gain_max)) {
+        return PDT_ERR_ARG;
+    }
+    if (gain_min > gain_max) {
+        return PDT_ERR_BOUNDS;
+    }
+    bounded = !(gain_min == PDT_R(0.0) && gain_max == PDT_R(0.0));
+    need_freq = (kind == PDT_COST_FREQUENCY) || (combined && c->cfg.phi_f > PDT_R(0.0));
+    need_time = (kind != PDT_COST_FREQUENCY) && (!combined || c->cfg.phi_t > PDT_R(0.0));
+    if ((kind == PDT_COST_FREQUENCY || combined) && c->nf == 0u) {
+        return PDT_ERR_ARG;
+    }
+    pred = (tkind == PDT_COST_PREDICTION);
+    if (need_time) {
+        if (eval_discretize(c, shape, &d) != PDT_OK) {
+            return PDT_ERR_ARG;
+        }
+        if (pred) {
+            filter_input(c, &d, scratch);
+        } else {
+            simulate_dev(c, &d, scratch);
+        }
+        k0 = first_scored(c, d.order);
+        m = c->n - k0;
+        if (c->cfg.estimate_offset) {
+            bsum_t ss = {PDT_R(0.0), PDT_R(0.0), 0u}, se = {PDT_R(0.0), PDT_R(0.0), 0u};
+            for (k = k0; k < c->n; k++) {
+                bsum_add(&ss, scratch[k]);
+                bsum_add(&se, data_side(c, &d, pred, k));
+            }
+            smean = bsum_get(&ss) / (pdt_real_t)m;
+            emean = bsum_get(&se) / (pdt_real_t)m;
+        }
+        bsum_t sxx = {PDT_R(0.0), PDT_R(0.0), 0u}, sxy = {PDT_R(0.0), PDT_R(0.0), 0u};
+        for (k = k0; k < c->n; k++) {
+            pdt_real_t x = scratch[k] - smean;
+            bsum_add(&sxx, x * x);
+            bsum_add(&sxy, x * (data_side(c, &d, pred, k) - emean));
+        }
+        pdt_real_t vxx = bsum_get(&sxx);
+        if (vxx > PDT_R(0.0) && pdt_finite(vxx)) {
+            kt = bsum_get(&sxy) / vxx;
+            at = vxx / (pdt_real_t)m;
+        }
+        if (combined) {
+            at *= c->cfg.phi_t;
+        }
+    }
+    if (need_freq) {
+        bsum_t sgg = {PDT_R(0.0), PDT_R(0.0), 0u}, syg = {PDT_R(0.0), PDT_R(0.0), 0u};
+        for (k = c->k_first; k <= c->k_last; k++) {
+            pdt_real_t g = model_mag(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
+            pdt_real_t wg = c->wgt[k - 1u] * g;
+            bsum_add(&sgg, wg * g);
+            bsum_add(&syg, wg * c->ymag[k - 1u]);
+        }
+        pdt_real_t vgg = bsum_get(&sgg);
+        if (vgg > PDT_R(0.0) && pdt_finite(vgg)) {
+            kf = bsum_get(&syg) / vgg;
+            af = vgg;
+        }
+        if (combined) {
+            af *= c->cfg.phi_f;
+        }
+    }
+    r.gain = best_gain(at, kt, af, kf, bounded, gain_min, gain_max);
+
+    /* The cost at that gain, summed directly rather than from the
+     * regression sums, which cancel when the fit is good. */
+    if (need_time) {
+        pdt_real_t off = emean - r.gain * smean;
+        bsum_t s2 = {PDT_R(0.0), PDT_R(0.0), 0u};
+        for (k = k0; k < c->n; k++) {
+            pdt_real_t e = data_side(c, &d, pred, k) - r.gain * scratch[k] - off;
+            bsum_add(&s2, e * e);
+        }
+        r.ct = bsum_get(&s2) / (pdt_real_t)m;
+        if (!pdt_finite(r.ct)) {
+            r.ct = (pdt_real_t)INFINITY;
+        }
+        if (!pred) {
+            r.offset = off;
+        } else {
+            /* In the equation error the offset enters through A(1). */
+            pdt_real_t a1 = (d.order == 1u) ? d.d[0] : d.d[1];
+            r.offset = (a1 > PDT_REAL_EPS) ? off / a1 : PDT_R(0.0);
+        }
+    }
+    if (need_freq) {
+        bsum_t s2 = {PDT_R(0.0), PDT_R(0.0), 0u};
+        pdt_real_t gabs = pdt_fabs(r.gain);
+        for (k = c->k_first; k <= c->k_last; k++) {
+            pdt_real_t g = model_mag(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
+            pdt_real_t e = c->ymag[k - 1u] - gabs * g;
+            bsum_add(&s2, c->wgt[k - 1u] * e * e);
+        }
+        r.cf = bsum_get(&s2);
+        if (!pdt_finite(r.cf)) {
+            r.cf = (pdt_real_t)INFINITY;
+        }
+    }
+    if (combined) {
+        r.cost = PDT_R(0.0);
+        if (c->cfg.phi_t > PDT_R(0.0)) {
+            r.cost += c->cfg.phi_t * r.ct;
+        }
+        if (c->cfg.phi_f > PDT_R(0.0)) {
+            r.cost += c->cfg.phi_f * r.cf;
+        }
+        if (!pdt_finite(r.cost)) {
+            r.cost = (pdt_real_t)INFINITY;
+        }
+    } else {
+        r.cost = (kind == PDT_COST_FREQUENCY) ? r.cf : r.ct;
+    }
+    *out = r;
+    return PDT_OK;
+}
+
+pdt_status_t pdt_cost_simulate(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *ysim)
+{
+    size_t k;
+    if (!prepared(c) || d == NULL || ysim == NULL || (d->order != 1u && d->order != 2u) ||
+        !pdt_finite(d->b[0]) || !pdt_finite(d->b[1]) || !pdt_finite(d->b[2]) ||
+        !pdt_finite(d->d[0]) || (d->order == 2u && !pdt_finite(d->d[1]))) {
+        return PDT_ERR_ARG;
+    }
+    simulate_dev(c, d, ysim);
+    for (k = 0u; k < c->n; k++) {
+        ysim[k] += c->cfg.y0;
+    }
     return PDT_OK;
 }

@@ -94,6 +94,12 @@ typedef struct pdt_cost_config {
                                 * SIMULATION. Default SIMULATION (the paper
                                 * uses PREDICTION, which output noise biases) */
     pdt_delay_mode_t delay_mode; /* Default FRACTIONAL */
+    bool whole_record;      /* score the time costs on k = order .. n-1
+                             * instead of the paper's k = l_u + order ..
+                             * n-1. The paper's window drops the first l_u
+                             * samples, which is where a step test shows
+                             * its dead time; identification uses the
+                             * whole record. Default false (the paper) */
     bool estimate_offset;   /* time costs fit a constant output offset. Default true */
     bool use_frequency;     /* prepare spectra (needed for FREQUENCY and
                              * COMBINED; needs a workspace, see
@@ -194,7 +200,8 @@ size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
  *                    negative or not finite, CUSTOM without weights or
  *                    (with use_frequency) with a negative or non-finite
  *                    weight, misaligned work;
- *  PDT_ERR_TOO_SHORT delay_max >= n, or n - delay_max - 2 < PDT_MIN_SAMPLES;
+ *  PDT_ERR_TOO_SHORT delay_max >= n, or fewer than PDT_MIN_SAMPLES scored
+ *                    samples: n - delay_max - 2 (n - 2 with whole_record);
  *  PDT_ERR_BOUNDS    delay_min > delay_max, or f_lo > f_hi;
  *  PDT_ERR_NONFINITE NaN or infinity in u, y, u0 or y0;
  *  PDT_ERR_LENGTH    N_f beyond 2^PDT_FFT_MAX_LOG2 (only with use_frequency);
@@ -234,6 +241,45 @@ pdt_status_t pdt_cost_frequency(const pdt_cost_t *c, const pdt_model_t *m, pdt_r
  * Td does not matter), or FREQUENCY / COMBINED on a c prepared without
  * use_frequency; *cost is then untouched. */
 pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *cost);
+
+/* Result of pdt_cost_profile. */
+typedef struct pdt_cost_profile {
+    pdt_real_t cost;   /* cfg.kind's cost at the best gain and offset */
+    pdt_real_t gain;   /* best multiplier of the shape's gain */
+    pdt_real_t offset; /* best output offset, added to y0 (0 for FREQUENCY,
+                        * without estimate_offset, and for PREDICTION of
+                        * an integrating model, whose A(1) is 0) */
+    pdt_real_t ct;     /* time part at that gain (0 for FREQUENCY) */
+    pdt_real_t cf;     /* frequency part (0 for PREDICTION, SIMULATION) */
+} pdt_cost_profile_t;
+
+/* The cost of cfg.kind minimised over the gain and the output offset, for
+ * a model shape (any valid model; its gain is the unit the returned gain
+ * multiplies). Every cost here is quadratic in the gain for a given shape
+ * (Cf in its magnitude), so the minimum is found in closed form: the time
+ * part from the regression of the data on the shape's response, the
+ * frequency part from the regression of |Y| on |G||U|, the two joined by
+ * their weights; the offset follows from the means. This is what makes the
+ * identification search only over shape and dead time.
+ * gain_min, gain_max bound the gain; 0, 0 means unbounded.
+ * scratch: n reals of caller memory, overwritten (the shape's response).
+ * The time part is scored as pdt_cost_simulation / pdt_cost_prediction
+ * score it; the result's cost is the one those (and pdt_cost_frequency)
+ * return for the model with the returned gain and y0 + offset, up to
+ * rounding.
+ * Returns PDT_ERR_ARG (NULL, c not prepared, invalid shape, its delay
+ * outside the bounds, FREQUENCY / COMBINED without use_frequency, a bound
+ * not finite), PDT_ERR_BOUNDS (gain_min > gain_max); *out untouched then.
+ * Work: one simulation and two more passes over the record, two passes
+ * over the bins; O(n + N_f). */
+pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t gain_min,
+                              pdt_real_t gain_max, pdt_real_t *scratch, pdt_cost_profile_t *out);
+
+/* The model's simulated output in engineering units: ysim[k] = y0 + the
+ * response of d, from rest, to u - u0, for k = 0 .. n-1 (n reals). d may
+ * have any delay. Returns PDT_ERR_ARG for NULL, c not prepared, an order
+ * other than 1 or 2, or a non-finite coefficient. O(n). */
+pdt_status_t pdt_cost_simulate(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *ysim);
 
 #ifdef __cplusplus
 }

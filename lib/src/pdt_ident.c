@@ -1,0 +1,858 @@
+/*
+ * Identification: genetic algorithm over the model shape, Nelder-Mead
+ * refinement, closed-form gain and offset, all as a resumable state machine
+ * so that each pdt_ident_step call does a bounded amount of work.
+ */
+#include "pdt/pdt_ident.h"
+
+#include "pdt/pdt_discrete.h"
+#include "pdt_ga.h"
+#include "pdt_internal.h"
+
+#define IDENT_MAGIC 0x70647469u
+
+enum phase {
+    PH_INIT_POP = 1, /* evaluating the initial population */
+    PH_BREED,        /* next call breeds a generation */
+    PH_EVAL_OFF,     /* evaluating offspring */
+    PH_REFINE_PREP,  /* re-centre the spectra on the estimated offset */
+    PH_REFINE,       /* Nelder-Mead */
+    PH_DONE
+};
+
+enum nm_state { NM_VERTEX = 1, NM_REFLECT, NM_EXPAND, NM_CONTRACT, NM_SHRINK, NM_END };
+
+/* Nelder-Mead coefficients (the standard ones) and its stopping size in
+ * normalised gene units. */
+#define NM_STEP PDT_R(0.05)
+#define NM_XTOL PDT_R(1e-5)
+
+/* Weight of the time cost when the caller asks for the frequency cost alone. */
+#define FREQ_ONLY_PHI_T PDT_R(1e-3)
+
+void pdt_ident_config_default(pdt_ident_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return;
+    }
+    *cfg = (pdt_ident_config_t){0};
+    cfg->model = PDT_MODEL_FOPDT;
+    cfg->cost = PDT_COST_SIMULATION;
+    cfg->time_kind = PDT_COST_SIMULATION;
+    cfg->phi_t = PDT_R(1.0);
+    cfg->phi_f = PDT_R(1.0);
+    cfg->weight = PDT_WEIGHT_UNIFORM;
+    cfg->delay_mode = PDT_DELAY_FRACTIONAL;
+    cfg->zeta_min = PDT_R(0.2);
+    cfg->integrating = true;
+    cfg->population = 24u;
+    cfg->max_evaluations = 2000u;
+    cfg->refine_evaluations = 200u;
+    cfg->tolerance = PDT_R(1e-4);
+    cfg->stall_generations = 8u;
+    cfg->seed = 1u;
+    cfg->eta_c = PDT_R(15.0);
+    cfg->eta_m = PDT_R(20.0);
+    cfg->p_crossover = PDT_R(0.9);
+    cfg->p_mutation = PDT_R(0.0);
+    cfg->sigma_share = PDT_R(0.1);
+    cfg->elite = 2u;
+}
+
+static uint32_t genes_of(pdt_model_kind_t kind)
+{
+    return kind == PDT_MODEL_SOPDT ? 3u : 2u;
+}
+
+static bool uses_frequency(pdt_cost_kind_t kind)
+{
+    return kind == PDT_COST_FREQUENCY || kind == PDT_COST_COMBINED;
+}
+
+/* The cost configuration the identification runs on. */
+static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t y0,
+                        size_t delay_max, pdt_cost_config_t *cc)
+{
+    pdt_cost_config_default(cc);
+    cc->Ts = cfg->Ts;
+    cc->u0 = u0;
+    cc->y0 = y0;
+    cc->delay_min = 0u;
+    cc->delay_max = delay_max;
+    cc->kind = cfg->cost;
+    cc->time_kind = cfg->time_kind;
+    cc->delay_mode = cfg->delay_mode;
+    cc->estimate_offset = true;
+    cc->use_frequency = uses_frequency(cfg->cost);
+    cc->phi_t = cfg->phi_t;
+    cc->phi_f = cfg->phi_f;
+    if (cfg->cost == PDT_COST_FREQUENCY) {
+        /* Cf cannot see the dead time (the paper fixes it with Ct): the
+         * time cost comes in with a small weight that only decides what
+         * Cf leaves open. */
+        cc->kind = PDT_COST_COMBINED;
+        cc->phi_t = FREQ_ONLY_PHI_T;
+        cc->phi_f = PDT_R(1.0);
+    }
+    cc->weight = cfg->weight;
+    cc->f_lo = cfg->f_lo;
+    cc->f_hi = cfg->f_hi;
+    cc->weights = cfg->weights;
+}
+
+/* Bounds with the defaults filled in, checked. */
+typedef struct bounds {
+    pdt_real_t tau_min, tau_max, Td_min, Td_max;
+} bounds_t;
+
+static pdt_status_t resolve_bounds(const pdt_ident_config_t *cfg, size_t n, bounds_t *b)
+{
+    pdt_real_t T = cfg->Ts * (pdt_real_t)n;
+    b->tau_min = cfg->tau_min;
+    b->tau_max = cfg->tau_max;
+    if (b->tau_min == PDT_R(0.0) && b->tau_max == PDT_R(0.0)) {
+        b->tau_min = cfg->Ts * PDT_R(0.25);
+        b->tau_max = PDT_R(2.0) * T;
+    }
+    b->Td_min = cfg->Td_min;
+    b->Td_max = cfg->Td_max;
+    if (b->Td_min == PDT_R(0.0) && b->Td_max == PDT_R(0.0)) {
+        b->Td_max = T / PDT_R(3.0);
+    }
+    if (!pdt_finite(b->tau_min) || !pdt_finite(b->tau_max) || !pdt_finite(b->Td_min) ||
+        !pdt_finite(b->Td_max) || !(b->tau_min > PDT_R(0.0)) || b->Td_min < PDT_R(0.0)) {
+        return PDT_ERR_ARG;
+    }
+    if (b->tau_min >= b->tau_max || b->Td_min > b->Td_max) {
+        return PDT_ERR_BOUNDS;
+    }
+    return PDT_OK;
+}
+
+static pdt_status_t check_config(const pdt_ident_config_t *cfg)
+{
+    if (cfg->model != PDT_MODEL_FOPDT && cfg->model != PDT_MODEL_SOPDT) {
+        return PDT_ERR_ARG;
+    }
+    if (!pdt_finite(cfg->Ts) || !(cfg->Ts > PDT_R(0.0))) {
+        return PDT_ERR_ARG;
+    }
+    if (cfg->population < 4u || cfg->population > PDT_IDENT_MAX_POPULATION ||
+        (cfg->population % 2u) != 0u) {
+        return PDT_ERR_ARG;
+    }
+    if (cfg->elite >= cfg->population || cfg->max_evaluations < cfg->population ||
+        cfg->refine_evaluations >= cfg->max_evaluations || cfg->stall_generations == 0u) {
+        return PDT_ERR_ARG;
+    }
+    if (!(cfg->eta_c > PDT_R(0.0)) || !(cfg->eta_m > PDT_R(0.0)) || !pdt_finite(cfg->eta_c) ||
+        !pdt_finite(cfg->eta_m) || !(cfg->p_crossover >= PDT_R(0.0)) ||
+        !(cfg->p_crossover <= PDT_R(1.0)) || !(cfg->p_mutation >= PDT_R(0.0)) ||
+        !(cfg->p_mutation <= PDT_R(1.0)) || !(cfg->sigma_share > PDT_R(0.0)) ||
+        !pdt_finite(cfg->sigma_share) || !(cfg->tolerance >= PDT_R(0.0)) ||
+        !pdt_finite(cfg->tolerance)) {
+        return PDT_ERR_ARG;
+    }
+    if (cfg->model == PDT_MODEL_SOPDT &&
+        (!(cfg->zeta_min > PDT_R(0.0)) || !pdt_finite(cfg->zeta_min))) {
+        return PDT_ERR_ARG;
+    }
+    if (!pdt_finite(cfg->K_min) || !pdt_finite(cfg->K_max)) {
+        return PDT_ERR_ARG;
+    }
+    if (cfg->K_min > cfg->K_max) {
+        return PDT_ERR_BOUNDS;
+    }
+    return PDT_OK;
+}
+
+/* Layout of the workspace after the cost's own part, in reals. */
+static size_t own_reals(uint32_t pop, uint32_t genes, size_t n)
+{
+    return 2u * (size_t)pop * (genes + 3u) + (size_t)pop + n;
+}
+
+size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
+{
+    bounds_t b;
+    pdt_cost_config_t cc;
+    if (cfg == NULL || check_config(cfg) != PDT_OK || resolve_bounds(cfg, n, &b) != PDT_OK) {
+        return 0u;
+    }
+    cost_config(cfg, PDT_R(0.0), PDT_R(0.0), (size_t)(b.Td_max / cfg->Ts) + 2u, &cc);
+    size_t cost_bytes = pdt_cost_workspace_size(&cc, n);
+    if (cc.use_frequency && cost_bytes == 0u) {
+        return 0u;
+    }
+    /* Round the cost part up so the rest stays aligned for pdt_real_t. */
+    cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
+    return cost_bytes + own_reals(cfg->population, genes_of(cfg->model), n) * sizeof(pdt_real_t);
+}
+
+/* The output level before the input first moves: the mean of y over that
+ * stretch (and the shortest dead time after it), at least one sample. Only
+ * the start of the search uses it; the model re-estimates the offset. */
+static pdt_real_t initial_level(const pdt_ident_data_t *d, size_t quiet_extra)
+{
+    size_t k = 1u;
+    while (k < d->n && d->u[k] == d->u[0]) {
+        k++;
+    }
+    k += quiet_extra;
+    if (k > d->n / 2u) {
+        k = d->n / 2u > 0u ? d->n / 2u : 1u;
+    }
+    pdt_real_t shift = d->y[0];
+    pdt_real_t sum = PDT_R(0.0);
+    for (size_t i = 0; i < k; i++) {
+        sum += d->y[i] - shift;
+    }
+    return shift + sum / (pdt_real_t)k;
+}
+
+pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
+                            const pdt_ident_data_t *data, void *work, size_t work_len)
+{
+    if (ctx == NULL || cfg == NULL || data == NULL || data->u == NULL || data->y == NULL) {
+        return PDT_ERR_ARG;
+    }
+    pdt_status_t st = check_config(cfg);
+    if (st != PDT_OK) {
+        return st;
+    }
+    bounds_t b;
+    st = resolve_bounds(cfg, data->n, &b);
+    if (st != PDT_OK) {
+        return st;
+    }
+    if (data->n < PDT_MIN_SAMPLES) {
+        return PDT_ERR_TOO_SHORT;
+    }
+    pdt_real_t umin = data->u[0], umax = data->u[0], ymin = data->y[0], ymax = data->y[0];
+    for (size_t k = 0; k < data->n; k++) {
+        pdt_real_t uk = data->u[k], yk = data->y[k];
+        if (!pdt_finite(uk) || !pdt_finite(yk)) {
+            return PDT_ERR_NONFINITE;
+        }
+        umin = uk < umin ? uk : umin;
+        umax = uk > umax ? uk : umax;
+        ymin = yk < ymin ? yk : ymin;
+        ymax = yk > ymax ? yk : ymax;
+    }
+    if (!(umax > umin) || !(ymax > ymin)) {
+        return PDT_ERR_NO_EXCITATION;
+    }
+    pdt_real_t lmax = b.Td_max / cfg->Ts;
+    if (!(lmax < (pdt_real_t)(data->n))) {
+        return PDT_ERR_TOO_SHORT;
+    }
+    size_t delay_max = (size_t)lmax + 1u;
+    if (work == NULL) {
+        return PDT_ERR_NOMEM;
+    }
+    if (!pdt_aligned(work)) {
+        return PDT_ERR_ARG;
+    }
+    size_t need = pdt_ident_workspace_size(cfg, data->n);
+    if (need == 0u) {
+        return PDT_ERR_ARG;
+    }
+    if (work_len < need) {
+        return PDT_ERR_NOMEM;
+    }
+
+    /* Everything below writes only into locals and the workspace until the
+     * final copy into *ctx. */
+    pdt_ident_t c;
+    c = (pdt_ident_t){0};
+    c.cfg = *cfg;
+    c.data = *data;
+    c.genes = genes_of(cfg->model);
+    pdt_real_t y0 = initial_level(data, (size_t)(b.Td_min / cfg->Ts));
+    pdt_cost_config_t cc;
+    cost_config(cfg, data->u[0], y0, delay_max, &cc);
+    size_t cost_bytes = pdt_cost_workspace_size(&cc, data->n);
+    st = pdt_cost_init(&c.cost, &cc, data->u, data->y, data->n, work, cost_bytes);
+    if (st != PDT_OK) {
+        return st;
+    }
+    c.cost_work = work;
+    c.cost_work_len = cost_bytes;
+    cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
+    pdt_real_t *p = (pdt_real_t *)((unsigned char *)work + cost_bytes);
+    size_t P = cfg->population, G = c.genes;
+    c.pop = p;
+    p += P * G;
+    c.pop_cost = p;
+    p += P;
+    c.pop_gain = p;
+    p += P;
+    c.pop_offset = p;
+    p += P;
+    c.off = p;
+    p += P * G;
+    c.off_cost = p;
+    p += P;
+    c.off_gain = p;
+    p += P;
+    c.off_offset = p;
+    p += P;
+    c.shared = p;
+    p += P;
+    c.scratch = p;
+
+    /* Gene bounds: shape genes first, dead time last. */
+    if (cfg->model == PDT_MODEL_FOPDT) {
+        c.lo[0] = pdt_log(b.tau_min);
+        c.hi[0] = pdt_log(b.tau_max);
+    } else {
+        /* 1/a = T1 T2 / (T1 + T2) lies in [T2 / 2, T2] for T1 >= T2. */
+        c.lo[0] = pdt_log(b.tau_min * PDT_R(0.5));
+        c.hi[0] = pdt_log(b.tau_max);
+        c.lo[1] = cfg->integrating ? PDT_R(0.0) : PDT_R(1.0) / (PDT_R(4.0) * b.tau_max / b.tau_min);
+        c.hi[1] = PDT_R(1.0) / cfg->zeta_min;
+        if (!(c.lo[1] < c.hi[1])) {
+            return PDT_ERR_BOUNDS;
+        }
+    }
+    c.lo[G - 1u] = b.Td_min;
+    c.hi[G - 1u] = b.Td_max;
+    if (!(c.hi[G - 1u] > c.lo[G - 1u])) {
+        /* A fixed dead time: give the gene a range of zero width the
+         * operators can still handle. */
+        c.hi[G - 1u] = c.lo[G - 1u] + cfg->Ts * PDT_R(1e-3);
+    }
+
+    pdt_rng_t rng;
+    pdt_rng_seed(&rng, cfg->seed, 0x5eed5eedu);
+    for (size_t i = 0; i < P; i++) {
+        for (size_t j = 0; j < G; j++) {
+            c.pop[i * G + j] = c.lo[j] + (c.hi[j] - c.lo[j]) * pdt_rng_uniform(&rng);
+        }
+    }
+    c.rng_state = rng.state;
+    c.rng_inc = rng.inc;
+    c.best_cost = PDT_REAL_MAX;
+    c.best_history = PDT_REAL_MAX;
+    c.phase = PH_INIT_POP;
+    c.magic = IDENT_MAGIC;
+    *ctx = c;
+    return PDT_OK;
+}
+
+/* The unit-gain model of a gene vector. */
+static void shape_of(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
+{
+    pdt_real_t Td = g[c->genes - 1u];
+    if (c->cfg.delay_mode == PDT_DELAY_INTEGER) {
+        Td = pdt_floor(Td / c->cfg.Ts + PDT_R(0.5)) * c->cfg.Ts;
+    }
+    if (c->cfg.model == PDT_MODEL_FOPDT) {
+        m->kind = PDT_MODEL_FOPDT;
+        m->p.fopdt.K = PDT_R(1.0);
+        m->p.fopdt.tau = pdt_exp(g[0]);
+        m->p.fopdt.Td = Td;
+    } else {
+        pdt_real_t a = pdt_exp(-g[0]);
+        pdt_real_t h = PDT_R(0.5) * a * g[1];
+        m->kind = PDT_MODEL_SOPDT;
+        m->p.sopdt.k = PDT_R(1.0);
+        m->p.sopdt.a = a;
+        m->p.sopdt.b = h * h;
+        m->p.sopdt.Td = Td;
+    }
+}
+
+/* Bounds on the multiplier of the shape's gain from the caller's K bounds. */
+static void gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
+                        pdt_real_t *hi)
+{
+    pdt_real_t scale = PDT_R(1.0);
+    if (c->cfg.K_min == PDT_R(0.0) && c->cfg.K_max == PDT_R(0.0)) {
+        *lo = PDT_R(0.0);
+        *hi = PDT_R(0.0);
+        return;
+    }
+    if (shape->kind == PDT_MODEL_SOPDT) {
+        scale = shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a;
+    }
+    *lo = c->cfg.K_min * scale;
+    *hi = c->cfg.K_max * scale;
+}
+
+static void evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_real_t *gain,
+                     pdt_real_t *offset)
+{
+    pdt_model_t shape;
+    pdt_cost_profile_t pr;
+    pdt_real_t glo, ghi;
+    shape_of(c, g, &shape);
+    gain_bounds(c, &shape, &glo, &ghi);
+    c->evaluations++;
+    if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) != PDT_OK ||
+        !(pr.cost == pr.cost)) {
+        *cost = PDT_REAL_MAX;
+        *gain = PDT_R(0.0);
+        *offset = PDT_R(0.0);
+        return;
+    }
+    *cost = pr.cost;
+    *gain = pr.gain;
+    *offset = pr.offset;
+    if (pr.cost < c->best_cost) {
+        c->best_cost = pr.cost;
+        c->best_gain = pr.gain;
+        c->best_offset = pr.offset;
+        for (uint32_t j = 0; j < c->genes; j++) {
+            c->best[j] = g[j];
+        }
+    }
+}
+
+static pdt_rng_t rng_load(const pdt_ident_t *c)
+{
+    pdt_rng_t r;
+    r.state = c->rng_state;
+    r.inc = c->rng_inc;
+    return r;
+}
+
+static void rng_store(pdt_ident_t *c, const pdt_rng_t *r)
+{
+    c->rng_state = r->state;
+    c->rng_inc = r->inc;
+}
+
+static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
+{
+    uint32_t P = c->cfg.population;
+    size_t a = pdt_rng_below(r, P);
+    size_t b = pdt_rng_below(r, P);
+    return pdt_ga_tournament(c->shared, a, b, pdt_rng_u32(r) & 1u);
+}
+
+/* One generation of offspring from the current population. */
+static void breed(pdt_ident_t *c)
+{
+    const size_t P = c->cfg.population, G = c->genes;
+    pdt_rng_t r = rng_load(c);
+    pdt_real_t pm = c->cfg.p_mutation > PDT_R(0.0) ? c->cfg.p_mutation
+                                                   : PDT_R(1.0) / (pdt_real_t)G;
+    pdt_ga_share(c->pop, P, G, c->lo, c->hi, c->pop_cost, c->cfg.sigma_share, PDT_R(1.0),
+                 c->shared);
+    for (size_t i = 0; i < P; i += 2u) {
+        const pdt_real_t *p1 = &c->pop[pick(c, &r) * G];
+        const pdt_real_t *p2 = &c->pop[pick(c, &r) * G];
+        pdt_real_t *c1 = &c->off[i * G];
+        pdt_real_t *c2 = &c->off[(i + 1u) * G];
+        bool cross = pdt_rng_uniform(&r) < c->cfg.p_crossover;
+        for (size_t j = 0; j < G; j++) {
+            pdt_real_t x1 = p1[j], x2 = p2[j];
+            if (cross && pdt_rng_uniform(&r) < PDT_R(0.5)) {
+                pdt_ga_sbx(p1[j], p2[j], c->lo[j], c->hi[j], c->cfg.eta_c, pdt_rng_uniform(&r),
+                           &x1, &x2);
+                if ((pdt_rng_u32(&r) & 1u) != 0u) {
+                    pdt_real_t t = x1;
+                    x1 = x2;
+                    x2 = t;
+                }
+            }
+            if (pdt_rng_uniform(&r) < pm) {
+                x1 = pdt_ga_mutate(x1, c->lo[j], c->hi[j], c->cfg.eta_m, pdt_rng_uniform(&r));
+            }
+            if (pdt_rng_uniform(&r) < pm) {
+                x2 = pdt_ga_mutate(x2, c->lo[j], c->hi[j], c->cfg.eta_m, pdt_rng_uniform(&r));
+            }
+            c1[j] = x1;
+            c2[j] = x2;
+        }
+    }
+    rng_store(c, &r);
+}
+
+static void copy_individual(pdt_ident_t *c, pdt_real_t *dst_genes, size_t di, const pdt_real_t *src,
+                            size_t si, pdt_real_t cost, pdt_real_t gain, pdt_real_t offset)
+{
+    (void)si;
+    for (uint32_t j = 0; j < c->genes; j++) {
+        dst_genes[di * c->genes + j] = src[j];
+    }
+    c->off_cost[di] = cost;
+    c->off_gain[di] = gain;
+    c->off_offset[di] = offset;
+}
+
+/* Elitism: the best `elite` parents replace the worst offspring when better,
+ * then the offspring become the population. */
+static void survive(pdt_ident_t *c)
+{
+    const size_t P = c->cfg.population, G = c->genes;
+    for (uint32_t e = 0; e < c->cfg.elite; e++) {
+        size_t best = 0u, worst = 0u;
+        for (size_t i = 1; i < P; i++) {
+            if (c->pop_cost[i] < c->pop_cost[best]) {
+                best = i;
+            }
+            if (c->off_cost[i] > c->off_cost[worst]) {
+                worst = i;
+            }
+        }
+        if (!(c->pop_cost[best] < c->off_cost[worst])) {
+            break;
+        }
+        copy_individual(c, c->off, worst, &c->pop[best * G], best, c->pop_cost[best],
+                        c->pop_gain[best], c->pop_offset[best]);
+        /* Take the parent out of the next round of this loop. */
+        c->pop_cost[best] = PDT_REAL_MAX;
+    }
+    for (size_t i = 0; i < P * G; i++) {
+        c->pop[i] = c->off[i];
+    }
+    for (size_t i = 0; i < P; i++) {
+        c->pop_cost[i] = c->off_cost[i];
+        c->pop_gain[i] = c->off_gain[i];
+        c->pop_offset[i] = c->off_offset[i];
+    }
+}
+
+/* After a generation: stall bookkeeping and whether the GA goes on. */
+static bool ga_continues(pdt_ident_t *c)
+{
+    c->generations++;
+    if (c->best_cost < c->best_history * (PDT_R(1.0) - c->cfg.tolerance) ||
+        c->best_history == PDT_REAL_MAX) {
+        c->best_history = c->best_cost;
+        c->stall = 0u;
+    } else {
+        c->stall++;
+    }
+    uint32_t ga_budget = c->cfg.max_evaluations - c->cfg.refine_evaluations;
+    return c->stall < c->cfg.stall_generations &&
+           c->evaluations + c->cfg.population <= ga_budget;
+}
+
+/* ---- Nelder-Mead, by reverse communication: propose a point, take its cost. */
+
+static pdt_real_t clampg(const pdt_ident_t *c, size_t j, pdt_real_t x)
+{
+    return x < c->lo[j] ? c->lo[j] : (x > c->hi[j] ? c->hi[j] : x);
+}
+
+static void nm_start(pdt_ident_t *c)
+{
+    const size_t G = c->genes;
+    for (size_t i = 0; i <= G; i++) {
+        for (size_t j = 0; j < G; j++) {
+            c->nm_x[i][j] = c->best[j];
+        }
+        if (i > 0u) {
+            size_t j = i - 1u;
+            pdt_real_t step = NM_STEP * (c->hi[j] - c->lo[j]);
+            pdt_real_t x = c->best[j] + step;
+            if (x > c->hi[j]) {
+                x = c->best[j] - step;
+            }
+            c->nm_x[i][j] = clampg(c, j, x);
+        }
+    }
+    c->nm_state = NM_VERTEX;
+    c->nm_index = 0u;
+    c->nm_budget = c->cfg.max_evaluations > c->evaluations ? c->cfg.max_evaluations - c->evaluations
+                                                           : 0u;
+    /* The cost scale may have changed (re-centred spectra): the refinement's
+     * best is tracked afresh from the re-evaluated GA best. */
+    c->best_cost = PDT_REAL_MAX;
+}
+
+static void nm_order(pdt_ident_t *c)
+{
+    const size_t G = c->genes;
+    /* Insertion sort of G + 1 <= 4 vertices by cost. */
+    for (size_t i = 1; i <= G; i++) {
+        for (size_t k = i; k > 0u && c->nm_f[k] < c->nm_f[k - 1u]; k--) {
+            pdt_real_t tf = c->nm_f[k];
+            c->nm_f[k] = c->nm_f[k - 1u];
+            c->nm_f[k - 1u] = tf;
+            for (size_t j = 0; j < G; j++) {
+                pdt_real_t t = c->nm_x[k][j];
+                c->nm_x[k][j] = c->nm_x[k - 1u][j];
+                c->nm_x[k - 1u][j] = t;
+            }
+        }
+    }
+}
+
+/* Point = centroid of the best G vertices + coef (centroid - worst). */
+static void nm_point(pdt_ident_t *c, pdt_real_t coef, pdt_real_t *out)
+{
+    const size_t G = c->genes;
+    for (size_t j = 0; j < G; j++) {
+        pdt_real_t cen = PDT_R(0.0);
+        for (size_t i = 0; i < G; i++) {
+            cen += c->nm_x[i][j];
+        }
+        cen /= (pdt_real_t)G;
+        out[j] = clampg(c, j, cen + coef * (cen - c->nm_x[G][j]));
+    }
+}
+
+static bool nm_converged(const pdt_ident_t *c)
+{
+    const size_t G = c->genes;
+    pdt_real_t size = PDT_R(0.0);
+    for (size_t i = 1; i <= G; i++) {
+        for (size_t j = 0; j < G; j++) {
+            pdt_real_t d = pdt_fabs(c->nm_x[i][j] - c->nm_x[0][j]) / (c->hi[j] - c->lo[j]);
+            size = d > size ? d : size;
+        }
+    }
+    return size < NM_XTOL;
+}
+
+static void nm_replace_worst(pdt_ident_t *c, const pdt_real_t *x, pdt_real_t f)
+{
+    for (uint32_t j = 0; j < c->genes; j++) {
+        c->nm_x[c->genes][j] = x[j];
+    }
+    c->nm_f[c->genes] = f;
+}
+
+/* Sets up the next trial after the simplex changed; NM_END when done. */
+static void nm_next_iteration(pdt_ident_t *c)
+{
+    nm_order(c);
+    if (c->nm_budget == 0u || nm_converged(c)) {
+        c->nm_state = NM_END;
+        return;
+    }
+    nm_point(c, PDT_R(1.0), c->nm_trial);
+    c->nm_state = NM_REFLECT;
+}
+
+/* One Nelder-Mead evaluation. */
+static void nm_advance(pdt_ident_t *c)
+{
+    const uint32_t G = c->genes;
+    pdt_real_t f, gain, offset;
+    switch (c->nm_state) {
+    case NM_VERTEX:
+    case NM_SHRINK:
+        evaluate(c, c->nm_x[c->nm_index], &f, &gain, &offset);
+        c->nm_f[c->nm_index] = f;
+        c->nm_index++;
+        if (c->nm_index > G) {
+            nm_next_iteration(c);
+        }
+        break;
+    case NM_REFLECT:
+        evaluate(c, c->nm_trial, &f, &gain, &offset);
+        c->nm_ftrial = f;
+        if (f < c->nm_f[0]) {
+            nm_point(c, PDT_R(2.0), c->nm_trial2);
+            c->nm_state = NM_EXPAND;
+        } else if (f < c->nm_f[G - 1u]) {
+            nm_replace_worst(c, c->nm_trial, f);
+            nm_next_iteration(c);
+        } else {
+            /* Contract outside when the reflection beat the worst, inside
+             * otherwise. */
+            nm_point(c, f < c->nm_f[G] ? PDT_R(0.5) : PDT_R(-0.5), c->nm_trial2);
+            c->nm_state = NM_CONTRACT;
+        }
+        break;
+    case NM_EXPAND:
+        evaluate(c, c->nm_trial2, &f, &gain, &offset);
+        if (f < c->nm_ftrial) {
+            nm_replace_worst(c, c->nm_trial2, f);
+        } else {
+            nm_replace_worst(c, c->nm_trial, c->nm_ftrial);
+        }
+        nm_next_iteration(c);
+        break;
+    case NM_CONTRACT:
+        evaluate(c, c->nm_trial2, &f, &gain, &offset);
+        if (f < c->nm_ftrial && f < c->nm_f[G]) {
+            nm_replace_worst(c, c->nm_trial2, f);
+            nm_next_iteration(c);
+        } else {
+            for (uint32_t i = 1; i <= G; i++) {
+                for (uint32_t j = 0; j < G; j++) {
+                    c->nm_x[i][j] = c->nm_x[0][j] + PDT_R(0.5) * (c->nm_x[i][j] - c->nm_x[0][j]);
+                }
+            }
+            c->nm_state = NM_SHRINK;
+            c->nm_index = 1u;
+        }
+        break;
+    default:
+        c->nm_state = NM_END;
+        break;
+    }
+    if (c->nm_budget > 0u) {
+        c->nm_budget--;
+    }
+    if (c->nm_budget == 0u && c->nm_state != NM_END &&
+        (c->nm_state != NM_VERTEX || c->nm_index > G)) {
+        c->nm_state = NM_END;
+    }
+}
+
+/* The final model in engineering units, its operating point and its fit. */
+static void finish(pdt_ident_t *c)
+{
+    pdt_model_t m;
+    pdt_dmodel_t d;
+    shape_of(c, c->best, &m);
+    if (m.kind == PDT_MODEL_FOPDT) {
+        m.p.fopdt.K = c->best_gain;
+    } else {
+        m.p.sopdt.k = c->best_gain;
+    }
+    c->model = m;
+    c->y0 = c->cost.cfg.y0 + c->best_offset;
+    c->fit = PDT_R(0.0);
+    if (pdt_discretize(&m, c->cfg.Ts, &d) == PDT_OK &&
+        pdt_cost_simulate(&c->cost, &d, c->scratch) == PDT_OK) {
+        const pdt_real_t *y = c->data.y;
+        const size_t n = c->data.n;
+        pdt_real_t mean = PDT_R(0.0), shift = y[0];
+        for (size_t k = 0; k < n; k++) {
+            mean += y[k] - shift;
+        }
+        mean = shift + mean / (pdt_real_t)n;
+        pdt_real_t e2 = PDT_R(0.0), v2 = PDT_R(0.0);
+        for (size_t k = 0; k < n; k++) {
+            pdt_real_t e = y[k] - (c->scratch[k] + c->best_offset);
+            pdt_real_t v = y[k] - mean;
+            e2 += e * e;
+            v2 += v * v;
+        }
+        if (v2 > PDT_R(0.0)) {
+            c->fit = PDT_R(100.0) * (PDT_R(1.0) - pdt_sqrt(e2 / v2));
+        }
+    }
+    c->phase = PH_DONE;
+}
+
+pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
+{
+    if (ctx == NULL || max_evaluations == 0u) {
+        return PDT_ERR_ARG;
+    }
+    if (ctx->magic != IDENT_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    pdt_ident_t *c = ctx;
+    const uint32_t P = c->cfg.population;
+    uint32_t budget = max_evaluations;
+    bool bred = false;
+    while (c->phase != PH_DONE) {
+        switch (c->phase) {
+        case PH_INIT_POP:
+            if (budget == 0u) {
+                return PDT_RUNNING;
+            }
+            evaluate(c, &c->pop[c->next * c->genes], &c->pop_cost[c->next], &c->pop_gain[c->next],
+                     &c->pop_offset[c->next]);
+            budget--;
+            if (++c->next == P) {
+                c->phase = ga_continues(c) ? PH_BREED : PH_REFINE_PREP;
+            }
+            break;
+        case PH_BREED:
+            /* At most one breeding per call keeps the call's work bounded. */
+            if (bred || budget == 0u) {
+                return PDT_RUNNING;
+            }
+            breed(c);
+            bred = true;
+            c->next = 0u;
+            c->phase = PH_EVAL_OFF;
+            break;
+        case PH_EVAL_OFF:
+            if (budget == 0u) {
+                return PDT_RUNNING;
+            }
+            evaluate(c, &c->off[c->next * c->genes], &c->off_cost[c->next], &c->off_gain[c->next],
+                     &c->off_offset[c->next]);
+            budget--;
+            if (++c->next == P) {
+                survive(c);
+                c->phase = ga_continues(c) ? PH_BREED : PH_REFINE_PREP;
+            }
+            break;
+        case PH_REFINE_PREP:
+            if (uses_frequency(c->cost.cfg.kind)) {
+                /* Re-centre the spectra on the output level the model
+                 * estimated: one more preparation of the cost, in its own
+                 * workspace. It is as much work as init, so it gets a call
+                 * of its own. */
+                if (bred) {
+                    return PDT_RUNNING;
+                }
+                pdt_cost_config_t cc = c->cost.cfg;
+                pdt_cost_t nc;
+                cc.y0 += c->best_offset;
+                if (pdt_cost_init(&nc, &cc, c->data.u, c->data.y, c->data.n, c->cost_work,
+                                  c->cost_work_len) == PDT_OK) {
+                    c->cost = nc;
+                }
+                bred = true;
+            }
+            nm_start(c);
+            c->phase = PH_REFINE;
+            break;
+        case PH_REFINE:
+            if (c->nm_state == NM_END) {
+                finish(c);
+                break;
+            }
+            if (budget == 0u) {
+                return PDT_RUNNING;
+            }
+            nm_advance(c);
+            budget--;
+            break;
+        default:
+            return PDT_ERR_STATE;
+        }
+    }
+    return PDT_OK;
+}
+
+pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
+{
+    if (ctx == NULL || out == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (ctx->magic != IDENT_MAGIC || ctx->phase != PH_DONE) {
+        return PDT_ERR_STATE;
+    }
+    pdt_ident_result_t r;
+    r.model = ctx->model;
+    r.u0 = ctx->cost.cfg.u0;
+    r.y0 = ctx->y0;
+    r.cost = ctx->best_cost;
+    r.fit = ctx->fit;
+    r.evaluations = ctx->evaluations;
+    r.generations = ctx->generations;
+    *out = r;
+    return PDT_OK;
+}
+
+pdt_status_t pdt_identify(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
+                          const pdt_ident_data_t *data, void *work, size_t work_len,
+                          pdt_ident_result_t *out)
+{
+    if (out == NULL) {
+        return PDT_ERR_ARG;
+    }
+    pdt_status_t st = pdt_ident_init(ctx, cfg, data, work, work_len);
+    while (st == PDT_OK || st == PDT_RUNNING) {
+        st = pdt_ident_step(ctx, cfg->max_evaluations);
+        if (st == PDT_OK) {
+            return pdt_ident_result(ctx, out);
+        }
+    }
+    return st;
+}
