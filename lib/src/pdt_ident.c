@@ -17,6 +17,8 @@ enum phase {
     PH_EVAL_OFF,     /* evaluating offspring */
     PH_REFINE_PREP,  /* re-centre the spectra on the estimated offset */
     PH_REFINE,       /* Nelder-Mead */
+    PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
+    PH_DELAY_REFINE,
     PH_DONE
 };
 
@@ -27,8 +29,14 @@ enum nm_state { NM_VERTEX = 1, NM_REFLECT, NM_EXPAND, NM_CONTRACT, NM_SHRINK, NM
 #define NM_STEP PDT_R(0.05)
 #define NM_XTOL PDT_R(1e-5)
 
-/* Weight of the time cost when the caller asks for the frequency cost alone. */
-#define FREQ_ONLY_PHI_T PDT_R(1e-3)
+/* The frequency criterion cannot see the dead time or the sign of the gain;
+ * after its search, Td is scanned on a grid of SCAN_POINTS values of the
+ * time cost (both signs of the gain each), then refined by GOLDEN_STEPS of
+ * golden-section search around the best grid point. */
+#define SCAN_POINTS 64u
+#define GOLDEN_STEPS 16u
+#define SCAN_EVALUATIONS (2u * SCAN_POINTS + GOLDEN_STEPS + 2u)
+#define GOLDEN PDT_R(0.6180339887498949)
 
 void pdt_ident_config_default(pdt_ident_config_t *cfg)
 {
@@ -86,14 +94,6 @@ static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t
     cc->use_frequency = uses_frequency(cfg->cost);
     cc->phi_t = cfg->phi_t;
     cc->phi_f = cfg->phi_f;
-    if (cfg->cost == PDT_COST_FREQUENCY) {
-        /* Cf cannot see the dead time (the paper fixes it with Ct): the
-         * time cost comes in with a small weight that only decides what
-         * Cf leaves open. */
-        cc->kind = PDT_COST_COMBINED;
-        cc->phi_t = FREQ_ONLY_PHI_T;
-        cc->phi_f = PDT_R(1.0);
-    }
     cc->weight = cfg->weight;
     cc->f_lo = cfg->f_lo;
     cc->f_hi = cfg->f_hi;
@@ -141,8 +141,16 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
         (cfg->population % 2u) != 0u) {
         return PDT_ERR_ARG;
     }
-    if (cfg->elite >= cfg->population || cfg->max_evaluations < cfg->population ||
-        cfg->refine_evaluations >= cfg->max_evaluations || cfg->stall_generations == 0u) {
+    if (cfg->cost != PDT_COST_PREDICTION && cfg->cost != PDT_COST_SIMULATION &&
+        cfg->cost != PDT_COST_FREQUENCY && cfg->cost != PDT_COST_COMBINED) {
+        return PDT_ERR_ARG;
+    }
+    if (cfg->delay_mode != PDT_DELAY_FRACTIONAL && cfg->delay_mode != PDT_DELAY_INTEGER) {
+        return PDT_ERR_ARG;
+    }
+    uint32_t reserve = cfg->cost == PDT_COST_FREQUENCY ? SCAN_EVALUATIONS : 0u;
+    if (cfg->elite >= cfg->population || cfg->stall_generations == 0u ||
+        cfg->max_evaluations < (uint64_t)cfg->population + cfg->refine_evaluations + reserve) {
         return PDT_ERR_ARG;
     }
     if (!(cfg->eta_c > PDT_R(0.0)) || !(cfg->eta_m > PDT_R(0.0)) || !pdt_finite(cfg->eta_c) ||
@@ -515,6 +523,12 @@ static void survive(pdt_ident_t *c)
     }
 }
 
+/* Evaluations kept back for the dead-time scan of the frequency criterion. */
+static uint32_t scan_reserve(const pdt_ident_t *c)
+{
+    return c->cfg.cost == PDT_COST_FREQUENCY ? SCAN_EVALUATIONS : 0u;
+}
+
 /* After a generation: stall bookkeeping and whether the GA goes on. */
 static bool ga_continues(pdt_ident_t *c)
 {
@@ -526,7 +540,7 @@ static bool ga_continues(pdt_ident_t *c)
     } else {
         c->stall++;
     }
-    uint32_t ga_budget = c->cfg.max_evaluations - c->cfg.refine_evaluations;
+    uint32_t ga_budget = c->cfg.max_evaluations - c->cfg.refine_evaluations - scan_reserve(c);
     return c->stall < c->cfg.stall_generations &&
            c->evaluations + c->cfg.population <= ga_budget;
 }
@@ -557,8 +571,8 @@ static void nm_start(pdt_ident_t *c)
     }
     c->nm_state = NM_VERTEX;
     c->nm_index = 0u;
-    c->nm_budget = c->cfg.max_evaluations > c->evaluations ? c->cfg.max_evaluations - c->evaluations
-                                                           : 0u;
+    uint32_t left = c->cfg.max_evaluations - scan_reserve(c);
+    c->nm_budget = left > c->evaluations ? left - c->evaluations : 0u;
     /* The cost scale may have changed (re-centred spectra): the refinement's
      * best is tracked afresh from the re-evaluated GA best. */
     c->best_cost = PDT_REAL_MAX;
@@ -697,6 +711,109 @@ static void nm_advance(pdt_ident_t *c)
     }
 }
 
+static void finish(pdt_ident_t *c);
+
+/* ---- Dead time of the frequency criterion, from the time cost. */
+
+/* Time cost of the best shape with dead time Td and a fixed gain. */
+static pdt_real_t scan_cost(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_real_t *offset)
+{
+    pdt_real_t g[3];
+    pdt_model_t shape;
+    pdt_cost_profile_t pr;
+    for (uint32_t j = 0; j < c->genes; j++) {
+        g[j] = c->best[j];
+    }
+    g[c->genes - 1u] = Td;
+    shape_of(c, g, &shape);
+    c->evaluations++;
+    if (pdt_cost_profile(&c->cost_time, &shape, gain, gain, c->scratch, &pr) != PDT_OK ||
+        !(pr.cost == pr.cost)) {
+        *offset = PDT_R(0.0);
+        return PDT_REAL_MAX;
+    }
+    *offset = pr.offset;
+    return pr.cost;
+}
+
+static void scan_start(pdt_ident_t *c)
+{
+    pdt_real_t lo = c->lo[c->genes - 1u], hi = c->hi[c->genes - 1u];
+    c->cost_time = c->cost;
+    c->cost_time.cfg.kind = c->cfg.time_kind;
+    c->scan_i = 0u;
+    c->scan_step = (hi - lo) / (pdt_real_t)(SCAN_POINTS - 1u);
+    c->scan_best = PDT_REAL_MAX;
+    c->scan_td = c->best[c->genes - 1u];
+    c->scan_gain = c->best_gain;
+    c->scan_offset = PDT_R(0.0);
+    c->phase = PH_DELAY_SCAN;
+}
+
+static void scan_consider(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_real_t f,
+                          pdt_real_t offset)
+{
+    if (f < c->scan_best) {
+        c->scan_best = f;
+        c->scan_td = Td;
+        c->scan_gain = gain;
+        c->scan_offset = offset;
+    }
+}
+
+static void scan_advance(pdt_ident_t *c)
+{
+    const size_t dt = c->genes - 1u;
+    pdt_real_t off, f;
+    if (c->phase == PH_DELAY_SCAN) {
+        /* Point i / 2 of the grid, gain sign by the parity of i. */
+        pdt_real_t Td = c->lo[dt] + c->scan_step * (pdt_real_t)(c->scan_i / 2u);
+        pdt_real_t gain = (c->scan_i % 2u) == 0u ? pdt_fabs(c->best_gain) : -pdt_fabs(c->best_gain);
+        Td = Td > c->hi[dt] ? c->hi[dt] : Td;
+        f = scan_cost(c, Td, gain, &off);
+        scan_consider(c, Td, gain, f, off);
+        if (++c->scan_i == 2u * SCAN_POINTS) {
+            pdt_real_t a = c->scan_td - c->scan_step, b = c->scan_td + c->scan_step;
+            c->gs_a = a < c->lo[dt] ? c->lo[dt] : a;
+            c->gs_b = b > c->hi[dt] ? c->hi[dt] : b;
+            c->gs_x1 = c->gs_b - GOLDEN * (c->gs_b - c->gs_a);
+            c->gs_x2 = c->gs_a + GOLDEN * (c->gs_b - c->gs_a);
+            c->scan_i = 0u;
+            c->phase = PH_DELAY_REFINE;
+        }
+        return;
+    }
+    /* Golden section: the first two calls evaluate x1 and x2, each later
+     * call the one new interior point. */
+    if (c->scan_i == 0u) {
+        c->gs_f1 = scan_cost(c, c->gs_x1, c->scan_gain, &off);
+        scan_consider(c, c->gs_x1, c->scan_gain, c->gs_f1, off);
+    } else if (c->scan_i == 1u) {
+        c->gs_f2 = scan_cost(c, c->gs_x2, c->scan_gain, &off);
+        scan_consider(c, c->gs_x2, c->scan_gain, c->gs_f2, off);
+    } else if (c->gs_f1 < c->gs_f2) {
+        c->gs_b = c->gs_x2;
+        c->gs_x2 = c->gs_x1;
+        c->gs_f2 = c->gs_f1;
+        c->gs_x1 = c->gs_b - GOLDEN * (c->gs_b - c->gs_a);
+        c->gs_f1 = scan_cost(c, c->gs_x1, c->scan_gain, &off);
+        scan_consider(c, c->gs_x1, c->scan_gain, c->gs_f1, off);
+    } else {
+        c->gs_a = c->gs_x1;
+        c->gs_x1 = c->gs_x2;
+        c->gs_f1 = c->gs_f2;
+        c->gs_x2 = c->gs_a + GOLDEN * (c->gs_b - c->gs_a);
+        c->gs_f2 = scan_cost(c, c->gs_x2, c->scan_gain, &off);
+        scan_consider(c, c->gs_x2, c->scan_gain, c->gs_f2, off);
+    }
+    if (++c->scan_i == GOLDEN_STEPS + 2u) {
+        c->best[dt] = c->scan_td;
+        c->best_gain = c->scan_gain;
+        c->best_offset = c->scan_offset;
+        finish(c);
+    }
+}
+
 /* The final model in engineering units, its operating point and its fit. */
 static void finish(pdt_ident_t *c)
 {
@@ -782,7 +899,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
             }
             break;
         case PH_REFINE_PREP:
-            if (uses_frequency(c->cost.cfg.kind)) {
+            if (c->cost.cfg.kind == PDT_COST_COMBINED) {
                 /* Re-centre the spectra on the output level the model
                  * estimated: one more preparation of the cost, in its own
                  * workspace. It is as much work as init, so it gets a call
@@ -804,13 +921,25 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
             break;
         case PH_REFINE:
             if (c->nm_state == NM_END) {
-                finish(c);
+                if (c->cfg.cost == PDT_COST_FREQUENCY) {
+                    scan_start(c);
+                } else {
+                    finish(c);
+                }
                 break;
             }
             if (budget == 0u) {
                 return PDT_RUNNING;
             }
             nm_advance(c);
+            budget--;
+            break;
+        case PH_DELAY_SCAN:
+        case PH_DELAY_REFINE:
+            if (budget == 0u) {
+                return PDT_RUNNING;
+            }
+            scan_advance(c);
             budget--;
             break;
         default:

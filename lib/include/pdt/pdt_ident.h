@@ -149,6 +149,11 @@ typedef struct pdt_ident {
     uint32_t nm_state;
     uint32_t nm_index;
     uint32_t nm_budget;
+    /* Frequency criterion: the dead-time scan on the time cost. */
+    pdt_cost_t cost_time;
+    uint32_t scan_i;
+    pdt_real_t scan_step, scan_best, scan_td, scan_gain, scan_offset;
+    pdt_real_t gs_a, gs_b, gs_x1, gs_x2, gs_f1, gs_f2;
     /* The answer, once done. */
     pdt_model_t model;
     pdt_real_t y0;
