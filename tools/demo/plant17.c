@@ -65,6 +65,16 @@ double plant17_step(double t, double dt)
     return output(z, 1.0);
 }
 
+void plant17_step_grid(double dt_out, size_t count, unsigned substeps, double *out)
+{
+    double z[NSEC] = {0};
+    double h = dt_out / (double)substeps;
+    for (size_t i = 0; i < count; i++) {
+        out[i] = output(z, i == 0 ? 0.0 : 1.0);
+        for (unsigned s = 0; s < substeps; s++) rk4(z, 1.0, h);
+    }
+}
+
 void plant17_freq(double w, double *mag, double *phase)
 {
     double m = 1.0, p = 0.0;

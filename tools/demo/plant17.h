@@ -17,6 +17,10 @@ void plant17_simulate(const double *u, size_t n, double Ts, unsigned substeps, d
  * step dt. */
 double plant17_step(double t, double dt);
 
+/* Unit-step response of (17) at t = i dt_out, i = 0 .. count-1, in one
+ * integration pass with step dt_out / substeps. */
+void plant17_step_grid(double dt_out, size_t count, unsigned substeps, double *out);
+
 /* |G(jw)| and arg G(jw) (rad, continuous) of (17). */
 void plant17_freq(double w, double *mag, double *phase);
 

@@ -170,7 +170,7 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
 /* Compile-time upper bound of the workspace for n samples and a population
  * of pop, any configuration: for static arrays. */
 #define PDT_IDENT_WORKSPACE_SIZE(n, pop) \
-    (PDT_COST_WORKSPACE_SIZE(n) + ((size_t)(n) + 9u * (size_t)(pop) + 16u) * sizeof(pdt_real_t))
+    (PDT_COST_WORKSPACE_SIZE(n) + ((size_t)(n) + 13u * (size_t)(pop) + 1u) * sizeof(pdt_real_t))
 
 /* Prepares ctx for one identification: checks cfg and the data, derives the
  * bounds, prepares the cost (O(n), plus O(N_f log N_f) when the criterion
