@@ -1,17 +1,22 @@
 #!/usr/bin/env bash
-# Fails if the library archive references an allocator, stdio or rand():
-# lib/ must run where none of them exists.
+# Fails if a pdtfit archive references an allocator, stdio, rand() or exit:
+# lib/ must run where none of them exists. With --float, also fails on any
+# double-precision routine (soft-float helpers, double libm): the float
+# build must not silently compute in double, which a Cortex-M4F emulates.
+# Usage: tools/check_symbols.sh LIB.a [--float]
 set -euo pipefail
 lib=$1
 nm=nm
-case "$(basename "$(dirname "$(dirname "$lib")")")" in *cm4*) nm=arm-none-eabi-nm ;; esac
+case "$lib" in *cm4*) nm=arm-none-eabi-nm ;; esac
 forbidden='^(malloc|calloc|realloc|free|_malloc_r|_free_r|_calloc_r|_realloc_r|printf|fprintf|sprintf|snprintf|vprintf|vfprintf|puts|fputs|putchar|fputc|fwrite|fopen|fclose|rand|srand|stdout|stderr|_impure_ptr|abort|exit)$'
-hits=$("$nm" -u "$lib" | awk '{print $NF}' | grep -E "$forbidden" | sort -u || true)
+if [ "${2:-}" = "--float" ]; then
+    forbidden="${forbidden%)\$}|__aeabi_d[a-z0-9]*|__aeabi_[fiul]*2d|exp|expm1|log|log1p|pow|sqrt|sin|cos|sinh|cosh|atan|atan2|floor|fabs|hypot)\$"
+fi
+undefined=$("$nm" -u "$lib" | awk 'NF && $NF !~ /:$/ {print $NF}' | sort -u)
+hits=$(echo "$undefined" | grep -E "$forbidden" || true)
 if [ -n "$hits" ]; then
     echo "$lib references forbidden symbols:"
     echo "$hits"
     exit 1
 fi
-echo "$lib: no allocator, stdio, rand or exit symbols; undefined symbols are:"
-"$nm" -u "$lib" | awk '{print $NF}' | sort -u | tr '\n' ' '
-echo
+echo "$lib: clean${2:+ ($2)}; it needs only: $(echo "$undefined" | grep -v '^pdt_' | tr '\n' ' ')"

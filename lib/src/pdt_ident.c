@@ -287,7 +287,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     c.cost_work = work;
     c.cost_work_len = cost_bytes;
     cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
-    pdt_real_t *p = (pdt_real_t *)((unsigned char *)work + cost_bytes);
+    /* work is aligned for pdt_real_t and cost_bytes a whole number of
+     * reals, so the rest of the workspace is addressed in reals. */
+    pdt_real_t *p = (pdt_real_t *)work + cost_bytes / sizeof(pdt_real_t);
     size_t P = cfg->population, G = c.genes;
     c.pop = p;
     p += P * G;
