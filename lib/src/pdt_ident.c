@@ -29,6 +29,9 @@ enum nm_state { NM_VERTEX = 1, NM_REFLECT, NM_EXPAND, NM_CONTRACT, NM_SHRINK, NM
 #define NM_STEP PDT_R(0.05)
 #define NM_XTOL PDT_R(1e-5)
 
+/* Most refinement starts (niches refined). */
+#define NM_STARTS 3u
+
 /* The frequency criterion cannot see the dead time or the sign of the gain;
  * after its search, Td is scanned on a grid of SCAN_POINTS values of the
  * time cost (both signs of the gain each), then refined by GOLDEN_STEPS of
@@ -53,11 +56,11 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
     cfg->delay_mode = PDT_DELAY_FRACTIONAL;
     cfg->zeta_min = PDT_R(0.2);
     cfg->integrating = true;
-    cfg->population = 24u;
-    cfg->max_evaluations = 2000u;
-    cfg->refine_evaluations = 200u;
+    cfg->population = 0u;
+    cfg->max_evaluations = 3000u;
+    cfg->refine_evaluations = 300u;
     cfg->tolerance = PDT_R(1e-4);
-    cfg->stall_generations = 8u;
+    cfg->stall_generations = 10u;
     cfg->seed = 1u;
     cfg->eta_c = PDT_R(15.0);
     cfg->eta_m = PDT_R(20.0);
@@ -70,6 +73,16 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
 static uint32_t genes_of(pdt_model_kind_t kind)
 {
     return kind == PDT_MODEL_SOPDT ? 3u : 2u;
+}
+
+/* The population, the automatic one resolved: a 2-gene FOPDT search needs
+ * fewer individuals than a 3-gene SOPDT one to cover its space. */
+static uint32_t population_of(const pdt_ident_config_t *cfg)
+{
+    if (cfg->population != 0u) {
+        return cfg->population;
+    }
+    return cfg->model == PDT_MODEL_SOPDT ? PDT_IDENT_POPULATION_SOPDT : PDT_IDENT_POPULATION_FOPDT;
 }
 
 static bool uses_frequency(pdt_cost_kind_t kind)
@@ -137,8 +150,8 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     if (!pdt_finite(cfg->Ts) || !(cfg->Ts > PDT_R(0.0))) {
         return PDT_ERR_ARG;
     }
-    if (cfg->population < 4u || cfg->population > PDT_IDENT_MAX_POPULATION ||
-        (cfg->population % 2u) != 0u) {
+    const uint32_t P = population_of(cfg);
+    if (P < 4u || P > PDT_IDENT_MAX_POPULATION || (P % 2u) != 0u) {
         return PDT_ERR_ARG;
     }
     if (cfg->cost != PDT_COST_PREDICTION && cfg->cost != PDT_COST_SIMULATION &&
@@ -149,8 +162,8 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
         return PDT_ERR_ARG;
     }
     uint32_t reserve = cfg->cost == PDT_COST_FREQUENCY ? SCAN_EVALUATIONS : 0u;
-    if (cfg->elite >= cfg->population || cfg->stall_generations == 0u ||
-        cfg->max_evaluations < (uint64_t)cfg->population + cfg->refine_evaluations + reserve) {
+    if (cfg->elite >= P || cfg->stall_generations == 0u ||
+        cfg->max_evaluations < (uint64_t)P + cfg->refine_evaluations + reserve) {
         return PDT_ERR_ARG;
     }
     if (!(cfg->eta_c > PDT_R(0.0)) || !(cfg->eta_m > PDT_R(0.0)) || !pdt_finite(cfg->eta_c) ||
@@ -194,7 +207,7 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
     }
     /* Round the cost part up so the rest stays aligned for pdt_real_t. */
     cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
-    return cost_bytes + own_reals(cfg->population, genes_of(cfg->model), n) * sizeof(pdt_real_t);
+    return cost_bytes + own_reals(population_of(cfg), genes_of(cfg->model), n) * sizeof(pdt_real_t);
 }
 
 /* The output level before the input first moves: the mean of y over that
@@ -274,6 +287,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     pdt_ident_t c;
     c = (pdt_ident_t){0};
     c.cfg = *cfg;
+    c.cfg.population = population_of(cfg);
     c.data = *data;
     c.genes = genes_of(cfg->model);
     pdt_real_t y0 = initial_level(data, (size_t)(b.Td_min / cfg->Ts));
@@ -290,7 +304,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     /* work is aligned for pdt_real_t and cost_bytes a whole number of
      * reals, so the rest of the workspace is addressed in reals. */
     pdt_real_t *p = (pdt_real_t *)work + cost_bytes / sizeof(pdt_real_t);
-    size_t P = cfg->population, G = c.genes;
+    size_t P = c.cfg.population, G = c.genes;
     c.pop = p;
     p += P * G;
     c.pop_cost = p;
@@ -554,19 +568,68 @@ static pdt_real_t clampg(const pdt_ident_t *c, size_t j, pdt_real_t x)
     return x < c->lo[j] ? c->lo[j] : (x > c->hi[j] ? c->hi[j] : x);
 }
 
+/* Normalised distance between two gene vectors. */
+static pdt_real_t gene_distance(const pdt_ident_t *c, const pdt_real_t *x, const pdt_real_t *y)
+{
+    pdt_real_t d2 = PDT_R(0.0);
+    for (uint32_t j = 0; j < c->genes; j++) {
+        pdt_real_t d = (x[j] - y[j]) / (c->hi[j] - c->lo[j]);
+        d2 += d * d;
+    }
+    return pdt_sqrt(d2);
+}
+
+/* Starting points of the refinement: the best individual, then the best of
+ * each other niche (farther than twice the sharing radius from every start
+ * so far), up to NM_STARTS. A GA that ends with its best in a wrong basin
+ * (e.g. a SOPDT whose second lag has collapsed into the dead time) usually
+ * still holds the right basin in another niche: sharing kept it alive. */
+static void refine_starts(pdt_ident_t *c)
+{
+    const uint32_t P = c->cfg.population, G = c->genes;
+    const pdt_real_t radius = PDT_R(2.0) * c->cfg.sigma_share;
+    for (uint32_t j = 0; j < G; j++) {
+        c->starts[0][j] = c->best[j];
+    }
+    c->nstarts = 1u;
+    while (c->nstarts < NM_STARTS) {
+        size_t pick = P;
+        for (size_t i = 0; i < P; i++) {
+            bool distinct = c->pop_cost[i] < PDT_REAL_MAX;
+            for (uint32_t s = 0; s < c->nstarts && distinct; s++) {
+                distinct = gene_distance(c, &c->pop[i * G], c->starts[s]) > radius;
+            }
+            if (distinct && (pick == P || c->pop_cost[i] < c->pop_cost[pick])) {
+                pick = i;
+            }
+        }
+        if (pick == P) {
+            break;
+        }
+        for (uint32_t j = 0; j < G; j++) {
+            c->starts[c->nstarts][j] = c->pop[pick * G + j];
+        }
+        c->nstarts++;
+    }
+    c->start_i = 0u;
+}
+
+/* A Nelder-Mead run from starts[start_i], with an equal share of what is
+ * left of the budget for each remaining start. */
 static void nm_start(pdt_ident_t *c)
 {
     const size_t G = c->genes;
+    const pdt_real_t *x0 = c->starts[c->start_i];
     for (size_t i = 0; i <= G; i++) {
         for (size_t j = 0; j < G; j++) {
-            c->nm_x[i][j] = c->best[j];
+            c->nm_x[i][j] = x0[j];
         }
         if (i > 0u) {
             size_t j = i - 1u;
             pdt_real_t step = NM_STEP * (c->hi[j] - c->lo[j]);
-            pdt_real_t x = c->best[j] + step;
+            pdt_real_t x = x0[j] + step;
             if (x > c->hi[j]) {
-                x = c->best[j] - step;
+                x = x0[j] - step;
             }
             c->nm_x[i][j] = clampg(c, j, x);
         }
@@ -574,10 +637,8 @@ static void nm_start(pdt_ident_t *c)
     c->nm_state = NM_VERTEX;
     c->nm_index = 0u;
     uint32_t left = c->cfg.max_evaluations - scan_reserve(c);
-    c->nm_budget = left > c->evaluations ? left - c->evaluations : 0u;
-    /* The cost scale may have changed (re-centred spectra): the refinement's
-     * best is tracked afresh from the re-evaluated GA best. */
-    c->best_cost = PDT_REAL_MAX;
+    left = left > c->evaluations ? left - c->evaluations : 0u;
+    c->nm_budget = left / (c->nstarts - c->start_i);
 }
 
 static void nm_order(pdt_ident_t *c)
@@ -918,10 +979,20 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
                 }
                 bred = true;
             }
+            /* The cost scale may have changed (re-centred spectra): the
+             * best is tracked afresh; the first start re-evaluates the GA's
+             * best, so nothing is lost. */
+            c->best_cost = PDT_REAL_MAX;
+            refine_starts(c);
             nm_start(c);
             c->phase = PH_REFINE;
             break;
         case PH_REFINE:
+            if (c->nm_state == NM_END && c->start_i + 1u < c->nstarts) {
+                c->start_i++;
+                nm_start(c);
+                break;
+            }
             if (c->nm_state == NM_END) {
                 if (c->cfg.cost == PDT_COST_FREQUENCY) {
                     scan_start(c);

@@ -38,6 +38,10 @@ extern "C" {
  * arrays only through the workspace; this bounds the O(P^2) sharing work). */
 #define PDT_IDENT_MAX_POPULATION 256u
 
+/* The automatic population (population = 0) of each model. */
+#define PDT_IDENT_POPULATION_FOPDT 24u
+#define PDT_IDENT_POPULATION_SOPDT 40u
+
 typedef struct pdt_ident_config {
     pdt_model_kind_t model;   /* FOPDT or SOPDT. Default FOPDT */
     pdt_real_t Ts;            /* sampling period, s. Must be set (> 0) */
@@ -69,15 +73,17 @@ typedef struct pdt_ident_config {
     pdt_real_t K_max;
     /* The search. */
     uint32_t population;      /* individuals, 4 .. PDT_IDENT_MAX_POPULATION,
-                               * even. Default 24 */
+                               * even; 0: PDT_IDENT_POPULATION_FOPDT or
+                               * _SOPDT by the model. Default 0 */
     uint32_t max_evaluations; /* cost evaluations in all (GA + refinement).
-                               * Default 2000 */
+                               * Default 3000 */
     uint32_t refine_evaluations; /* of those, kept for the refinement.
-                                  * Default 200 */
+                                  * Default 300, shared by up to three
+                                  * niches' refinements */
     pdt_real_t tolerance;     /* stop the GA when the best cost improved by
                                * less than this fraction over stall_generations.
                                * Default 1e-4 */
-    uint32_t stall_generations; /* Default 8 */
+    uint32_t stall_generations; /* Default 10 */
     uint64_t seed;            /* PCG32 seed. Default 1 */
     pdt_real_t eta_c;         /* SBX distribution index. Default 15 */
     pdt_real_t eta_m;         /* mutation distribution index. Default 20 */
@@ -149,6 +155,9 @@ typedef struct pdt_ident {
     uint32_t nm_state;
     uint32_t nm_index;
     uint32_t nm_budget;
+    pdt_real_t starts[3][3];  /* refinement starts: best of up to 3 niches */
+    uint32_t nstarts;
+    uint32_t start_i;
     /* Frequency criterion: the dead-time scan on the time cost. */
     pdt_cost_t cost_time;
     uint32_t scan_i;
@@ -168,7 +177,8 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg);
 size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
 
 /* Compile-time upper bound of the workspace for n samples and a population
- * of pop, any configuration: for static arrays. */
+ * of pop (PDT_IDENT_POPULATION_SOPDT covers both automatic populations),
+ * any configuration: for static arrays. */
 #define PDT_IDENT_WORKSPACE_SIZE(n, pop) \
     (PDT_COST_WORKSPACE_SIZE(n) + ((size_t)(n) + 13u * (size_t)(pop) + 1u) * sizeof(pdt_real_t))
 
