@@ -15,6 +15,6 @@ if ((${#missing[@]})); then
         exit 1
     fi
 fi
-cmake -S . -B build/demo -G Ninja -DCMAKE_BUILD_TYPE=Release -DPDT_BUILD_TESTS=OFF >/dev/null
-cmake --build build/demo --target pdt_demo >/dev/null
-exec build/demo/tools/pdt_demo "$@"
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DPDT_BUILD_TESTS=OFF >/dev/null
+cmake --build build/release --target pdt_demo >/dev/null
+exec build/release/tools/pdt_demo "$@"
