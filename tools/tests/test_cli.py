@@ -336,9 +336,9 @@ def test_reverse_acting(tmp_path):
     y = 60.0 + simulate([-1.5], [3.0, 1.0], 0.8, u - 30.0, TS) + noise(N, 0.02, 5)
     path = write_csv(tmp_path / "cool.csv", {"t": np.arange(N) * TS, "u": u, "y": y})
     out = parse_output(run(["identify", "--model", "fopdt", path]))
-    assert out["K"] == pytest.approx(-1.5, rel=0.04)
-    assert out["tau"] == pytest.approx(3.0, rel=0.04)
-    assert out["Td"] == pytest.approx(0.8, abs=0.1)
+    assert out["K"] == pytest.approx(-1.5, rel=0.02)
+    assert out["tau"] == pytest.approx(3.0, rel=0.02)
+    assert out["Td"] == pytest.approx(0.8, abs=0.05)
     assert out["u0"] == pytest.approx(30.0) and out["y0"] == pytest.approx(60.0, abs=0.05)
 
 
@@ -354,10 +354,10 @@ def test_sopdt_underdamped(tmp_path):
     out = parse_output(run(["identify", "--model", "sopdt", path]))
     assert list(out) == SOPDT_KEYS
     assert out["model"] == "sopdt"
-    assert out["K"] == pytest.approx(K, rel=0.04)
-    assert out["wn"] == pytest.approx(wn, rel=0.04)
-    assert out["zeta"] == pytest.approx(zeta, rel=0.06)
-    assert out["Td"] == pytest.approx(Td, abs=0.15)
+    assert out["K"] == pytest.approx(K, rel=0.02)
+    assert out["wn"] == pytest.approx(wn, rel=0.02)
+    assert out["zeta"] == pytest.approx(zeta, rel=0.03)
+    assert out["Td"] == pytest.approx(Td, abs=0.05)
     assert out["tau1"] is None and out["tau2"] is None
     assert out["a"] == pytest.approx(2 * out["zeta"] * out["wn"], rel=1e-5)
     assert out["b"] == pytest.approx(out["wn"] ** 2, rel=1e-5)
