@@ -16,5 +16,5 @@ if ((${#missing[@]})); then
     fi
 fi
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DPDT_BUILD_TESTS=OFF >/dev/null
-cmake --build build/release --target pdt_demo >/dev/null
+cmake --build build/release --target pdt_demo pdtfit_cli >/dev/null
 exec build/release/tools/pdt_demo "$@"
