@@ -276,6 +276,15 @@ def test_library_refusal_constant_input(tmp_path):
     assert_usage_error(res, "pdtfit: cannot identify: data do not excite the process", status=1)
 
 
+def test_library_refusal_too_short(tmp_path):
+    """16 rows pass the file checks but leave the library too few samples
+    after its dead-time range."""
+    t, u, y = good_rows(16)
+    path = write_csv(tmp_path / "short.csv", {"t": t, "u": u, "y": y})
+    res = run(["identify", "--model", "fopdt", path])
+    assert_usage_error(res, "pdtfit: cannot identify: too few samples", status=1)
+
+
 # ----------------------------------------------------------------- identification
 
 def check_fopdt(out, K, tau, Td, rtol=0.02, td_tol=0.05):
