@@ -17,14 +17,24 @@ Conventions:
   ``a``, ``b`` (SOPDT, form (2)) attributes, as pdtref.models' Fopdt and
   Sopdt.
 - delay_max None means n // 2 (the C PDT_DELAY_AUTO).
+- whole_record True scores the time costs on k = order .. n-1 instead of
+  k = l_u + order .. n-1.
+
+profile() minimises a cost over the gain multiplier and the output offset by
+evaluating the cost functions above at a few gains and fitting the exact
+parabola of each half-line of the gain; it does not use the regression
+formulas the C code is built on.
 """
+from types import SimpleNamespace
+
 import numpy as np
 
 __all__ = [
     "resolve_delay_max", "fft_size", "time_range", "prediction_residuals",
     "simulation_output", "simulation_residuals", "time_cost", "prediction_cost",
     "simulation_cost", "gain_magnitude", "spectra", "bin_weights",
-    "frequency_cost", "combined_cost",
+    "frequency_cost", "combined_cost", "scaled", "static_gain", "profile",
+    "simulate",
 ]
 
 
@@ -41,9 +51,10 @@ def fft_size(n, delay_max=None):
     return 1 << (need - 1).bit_length()
 
 
-def time_range(n, delay_max, order):
+def time_range(n, delay_max, order, whole_record=False):
     """The sample indices k the time costs average over."""
-    return np.arange(resolve_delay_max(n, delay_max) + order, n)
+    first = 0 if whole_record else resolve_delay_max(n, delay_max)
+    return np.arange(first + order, n)
 
 
 def _deviation(x, x0):
@@ -66,12 +77,12 @@ def _coefs(dm):
     return order, int(dm.delay), a, b
 
 
-def prediction_residuals(u, y, dm, u0=0.0, y0=0.0, delay_max=None):
+def prediction_residuals(u, y, dm, u0=0.0, y0=0.0, delay_max=None, whole_record=False):
     """r(k) = y(k) - yhat(k), yhat from measured past outputs (equation
-    error), for k = l_u + order .. n-1."""
+    error), for k = l_u + order .. n-1 (order .. n-1 with whole_record)."""
     ud, yd = _deviation(u, u0), _deviation(y, y0)
     order, l, a, b = _coefs(dm)
-    k = time_range(len(yd), delay_max, order)
+    k = time_range(len(yd), delay_max, order, whole_record)
     yhat = -a[0] * yd[k - 1]
     if order == 2:
         yhat = yhat - a[1] * yd[k - 2]
@@ -97,10 +108,10 @@ def simulation_output(u, dm, u0=0.0):
     return out
 
 
-def simulation_residuals(u, y, dm, u0=0.0, y0=0.0, delay_max=None):
+def simulation_residuals(u, y, dm, u0=0.0, y0=0.0, delay_max=None, whole_record=False):
     yd = _deviation(y, y0)
     order = int(dm.order)
-    k = time_range(len(yd), delay_max, order)
+    k = time_range(len(yd), delay_max, order, whole_record)
     return yd[k] - simulation_output(u, dm, u0)[k]
 
 
@@ -110,12 +121,16 @@ def time_cost(r, estimate_offset):
     return float(np.var(r)) if estimate_offset else float(np.mean(r * r))
 
 
-def prediction_cost(u, y, dm, u0=0.0, y0=0.0, delay_max=None, estimate_offset=True):
-    return time_cost(prediction_residuals(u, y, dm, u0, y0, delay_max), estimate_offset)
+def prediction_cost(u, y, dm, u0=0.0, y0=0.0, delay_max=None, estimate_offset=True,
+                    whole_record=False):
+    return time_cost(prediction_residuals(u, y, dm, u0, y0, delay_max, whole_record),
+                     estimate_offset)
 
 
-def simulation_cost(u, y, dm, u0=0.0, y0=0.0, delay_max=None, estimate_offset=True):
-    return time_cost(simulation_residuals(u, y, dm, u0, y0, delay_max), estimate_offset)
+def simulation_cost(u, y, dm, u0=0.0, y0=0.0, delay_max=None, estimate_offset=True,
+                    whole_record=False):
+    return time_cost(simulation_residuals(u, y, dm, u0, y0, delay_max, whole_record),
+                     estimate_offset)
 
 
 def gain_magnitude(model, w):
@@ -170,3 +185,145 @@ def combined_cost(time_value, freq_value, phi_t=1.0, phi_f=1.0):
     if phi_f > 0:
         total += phi_f * freq_value
     return total
+
+
+def scaled(model, gain):
+    """A copy of a discrete model (B(q) times gain) or of a continuous one
+    (its gain times gain), as a plain attribute object."""
+    if hasattr(model, "order"):
+        return SimpleNamespace(delay=int(model.delay), order=int(model.order),
+                               a=list(model.a), b=[gain * v for v in model.b],
+                               d=list(getattr(model, "d", [0.0, 0.0])))
+    if hasattr(model, "tau"):
+        return SimpleNamespace(K=gain * model.K, tau=model.tau, Td=model.Td)
+    return SimpleNamespace(k=gain * model.k, a=model.a, b=model.b, Td=model.Td)
+
+
+def static_gain(dm):
+    """A(1) of a discrete model: from its delta form d[] when it has one
+    (exact for poles near 1), else 1 + a[0] + a[1]."""
+    order = int(dm.order)
+    if hasattr(dm, "d"):
+        return float(dm.d[order - 1])
+    return 1.0 + sum(float(v) for v in list(dm.a)[:order])
+
+
+_EPS = 2.220446049250313e-16
+
+
+def _quad_argmin(q, lo, hi):
+    """Minimiser of q[0] + q[1] x + q[2] x^2 over [lo, hi] (ends may be
+    infinite)."""
+    if q[2] > 0.0:
+        return min(max(-q[1] / (2.0 * q[2]), lo), hi)
+    ends = [x for x in (lo, hi) if np.isfinite(x)]
+    if len(ends) < 2 and q[1] != 0.0:
+        raise ValueError("cost unbounded below in the gain")
+    if not ends:
+        return 0.0
+    return min(ends, key=lambda x: q[0] + q[1] * x)
+
+
+def profile(u, y, shape, dm, Ts, kind, u0=0.0, y0=0.0, delay_max=None,
+            time_kind="simulation", estimate_offset=True, whole_record=False,
+            phi_t=1.0, phi_f=1.0, gain_min=0.0, gain_max=0.0,
+            weight="uniform", f_lo=0.0, f_hi=0.0, weights=None):
+    """The cost `kind` ("prediction", "simulation", "frequency", "combined")
+    minimised over the multiplier K of the shape's gain and, with
+    estimate_offset, over a constant output offset.
+
+    shape is the continuous model (for the frequency part) and dm its
+    discrete model (for the time part), both at gain multiplier 1.
+    gain_min = gain_max = 0 means unbounded.
+
+    Method: the time cost of the model scaled by K is an exact quadratic in
+    K, and the frequency cost one in |K|, so each is sampled at three gains
+    and its parabola solved from the samples; the total is then a quadratic
+    on each half-line of K, minimised there over the bounds, and the better
+    half-line wins (the positive one on an exact tie). The result's costs
+    are evaluated again directly at the chosen gain.
+
+    Returns a dict: cost, gain, offset, ct, cf (as pdt_cost_profile_t),
+    plus sign_free (the cost does not depend on the sign of K and -K is
+    also allowed: the sign is arbitrary) and margin (relative gap between
+    the two half-line minima; 0 if only one half-line is allowed or one of
+    the minima is at 0, the point both share).
+    """
+    if kind in ("prediction", "simulation"):
+        wt, wf, tk = 1.0, 0.0, kind
+    elif kind == "frequency":
+        wt, wf, tk = 0.0, 1.0, None
+    elif kind == "combined":
+        if time_kind not in ("prediction", "simulation"):
+            raise ValueError(time_kind)
+        wt, wf, tk = float(phi_t), float(phi_f), time_kind
+    else:
+        raise ValueError(kind)
+    if gain_min > gain_max:
+        raise ValueError("gain_min > gain_max")
+    if gain_min == 0.0 and gain_max == 0.0:
+        lo, hi = -np.inf, np.inf
+    else:
+        lo, hi = float(gain_min), float(gain_max)
+    tfun = prediction_cost if tk == "prediction" else simulation_cost
+    rfun = prediction_residuals if tk == "prediction" else simulation_residuals
+
+    def tcost(g):
+        if wt <= 0.0:
+            return 0.0
+        return tfun(u, y, scaled(dm, g), u0, y0, delay_max, estimate_offset, whole_record)
+
+    def fcost(g):
+        if wf <= 0.0:
+            return 0.0
+        return frequency_cost(u, y, scaled(shape, g), Ts, u0, y0, delay_max,
+                              weight, f_lo, f_hi, weights)
+
+    def total(g):
+        return wt * tcost(g) + wf * fcost(abs(g))
+
+    tm, t0, tp = tcost(-1.0), tcost(0.0), tcost(1.0)
+    ct_q = (t0, 0.5 * (tp - tm), 0.5 * (tp + tm) - t0)
+    f0, f1, f2 = fcost(0.0), fcost(1.0), fcost(2.0)
+    cf_2 = 0.5 * (f2 - 2.0 * f1 + f0)
+    cf_q = (f0, f1 - f0 - cf_2, cf_2)
+    pos = [wt * ct_q[i] + wf * cf_q[i] for i in range(3)]
+    neg = [wt * ct_q[0] + wf * cf_q[0], wt * ct_q[1] - wf * cf_q[1],
+           wt * ct_q[2] + wf * cf_q[2]]
+
+    cands = []
+    if max(lo, 0.0) <= hi:
+        cands.append(_quad_argmin(pos, max(lo, 0.0), hi))
+    if lo <= min(hi, 0.0):
+        cands.append(_quad_argmin(neg, lo, min(hi, 0.0)))
+    values = [total(g) for g in cands]
+    best = 0
+    if len(cands) == 2 and values[1] < values[0]:
+        best = 1
+    gain = float(cands[best])
+    margin = 0.0
+    # Zero belongs to both half-lines: a candidate there never competes.
+    if len(cands) == 2 and cands[0] != 0.0 and cands[1] != 0.0:
+        margin = abs(values[0] - values[1]) / max(abs(values[0]), abs(values[1]), 1e-300)
+
+    offset = 0.0
+    ct = tcost(gain)
+    if wt > 0.0 and estimate_offset:
+        mean_r = float(np.mean(rfun(u, y, scaled(dm, gain), u0, y0, delay_max, whole_record)))
+        if tk == "simulation":
+            offset = mean_r
+        else:
+            a1 = static_gain(dm)
+            offset = mean_r / a1 if a1 > _EPS else 0.0
+    cf = fcost(abs(gain))
+    if kind == "combined":
+        cost = combined_cost(ct, cf, wt, wf)
+    else:
+        cost = cf if kind == "frequency" else ct
+    return dict(cost=float(cost), gain=gain, offset=float(offset), ct=float(ct),
+                cf=float(cf), sign_free=(wt <= 0.0 and lo <= -gain <= hi), margin=margin)
+
+
+def simulate(u, dm, u0=0.0, y0=0.0):
+    """y0 + the response of dm, from rest, to u - u0 (engineering units)."""
+    return float(y0) + simulation_output(u, dm, u0)
