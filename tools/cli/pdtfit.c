@@ -61,9 +61,9 @@ static const char *const help_text[] = {
     "  --seed N              seed of the search's random numbers (default 1); the\n"
     "                        same seed, data and build give the same output\n"
     "  --fs HZ               sampling frequency; required without a t column,\n"
-    "                        else it must agree with t within 1%\n"
-    "  --evaluations N       cost evaluations in all (default: the library's, 2000)\n"
-    "  --population N        GA individuals, even, 4 .. 256 (default: 24)\n"
+    "                        else it must agree with t within 1%\n",
+    /* NULL: the lines that show the library's own defaults go here. */
+    NULL,
     "  --integer-delay       dead time in whole samples, as in the paper (default:\n"
     "                        fractional dead time with an exact sampled model)\n"
     "  -h, --help            this text\n"
@@ -145,7 +145,20 @@ static void fail(int status, const char *fmt, ...)
 static void print_help(void)
 {
     fputs(usage_line, stdout);
-    for (size_t i = 0; i < sizeof help_text / sizeof help_text[0]; i++) fputs(help_text[i], stdout);
+    pdt_ident_config_t def;
+    pdt_ident_config_default(&def);
+    for (size_t i = 0; i < sizeof help_text / sizeof help_text[0]; i++) {
+        if (help_text[i]) {
+            fputs(help_text[i], stdout);
+            continue;
+        }
+        printf("  --evaluations N       cost evaluations in all, search and refinement\n"
+               "                        (default %lu)\n"
+               "  --population N        GA individuals, even, 4 .. %u (default %u for fopdt,\n"
+               "                        %u for sopdt)\n",
+               (unsigned long)def.max_evaluations, (unsigned)PDT_IDENT_MAX_POPULATION,
+               (unsigned)PDT_IDENT_POPULATION_FOPDT, (unsigned)PDT_IDENT_POPULATION_SOPDT);
+    }
     exit(fflush(stdout) == 0 && !ferror(stdout) ? 0 : EXIT_REFUSED);
 }
 
