@@ -424,6 +424,59 @@ static void test_profile_bounds(void **state)
     assert_true(rb.gain == r.gain && rb.cost == r.cost && rb.offset == r.offset);
 }
 
+/* A zero weight drops its part from COMBINED: phi_f = 0 profiles as the
+ * time kind alone, phi_t = 0 as FREQUENCY (the dropped part reads 0). */
+static void test_profile_zero_weights(void **state)
+{
+    const cpv_set_t *s = &cpv_sets[3];
+    pdt_cost_config_t cfg;
+    pdt_cost_t c;
+    (void)state;
+    load_set(s);
+    for (size_t i = 0; i < s->nshape; i++) {
+        pdt_model_t m = model_of(s, i, 1.0);
+        pdt_cost_profile_t rc, rs;
+        for (int tk = 0; tk < 2; tk++) {
+            base_config(s, &cfg);
+            cfg.time_kind = (pdt_cost_kind_t)tk;
+            cfg.kind = PDT_COST_COMBINED;
+            cfg.phi_t = (pdt_real_t)2.0;
+            cfg.phi_f = (pdt_real_t)0.0;
+            init_ok(&c, &cfg, s->n);
+            assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0,
+                                              g_scratch, &rc),
+                             PDT_OK);
+            cfg.kind = (pdt_cost_kind_t)tk;
+            init_ok(&c, &cfg, s->n);
+            assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0,
+                                              g_scratch, &rs),
+                             PDT_OK);
+            assert_close(rc.gain, rs.gain, CPV_RTOL, 0.0);
+            assert_close(rc.offset, rs.offset, CPV_RTOL, CPV_RTOL);
+            assert_close(rc.ct, rs.ct, CPV_RTOL, 0.0);
+            assert_close(rc.cost, 2.0 * (double)rs.cost, CPV_RTOL, 0.0);
+            assert_true(rc.cf == (pdt_real_t)0.0);
+        }
+        base_config(s, &cfg);
+        cfg.kind = PDT_COST_COMBINED;
+        cfg.phi_t = (pdt_real_t)0.0;
+        cfg.phi_f = (pdt_real_t)0.5;
+        init_ok(&c, &cfg, s->n);
+        assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch,
+                                          &rc),
+                         PDT_OK);
+        cfg.kind = PDT_COST_FREQUENCY;
+        init_ok(&c, &cfg, s->n);
+        assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch,
+                                          &rs),
+                         PDT_OK);
+        assert_close(rc.gain, rs.gain, CPV_RTOL, 0.0);
+        assert_close(rc.cf, rs.cf, CPV_RTOL, 0.0);
+        assert_close(rc.cost, 0.5 * (double)rs.cost, CPV_RTOL, 0.0);
+        assert_true(rc.ct == (pdt_real_t)0.0 && rc.offset == (pdt_real_t)0.0);
+    }
+}
+
 /* pdt_cost_simulate is pdt_dmodel_simulate on the deviation input, plus y0. */
 static void test_simulate_matches_dmodel(void **state)
 {
@@ -744,6 +797,7 @@ int main(void)
         cmocka_unit_test(test_vectors_simulate),
         cmocka_unit_test(test_profile_properties),
         cmocka_unit_test(test_profile_bounds),
+        cmocka_unit_test(test_profile_zero_weights),
         cmocka_unit_test(test_simulate_matches_dmodel),
         cmocka_unit_test(test_whole_record_too_short),
         cmocka_unit_test(test_profile_errors),
