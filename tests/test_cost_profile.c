@@ -708,10 +708,9 @@ static void test_profile_errors(void **state)
     }
 }
 
-#ifdef CPV_KNOWN_DEFECTS
 /* The header lists a delay outside the bounds as PDT_ERR_ARG for the
- * profile, and pdt_cost_eval checks it for COMBINED whatever phi_t; the
- * profile skips the check when phi_t = 0. */
+ * profile, and pdt_cost_eval checks it for COMBINED whatever phi_t: so
+ * must the profile when phi_t = 0. */
 static void test_profile_delay_check_phi_t_zero(void **state)
 {
     const cpv_set_t *s = &cpv_sets[0];
@@ -728,7 +727,6 @@ static void test_profile_delay_check_phi_t_zero(void **state)
     assert_int_equal(pdt_cost_eval(&c, &m, &v), PDT_ERR_ARG);
     PROFILE_FAILS(&c, &m, 0, 0, PDT_ERR_ARG);
 }
-#endif
 
 static void test_simulate_errors(void **state)
 {
@@ -776,9 +774,8 @@ static void test_simulate_errors(void **state)
     for (size_t k = 0; k < s->n; k++) {
         assert_true(g_ysim[k] == (pdt_real_t)s->y0);
     }
-#ifdef CPV_KNOWN_DEFECTS
-    /* The largest delays: delay + 1 wraps to 0 in the input index, so the
-     * model sees u(k) instead of nothing. */
+    /* The largest delays, where delay + 1 would wrap around to 0 in the
+     * input index: still no input reaches the record. */
     for (size_t back = 1; back <= 3; back++) {
         d.delay = (size_t)0 - back;
         assert_int_equal(pdt_cost_simulate(&c, &d, g_ysim), PDT_OK);
@@ -786,7 +783,6 @@ static void test_simulate_errors(void **state)
             assert_true(g_ysim[k] == (pdt_real_t)s->y0);
         }
     }
-#endif
 }
 
 int main(void)
@@ -801,9 +797,7 @@ int main(void)
         cmocka_unit_test(test_simulate_matches_dmodel),
         cmocka_unit_test(test_whole_record_too_short),
         cmocka_unit_test(test_profile_errors),
-#ifdef CPV_KNOWN_DEFECTS
         cmocka_unit_test(test_profile_delay_check_phi_t_zero),
-#endif
         cmocka_unit_test(test_simulate_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -632,6 +632,13 @@ static void simulate_dev(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t 
     pdt_real_t dys = PDT_R(0.0);
     size_t k;
 
+    if (l >= c->n) {
+        /* No input reaches the record (and l + 1 could wrap around). */
+        for (k = 0u; k < c->n; k++) {
+            out[k] = PDT_R(0.0);
+        }
+        return;
+    }
     for (k = 0u; k < c->n; k++) {
         pdt_real_t u1 = u_dev(c, k, l + 1u);
         pdt_real_t bu = d->b[0] * u1 + d->b[1] * p1 + d->b[2] * p2;
@@ -791,10 +798,12 @@ pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt
         return PDT_ERR_ARG;
     }
     pred = (tkind == PDT_COST_PREDICTION);
+    /* The delay bounds hold for every criterion that has a time part, even
+     * one weighted 0, as in pdt_cost_eval. */
+    if (kind != PDT_COST_FREQUENCY && eval_discretize(c, shape, &d) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
     if (need_time) {
-        if (eval_discretize(c, shape, &d) != PDT_OK) {
-            return PDT_ERR_ARG;
-        }
         if (pred) {
             filter_input(c, &d, scratch);
         } else {

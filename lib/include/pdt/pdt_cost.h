@@ -264,9 +264,13 @@ typedef struct pdt_cost_profile {
  * gain_min, gain_max bound the gain; 0, 0 means unbounded.
  * scratch: n reals of caller memory, overwritten (the shape's response).
  * The time part is scored as pdt_cost_simulation / pdt_cost_prediction
- * score it; the result's cost is the one those (and pdt_cost_frequency)
- * return for the model with the returned gain and y0 + offset, up to
- * rounding.
+ * score it: ct is what they return for the model with the returned gain
+ * and the output level y0 + offset, up to rounding; cf is what
+ * pdt_cost_frequency returns for that model on the spectra prepared at
+ * init (around y0: moving y0 would change the zero-padded spectra). A part
+ * weighted 0 in COMBINED is not computed and reads 0. Where the data do not
+ * fix the sign of the gain (FREQUENCY, or COMBINED with phi_t = 0), the
+ * positive gain is returned.
  * Returns PDT_ERR_ARG (NULL, c not prepared, invalid shape, its delay
  * outside the bounds, FREQUENCY / COMBINED without use_frequency, a bound
  * not finite), PDT_ERR_BOUNDS (gain_min > gain_max); *out untouched then.
