@@ -333,8 +333,15 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         /* 1/a = T1 T2 / (T1 + T2) lies in [T2 / 2, T2] for T1 >= T2. */
         c.lo[0] = pdt_log(b.tau_min * PDT_R(0.5));
         c.hi[0] = pdt_log(b.tau_max);
-        c.lo[1] = cfg->integrating ? PDT_R(0.0) : PDT_R(1.0) / (PDT_R(4.0) * b.tau_max / b.tau_min);
-        c.hi[1] = PDT_R(1.0) / cfg->zeta_min;
+        /* Damping gene v = sqrt(zeta_min / zeta): 0 is the integrator, 1 the
+         * least damping searched, sqrt(zeta_min) critical damping. The
+         * square root gives the overdamped and the (nearly) integrating
+         * models as much room as the underdamped ones; on 1/zeta itself a
+         * random population often has no member near the integrator. */
+        pdt_real_t r = b.tau_max / b.tau_min;
+        pdt_real_t inv_zeta_lo = PDT_R(2.0) * pdt_sqrt(r) / (PDT_R(1.0) + r);
+        c.lo[1] = cfg->integrating ? PDT_R(0.0) : pdt_sqrt(inv_zeta_lo * cfg->zeta_min);
+        c.hi[1] = PDT_R(1.0);
         if (!(c.lo[1] < c.hi[1])) {
             return PDT_ERR_BOUNDS;
         }
@@ -347,11 +354,26 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         c.hi[G - 1u] = c.lo[G - 1u] + cfg->Ts * PDT_R(1e-3);
     }
 
+    /* Latin hypercube start: each gene's range cut into P strata, one
+     * individual per stratum, strata paired across genes at random, so the
+     * first generation covers every gene's range evenly. The offspring
+     * area holds the permutation meanwhile. */
     pdt_rng_t rng;
     pdt_rng_seed(&rng, cfg->seed, 0x5eed5eedu);
-    for (size_t i = 0; i < P; i++) {
-        for (size_t j = 0; j < G; j++) {
-            c.pop[i * G + j] = c.lo[j] + (c.hi[j] - c.lo[j]) * pdt_rng_uniform(&rng);
+    for (size_t j = 0; j < G; j++) {
+        pdt_real_t *perm = c.off;
+        for (size_t i = 0; i < P; i++) {
+            perm[i] = (pdt_real_t)i;
+        }
+        for (size_t i = P - 1u; i > 0u; i--) {
+            size_t k = pdt_rng_below(&rng, (uint32_t)(i + 1u));
+            pdt_real_t t = perm[i];
+            perm[i] = perm[k];
+            perm[k] = t;
+        }
+        for (size_t i = 0; i < P; i++) {
+            pdt_real_t f = (perm[i] + pdt_rng_uniform(&rng)) / (pdt_real_t)P;
+            c.pop[i * G + j] = c.lo[j] + (c.hi[j] - c.lo[j]) * f;
         }
     }
     c.rng_state = rng.state;
@@ -378,7 +400,7 @@ static void shape_of(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
         m->p.fopdt.Td = Td;
     } else {
         pdt_real_t a = pdt_exp(-g[0]);
-        pdt_real_t h = PDT_R(0.5) * a * g[1];
+        pdt_real_t h = PDT_R(0.5) * a * g[1] * g[1] / c->cfg.zeta_min;
         m->kind = PDT_MODEL_SOPDT;
         m->p.sopdt.k = PDT_R(1.0);
         m->p.sopdt.a = a;
@@ -887,6 +909,27 @@ static void finish(pdt_ident_t *c)
         m.p.fopdt.K = c->best_gain;
     } else {
         m.p.sopdt.k = c->best_gain;
+    }
+    if (m.kind == PDT_MODEL_SOPDT && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
+        /* A lag a hundred records long cannot be told from an integrator in
+         * this record: report the integrator (b = 0) rather than a DC gain
+         * the data do not determine. Its cost is scored again. */
+        pdt_real_t a = m.p.sopdt.a, b = m.p.sopdt.b, disc = a * a - PDT_R(4.0) * b;
+        pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
+        if (disc >= PDT_R(0.0) &&
+            PDT_R(2.0) * b * PDT_R(100.0) * T < a + pdt_sqrt(disc)) {
+            pdt_cost_profile_t pr;
+            pdt_model_t shape = m;
+            shape.p.sopdt.b = PDT_R(0.0);
+            shape.p.sopdt.k = PDT_R(1.0);
+            c->evaluations++;
+            if (pdt_cost_profile(&c->cost, &shape, c->best_gain, c->best_gain, c->scratch, &pr) ==
+                PDT_OK) {
+                m.p.sopdt.b = PDT_R(0.0);
+                c->best_cost = pr.cost;
+                c->best_offset = (c->cfg.cost == PDT_COST_FREQUENCY) ? c->best_offset : pr.offset;
+            }
+        }
     }
     c->model = m;
     c->y0 = c->cost.cfg.y0 + c->best_offset;
