@@ -14,7 +14,6 @@ import os
 import pathlib
 import re
 import subprocess
-import warnings
 
 import numpy as np
 import pytest
@@ -40,11 +39,7 @@ pytestmark = pytest.mark.skipif(
     "(cmake -S . -B build/x && cmake --build build/x)",
 )
 
-# `slow` is not registered in a pytest configuration; taking the mark once
-# here keeps pytest from warning about it at every use.
-with warnings.catch_warnings():
-    warnings.simplefilter("ignore")
-    slow = pytest.mark.slow
+slow = pytest.mark.slow  # registered in conftest.py
 
 FOPDT_KEYS = ["model", "K", "tau", "Td", "y0", "u0", "cost", "fit", "evaluations"]
 SOPDT_KEYS = ["model", "K", "wn", "zeta", "Td", "y0", "u0", "tau1", "tau2", "a", "b",

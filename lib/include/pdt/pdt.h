@@ -10,6 +10,7 @@
 #include "pdt/pdt_cost.h"
 #include "pdt/pdt_discrete.h"
 #include "pdt/pdt_fft.h"
+#include "pdt/pdt_ident.h"
 #include "pdt/pdt_model.h"
 
 #endif /* PDT_H */
