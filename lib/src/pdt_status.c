@@ -25,6 +25,18 @@ const char *pdt_status_str(pdt_status_t status)
         return "data do not excite the process";
     case PDT_ERR_STATE:
         return "call out of order";
+    case PDT_ERR_PV_LIMIT:
+        return "process value left its limits";
+    case PDT_ERR_OUTPUT_LIMIT:
+        return "output would leave its limits";
+    case PDT_ERR_TIMEOUT:
+        return "time limit passed";
+    case PDT_ERR_SETPOINT:
+        return "set-point on the wrong side";
+    case PDT_ERR_POOR_FIT:
+        return "model fits too poorly";
+    case PDT_ERR_UNSTABLE:
+        return "no stable loop for this model";
     default:
         return "unknown status";
     }

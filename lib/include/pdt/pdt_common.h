@@ -59,7 +59,22 @@ typedef enum pdt_status {
     PDT_ERR_NO_EXCITATION = -8,
     /* A call out of order, e.g. a result asked for before the search is
      * done, or a step on an object that was never initialised. */
-    PDT_ERR_STATE = -9
+    PDT_ERR_STATE = -9,
+    /* An experiment stopped for safety: the process value left its limits. */
+    PDT_ERR_PV_LIMIT = -10,
+    /* An experiment stopped for safety: the output would have to leave its
+     * limits. */
+    PDT_ERR_OUTPUT_LIMIT = -11,
+    /* An experiment stopped: its time limit passed. */
+    PDT_ERR_TIMEOUT = -12,
+    /* The set-point lies on the wrong side of the process value for the
+     * requested experiment (e.g. a relay test that cannot cross it). */
+    PDT_ERR_SETPOINT = -13,
+    /* Gains refused: the model fits the data too poorly, or the loop the
+     * gains would make is not robustly stable. */
+    PDT_ERR_POOR_FIT = -14,
+    /* Gains refused: no rule gives a stable loop for this model. */
+    PDT_ERR_UNSTABLE = -15
 } pdt_status_t;
 
 /* A short, static, English name of a status ("bad argument", ...). Never
