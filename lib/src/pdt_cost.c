@@ -403,6 +403,30 @@ static inline pdt_real_t u_dev(const pdt_cost_t *c, size_t k, size_t back)
     return (k >= back) ? c->u[k - back] - c->cfg.u0 : PDT_R(0.0);
 }
 
+/* Simulation state in delta form: ys = ysim(k-1), dys = ysim(k-1) -
+ * ysim(k-2), so a slow pole updates the output by small steps instead of
+ * recomputing it from large terms that nearly cancel; p1, p2 hold the two
+ * previous delayed inputs. */
+typedef struct sim_state {
+    pdt_real_t p1, p2, ys, dys;
+} sim_state_t;
+
+/* One sample of the simulation: u1 = u(k-1-l); returns ysim(k). */
+static inline pdt_real_t sim_step(const pdt_dmodel_t *d, sim_state_t *s, pdt_real_t u1)
+{
+    pdt_real_t bu = d->b[0] * u1 + d->b[1] * s->p1 + d->b[2] * s->p2;
+    if (d->order == 1u) {
+        s->ys += bu - d->d[0] * s->ys;
+    } else {
+        pdt_real_t ys2 = s->ys - s->dys;
+        s->dys += bu - d->d[0] * s->dys - d->d[1] * ys2;
+        s->ys += s->dys;
+    }
+    s->p2 = s->p1;
+    s->p1 = u1;
+    return s->ys;
+}
+
 static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
 {
     const pdt_real_t *y = c->y;
@@ -441,32 +465,16 @@ static pdt_real_t simulation_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
     const pdt_real_t y0 = c->cfg.y0;
     const size_t l = d->delay;
     const size_t k0 = first_scored(c, d->order);
-    pdt_real_t p1 = PDT_R(0.0);
-    pdt_real_t p2 = PDT_R(0.0);
-    /* State in delta form: ys = ysim(k-1) and dys = ysim(k-1) - ysim(k-2),
-     * so a slow pole updates the output by small steps instead of
-     * recomputing it from large terms that nearly cancel. */
-    pdt_real_t ys = PDT_R(0.0);
-    pdt_real_t dys = PDT_R(0.0);
+    sim_state_t st = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     pdt_cost_acc_t acc;
     size_t k;
 
     acc_start(&acc, c->cfg.estimate_offset);
     for (k = 0u; k < c->n; k++) {
-        pdt_real_t u1 = u_dev(c, k, l + 1u);
-        pdt_real_t bu = d->b[0] * u1 + d->b[1] * p1 + d->b[2] * p2;
-        if (d->order == 1u) {
-            ys += bu - d->d[0] * ys;
-        } else {
-            pdt_real_t ys2 = ys - dys;
-            dys += bu - d->d[0] * dys - d->d[1] * ys2;
-            ys += dys;
-        }
+        pdt_real_t ys = sim_step(d, &st, u_dev(c, k, l + 1u));
         if (k >= k0) {
             acc_add(&acc, (y[k] - y0) - ys);
         }
-        p2 = p1;
-        p1 = u1;
     }
     return acc_result(&acc, c->n - k0);
 }
@@ -621,15 +629,11 @@ pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t
     return PDT_OK;
 }
 
-/* Response of d, from rest, to the input deviations u - u0, into out[0..n-1]
- * (delta-form recursion as in simulation_cost). */
+/* Response of d, from rest, to the input deviations u - u0, into out[0..n-1]. */
 static void simulate_dev(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *out)
 {
     const size_t l = d->delay;
-    pdt_real_t p1 = PDT_R(0.0);
-    pdt_real_t p2 = PDT_R(0.0);
-    pdt_real_t ys = PDT_R(0.0);
-    pdt_real_t dys = PDT_R(0.0);
+    sim_state_t st = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     size_t k;
 
     if (l >= c->n) {
@@ -640,18 +644,7 @@ static void simulate_dev(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t 
         return;
     }
     for (k = 0u; k < c->n; k++) {
-        pdt_real_t u1 = u_dev(c, k, l + 1u);
-        pdt_real_t bu = d->b[0] * u1 + d->b[1] * p1 + d->b[2] * p2;
-        if (d->order == 1u) {
-            ys += bu - d->d[0] * ys;
-        } else {
-            pdt_real_t ys2 = ys - dys;
-            dys += bu - d->d[0] * dys - d->d[1] * ys2;
-            ys += dys;
-        }
-        out[k] = ys;
-        p2 = p1;
-        p1 = u1;
+        out[k] = sim_step(d, &st, u_dev(c, k, l + 1u));
     }
 }
 

@@ -615,21 +615,21 @@ static void refine_starts(pdt_ident_t *c)
     }
     c->nstarts = 1u;
     while (c->nstarts < NM_STARTS) {
-        size_t pick = P;
+        size_t chosen = P;
         for (size_t i = 0; i < P; i++) {
             bool distinct = c->pop_cost[i] < PDT_REAL_MAX;
             for (uint32_t s = 0; s < c->nstarts && distinct; s++) {
                 distinct = gene_distance(c, &c->pop[i * G], c->starts[s]) > radius;
             }
-            if (distinct && (pick == P || c->pop_cost[i] < c->pop_cost[pick])) {
-                pick = i;
+            if (distinct && (chosen == P || c->pop_cost[i] < c->pop_cost[chosen])) {
+                chosen = i;
             }
         }
-        if (pick == P) {
+        if (chosen == P) {
             break;
         }
         for (uint32_t j = 0; j < G; j++) {
-            c->starts[c->nstarts][j] = c->pop[pick * G + j];
+            c->starts[c->nstarts][j] = c->pop[chosen * G + j];
         }
         c->nstarts++;
     }
@@ -849,13 +849,13 @@ static void scan_consider(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_re
 static void scan_advance(pdt_ident_t *c)
 {
     const size_t dt = c->genes - 1u;
-    pdt_real_t off, f;
+    pdt_real_t off;
     if (c->phase == PH_DELAY_SCAN) {
         /* Point i / 2 of the grid, gain sign by the parity of i. */
         pdt_real_t Td = c->lo[dt] + c->scan_step * (pdt_real_t)(c->scan_i / 2u);
         pdt_real_t gain = (c->scan_i % 2u) == 0u ? pdt_fabs(c->best_gain) : -pdt_fabs(c->best_gain);
         Td = Td > c->hi[dt] ? c->hi[dt] : Td;
-        f = scan_cost(c, Td, gain, &off);
+        pdt_real_t f = scan_cost(c, Td, gain, &off);
         scan_consider(c, Td, gain, f, off);
         if (++c->scan_i == 2u * SCAN_POINTS) {
             pdt_real_t a = c->scan_td - c->scan_step, b = c->scan_td + c->scan_step;
