@@ -1,0 +1,1045 @@
+/*
+ * Tests of the identification (pdt_ident.h): recovery of known FOPDT and
+ * SOPDT models from simulated records (noise, operating points, quantised
+ * sensor, every model shape, integer delay, every criterion), the
+ * steppable API against the blocking call bit for bit, determinism, gain
+ * bounds, every bad-input status with the context and result left
+ * untouched, and the workspace (size query against the compile-time
+ * macro, canaries after its end through a whole run).
+ *
+ * The records are made here: the true model discretised with
+ * pdt_discretize and run with pdt_dmodel_simulate on the input's
+ * deviation, then shifted to an operating point and given noise from a
+ * small LCG (same numbers on every platform and in both real types).
+ * Each recovery case prints its measured errors.
+ */
+#include "test_util.h"
+
+#define NMAX 1200u
+#define POP_MAX 64u
+#define WORK_REALS (PDT_IDENT_WORKSPACE_SIZE(NMAX, POP_MAX) / sizeof(pdt_real_t) + 1u)
+
+static pdt_real_t g_u[NMAX];
+static pdt_real_t g_y[NMAX];
+static pdt_real_t g_dev[NMAX];
+static pdt_real_t g_sim[NMAX];
+static pdt_real_t g_work[WORK_REALS + CANARY_COUNT];
+static pdt_real_t g_work2[WORK_REALS + CANARY_COUNT];
+static pdt_ident_t g_ctx;
+static pdt_ident_t g_ctx2;
+
+/* ---- Data ------------------------------------------------------------- */
+
+/* Numerical Recipes' 32-bit LCG: the test's own random numbers. */
+typedef struct lcg {
+    uint32_t s;
+} lcg_t;
+
+static uint32_t lcg_next(lcg_t *r)
+{
+    r->s = r->s * 1664525u + 1013904223u;
+    return r->s;
+}
+
+/* Uniform in [0, 1) from the top 24 bits. */
+static double lcg_uniform(lcg_t *r)
+{
+    return (double)(lcg_next(r) >> 8) / 16777216.0;
+}
+
+/* Approximately standard normal: the sum of 12 uniforms, centred. */
+static double lcg_normal(lcg_t *r)
+{
+    double s = 0.0;
+    for (int i = 0; i < 12; i++) {
+        s += lcg_uniform(r);
+    }
+    return s - 6.0;
+}
+
+/* Random binary signal of amplitude +-1 (deviation): 0 for the first
+ * `quiet` samples, then a level held for `hold` samples, flipped with
+ * probability 1/2 at each change. */
+static void make_prbs(pdt_real_t *u, size_t n, size_t quiet, size_t hold, uint32_t seed)
+{
+    lcg_t r = {seed};
+    pdt_real_t level = (pdt_real_t)1.0;
+    for (size_t k = 0; k < n; k++) {
+        if (k < quiet) {
+            u[k] = (pdt_real_t)0.0;
+            continue;
+        }
+        if ((k - quiet) % hold == 0u && (lcg_next(&r) >> 31) != 0u) {
+            level = -level;
+        }
+        u[k] = level;
+    }
+}
+
+/* Pulses that start and end at rest: +1 on [a0, a1), -1 on [b0, b1), +1 on
+ * [c0, c1), 0 elsewhere (in fractions of n: the last pulse ends at 0.55 n,
+ * so the response has the rest of the record to decay). */
+static void make_pulses(pdt_real_t *u, size_t n)
+{
+    for (size_t k = 0; k < n; k++) {
+        double f = (double)k / (double)n;
+        pdt_real_t v = (pdt_real_t)0.0;
+        if (f >= 0.05 && f < 0.20) {
+            v = (pdt_real_t)1.0;
+        } else if (f >= 0.30 && f < 0.38) {
+            v = (pdt_real_t)-1.0;
+        } else if (f >= 0.45 && f < 0.55) {
+            v = (pdt_real_t)1.0;
+        }
+        u[k] = v;
+    }
+}
+
+/* Record of the model m driven by the deviation input g_dev[0..n-1]:
+ * g_u = u0 + amp * dev, g_y = y0 + response + noise at snr_db (none when
+ * snr_db <= 0), optionally quantised to 1 % of the noise-free output's
+ * range. Returns the noise-free response's range. */
+typedef struct record_spec {
+    pdt_model_t m;
+    pdt_real_t Ts;
+    size_t n;
+    double u0, y0, amp;
+    double snr_db;
+    bool quantise;
+    uint32_t noise_seed;
+} record_spec_t;
+
+static double make_record(const record_spec_t *s)
+{
+    pdt_dmodel_t d;
+    assert_true(s->n <= NMAX);
+    for (size_t k = 0; k < s->n; k++) {
+        g_dev[k] = (pdt_real_t)(s->amp * (double)g_dev[k]);
+    }
+    assert_int_equal(pdt_discretize(&s->m, s->Ts, &d), PDT_OK);
+    assert_int_equal(pdt_dmodel_simulate(&d, g_dev, s->n, g_sim), PDT_OK);
+    double mean = 0.0, lo = 0.0, hi = 0.0;
+    for (size_t k = 0; k < s->n; k++) {
+        double v = (double)g_sim[k];
+        mean += v;
+        lo = fmin(lo, v);
+        hi = fmax(hi, v);
+    }
+    mean /= (double)s->n;
+    double var = 0.0;
+    for (size_t k = 0; k < s->n; k++) {
+        double e = (double)g_sim[k] - mean;
+        var += e * e;
+    }
+    double sd = s->snr_db > 0.0 ? sqrt(var / (double)s->n) * pow(10.0, -s->snr_db / 20.0) : 0.0;
+    double q = 0.01 * (hi - lo);
+    lcg_t r = {s->noise_seed};
+    for (size_t k = 0; k < s->n; k++) {
+        double y = s->y0 + (double)g_sim[k] + sd * lcg_normal(&r);
+        if (s->quantise) {
+            y = floor(y / q + 0.5) * q;
+        }
+        g_u[k] = (pdt_real_t)(s->u0 + (double)g_dev[k]);
+        g_y[k] = (pdt_real_t)y;
+    }
+    return hi - lo;
+}
+
+static pdt_model_t fopdt(double K, double tau, double Td)
+{
+    pdt_model_t m;
+    m.kind = PDT_MODEL_FOPDT;
+    m.p.fopdt.K = (pdt_real_t)K;
+    m.p.fopdt.tau = (pdt_real_t)tau;
+    m.p.fopdt.Td = (pdt_real_t)Td;
+    return m;
+}
+
+static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
+{
+    pdt_sopdt_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
+    pdt_model_t m;
+    m.kind = PDT_MODEL_SOPDT;
+    assert_int_equal(pdt_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
+    return m;
+}
+
+static pdt_model_t sopdt_natural(double K, double wn, double zeta, double Td)
+{
+    pdt_sopdt_natural_t nat = {(pdt_real_t)K, (pdt_real_t)wn, (pdt_real_t)zeta, (pdt_real_t)Td};
+    pdt_model_t m;
+    m.kind = PDT_MODEL_SOPDT;
+    assert_int_equal(pdt_sopdt_from_natural(&nat, &m.p.sopdt), PDT_OK);
+    return m;
+}
+
+static pdt_model_t sopdt_integ(double Ki, double T, double Td)
+{
+    pdt_sopdt_integ_t in = {(pdt_real_t)Ki, (pdt_real_t)T, (pdt_real_t)Td};
+    pdt_model_t m;
+    m.kind = PDT_MODEL_SOPDT;
+    assert_int_equal(pdt_sopdt_from_integ(&in, &m.p.sopdt), PDT_OK);
+    return m;
+}
+
+/* ---- Running ---------------------------------------------------------- */
+
+static pdt_ident_config_t base_config(pdt_model_kind_t kind, pdt_real_t Ts)
+{
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.model = kind;
+    cfg.Ts = Ts;
+    return cfg;
+}
+
+/* pdt_identify on g_u, g_y with exactly the workspace the size query asks
+ * for, canaries after it checked; the result's bookkeeping checked. */
+static void identify(const pdt_ident_config_t *cfg, size_t n, pdt_ident_result_t *res)
+{
+    pdt_ident_data_t data = {g_u, g_y, n};
+    size_t need = pdt_ident_workspace_size(cfg, n);
+    assert_true(need > 0u);
+    assert_true(need % sizeof(pdt_real_t) == 0u);
+    assert_true(need <= PDT_IDENT_WORKSPACE_SIZE(NMAX, POP_MAX));
+    size_t reals = need / sizeof(pdt_real_t);
+    canary_fill(g_work + reals, CANARY_COUNT);
+    assert_int_equal(pdt_identify(&g_ctx, cfg, &data, g_work, need, res), PDT_OK);
+    canary_check(g_work + reals, CANARY_COUNT);
+    assert_int_equal(pdt_model_check(&res->model), PDT_OK);
+    assert_int_equal(res->model.kind, cfg->model);
+    assert_true(res->evaluations <= cfg->max_evaluations);
+    assert_true(res->evaluations == g_ctx.evaluations);
+    assert_true(res->generations >= 1u);
+    assert_true(res->u0 == g_u[0]);
+    assert_true(isfinite((double)res->cost) && res->cost >= (pdt_real_t)0.0);
+    assert_true(isfinite((double)res->fit) && res->fit <= (pdt_real_t)100.0);
+}
+
+static double rel_err(double got, double want)
+{
+    return fabs(got - want) / fabs(want);
+}
+
+/* Errors of a FOPDT result: gain and tau relative, Td in units of tau (a
+ * relative error would be meaningless for short dead times). */
+typedef struct fopdt_err {
+    double K, tau, Td;
+} fopdt_err_t;
+
+static fopdt_err_t check_fopdt(const char *name, const pdt_ident_result_t *res,
+                               const pdt_model_t *truth, double tol_K, double tol_tau,
+                               double tol_Td)
+{
+    const pdt_fopdt_t *g = &res->model.p.fopdt, *w = &truth->p.fopdt;
+    fopdt_err_t e;
+    assert_int_equal(res->model.kind, PDT_MODEL_FOPDT);
+    e.K = rel_err((double)g->K, (double)w->K);
+    e.tau = rel_err((double)g->tau, (double)w->tau);
+    e.Td = fabs((double)g->Td - (double)w->Td) / (double)w->tau;
+    print_message("    %-22s K %8.4f (%.2e)  tau %8.4f (%.2e)  Td %8.4f (%.2e tau)  fit %6.2f  "
+                  "evals %u\n",
+                  name, (double)g->K, e.K, (double)g->tau, e.tau, (double)g->Td, e.Td,
+                  (double)res->fit, (unsigned)res->evaluations);
+    if (!(e.K <= tol_K && e.tau <= tol_tau && e.Td <= tol_Td)) {
+        fail_msg("%s: K %.6g tau %.6g Td %.6g, want %.6g %.6g %.6g", name, (double)g->K,
+                 (double)g->tau, (double)g->Td, (double)w->K, (double)w->tau, (double)w->Td);
+    }
+    return e;
+}
+
+/* Errors of a SOPDT with a DC gain: K, wn and zeta relative, Td in units
+ * of 1 / wn. */
+static void check_sopdt(const char *name, const pdt_ident_result_t *res, const pdt_model_t *truth,
+                        double tol_K, double tol_wn, double tol_zeta, double tol_Td)
+{
+    pdt_sopdt_natural_t g, w;
+    assert_int_equal(res->model.kind, PDT_MODEL_SOPDT);
+    assert_int_equal(pdt_sopdt_to_natural(&truth->p.sopdt, &w), PDT_OK);
+    if (pdt_sopdt_to_natural(&res->model.p.sopdt, &g) != PDT_OK) {
+        fail_msg("%s: no DC gain: k %g a %g b %g", name, (double)res->model.p.sopdt.k,
+                 (double)res->model.p.sopdt.a, (double)res->model.p.sopdt.b);
+    }
+    double eK = rel_err((double)g.K, (double)w.K);
+    double ewn = rel_err((double)g.wn, (double)w.wn);
+    double ez = rel_err((double)g.zeta, (double)w.zeta);
+    double eTd = fabs((double)g.Td - (double)w.Td) * (double)w.wn;
+    print_message("    %-22s K %8.4f (%.2e)  wn %8.4f (%.2e)  zeta %6.3f (%.2e)  Td %7.3f "
+                  "(%.2e/wn)  fit %6.2f  evals %u\n",
+                  name, (double)g.K, eK, (double)g.wn, ewn, (double)g.zeta, ez, (double)g.Td, eTd,
+                  (double)res->fit, (unsigned)res->evaluations);
+    if (!(eK <= tol_K && ewn <= tol_wn && ez <= tol_zeta && eTd <= tol_Td)) {
+        fail_msg("%s: K %.6g wn %.6g zeta %.6g Td %.6g, want %.6g %.6g %.6g %.6g", name,
+                 (double)g.K, (double)g.wn, (double)g.zeta, (double)g.Td, (double)w.K,
+                 (double)w.wn, (double)w.zeta, (double)w.Td);
+    }
+}
+
+/* At 30 dB the noise alone leaves a fit of 100 (1 - 10^(-30/20)) = 96.8 %;
+ * the recovery cases ask for 95. */
+static void check_fit(const pdt_ident_result_t *res, double min_fit)
+{
+    if (!((double)res->fit >= min_fit)) {
+        fail_msg("fit %.4g below %.4g", (double)res->fit, min_fit);
+    }
+}
+
+/* ---- Recovery --------------------------------------------------------- */
+
+/* The standard FOPDT record: random binary input held 8 samples, 800
+ * samples of Ts = 1 s, 30 dB of output noise. */
+static void fopdt_case(const char *name, pdt_model_t truth, double u0, double y0, double amp,
+                       double snr, bool quantise, double tol_K, double tol_tau, double tol_Td,
+                       double min_fit)
+{
+    record_spec_t s = {truth, (pdt_real_t)1.0, 800u, u0, y0, amp, snr, quantise, 99u};
+    pdt_ident_result_t res;
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    identify(&cfg, s.n, &res);
+    check_fopdt(name, &res, &truth, tol_K, tol_tau, tol_Td);
+    check_fit(&res, min_fit);
+    /* The output level to 0.5 % of the output's swing (measured: below
+     * 0.1 %). */
+    double swing = fabs(amp * (double)truth.p.fopdt.K);
+    print_message("    %-22s y0 %.4f (error %.2e of the swing)\n", "", (double)res.y0,
+                  fabs((double)res.y0 - y0) / swing);
+    assert_close(res.y0, y0, 0.0, 0.005 * swing);
+}
+
+/* Tolerances at 30 dB: the errors are those of one noise realisation (the
+ * same in both builds, a few tenths of a percent measured), so the bounds
+ * are a few times the worst measured: gain 1.5 %, tau 2 %, Td 2 % of tau. */
+#define FO_K 0.015
+#define FO_TAU 0.02
+#define FO_TD 0.02
+
+static void test_recover_fopdt(void **state)
+{
+    (void)state;
+    /* Noise-free: the search itself must land on the truth. */
+    fopdt_case("no noise", fopdt(2.0, 12.0, 4.37), 0.0, 0.0, 1.0, 0.0, false, 1e-3, 1e-3, 1e-3,
+               99.9);
+    /* Fractional dead time, 30 dB. */
+    fopdt_case("fractional Td", fopdt(2.0, 12.0, 4.37), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
+               FO_TD, 95.0);
+    /* Long dead time, Td = 3 tau. */
+    fopdt_case("Td = 3 tau", fopdt(1.5, 6.0, 18.0), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
+               FO_TD, 95.0);
+    /* Short dead time, Td = 0.1 tau. */
+    fopdt_case("Td = 0.1 tau", fopdt(0.8, 25.0, 2.5), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
+               FO_TD, 95.0);
+    /* Reverse acting. */
+    fopdt_case("reverse acting", fopdt(-1.7, 10.0, 3.3), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
+               FO_TD, 95.0);
+    /* Engineering units: u around 40 (+-5), y around 350; y0 estimated. */
+    fopdt_case("u0 = 40, y0 = 350", fopdt(3.0, 15.0, 6.6), 40.0, 350.0, 5.0, 30.0, false, FO_K,
+               FO_TAU, FO_TD, 95.0);
+    /* Quantised sensor: 1 % of the output range, no other noise (an
+     * error of 0.29 % of the range rms: about 40 dB here). */
+    fopdt_case("quantised 1 %", fopdt(2.0, 12.0, 4.37), 40.0, 350.0, 5.0, 0.0, true, FO_K, FO_TAU,
+               FO_TD, 95.0);
+}
+
+/* SOPDT tolerances at 30 dB, a few times the worst measured (K 0.2 %, wn
+ * and zeta 1.3 %, Td 0.01 / wn): the shape of a second-order lag is less
+ * well determined by the data than its gain. */
+#define SO_K 0.015
+#define SO_WN 0.04
+#define SO_ZETA 0.04
+#define SO_TD 0.05
+
+/* The standard SOPDT record: random binary input held 12 samples, 1000
+ * samples of Ts = 0.5 s, 30 dB. */
+static void sopdt_record(pdt_model_t truth, double snr)
+{
+    record_spec_t s = {truth, (pdt_real_t)0.5, 1000u, 10.0, 50.0, 2.0, snr, false, 5u};
+    make_prbs(g_dev, s.n, 10u, 12u, 11u);
+    make_record(&s);
+}
+
+static void test_recover_sopdt(void **state)
+{
+    pdt_ident_result_t res;
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)0.5);
+    (void)state;
+    /* Overdamped, T1 = 5 T2. */
+    pdt_model_t m = sopdt_tc(2.0, 10.0, 2.0, 3.3);
+    sopdt_record(m, 30.0);
+    identify(&cfg, 1000u, &res);
+    check_sopdt("overdamped T1 = 5 T2", &res, &m, SO_K, SO_WN, SO_ZETA, SO_TD);
+    check_fit(&res, 95.0);
+    {
+        pdt_sopdt_tc_t g;
+        assert_int_equal(pdt_sopdt_to_tc(&res.model.p.sopdt, &g), PDT_OK);
+        assert_false(g.complex);
+        print_message("    %-22s T1 %.4f  T2 %.4f\n", "", (double)g.T1, (double)g.T2);
+        assert_close(g.T1, 10.0, 0.03, 0.0);
+        assert_close(g.T2, 2.0, 0.10, 0.0);
+    }
+    /* Critically damped. */
+    m = sopdt_natural(1.2, 0.2, 1.0, 2.2);
+    sopdt_record(m, 30.0);
+    identify(&cfg, 1000u, &res);
+    check_sopdt("critically damped", &res, &m, SO_K, SO_WN, SO_ZETA, SO_TD);
+    check_fit(&res, 95.0);
+    /* Underdamped, zeta 0.3. */
+    m = sopdt_natural(-0.9, 0.3, 0.3, 4.1);
+    sopdt_record(m, 30.0);
+    identify(&cfg, 1000u, &res);
+    check_sopdt("underdamped zeta 0.3", &res, &m, SO_K, SO_WN, SO_ZETA, SO_TD);
+    check_fit(&res, 95.0);
+}
+
+static void test_recover_integrating(void **state)
+{
+    pdt_ident_result_t res;
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)0.5);
+    pdt_sopdt_integ_t g;
+    (void)state;
+    /* Integrator with a lag: a symmetric random binary input keeps the
+     * output bounded. */
+    pdt_model_t m = sopdt_integ(0.05, 3.0, 2.7);
+    record_spec_t s = {m, (pdt_real_t)0.5, 1000u, 10.0, 50.0, 2.0, 30.0, false, 5u};
+    make_prbs(g_dev, s.n, 10u, 12u, 11u);
+    make_record(&s);
+    identify(&cfg, s.n, &res);
+    const pdt_sopdt_t *p = &res.model.p.sopdt;
+    double bscale = (double)p->a * (double)p->a;
+    print_message("    %-22s k %.5g a %.5g b %.3g (b / a^2 %.2e)  Td %.4f  fit %6.2f  evals %u\n",
+                  "integrating", (double)p->k, (double)p->a, (double)p->b,
+                  (double)p->b / bscale, (double)p->Td, (double)res.fit,
+                  (unsigned)res.evaluations);
+    /* b = 0 exactly, or so small that the slow lag (about a / b) is at
+     * least 20 record lengths: in this record that is an integrator (the
+     * library itself reports b = 0 from 100 record lengths). */
+    assert_true((double)p->b <= (double)p->a / (20.0 * 1000.0 * 0.5));
+    if (p->b == (pdt_real_t)0.0) {
+        assert_int_equal(pdt_sopdt_to_integ(p, &g), PDT_OK);
+    } else {
+        pdt_sopdt_t q = *p;
+        q.b = (pdt_real_t)0.0;
+        assert_int_equal(pdt_sopdt_to_integ(&q, &g), PDT_OK);
+    }
+    print_message("    %-22s Ki %.5f (%.2e)  T %.4f (%.2e)\n", "", (double)g.Ki,
+                  rel_err((double)g.Ki, 0.05), (double)g.T, rel_err((double)g.T, 3.0));
+    assert_close(g.Ki, 0.05, 0.02, 0.0);
+    assert_close(g.T, 3.0, 0.05, 0.0);
+    assert_close(g.Td, 2.7, 0.0, 0.1);
+    check_fit(&res, 95.0);
+}
+
+static void test_recover_integer_delay(void **state)
+{
+    pdt_ident_result_t res;
+    (void)state;
+    pdt_model_t m = fopdt(2.0, 12.0, 5.0);
+    record_spec_t s = {m, (pdt_real_t)1.0, 800u, 0.0, 0.0, 1.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    cfg.delay_mode = PDT_DELAY_INTEGER;
+    identify(&cfg, s.n, &res);
+    check_fopdt("integer delay", &res, &m, 0.03, 0.05, 0.01);
+    double l = (double)res.model.p.fopdt.Td / (double)s.Ts;
+    assert_true(fabs(l - floor(l + 0.5)) <= 1e-5 * fmax(1.0, l));
+    assert_close(res.model.p.fopdt.Td, 5.0, 0.0, 1e-4);
+}
+
+/* Noise-free random binary record: the one-step prediction criterion of
+ * the paper recovers the model exactly (it is biased only by noise). */
+static void test_recover_prediction(void **state)
+{
+    pdt_ident_result_t res;
+    (void)state;
+    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    record_spec_t s = {m, (pdt_real_t)1.0, 800u, 40.0, 350.0, 5.0, 0.0, false, 1u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    cfg.cost = PDT_COST_PREDICTION;
+    identify(&cfg, s.n, &res);
+    check_fopdt("prediction, no noise", &res, &m, 0.01, 0.01, 0.01);
+    check_fit(&res, 99.0);
+    assert_close(res.y0, 350.0, 0.0, 0.05);
+
+    m = sopdt_tc(2.0, 10.0, 2.0, 3.3);
+    sopdt_record(m, 0.0);
+    cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)0.5);
+    cfg.cost = PDT_COST_PREDICTION;
+    identify(&cfg, 1000u, &res);
+    check_sopdt("prediction SOPDT", &res, &m, 0.01, 0.01, 0.02, 0.05);
+    check_fit(&res, 99.0);
+}
+
+/* Pulse record (at rest at both ends) for the frequency-domain criteria. */
+static void pulse_record(pdt_model_t truth, double snr)
+{
+    record_spec_t s = {truth, (pdt_real_t)1.0, 600u, 20.0, 100.0, 4.0, snr, false, 3u};
+    make_pulses(g_dev, s.n);
+    make_record(&s);
+}
+
+static void test_recover_criteria_pulse(void **state)
+{
+    pdt_ident_result_t res;
+    (void)state;
+    pdt_model_t m = fopdt(1.5, 10.0, 4.6);
+    static const pdt_cost_kind_t kinds[] = {PDT_COST_SIMULATION, PDT_COST_COMBINED,
+                                            PDT_COST_FREQUENCY};
+    static const char *const names[] = {"pulses, simulation", "pulses, combined",
+                                        "pulses, frequency"};
+    for (size_t i = 0; i < 3u; i++) {
+        pulse_record(m, 30.0);
+        pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)1.0);
+        cfg.cost = kinds[i];
+        cfg.Td_max = (pdt_real_t)20.0;
+        identify(&cfg, 600u, &res);
+        check_fopdt(names[i], &res, &m, FO_K, 0.03, FO_TD);
+        check_fit(&res, 95.0);
+        assert_close(res.y0, 100.0, 0.0, 0.1);
+    }
+}
+
+/* ---- Steppable API, determinism, bounds -------------------------------- */
+
+static void assert_same_real(pdt_real_t a, pdt_real_t b, const char *what)
+{
+    if (memcmp(&a, &b, sizeof a) != 0) {
+        fail_msg("%s differs: %.17g vs %.17g", what, (double)a, (double)b);
+    }
+}
+
+/* Field by field, bit for bit (the structs may hold padding). */
+static void assert_same_result(const pdt_ident_result_t *a, const pdt_ident_result_t *b)
+{
+    assert_int_equal(a->model.kind, b->model.kind);
+    if (a->model.kind == PDT_MODEL_FOPDT) {
+        assert_same_real(a->model.p.fopdt.K, b->model.p.fopdt.K, "K");
+        assert_same_real(a->model.p.fopdt.tau, b->model.p.fopdt.tau, "tau");
+        assert_same_real(a->model.p.fopdt.Td, b->model.p.fopdt.Td, "Td");
+    } else {
+        assert_same_real(a->model.p.sopdt.k, b->model.p.sopdt.k, "k");
+        assert_same_real(a->model.p.sopdt.a, b->model.p.sopdt.a, "a");
+        assert_same_real(a->model.p.sopdt.b, b->model.p.sopdt.b, "b");
+        assert_same_real(a->model.p.sopdt.Td, b->model.p.sopdt.Td, "Td");
+    }
+    assert_same_real(a->u0, b->u0, "u0");
+    assert_same_real(a->y0, b->y0, "y0");
+    assert_same_real(a->cost, b->cost, "cost");
+    assert_same_real(a->fit, b->fit, "fit");
+    assert_int_equal(a->evaluations, b->evaluations);
+    assert_int_equal(a->generations, b->generations);
+}
+
+/* Steps ctx to the end with calls of at most `bound` evaluations each,
+ * checking the protocol on the way; returns the number of calls. */
+static size_t step_to_end(pdt_ident_t *ctx, uint32_t bound)
+{
+    pdt_ident_result_t early, copy;
+    size_t calls = 0;
+    pdt_status_t st;
+    memset(&early, 0x5a, sizeof early);
+    copy = early;
+    do {
+        uint32_t before = ctx->evaluations;
+        assert_int_equal(pdt_ident_result(ctx, &early), PDT_ERR_STATE);
+        assert_memory_equal(&early, &copy, sizeof early);
+        st = pdt_ident_step(ctx, bound);
+        calls++;
+        assert_true(st == PDT_RUNNING || st == PDT_OK);
+        assert_true(ctx->evaluations >= before);
+        if (ctx->evaluations - before > bound) {
+            fail_msg("call %zu: %u evaluations for a bound of %u", calls,
+                     (unsigned)(ctx->evaluations - before), (unsigned)bound);
+        }
+    } while (st == PDT_RUNNING);
+    /* Done stays done and does nothing more. */
+    uint32_t done = ctx->evaluations;
+    for (int i = 0; i < 3; i++) {
+        assert_int_equal(pdt_ident_step(ctx, bound), PDT_OK);
+        assert_int_equal(ctx->evaluations, done);
+    }
+    return calls;
+}
+
+static void stepping_matches_blocking(const pdt_ident_config_t *cfg, size_t n, uint32_t bound)
+{
+    pdt_ident_data_t data = {g_u, g_y, n};
+    pdt_ident_result_t blocking, stepped;
+    size_t need = pdt_ident_workspace_size(cfg, n);
+    assert_int_equal(pdt_identify(&g_ctx, cfg, &data, g_work, need, &blocking), PDT_OK);
+    assert_int_equal(pdt_ident_init(&g_ctx2, cfg, &data, g_work2, need), PDT_OK);
+    size_t calls = step_to_end(&g_ctx2, bound);
+    assert_int_equal(pdt_ident_result(&g_ctx2, &stepped), PDT_OK);
+    assert_same_result(&blocking, &stepped);
+    assert_true(stepped.evaluations <= cfg->max_evaluations);
+    if (bound == 1u) {
+        assert_true(calls >= stepped.evaluations);
+    }
+}
+
+static void test_stepping(void **state)
+{
+    (void)state;
+    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    record_spec_t s = {m, (pdt_real_t)1.0, 400u, 40.0, 350.0, 5.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    static const pdt_cost_kind_t kinds[] = {PDT_COST_SIMULATION, PDT_COST_PREDICTION,
+                                            PDT_COST_COMBINED, PDT_COST_FREQUENCY};
+    for (size_t i = 0; i < 4u; i++) {
+        pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+        cfg.cost = kinds[i];
+        cfg.max_evaluations = 1200u;
+        stepping_matches_blocking(&cfg, s.n, 1u);
+        stepping_matches_blocking(&cfg, s.n, 7u);
+        stepping_matches_blocking(&cfg, s.n, UINT32_MAX);
+    }
+    /* SOPDT, plain and integrating. */
+    pdt_model_t so = sopdt_tc(2.0, 10.0, 2.0, 3.3);
+    record_spec_t s2 = {so, (pdt_real_t)0.5, 500u, 10.0, 50.0, 2.0, 30.0, false, 5u};
+    make_prbs(g_dev, s2.n, 10u, 12u, 11u);
+    make_record(&s2);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, s2.Ts);
+    cfg.max_evaluations = 1500u;
+    stepping_matches_blocking(&cfg, s2.n, 1u);
+}
+
+/* The evaluation count never passes max_evaluations, down to the
+ * smallest budget the configuration check accepts (the default refinement
+ * share). */
+static void test_budget(void **state)
+{
+    pdt_ident_result_t res;
+    (void)state;
+    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    record_spec_t s = {m, (pdt_real_t)1.0, 400u, 0.0, 0.0, 1.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    for (int model = 1; model <= 2; model++) {
+        for (int kind = 0; kind < 4; kind++) {
+            pdt_ident_config_t cfg = base_config((pdt_model_kind_t)model, s.Ts);
+            uint32_t P = model == 2 ? PDT_IDENT_POPULATION_SOPDT : PDT_IDENT_POPULATION_FOPDT;
+            /* 2 P + 1: the GA gets two generations, not three. The scan
+             * of the frequency criterion keeps 146 evaluations back. */
+            uint32_t ga = 2u * P + 1u;
+            cfg.cost = (pdt_cost_kind_t)kind;
+            cfg.max_evaluations = ga + cfg.refine_evaluations +
+                                  (kind == PDT_COST_FREQUENCY ? 146u : 0u);
+            identify(&cfg, s.n, &res);
+            assert_true(res.generations <= 2u);
+            cfg.max_evaluations -= ga - P;
+            identify(&cfg, s.n, &res);
+            assert_int_equal(res.generations, 1u);
+            cfg.max_evaluations--;
+            assert_int_equal(pdt_ident_workspace_size(&cfg, s.n), 0u);
+        }
+    }
+}
+
+static void test_determinism(void **state)
+{
+    pdt_ident_result_t a, b, c;
+    (void)state;
+    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    record_spec_t s = {m, (pdt_real_t)1.0, 800u, 0.0, 0.0, 1.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    cfg.seed = 12345u;
+    identify(&cfg, s.n, &a);
+    identify(&cfg, s.n, &b);
+    assert_same_result(&a, &b);
+    for (uint64_t seed = 2u; seed < 6u; seed++) {
+        cfg.seed = seed;
+        identify(&cfg, s.n, &c);
+        check_fopdt("another seed", &c, &m, FO_K, FO_TAU, FO_TD);
+        /* Two seeds land on the same optimum, up to the refinement's
+         * stopping size. */
+        assert_close(c.model.p.fopdt.K, a.model.p.fopdt.K, 0.01, 0.0);
+        assert_close(c.model.p.fopdt.tau, a.model.p.fopdt.tau, 0.01, 0.0);
+        assert_close(c.model.p.fopdt.Td, a.model.p.fopdt.Td, 0.0, 0.05);
+    }
+}
+
+static void test_gain_bounds(void **state)
+{
+    pdt_ident_result_t res;
+    pdt_real_t K;
+    (void)state;
+    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    record_spec_t s = {m, (pdt_real_t)1.0, 600u, 0.0, 0.0, 1.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    cfg.K_min = (pdt_real_t)0.5;
+    cfg.K_max = (pdt_real_t)1.5;
+    identify(&cfg, s.n, &res);
+    assert_true(res.model.p.fopdt.K >= cfg.K_min && res.model.p.fopdt.K <= cfg.K_max);
+    assert_close(res.model.p.fopdt.K, 1.5, 1e-5, 0.0);
+    cfg.K_min = (pdt_real_t)2.5;
+    cfg.K_max = (pdt_real_t)4.0;
+    identify(&cfg, s.n, &res);
+    assert_true(res.model.p.fopdt.K >= cfg.K_min && res.model.p.fopdt.K <= cfg.K_max);
+    assert_close(res.model.p.fopdt.K, 2.5, 1e-5, 0.0);
+    /* A box that contains the truth changes nothing much. */
+    cfg.K_min = (pdt_real_t)1.0;
+    cfg.K_max = (pdt_real_t)3.0;
+    identify(&cfg, s.n, &res);
+    check_fopdt("K in [1, 3]", &res, &m, FO_K, FO_TAU, FO_TD);
+    /* Reverse acting data, positive box: the sign cannot flip. */
+    for (size_t k = 0; k < s.n; k++) {
+        g_y[k] = -g_y[k];
+    }
+    cfg.K_min = (pdt_real_t)0.0;
+    cfg.K_max = (pdt_real_t)5.0;
+    identify(&cfg, s.n, &res);
+    assert_true(res.model.p.fopdt.K >= (pdt_real_t)0.0);
+
+    /* SOPDT: the bound is on the DC gain. */
+    m = sopdt_tc(2.0, 10.0, 2.0, 3.3);
+    sopdt_record(m, 30.0);
+    cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)0.5);
+    cfg.integrating = false;
+    cfg.K_min = (pdt_real_t)0.5;
+    cfg.K_max = (pdt_real_t)1.5;
+    identify(&cfg, 1000u, &res);
+    assert_int_equal(pdt_model_dc_gain(&res.model, &K), PDT_OK);
+    print_message("    SOPDT DC gain in [0.5, 1.5]: %.6f\n", (double)K);
+    assert_true(K >= cfg.K_min * (pdt_real_t)(1.0 - 1e-5) &&
+                K <= cfg.K_max * (pdt_real_t)(1.0 + 1e-5));
+}
+
+/* ---- Bad inputs ------------------------------------------------------- */
+
+/* A valid record and config for the error tests. */
+#define ERR_N 200u
+
+static void error_record(void)
+{
+    pdt_model_t m = fopdt(2.0, 8.0, 3.0);
+    record_spec_t s = {m, (pdt_real_t)1.0, ERR_N, 40.0, 350.0, 5.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 5u, 6u, 7u);
+    make_record(&s);
+}
+
+/* pdt_ident_init and pdt_identify both fail with want, leaving the
+ * context and the result untouched. */
+static void expect_init_error(const pdt_ident_config_t *cfg, const pdt_ident_data_t *data,
+                              void *work, size_t work_len, pdt_status_t want, const char *what)
+{
+    pdt_ident_result_t out, out_copy;
+    memset(&g_ctx, 0xa5, sizeof g_ctx);
+    memcpy(&g_ctx2, &g_ctx, sizeof g_ctx);
+    memset(&out, 0x3c, sizeof out);
+    memcpy(&out_copy, &out, sizeof out);
+    pdt_status_t st = pdt_ident_init(&g_ctx, cfg, data, work, work_len);
+    if (st != want) {
+        fail_msg("%s: pdt_ident_init returned %d (%s), want %d (%s)", what, (int)st,
+                 pdt_status_str(st), (int)want, pdt_status_str(want));
+    }
+    assert_memory_equal(&g_ctx, &g_ctx2, sizeof g_ctx);
+    st = pdt_identify(&g_ctx, cfg, data, work, work_len, &out);
+    if (st != want) {
+        fail_msg("%s: pdt_identify returned %d (%s), want %d (%s)", what, (int)st,
+                 pdt_status_str(st), (int)want, pdt_status_str(want));
+    }
+    assert_memory_equal(&g_ctx, &g_ctx2, sizeof g_ctx);
+    assert_memory_equal(&out, &out_copy, sizeof out);
+}
+
+static void test_errors_pointers(void **state)
+{
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)1.0);
+    pdt_ident_data_t data = {g_u, g_y, ERR_N};
+    pdt_ident_data_t bad;
+    pdt_ident_result_t out, out_copy;
+    (void)state;
+    error_record();
+    size_t need = pdt_ident_workspace_size(&cfg, ERR_N);
+    assert_true(need > 0u);
+    assert_int_equal(pdt_ident_init(NULL, &cfg, &data, g_work, need), PDT_ERR_ARG);
+    memset(&out, 0x3c, sizeof out);
+    out_copy = out;
+    assert_int_equal(pdt_identify(NULL, &cfg, &data, g_work, need, &out), PDT_ERR_ARG);
+    assert_memory_equal(&out, &out_copy, sizeof out);
+    expect_init_error(NULL, &data, g_work, need, PDT_ERR_ARG, "cfg NULL");
+    expect_init_error(&cfg, NULL, g_work, need, PDT_ERR_ARG, "data NULL");
+    bad = data;
+    bad.u = NULL;
+    expect_init_error(&cfg, &bad, g_work, need, PDT_ERR_ARG, "u NULL");
+    bad = data;
+    bad.y = NULL;
+    expect_init_error(&cfg, &bad, g_work, need, PDT_ERR_ARG, "y NULL");
+    /* result NULL */
+    memset(&g_ctx, 0xa5, sizeof g_ctx);
+    memcpy(&g_ctx2, &g_ctx, sizeof g_ctx);
+    assert_int_equal(pdt_identify(&g_ctx, &cfg, &data, g_work, need, NULL), PDT_ERR_ARG);
+    assert_memory_equal(&g_ctx, &g_ctx2, sizeof g_ctx);
+    /* Workspace: NULL or one byte short is NOMEM, misaligned is ARG. */
+    expect_init_error(&cfg, &data, NULL, need, PDT_ERR_NOMEM, "work NULL");
+    expect_init_error(&cfg, &data, g_work, need - 1u, PDT_ERR_NOMEM, "work one byte short");
+    expect_init_error(&cfg, &data, g_work, 0u, PDT_ERR_NOMEM, "work_len 0");
+    expect_init_error(&cfg, &data, (char *)g_work + 1, need, PDT_ERR_ARG, "work misaligned");
+    /* The exact size works. */
+    assert_int_equal(pdt_ident_init(&g_ctx, &cfg, &data, g_work, need), PDT_OK);
+    /* Step and result with NULL. */
+    assert_int_equal(pdt_ident_step(NULL, 10u), PDT_ERR_ARG);
+    assert_int_equal(pdt_ident_result(NULL, &out), PDT_ERR_ARG);
+    assert_int_equal(pdt_ident_result(&g_ctx, NULL), PDT_ERR_ARG);
+}
+
+static void test_errors_config(void **state)
+{
+    pdt_ident_config_t good = base_config(PDT_MODEL_FOPDT, (pdt_real_t)1.0);
+    pdt_ident_data_t data = {g_u, g_y, ERR_N};
+    pdt_ident_config_t cfg;
+    (void)state;
+    error_record();
+    size_t need = WORK_REALS * sizeof(pdt_real_t);
+
+#define EXPECT_CFG(change, want)                                                \
+    do {                                                                        \
+        cfg = good;                                                             \
+        change;                                                                 \
+        expect_init_error(&cfg, &data, g_work, need, want, #change);            \
+        assert_int_equal(pdt_ident_workspace_size(&cfg, ERR_N), 0u);            \
+    } while (0)
+
+    EXPECT_CFG(cfg.Ts = (pdt_real_t)0.0, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.Ts = (pdt_real_t)-1.0, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.Ts = (pdt_real_t)NAN, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.Ts = (pdt_real_t)INFINITY, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.population = 7u, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.population = 2u, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.population = PDT_IDENT_MAX_POPULATION + 2u, PDT_ERR_ARG);
+    EXPECT_CFG((cfg.population = 8u, cfg.elite = 8u), PDT_ERR_ARG);
+    EXPECT_CFG((cfg.population = 8u, cfg.elite = 9u), PDT_ERR_ARG);
+    EXPECT_CFG(cfg.max_evaluations = PDT_IDENT_POPULATION_FOPDT + 300u - 1u, PDT_ERR_ARG);
+    EXPECT_CFG((cfg.cost = PDT_COST_FREQUENCY, cfg.max_evaluations = 24u + 300u + 100u),
+               PDT_ERR_ARG);
+    EXPECT_CFG(cfg.model = (pdt_model_kind_t)0, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.model = (pdt_model_kind_t)3, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.cost = (pdt_cost_kind_t)4, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.cost = (pdt_cost_kind_t)-1, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.delay_mode = (pdt_delay_mode_t)2, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.stall_generations = 0u, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.eta_c = (pdt_real_t)0.0, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.eta_m = (pdt_real_t)NAN, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.p_crossover = (pdt_real_t)1.5, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.p_mutation = (pdt_real_t)-0.1, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.sigma_share = (pdt_real_t)0.0, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.tolerance = (pdt_real_t)-1.0, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.K_min = (pdt_real_t)NAN, PDT_ERR_ARG);
+    EXPECT_CFG(cfg.K_max = (pdt_real_t)INFINITY, PDT_ERR_ARG);
+    EXPECT_CFG((cfg.model = PDT_MODEL_SOPDT, cfg.zeta_min = (pdt_real_t)0.0), PDT_ERR_ARG);
+    EXPECT_CFG((cfg.tau_min = (pdt_real_t)-1.0, cfg.tau_max = (pdt_real_t)10.0), PDT_ERR_ARG);
+    EXPECT_CFG((cfg.Td_min = (pdt_real_t)-1.0, cfg.Td_max = (pdt_real_t)10.0), PDT_ERR_ARG);
+    EXPECT_CFG(cfg.tau_max = (pdt_real_t)NAN, PDT_ERR_ARG);
+    /* Bounds the wrong way round. */
+    EXPECT_CFG((cfg.tau_min = (pdt_real_t)10.0, cfg.tau_max = (pdt_real_t)10.0), PDT_ERR_BOUNDS);
+    EXPECT_CFG((cfg.tau_min = (pdt_real_t)10.0, cfg.tau_max = (pdt_real_t)5.0), PDT_ERR_BOUNDS);
+    EXPECT_CFG((cfg.Td_min = (pdt_real_t)6.0, cfg.Td_max = (pdt_real_t)5.0), PDT_ERR_BOUNDS);
+    EXPECT_CFG((cfg.K_min = (pdt_real_t)2.0, cfg.K_max = (pdt_real_t)1.0), PDT_ERR_BOUNDS);
+#undef EXPECT_CFG
+
+    /* Equal Td bounds (a fixed dead time) and equal K bounds are allowed. */
+    cfg = good;
+    cfg.Td_min = (pdt_real_t)3.0;
+    cfg.Td_max = (pdt_real_t)3.0;
+    cfg.K_min = (pdt_real_t)2.0;
+    cfg.K_max = (pdt_real_t)2.0;
+    need = pdt_ident_workspace_size(&cfg, ERR_N);
+    assert_int_equal(pdt_ident_init(&g_ctx, &cfg, &data, g_work, need), PDT_OK);
+}
+
+static void test_errors_data(void **state)
+{
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)1.0);
+    pdt_ident_data_t data = {g_u, g_y, ERR_N};
+    size_t need = WORK_REALS * sizeof(pdt_real_t);
+    static const float bad_values[] = {NAN, INFINITY, -INFINITY};
+    static const size_t where[] = {0u, 1u, ERR_N / 2u, ERR_N - 1u};
+    (void)state;
+    error_record();
+    for (size_t v = 0; v < 3u; v++) {
+        for (size_t w = 0; w < 4u; w++) {
+            pdt_real_t *arr[2] = {g_u, g_y};
+            for (size_t a = 0; a < 2u; a++) {
+                pdt_real_t keep = arr[a][where[w]];
+                arr[a][where[w]] = (pdt_real_t)bad_values[v];
+                expect_init_error(&cfg, &data, g_work, need, PDT_ERR_NONFINITE,
+                                  a == 0u ? "non-finite u" : "non-finite y");
+                arr[a][where[w]] = keep;
+            }
+        }
+    }
+    /* Too short: fewer than PDT_MIN_SAMPLES, or a dead-time bound at or
+     * beyond the record. */
+    data.n = PDT_MIN_SAMPLES - 1u;
+    expect_init_error(&cfg, &data, g_work, need, PDT_ERR_TOO_SHORT, "n < PDT_MIN_SAMPLES");
+    /* n = 0 with explicit bounds (the default bounds are derived from the
+     * record length, which n = 0 makes empty). */
+    data.n = 0u;
+    cfg.tau_min = (pdt_real_t)1.0;
+    cfg.tau_max = (pdt_real_t)100.0;
+    cfg.Td_max = (pdt_real_t)10.0;
+    expect_init_error(&cfg, &data, g_work, need, PDT_ERR_TOO_SHORT, "n = 0");
+    cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)1.0);
+    data.n = ERR_N;
+    cfg.Td_max = (pdt_real_t)ERR_N;
+    expect_init_error(&cfg, &data, g_work, need, PDT_ERR_TOO_SHORT, "Td_max = record");
+    cfg.Td_max = (pdt_real_t)(2.0 * ERR_N);
+    expect_init_error(&cfg, &data, g_work, need, PDT_ERR_TOO_SHORT, "Td_max beyond record");
+    cfg.Td_max = (pdt_real_t)(ERR_N - 5u);
+    expect_init_error(&cfg, &data, g_work, need, PDT_ERR_TOO_SHORT,
+                      "Td_max leaves fewer than PDT_MIN_SAMPLES");
+    cfg.Td_max = (pdt_real_t)0.0;
+    /* No excitation: constant u, constant y. */
+    for (size_t k = 0; k < ERR_N; k++) {
+        g_dev[k] = g_u[k];
+        g_u[k] = (pdt_real_t)40.0;
+    }
+    expect_init_error(&cfg, &data, g_work, need, PDT_ERR_NO_EXCITATION, "constant u");
+    for (size_t k = 0; k < ERR_N; k++) {
+        g_u[k] = g_dev[k];
+        g_sim[k] = g_y[k];
+        g_y[k] = (pdt_real_t)350.0;
+    }
+    expect_init_error(&cfg, &data, g_work, need, PDT_ERR_NO_EXCITATION, "constant y");
+    for (size_t k = 0; k < ERR_N; k++) {
+        g_y[k] = g_sim[k];
+    }
+    /* The data are usable again. */
+    assert_int_equal(pdt_ident_init(&g_ctx, &cfg, &data, g_work, need), PDT_OK);
+}
+
+static void test_errors_state(void **state)
+{
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)1.0);
+    pdt_ident_data_t data = {g_u, g_y, ERR_N};
+    pdt_ident_result_t out, copy;
+    (void)state;
+    error_record();
+    /* A context never initialised. */
+    memset(&g_ctx, 0, sizeof g_ctx);
+    memcpy(&g_ctx2, &g_ctx, sizeof g_ctx);
+    memset(&out, 0x3c, sizeof out);
+    copy = out;
+    assert_int_equal(pdt_ident_step(&g_ctx, 10u), PDT_ERR_STATE);
+    assert_int_equal(pdt_ident_result(&g_ctx, &out), PDT_ERR_STATE);
+    assert_memory_equal(&g_ctx, &g_ctx2, sizeof g_ctx);
+    assert_memory_equal(&out, &copy, sizeof out);
+    /* Initialised, not done. */
+    size_t need = pdt_ident_workspace_size(&cfg, ERR_N);
+    assert_int_equal(pdt_ident_init(&g_ctx, &cfg, &data, g_work, need), PDT_OK);
+    assert_int_equal(pdt_ident_result(&g_ctx, &out), PDT_ERR_STATE);
+    assert_memory_equal(&out, &copy, sizeof out);
+    /* max_evaluations = 0 is refused and does nothing. */
+    memcpy(&g_ctx2, &g_ctx, sizeof g_ctx);
+    assert_int_equal(pdt_ident_step(&g_ctx, 0u), PDT_ERR_ARG);
+    assert_memory_equal(&g_ctx, &g_ctx2, sizeof g_ctx);
+    assert_int_equal(pdt_ident_step(&g_ctx, 5u), PDT_RUNNING);
+    assert_int_equal(g_ctx.evaluations, 5u);
+    memcpy(&g_ctx2, &g_ctx, sizeof g_ctx);
+    assert_int_equal(pdt_ident_step(&g_ctx, 0u), PDT_ERR_ARG);
+    assert_memory_equal(&g_ctx, &g_ctx2, sizeof g_ctx);
+    assert_int_equal(pdt_ident_result(&g_ctx, &out), PDT_ERR_STATE);
+    assert_memory_equal(&out, &copy, sizeof out);
+}
+
+/* ---- Memory ----------------------------------------------------------- */
+
+static void test_workspace_size(void **state)
+{
+    static const size_t ns[] = {PDT_MIN_SAMPLES + 8u, 100u, 257u, 600u, NMAX};
+    static const pdt_cost_kind_t kinds[] = {PDT_COST_PREDICTION, PDT_COST_SIMULATION,
+                                            PDT_COST_FREQUENCY, PDT_COST_COMBINED};
+    static const uint32_t pops[] = {0u, 4u, 24u, 40u, 64u};
+    (void)state;
+    assert_int_equal(pdt_ident_workspace_size(NULL, 100u), 0u);
+    for (size_t in = 0; in < sizeof ns / sizeof ns[0]; in++) {
+        for (int model = 1; model <= 2; model++) {
+            for (size_t ik = 0; ik < 4u; ik++) {
+                for (size_t ip = 0; ip < sizeof pops / sizeof pops[0]; ip++) {
+                    for (int mode = 0; mode < 2; mode++) {
+                        for (int td = 0; td < 2; td++) {
+                            pdt_ident_config_t cfg =
+                                base_config((pdt_model_kind_t)model, (pdt_real_t)1.0);
+                            cfg.cost = kinds[ik];
+                            cfg.population = pops[ip];
+                            cfg.delay_mode = (pdt_delay_mode_t)mode;
+                            if (td == 1) {
+                                /* The shortest delay bound: the longest
+                                 * zero padding. */
+                                cfg.Td_max = (pdt_real_t)0.5;
+                            }
+                            uint32_t pop = pops[ip] != 0u ? pops[ip]
+                                           : (model == 2 ? PDT_IDENT_POPULATION_SOPDT
+                                                         : PDT_IDENT_POPULATION_FOPDT);
+                            size_t got = pdt_ident_workspace_size(&cfg, ns[in]);
+                            assert_true(got > 0u);
+                            assert_true(got % sizeof(pdt_real_t) == 0u);
+                            if (got > PDT_IDENT_WORKSPACE_SIZE(ns[in], pop)) {
+                                fail_msg("n %zu model %d cost %d pop %u: size %zu > macro %zu",
+                                         ns[in], model, (int)kinds[ik], (unsigned)pop, got,
+                                         (size_t)PDT_IDENT_WORKSPACE_SIZE(ns[in], pop));
+                            }
+                            /* The automatic populations are covered by
+                             * the SOPDT one, as the header says. */
+                            if (pops[ip] == 0u) {
+                                assert_true(got <= PDT_IDENT_WORKSPACE_SIZE(
+                                                       ns[in], PDT_IDENT_POPULATION_SOPDT));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/* Whole runs with the workspace sized by the query, canaries after it
+ * (identify() checks them), for every model and criterion; and the size
+ * does not depend on the data. */
+static void test_workspace_canaries(void **state)
+{
+    static const pdt_cost_kind_t kinds[] = {PDT_COST_PREDICTION, PDT_COST_SIMULATION,
+                                            PDT_COST_FREQUENCY, PDT_COST_COMBINED};
+    pdt_ident_result_t res;
+    (void)state;
+    error_record();
+    for (int model = 1; model <= 2; model++) {
+        for (size_t ik = 0; ik < 4u; ik++) {
+            pdt_ident_config_t cfg = base_config((pdt_model_kind_t)model, (pdt_real_t)1.0);
+            cfg.cost = kinds[ik];
+            cfg.max_evaluations = 800u;
+            identify(&cfg, ERR_N, &res);
+        }
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_errors_pointers),
+        cmocka_unit_test(test_errors_config),
+        cmocka_unit_test(test_errors_data),
+        cmocka_unit_test(test_errors_state),
+        cmocka_unit_test(test_workspace_size),
+        cmocka_unit_test(test_workspace_canaries),
+        cmocka_unit_test(test_stepping),
+        cmocka_unit_test(test_budget),
+        cmocka_unit_test(test_determinism),
+        cmocka_unit_test(test_gain_bounds),
+        cmocka_unit_test(test_recover_fopdt),
+        cmocka_unit_test(test_recover_sopdt),
+        cmocka_unit_test(test_recover_integrating),
+        cmocka_unit_test(test_recover_integer_delay),
+        cmocka_unit_test(test_recover_prediction),
+        cmocka_unit_test(test_recover_criteria_pulse),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
