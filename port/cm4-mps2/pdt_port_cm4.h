@@ -1,0 +1,42 @@
+/*
+ * What the Cortex-M4F MPS2 AN386 port offers beyond the port surface
+ * (pdt_port.h): the stack high-water mark and the clock the tick counter
+ * runs at.
+ */
+#ifndef PDT_PORT_CM4_H
+#define PDT_PORT_CM4_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The core clock of the AN386 image, Hz; the tick counter counts it. */
+#define PDT_CM4_CORE_HZ 25000000u
+
+/* Where pdt_port_ticks comes from. */
+typedef enum pdt_cm4_counter {
+    PDT_CM4_COUNTER_NONE = 0,    /* pdt_port_init not called yet */
+    PDT_CM4_COUNTER_DWT = 1,     /* DWT->CYCCNT, widened to 64 bits */
+    PDT_CM4_COUNTER_SYSTICK = 2  /* SysTick on the core clock, with a wrap count */
+} pdt_cm4_counter_t;
+
+/* The counter pdt_port_init chose: the DWT cycle counter when it counts
+ * (real silicon), else SysTick (QEMU, which does not model the DWT). */
+pdt_cm4_counter_t pdt_cm4_counter(void);
+
+/* Bytes reserved for the stack (the linker script's PDT_STACK_SIZE). */
+size_t pdt_cm4_stack_size(void);
+
+/* Deepest stack use since reset, bytes: the reset handler paints the free
+ * stack with a pattern, this finds the lowest word that changed. A value
+ * equal to pdt_cm4_stack_size means the stack may have overflowed. */
+size_t pdt_cm4_stack_used(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PDT_PORT_CM4_H */

@@ -1,0 +1,381 @@
+/*
+ * Identification on the target: records of a FOPDT and a SOPDT plant are
+ * simulated here with pdt_dmodel_simulate, given deterministic noise, and
+ * identified with pdt_identify; the models must land within the host
+ * tests' tolerances (tests/test_ident.c uses the same plants, inputs and
+ * noise). Also measures the work of one cost evaluation at N = 2000 and of
+ * each identification in port ticks (instructions under QEMU -icount).
+ */
+#include <math.h>
+#include <string.h>
+
+#include "target_checks.h"
+#include "target_util.h"
+
+#include "pdt_port.h"
+
+#define NMAX 2000u
+#define POP_MAX PDT_IDENT_POPULATION_SOPDT
+
+static pdt_real_t g_u[NMAX];
+static pdt_real_t g_y[NMAX];
+static pdt_real_t g_dev[NMAX];
+static pdt_real_t g_sim[NMAX];
+static pdt_real_t g_work[PDT_IDENT_WORKSPACE_SIZE(NMAX, POP_MAX) / sizeof(pdt_real_t) + 1u];
+static pdt_ident_t g_ctx;
+
+/* ---- Data (as tests/test_ident.c makes it) ----------------------------- */
+
+/* Numerical Recipes' 32-bit LCG. */
+static uint32_t lcg_next(uint32_t *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return *s;
+}
+
+/* Approximately standard normal: the sum of 12 uniforms of 24 bits, centred. */
+static double lcg_normal(uint32_t *s)
+{
+    double sum = 0.0;
+    for (int i = 0; i < 12; i++) {
+        sum += (double)(lcg_next(s) >> 8) / 16777216.0;
+    }
+    return sum - 6.0;
+}
+
+/* Random binary deviation of +-amp: 0 for `quiet` samples, then a level
+ * held `hold` samples, flipped with probability 1/2 at each change. */
+static void make_prbs(size_t n, size_t quiet, size_t hold, uint32_t seed, double amp)
+{
+    uint32_t s = seed;
+    double level = 1.0;
+    for (size_t k = 0; k < n; k++) {
+        if (k < quiet) {
+            g_dev[k] = (pdt_real_t)0.0;
+            continue;
+        }
+        if ((k - quiet) % hold == 0u && (lcg_next(&s) >> 31) != 0u) {
+            level = -level;
+        }
+        g_dev[k] = (pdt_real_t)(amp * level);
+    }
+}
+
+typedef struct record {
+    pdt_model_t m;
+    double Ts;
+    size_t n;
+    double u0, y0;
+    double snr_db;
+    uint32_t noise_seed;
+    double noise_sd; /* set by make_record */
+} record_t;
+
+/* g_u = u0 + g_dev, g_y = y0 + the model's response + noise at snr_db. */
+static bool make_record(record_t *r)
+{
+    pdt_dmodel_t d;
+    if (pdt_discretize(&r->m, (pdt_real_t)r->Ts, &d) != PDT_OK ||
+        pdt_dmodel_simulate(&d, g_dev, r->n, g_sim) != PDT_OK) {
+        return false;
+    }
+    double mean = 0.0;
+    for (size_t k = 0; k < r->n; k++) {
+        mean += (double)g_sim[k];
+    }
+    mean /= (double)r->n;
+    double var = 0.0;
+    for (size_t k = 0; k < r->n; k++) {
+        double e = (double)g_sim[k] - mean;
+        var += e * e;
+    }
+    double sd = r->snr_db > 0.0 ? sqrt(var / (double)r->n) * pow(10.0, -r->snr_db / 20.0) : 0.0;
+    r->noise_sd = sd;
+    uint32_t s = r->noise_seed;
+    for (size_t k = 0; k < r->n; k++) {
+        g_u[k] = (pdt_real_t)(r->u0 + (double)g_dev[k]);
+        g_y[k] = (pdt_real_t)(r->y0 + (double)g_sim[k] + sd * lcg_normal(&s));
+    }
+    return true;
+}
+
+static pdt_model_t fopdt(double K, double tau, double Td)
+{
+    pdt_model_t m;
+    memset(&m, 0, sizeof m);
+    m.kind = PDT_MODEL_FOPDT;
+    m.p.fopdt.K = (pdt_real_t)K;
+    m.p.fopdt.tau = (pdt_real_t)tau;
+    m.p.fopdt.Td = (pdt_real_t)Td;
+    return m;
+}
+
+static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
+{
+    pdt_sopdt_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
+    pdt_model_t m;
+    memset(&m, 0, sizeof m);
+    m.kind = PDT_MODEL_SOPDT;
+    (void)pdt_sopdt_from_tc(&tc, &m.p.sopdt);
+    return m;
+}
+
+static void line_ticks(tline_t *l, uint64_t ticks)
+{
+    tl_uint(l, ticks);
+    tl_str(l, " ticks = ");
+    tl_uint(l, t_ticks_to_instructions(ticks));
+    tl_str(l, " instructions");
+}
+
+/* pdt_identify on g_u, g_y with exactly the workspace its size query asks
+ * for; reports the work in ticks. */
+static pdt_status_t identify(pdt_model_kind_t kind, const record_t *r, pdt_ident_result_t *res,
+                             uint64_t *ticks)
+{
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.model = kind;
+    cfg.Ts = (pdt_real_t)r->Ts;
+    pdt_ident_data_t data = {g_u, g_y, r->n};
+    size_t need = pdt_ident_workspace_size(&cfg, r->n);
+    if (need == 0u || need > sizeof g_work) {
+        return PDT_ERR_NOMEM;
+    }
+    uint64_t t0 = pdt_port_ticks();
+    pdt_status_t st = pdt_identify(&g_ctx, &cfg, &data, g_work, need, res);
+    *ticks = pdt_port_ticks() - t0;
+    return st;
+}
+
+/* ---- FOPDT ------------------------------------------------------------- */
+
+/* Host test's tolerances at 30 dB: gain 1.5 %, tau 2 %, Td 2 % of tau,
+ * fit 95 %, output level 0.5 % of the swing. */
+static int check_fopdt(void)
+{
+    record_t r = {fopdt(2.0, 12.0, 4.37), 1.0, 800u, 0.0, 0.0, 30.0, 99u, 0.0};
+    pdt_ident_result_t res;
+    uint64_t ticks = 0;
+    make_prbs(r.n, 10u, 8u, 7u, 1.0);
+    bool ok = make_record(&r);
+    pdt_status_t st = ok ? identify(PDT_MODEL_FOPDT, &r, &res, &ticks) : PDT_ERR_ARG;
+    ok = ok && st == PDT_OK && res.model.kind == PDT_MODEL_FOPDT;
+    double eK = 1.0, etau = 1.0, eTd = 1.0, ey0 = 1.0;
+    if (ok) {
+        const pdt_fopdt_t *g = &res.model.p.fopdt;
+        eK = t_rel_err((double)g->K, 2.0);
+        etau = t_rel_err((double)g->tau, 12.0);
+        eTd = fabs((double)g->Td - 4.37) / 12.0;
+        ey0 = fabs((double)res.y0 - r.y0) / 2.0;
+        ok = eK <= 0.015 && etau <= 0.02 && eTd <= 0.02 && ey0 <= 0.005 &&
+             (double)res.fit >= 95.0;
+    }
+    tline_t l;
+    tl_init(&l);
+    tl_str(&l, "identify FOPDT K=2 tau=12 Td=4.37, n=800, 30 dB: ");
+    if (st != PDT_OK) {
+        tl_str(&l, pdt_status_str(st));
+        return t_verdict(false, &l);
+    }
+    tl_str(&l, "K ");
+    tl_num(&l, (double)res.model.p.fopdt.K, 5);
+    tl_str(&l, " tau ");
+    tl_num(&l, (double)res.model.p.fopdt.tau, 5);
+    tl_str(&l, " Td ");
+    tl_num(&l, (double)res.model.p.fopdt.Td, 5);
+    tl_str(&l, " fit ");
+    tl_num(&l, (double)res.fit, 4);
+    tl_str(&l, "%; errors K ");
+    tl_num(&l, eK, 2);
+    tl_str(&l, " tau ");
+    tl_num(&l, etau, 2);
+    tl_str(&l, " Td ");
+    tl_num(&l, eTd, 2);
+    tl_str(&l, " tau (max 0.015, 0.02, 0.02)");
+    int failed = t_verdict(ok, &l);
+    tl_init(&l);
+    tl_str(&l, "identify FOPDT n=800: ");
+    tl_uint(&l, res.evaluations);
+    tl_str(&l, " evaluations, ");
+    tl_uint(&l, res.generations);
+    tl_str(&l, " generations, ");
+    line_ticks(&l, ticks);
+    t_info(&l);
+    return failed;
+}
+
+/* ---- SOPDT ------------------------------------------------------------- */
+
+/* Host test's tolerances at 30 dB: gain 1.5 %, wn and zeta 4 %, Td 0.05 /
+ * wn, fit 90 %, and the time constants T1 3 %, T2 10 %. */
+static int check_sopdt(void)
+{
+    record_t r = {sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, 1000u, 10.0, 50.0, 30.0, 5u, 0.0};
+    pdt_ident_result_t res;
+    pdt_sopdt_natural_t g, w;
+    pdt_sopdt_tc_t gtc;
+    uint64_t ticks = 0;
+    make_prbs(r.n, 10u, 12u, 11u, 2.0);
+    bool ok = make_record(&r) && pdt_sopdt_to_natural(&r.m.p.sopdt, &w) == PDT_OK;
+    pdt_status_t st = ok ? identify(PDT_MODEL_SOPDT, &r, &res, &ticks) : PDT_ERR_ARG;
+    ok = ok && st == PDT_OK && res.model.kind == PDT_MODEL_SOPDT &&
+         pdt_sopdt_to_natural(&res.model.p.sopdt, &g) == PDT_OK &&
+         pdt_sopdt_to_tc(&res.model.p.sopdt, &gtc) == PDT_OK && !gtc.complex;
+    double eK = 1.0, ewn = 1.0, ez = 1.0, eTd = 1.0, eT1 = 1.0, eT2 = 1.0;
+    if (ok) {
+        eK = t_rel_err((double)g.K, (double)w.K);
+        ewn = t_rel_err((double)g.wn, (double)w.wn);
+        ez = t_rel_err((double)g.zeta, (double)w.zeta);
+        eTd = fabs((double)g.Td - (double)w.Td) * (double)w.wn;
+        eT1 = t_rel_err((double)gtc.T1, 10.0);
+        eT2 = t_rel_err((double)gtc.T2, 2.0);
+        ok = eK <= 0.015 && ewn <= 0.04 && ez <= 0.04 && eTd <= 0.05 && eT1 <= 0.03 &&
+             eT2 <= 0.10 && (double)res.fit >= 90.0;
+    }
+    tline_t l;
+    tl_init(&l);
+    tl_str(&l, "identify SOPDT K=2 T1=10 T2=2 Td=3.3, n=1000, 30 dB: ");
+    if (!ok && (st != PDT_OK || res.model.kind != PDT_MODEL_SOPDT)) {
+        tl_str(&l, pdt_status_str(st));
+        return t_verdict(false, &l);
+    }
+    tl_str(&l, "K ");
+    tl_num(&l, (double)gtc.K, 5);
+    tl_str(&l, " T1 ");
+    tl_num(&l, (double)gtc.T1, 5);
+    tl_str(&l, " T2 ");
+    tl_num(&l, (double)gtc.T2, 5);
+    tl_str(&l, " Td ");
+    tl_num(&l, (double)gtc.Td, 5);
+    tl_str(&l, " fit ");
+    tl_num(&l, (double)res.fit, 4);
+    tl_str(&l, "%; errors K ");
+    tl_num(&l, eK, 2);
+    tl_str(&l, " wn ");
+    tl_num(&l, ewn, 2);
+    tl_str(&l, " zeta ");
+    tl_num(&l, ez, 2);
+    tl_str(&l, " Td ");
+    tl_num(&l, eTd, 2);
+    tl_str(&l, "/wn (max 0.015, 0.04, 0.04, 0.05)");
+    int failed = t_verdict(ok, &l);
+    tl_init(&l);
+    tl_str(&l, "identify SOPDT n=1000: ");
+    tl_uint(&l, res.evaluations);
+    tl_str(&l, " evaluations, ");
+    tl_uint(&l, res.generations);
+    tl_str(&l, " generations, ");
+    line_ticks(&l, ticks);
+    t_info(&l);
+    return failed;
+}
+
+int target_check_ident(void)
+{
+    return check_fopdt() + check_sopdt();
+}
+
+/* ---- Cost evaluation at N = 2000 --------------------------------------- */
+
+#define COST_N 2000u
+#define COST_REPEAT 10u
+
+static pdt_real_t g_cost_work[PDT_COST_WORKSPACE_SIZE(COST_N) / sizeof(pdt_real_t)];
+
+/* Times COST_REPEAT evaluations of one kind on the SOPDT record of
+ * COST_N samples and reports the ticks of one; the value goes to *value.
+ * SIMULATION: for the true model the cost is the noise power, within a
+ * factor 2 of sd^2. COMBINED: the sum of that time cost (ct) and Cf
+ * (pdt_cost_frequency), to rounding. The profile, minimised over the gain
+ * as well, may only be lower. */
+static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *r, double ct,
+                        double *value)
+{
+    pdt_cost_config_t cfg;
+    pdt_cost_t c;
+    pdt_real_t v = 0;
+    pdt_real_t cf = 0;
+    pdt_cost_profile_t prof;
+    memset(&prof, 0, sizeof prof);
+    pdt_cost_config_default(&cfg);
+    cfg.Ts = (pdt_real_t)r->Ts;
+    cfg.u0 = (pdt_real_t)r->u0;
+    cfg.y0 = (pdt_real_t)r->y0;
+    cfg.kind = kind;
+    cfg.whole_record = true;
+    cfg.use_frequency = kind == PDT_COST_COMBINED;
+    size_t ws = pdt_cost_workspace_size(&cfg, r->n);
+    bool ok = ws <= sizeof g_cost_work &&
+              pdt_cost_init(&c, &cfg, g_u, g_y, r->n, cfg.use_frequency ? g_cost_work : NULL,
+                            ws) == PDT_OK;
+    uint64_t t_eval = 0, t_prof = 0;
+    if (ok) {
+        uint64_t t0 = pdt_port_ticks();
+        for (unsigned i = 0; i < COST_REPEAT; i++) {
+            ok = pdt_cost_eval(&c, &r->m, &v) == PDT_OK && ok;
+        }
+        t_eval = (pdt_port_ticks() - t0) / COST_REPEAT;
+        t0 = pdt_port_ticks();
+        for (unsigned i = 0; i < COST_REPEAT; i++) {
+            ok = pdt_cost_profile(&c, &r->m, (pdt_real_t)0, (pdt_real_t)0, g_sim, &prof) ==
+                     PDT_OK &&
+                 ok;
+        }
+        t_prof = (pdt_port_ticks() - t0) / COST_REPEAT;
+    }
+    tline_t l;
+    tl_init(&l);
+    tl_str(&l, "cost ");
+    tl_str(&l, name);
+    tl_str(&l, " at N=2000 of the true SOPDT: ");
+    tl_num(&l, (double)v, 4);
+    if (kind == PDT_COST_COMBINED) {
+        ok = ok && pdt_cost_frequency(&c, &r->m, &cf) == PDT_OK;
+        double e = t_rel_err((double)v, ct + (double)cf);
+        ok = ok && e <= 1e-4;
+        tl_str(&l, " = Ct + Cf to ");
+        tl_num(&l, e, 2);
+        tl_str(&l, " (max 1e-4)");
+    } else {
+        double ratio = (double)v / (r->noise_sd * r->noise_sd);
+        ok = ok && ratio >= 0.5 && ratio <= 2.0;
+        tl_str(&l, " = ");
+        tl_num(&l, ratio, 3);
+        tl_str(&l, " noise powers (0.5 to 2)");
+    }
+    ok = ok && (double)prof.cost <= (double)v * (1.0 + 1e-4);
+    tl_str(&l, ", profiled ");
+    tl_num(&l, (double)prof.cost, 4);
+    int failed = t_verdict(ok, &l);
+    tl_init(&l);
+    tl_str(&l, "one pdt_cost_eval ");
+    tl_str(&l, name);
+    tl_str(&l, " at N=2000: ");
+    line_ticks(&l, t_eval);
+    t_info(&l);
+    tl_init(&l);
+    tl_str(&l, "one pdt_cost_profile ");
+    tl_str(&l, name);
+    tl_str(&l, " at N=2000: ");
+    line_ticks(&l, t_prof);
+    t_info(&l);
+    *value = (double)v;
+    return failed;
+}
+
+int target_check_cost_work(void)
+{
+    record_t r = {sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, COST_N, 10.0, 50.0, 30.0, 5u, 0.0};
+    make_prbs(r.n, 10u, 12u, 11u, 2.0);
+    if (!make_record(&r)) {
+        tline_t l;
+        tl_init(&l);
+        tl_str(&l, "cost at N=2000: record not made");
+        return t_verdict(false, &l);
+    }
+    double ct = 0.0;
+    double v = 0.0;
+    int failed = measure_cost(PDT_COST_SIMULATION, "SIMULATION", &r, 0.0, &ct);
+    return failed + measure_cost(PDT_COST_COMBINED, "COMBINED", &r, ct, &v);
+}

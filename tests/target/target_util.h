@@ -1,0 +1,56 @@
+/*
+ * Helpers of the target test program: a line of text built without stdio
+ * (newlib's printf would pull in its allocator and system calls), the
+ * verdict of one check, and the SNR and error measures the host tests use.
+ */
+#ifndef PDT_TARGET_UTIL_H
+#define PDT_TARGET_UTIL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "pdt/pdt.h"
+
+/* One line of output, truncated (not overflowed) past its buffer. */
+typedef struct tline {
+    char buf[200];
+    size_t n;
+} tline_t;
+
+void tl_init(tline_t *l);
+void tl_str(tline_t *l, const char *s);
+void tl_uint(tline_t *l, uint64_t v);
+void tl_int(tline_t *l, int64_t v);
+/* v with `digits` significant digits, fixed or with an exponent as %g. */
+void tl_num(tline_t *l, double v, int digits);
+/* Writes the line and a newline to the console. */
+void tl_emit(tline_t *l);
+
+/* Prints "PASS <detail>" or "FAIL <detail>" and counts the verdict.
+ * Returns 0 when ok, 1 otherwise, so checks can add up their failures. */
+int t_verdict(bool ok, tline_t *detail);
+
+/* Prints an informational line, "info <detail>". */
+void t_info(tline_t *detail);
+
+/* 10 log10(sum ref^2 / sum (got - ref)^2) in dB; 400 for an exact match. */
+double t_snr_db(const pdt_real_t *got, const double *ref, size_t n);
+
+/* Largest |got - ref| and largest |ref|. */
+double t_max_abs_err(const pdt_real_t *got, const double *ref, size_t n);
+double t_peak_abs(const double *ref, size_t n);
+
+/* |got - want| / |want| (|got - want| when want is 0). */
+double t_rel_err(double got, double want);
+
+/* Ticks of the port counter converted to instructions: with QEMU's
+ * -icount shift=0, one instruction is one nanosecond of the emulated clock,
+ * and the 25 MHz counter advances once per 40 of them. */
+uint64_t t_ticks_to_instructions(uint64_t ticks);
+
+/* Checks run and failed so far (all t_verdict calls). */
+unsigned t_checks_run(void);
+unsigned t_checks_failed(void);
+
+#endif /* PDT_TARGET_UTIL_H */
