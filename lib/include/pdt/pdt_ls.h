@@ -124,8 +124,8 @@ pdt_status_t pdt_ls_init(pdt_ls_t *ctx, const pdt_ls_config_t *cfg, const pdt_re
                          const pdt_real_t *y, size_t n);
 
 /* Fits at most max_delays more delays (each O(n): three passes over the
- * record for ELMS, five for EIV, and one or two 2x2 or 4x4 solves), writing their
- * scores into cfg.costs. Returns PDT_RUNNING while delays remain, PDT_OK
+ * record for ELMS, five for EIV, and one or two 2x2 or 4x4 solves),
+ * writing their scores into cfg.costs. Returns PDT_RUNNING while delays remain, PDT_OK
  * once all are done (also on every later call), PDT_ERR_ARG for NULL or
  * max_delays = 0, PDT_ERR_STATE if ctx was not initialised. */
 pdt_status_t pdt_ls_step(pdt_ls_t *ctx, size_t max_delays);
