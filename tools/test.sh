@@ -6,7 +6,9 @@
 #      float build under AddressSanitizer + UndefinedBehaviorSanitizer;
 #   4. the Cortex-M4F build of lib/ (float and double) under -Werror, a check
 #      that it references no allocator, stdio or (float build) double-precision
-#      symbol, and its size per module.
+#      symbol, and its size per module;
+#   5. the target test program on the Cortex-M4F (float build) under QEMU
+#      (mps2-an386), ctest label "target".
 # Build trees go to build/test-*; nothing outside the checkout is written
 # except by the package installers.
 set -euo pipefail
@@ -27,6 +29,7 @@ have python3 || apt_missing+=(python3 python3-pip)
 [ -e /usr/include/cmocka.h ] || apt_missing+=(libcmocka-dev)
 have arm-none-eabi-gcc || apt_missing+=(gcc-arm-none-eabi)
 [ -e /usr/include/newlib/math.h ] || apt_missing+=(libnewlib-arm-none-eabi)
+have qemu-system-arm || apt_missing+=(qemu-system-arm)
 if ((${#apt_missing[@]})); then
     if [ "$(id -u)" = 0 ] && have apt-get; then
         apt-get update -q
@@ -67,5 +70,12 @@ step "Cortex-M4F build of lib/ (float and double), symbols, size per module"
 python3 tools/size_report.py --check
 tools/check_symbols.sh "$out/size-cm4-float/lib/libpdtfit.a" --float
 tools/check_symbols.sh "$out/size-cm4-double/lib/libpdtfit.a"
+
+step "Cortex-M4F target tests under QEMU"
+cmake -S "$root" -B "$out/test-target" -G Ninja \
+    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/arm-none-eabi-cm4.cmake" \
+    -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON >/dev/null
+cmake --build "$out/test-target" -j "$jobs"
+ctest --test-dir "$out/test-target" -L target --output-on-failure
 
 step "all tests passed"

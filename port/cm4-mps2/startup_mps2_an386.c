@@ -146,7 +146,7 @@ static void report_hex(const char *name, uint32_t v)
 void pdt_cm4_fault_report(const uint32_t *frame, uint32_t exc_return)
 {
     uint32_t exception = SCB_ICSR & 0x1FFu;
-    static const char msg[] = "\n*** fault: exception ";
+    static const char msg[] = "\n*** fault: exception";
     pdt_port_write(msg, sizeof msg - 1u);
     report_hex("", exception);
     report_hex("CFSR", SCB_CFSR);
