@@ -19,6 +19,7 @@ enum phase {
     PH_REFINE,       /* Nelder-Mead */
     PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
     PH_DELAY_REFINE,
+    PH_FINISH,       /* the answer; may re-score once (an integrator) */
     PH_DONE
 };
 
@@ -104,6 +105,9 @@ static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t
     cc->time_kind = cfg->time_kind;
     cc->delay_mode = cfg->delay_mode;
     cc->estimate_offset = true;
+    /* The paper's window would drop the first Td_max / Ts samples: where a
+     * step test shows its dead time. */
+    cc->whole_record = true;
     cc->use_frequency = uses_frequency(cfg->cost);
     cc->phi_t = cfg->phi_t;
     cc->phi_f = cfg->phi_f;
@@ -142,6 +146,57 @@ static pdt_status_t resolve_bounds(const pdt_ident_config_t *cfg, size_t n, boun
     return PDT_OK;
 }
 
+/* Gene bounds of the search: shape genes first, the dead-time gene last.
+ * Checked here, before anything is written, and by the size query. */
+static pdt_status_t gene_bounds(const pdt_ident_config_t *cfg, const bounds_t *b, pdt_real_t *lo,
+                                pdt_real_t *hi)
+{
+    const uint32_t G = genes_of(cfg->model);
+    if (cfg->model == PDT_MODEL_FOPDT) {
+        lo[0] = pdt_log(b->tau_min);
+        hi[0] = pdt_log(b->tau_max);
+    } else {
+        /* 1/a = T1 T2 / (T1 + T2) lies in [T2 / 2, T2] for T1 >= T2. */
+        lo[0] = pdt_log(b->tau_min * PDT_R(0.5));
+        hi[0] = pdt_log(b->tau_max);
+        /* Damping gene v = sqrt(zeta_min / zeta): 0 is the integrator, 1 the
+         * least damping searched, sqrt(zeta_min) critical damping. The
+         * square root gives the overdamped and the (nearly) integrating
+         * models as much room as the underdamped ones; on 1/zeta itself a
+         * random population often has no member near the integrator. */
+        pdt_real_t r = b->tau_max / b->tau_min;
+        pdt_real_t inv_zeta_lo = PDT_R(2.0) * pdt_sqrt(r) / (PDT_R(1.0) + r);
+        lo[1] = cfg->integrating ? PDT_R(0.0) : pdt_sqrt(inv_zeta_lo * cfg->zeta_min);
+        hi[1] = PDT_R(1.0);
+        if (!(lo[1] < hi[1])) {
+            return PDT_ERR_BOUNDS;
+        }
+    }
+    /* Dead-time gene log(Td + Ts): every decade of dead time gets the same
+     * room, so a dead time of a few samples is as easy to find as one of a
+     * third of the record. */
+    lo[G - 1u] = pdt_log(b->Td_min + cfg->Ts);
+    hi[G - 1u] = pdt_log(b->Td_max + cfg->Ts);
+    if (!(hi[G - 1u] > lo[G - 1u])) {
+        /* A fixed dead time: a range of zero width the operators can still
+         * handle. */
+        hi[G - 1u] = lo[G - 1u] + PDT_R(1e-4);
+    }
+    return PDT_OK;
+}
+
+/* Evaluations kept back after the refinement: the dead-time scan of the
+ * frequency criterion, and the re-scoring of a SOPDT reported as an
+ * integrator. */
+static uint32_t late_reserve(const pdt_ident_config_t *cfg)
+{
+    uint32_t r = cfg->cost == PDT_COST_FREQUENCY ? SCAN_EVALUATIONS : 0u;
+    if (cfg->model == PDT_MODEL_SOPDT && cfg->integrating) {
+        r += 1u;
+    }
+    return r;
+}
+
 static pdt_status_t check_config(const pdt_ident_config_t *cfg)
 {
     if (cfg->model != PDT_MODEL_FOPDT && cfg->model != PDT_MODEL_SOPDT) {
@@ -161,9 +216,10 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     if (cfg->delay_mode != PDT_DELAY_FRACTIONAL && cfg->delay_mode != PDT_DELAY_INTEGER) {
         return PDT_ERR_ARG;
     }
-    uint32_t reserve = cfg->cost == PDT_COST_FREQUENCY ? SCAN_EVALUATIONS : 0u;
+    /* The refinement needs at least one simplex: genes + 1 evaluations. */
     if (cfg->elite >= P || cfg->stall_generations == 0u ||
-        cfg->max_evaluations < (uint64_t)P + cfg->refine_evaluations + reserve) {
+        cfg->refine_evaluations < genes_of(cfg->model) + 1u ||
+        cfg->max_evaluations < (uint64_t)P + cfg->refine_evaluations + late_reserve(cfg)) {
         return PDT_ERR_ARG;
     }
     if (!(cfg->eta_c > PDT_R(0.0)) || !(cfg->eta_m > PDT_R(0.0)) || !pdt_finite(cfg->eta_c) ||
@@ -197,7 +253,9 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
 {
     bounds_t b;
     pdt_cost_config_t cc;
-    if (cfg == NULL || check_config(cfg) != PDT_OK || resolve_bounds(cfg, n, &b) != PDT_OK) {
+    pdt_real_t lo[3], hi[3];
+    if (cfg == NULL || n < PDT_MIN_SAMPLES || check_config(cfg) != PDT_OK ||
+        resolve_bounds(cfg, n, &b) != PDT_OK || gene_bounds(cfg, &b, lo, hi) != PDT_OK) {
         return 0u;
     }
     cost_config(cfg, PDT_R(0.0), PDT_R(0.0), (size_t)(b.Td_max / cfg->Ts) + 2u, &cc);
@@ -241,13 +299,17 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     if (st != PDT_OK) {
         return st;
     }
-    bounds_t b;
-    st = resolve_bounds(cfg, data->n, &b);
-    if (st != PDT_OK) {
-        return st;
-    }
     if (data->n < PDT_MIN_SAMPLES) {
         return PDT_ERR_TOO_SHORT;
+    }
+    bounds_t b;
+    pdt_real_t glo[3], ghi[3];
+    st = resolve_bounds(cfg, data->n, &b);
+    if (st == PDT_OK) {
+        st = gene_bounds(cfg, &b, glo, ghi);
+    }
+    if (st != PDT_OK) {
+        return st;
     }
     pdt_real_t umin = data->u[0], umax = data->u[0], ymin = data->y[0], ymax = data->y[0];
     for (size_t k = 0; k < data->n; k++) {
@@ -325,33 +387,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     p += P;
     c.scratch = p;
 
-    /* Gene bounds: shape genes first, dead time last. */
-    if (cfg->model == PDT_MODEL_FOPDT) {
-        c.lo[0] = pdt_log(b.tau_min);
-        c.hi[0] = pdt_log(b.tau_max);
-    } else {
-        /* 1/a = T1 T2 / (T1 + T2) lies in [T2 / 2, T2] for T1 >= T2. */
-        c.lo[0] = pdt_log(b.tau_min * PDT_R(0.5));
-        c.hi[0] = pdt_log(b.tau_max);
-        /* Damping gene v = sqrt(zeta_min / zeta): 0 is the integrator, 1 the
-         * least damping searched, sqrt(zeta_min) critical damping. The
-         * square root gives the overdamped and the (nearly) integrating
-         * models as much room as the underdamped ones; on 1/zeta itself a
-         * random population often has no member near the integrator. */
-        pdt_real_t r = b.tau_max / b.tau_min;
-        pdt_real_t inv_zeta_lo = PDT_R(2.0) * pdt_sqrt(r) / (PDT_R(1.0) + r);
-        c.lo[1] = cfg->integrating ? PDT_R(0.0) : pdt_sqrt(inv_zeta_lo * cfg->zeta_min);
-        c.hi[1] = PDT_R(1.0);
-        if (!(c.lo[1] < c.hi[1])) {
-            return PDT_ERR_BOUNDS;
-        }
-    }
-    c.lo[G - 1u] = b.Td_min;
-    c.hi[G - 1u] = b.Td_max;
-    if (!(c.hi[G - 1u] > c.lo[G - 1u])) {
-        /* A fixed dead time: give the gene a range of zero width the
-         * operators can still handle. */
-        c.hi[G - 1u] = c.lo[G - 1u] + cfg->Ts * PDT_R(1e-3);
+    for (size_t j = 0; j < G; j++) {
+        c.lo[j] = glo[j];
+        c.hi[j] = ghi[j];
     }
 
     /* Latin hypercube start: each gene's range cut into P strata, one
@@ -386,10 +424,24 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     return PDT_OK;
 }
 
+/* Dead time of a dead-time gene, and back. */
+static pdt_real_t td_of_gene(const pdt_ident_t *c, pdt_real_t g)
+{
+    pdt_real_t Td = pdt_exp(g) - c->cfg.Ts;
+    return Td > PDT_R(0.0) ? Td : PDT_R(0.0);
+}
+
+static pdt_real_t gene_of_td(const pdt_ident_t *c, pdt_real_t Td)
+{
+    pdt_real_t g = pdt_log(Td + c->cfg.Ts);
+    const uint32_t j = c->genes - 1u;
+    return g < c->lo[j] ? c->lo[j] : (g > c->hi[j] ? c->hi[j] : g);
+}
+
 /* The unit-gain model of a gene vector. */
 static void shape_of(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
 {
-    pdt_real_t Td = g[c->genes - 1u];
+    pdt_real_t Td = td_of_gene(c, g[c->genes - 1u]);
     if (c->cfg.delay_mode == PDT_DELAY_INTEGER) {
         Td = pdt_floor(Td / c->cfg.Ts + PDT_R(0.5)) * c->cfg.Ts;
     }
@@ -561,11 +613,6 @@ static void survive(pdt_ident_t *c)
     }
 }
 
-/* Evaluations kept back for the dead-time scan of the frequency criterion. */
-static uint32_t scan_reserve(const pdt_ident_t *c)
-{
-    return c->cfg.cost == PDT_COST_FREQUENCY ? SCAN_EVALUATIONS : 0u;
-}
 
 /* After a generation: stall bookkeeping and whether the GA goes on. */
 static bool ga_continues(pdt_ident_t *c)
@@ -578,7 +625,7 @@ static bool ga_continues(pdt_ident_t *c)
     } else {
         c->stall++;
     }
-    uint32_t ga_budget = c->cfg.max_evaluations - c->cfg.refine_evaluations - scan_reserve(c);
+    uint32_t ga_budget = c->cfg.max_evaluations - c->cfg.refine_evaluations - late_reserve(&c->cfg);
     return c->stall < c->cfg.stall_generations &&
            c->evaluations + c->cfg.population <= ga_budget;
 }
@@ -658,8 +705,13 @@ static void nm_start(pdt_ident_t *c)
     }
     c->nm_state = NM_VERTEX;
     c->nm_index = 0u;
-    uint32_t left = c->cfg.max_evaluations - scan_reserve(c);
+    uint32_t left = c->cfg.max_evaluations - late_reserve(&c->cfg);
     left = left > c->evaluations ? left - c->evaluations : 0u;
+    /* Fewer starts when the budget cannot give each a whole simplex; the
+     * first always fits (refine_evaluations >= genes + 1). */
+    if (c->start_i == 0u && c->nstarts > 1u && left / c->nstarts < G + 1u) {
+        c->nstarts = left / (uint32_t)(G + 1u) > 0u ? left / (uint32_t)(G + 1u) : 1u;
+    }
     c->nm_budget = left / (c->nstarts - c->start_i);
 }
 
@@ -809,7 +861,7 @@ static pdt_real_t scan_cost(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_
     for (uint32_t j = 0; j < c->genes; j++) {
         g[j] = c->best[j];
     }
-    g[c->genes - 1u] = Td;
+    g[c->genes - 1u] = gene_of_td(c, Td);
     shape_of(c, g, &shape);
     c->evaluations++;
     if (pdt_cost_profile(&c->cost_time, &shape, gain, gain, c->scratch, &pr) != PDT_OK ||
@@ -823,13 +875,13 @@ static pdt_real_t scan_cost(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_
 
 static void scan_start(pdt_ident_t *c)
 {
-    pdt_real_t lo = c->lo[c->genes - 1u], hi = c->hi[c->genes - 1u];
+    pdt_real_t lo = td_of_gene(c, c->lo[c->genes - 1u]), hi = td_of_gene(c, c->hi[c->genes - 1u]);
     c->cost_time = c->cost;
     c->cost_time.cfg.kind = c->cfg.time_kind;
     c->scan_i = 0u;
     c->scan_step = (hi - lo) / (pdt_real_t)(SCAN_POINTS - 1u);
     c->scan_best = PDT_REAL_MAX;
-    c->scan_td = c->best[c->genes - 1u];
+    c->scan_td = td_of_gene(c, c->best[c->genes - 1u]);
     c->scan_gain = c->best_gain;
     c->scan_offset = PDT_R(0.0);
     c->phase = PH_DELAY_SCAN;
@@ -849,18 +901,19 @@ static void scan_consider(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_re
 static void scan_advance(pdt_ident_t *c)
 {
     const size_t dt = c->genes - 1u;
+    const pdt_real_t td_lo = td_of_gene(c, c->lo[dt]), td_hi = td_of_gene(c, c->hi[dt]);
     pdt_real_t off;
     if (c->phase == PH_DELAY_SCAN) {
         /* Point i / 2 of the grid, gain sign by the parity of i. */
-        pdt_real_t Td = c->lo[dt] + c->scan_step * (pdt_real_t)(c->scan_i / 2u);
+        pdt_real_t Td = td_lo + c->scan_step * (pdt_real_t)(c->scan_i / 2u);
         pdt_real_t gain = (c->scan_i % 2u) == 0u ? pdt_fabs(c->best_gain) : -pdt_fabs(c->best_gain);
-        Td = Td > c->hi[dt] ? c->hi[dt] : Td;
+        Td = Td > td_hi ? td_hi : Td;
         pdt_real_t f = scan_cost(c, Td, gain, &off);
         scan_consider(c, Td, gain, f, off);
         if (++c->scan_i == 2u * SCAN_POINTS) {
             pdt_real_t a = c->scan_td - c->scan_step, b = c->scan_td + c->scan_step;
-            c->gs_a = a < c->lo[dt] ? c->lo[dt] : a;
-            c->gs_b = b > c->hi[dt] ? c->hi[dt] : b;
+            c->gs_a = a < td_lo ? td_lo : a;
+            c->gs_b = b > td_hi ? td_hi : b;
             c->gs_x1 = c->gs_b - GOLDEN * (c->gs_b - c->gs_a);
             c->gs_x2 = c->gs_a + GOLDEN * (c->gs_b - c->gs_a);
             c->scan_i = 0u;
@@ -892,10 +945,10 @@ static void scan_advance(pdt_ident_t *c)
         scan_consider(c, c->gs_x2, c->scan_gain, c->gs_f2, off);
     }
     if (++c->scan_i == GOLDEN_STEPS + 2u) {
-        c->best[dt] = c->scan_td;
+        c->best[dt] = gene_of_td(c, c->scan_td);
         c->best_gain = c->scan_gain;
         c->best_offset = c->scan_offset;
-        finish(c);
+        c->phase = PH_FINISH;
     }
 }
 
@@ -1040,7 +1093,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
                 if (c->cfg.cost == PDT_COST_FREQUENCY) {
                     scan_start(c);
                 } else {
-                    finish(c);
+                    c->phase = PH_FINISH;
                 }
                 break;
             }
@@ -1048,6 +1101,13 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
                 return PDT_RUNNING;
             }
             nm_advance(c);
+            budget--;
+            break;
+        case PH_FINISH:
+            if (budget == 0u) {
+                return PDT_RUNNING;
+            }
+            finish(c);
             budget--;
             break;
         case PH_DELAY_SCAN:
