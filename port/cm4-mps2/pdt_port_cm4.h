@@ -30,10 +30,20 @@ pdt_cm4_counter_t pdt_cm4_counter(void);
 /* Bytes reserved for the stack (the linker script's PDT_STACK_SIZE). */
 size_t pdt_cm4_stack_size(void);
 
-/* Deepest stack use since reset, bytes: the reset handler paints the free
- * stack with a pattern, this finds the lowest word that changed. A value
- * equal to pdt_cm4_stack_size means the stack may have overflowed. */
+/* Deepest stack use since reset or the last pdt_cm4_stack_paint, bytes
+ * from the top of the stack: the free stack is painted with a pattern, this
+ * finds the lowest word that changed. A value equal to pdt_cm4_stack_size
+ * means the stack may have overflowed. */
 size_t pdt_cm4_stack_used(void);
+
+/* Paints the free stack below the caller again (the reset handler does it
+ * once), so that the next pdt_cm4_stack_used reports the deepest use from
+ * now on. With pdt_cm4_stack_depth at the call site this measures one
+ * function: used after it - depth before it. */
+void pdt_cm4_stack_paint(void);
+
+/* Current stack depth, bytes from the top (the caller's frame included). */
+size_t pdt_cm4_stack_depth(void);
 
 #ifdef __cplusplus
 }

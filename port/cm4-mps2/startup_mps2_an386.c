@@ -89,12 +89,7 @@ void pdt_cm4_reset_handler(void)
      * shows its own status instead of escalating to HardFault. */
     SCB_SHCSR |= (1u << 16) | (1u << 17) | (1u << 18);
 
-    /* Paint the stack below the current frame, for the high-water mark. */
-    uint32_t *sp;
-    __asm volatile("mov %0, sp" : "=r"(sp));
-    for (uint32_t *p = __stack_bottom__; p < sp - 8; p++) {
-        *p = STACK_PAINT;
-    }
+    pdt_cm4_stack_paint();
 
     const uint32_t *src = __data_load__;
     for (uint32_t *p = __data_start__; p < __data_end__; p++) {
@@ -105,6 +100,25 @@ void pdt_cm4_reset_handler(void)
     }
 
     pdt_port_exit(main());
+}
+
+void pdt_cm4_stack_paint(void)
+{
+    /* Everything below this frame is free; a few words of margin cover
+     * what the compiler may still push. An interrupt taken meanwhile only
+     * uses the same free space and leaves it free again. */
+    uint32_t *sp;
+    __asm volatile("mov %0, sp" : "=r"(sp));
+    for (uint32_t *p = __stack_bottom__; p < sp - 8; p++) {
+        *p = STACK_PAINT;
+    }
+}
+
+size_t pdt_cm4_stack_depth(void)
+{
+    uintptr_t sp;
+    __asm volatile("mov %0, sp" : "=r"(sp));
+    return (size_t)((uintptr_t)__stack_top__ - sp);
 }
 
 size_t pdt_cm4_stack_size(void)

@@ -13,6 +13,7 @@
 #include "target_util.h"
 
 #include "pdt_port.h"
+#include "pdt_port_cm4.h"
 
 #define NMAX 2000u
 #define POP_MAX PDT_IDENT_POPULATION_SOPDT
@@ -129,9 +130,9 @@ static void line_ticks(tline_t *l, uint64_t ticks)
 }
 
 /* pdt_identify on g_u, g_y with exactly the workspace its size query asks
- * for; reports the work in ticks. */
+ * for; reports the work in ticks and the stack it used in bytes. */
 static pdt_status_t identify(pdt_model_kind_t kind, const record_t *r, pdt_ident_result_t *res,
-                             uint64_t *ticks)
+                             uint64_t *ticks, size_t *stack)
 {
     pdt_ident_config_t cfg;
     pdt_ident_config_default(&cfg);
@@ -142,9 +143,12 @@ static pdt_status_t identify(pdt_model_kind_t kind, const record_t *r, pdt_ident
     if (need == 0u || need > sizeof g_work) {
         return PDT_ERR_NOMEM;
     }
+    size_t depth = pdt_cm4_stack_depth();
+    t_stack_repaint();
     uint64_t t0 = pdt_port_ticks();
     pdt_status_t st = pdt_identify(&g_ctx, &cfg, &data, g_work, need, res);
     *ticks = pdt_port_ticks() - t0;
+    *stack = pdt_cm4_stack_used() - depth;
     return st;
 }
 
@@ -157,9 +161,10 @@ static int check_fopdt(void)
     record_t r = {fopdt(2.0, 12.0, 4.37), 1.0, 800u, 0.0, 0.0, 30.0, 99u, 0.0};
     pdt_ident_result_t res;
     uint64_t ticks = 0;
+    size_t stack = 0;
     make_prbs(r.n, 10u, 8u, 7u, 1.0);
     bool ok = make_record(&r);
-    pdt_status_t st = ok ? identify(PDT_MODEL_FOPDT, &r, &res, &ticks) : PDT_ERR_ARG;
+    pdt_status_t st = ok ? identify(PDT_MODEL_FOPDT, &r, &res, &ticks, &stack) : PDT_ERR_ARG;
     ok = ok && st == PDT_OK && res.model.kind == PDT_MODEL_FOPDT;
     double eK = 1.0, etau = 1.0, eTd = 1.0, ey0 = 1.0;
     if (ok) {
@@ -201,6 +206,9 @@ static int check_fopdt(void)
     tl_uint(&l, res.generations);
     tl_str(&l, " generations, ");
     line_ticks(&l, ticks);
+    tl_str(&l, ", stack ");
+    tl_uint(&l, stack);
+    tl_str(&l, " bytes");
     t_info(&l);
     return failed;
 }
@@ -216,9 +224,10 @@ static int check_sopdt(void)
     pdt_sopdt_natural_t g, w;
     pdt_sopdt_tc_t gtc;
     uint64_t ticks = 0;
+    size_t stack = 0;
     make_prbs(r.n, 10u, 12u, 11u, 2.0);
     bool ok = make_record(&r) && pdt_sopdt_to_natural(&r.m.p.sopdt, &w) == PDT_OK;
-    pdt_status_t st = ok ? identify(PDT_MODEL_SOPDT, &r, &res, &ticks) : PDT_ERR_ARG;
+    pdt_status_t st = ok ? identify(PDT_MODEL_SOPDT, &r, &res, &ticks, &stack) : PDT_ERR_ARG;
     ok = ok && st == PDT_OK && res.model.kind == PDT_MODEL_SOPDT &&
          pdt_sopdt_to_natural(&res.model.p.sopdt, &g) == PDT_OK &&
          pdt_sopdt_to_tc(&res.model.p.sopdt, &gtc) == PDT_OK && !gtc.complex;
@@ -267,6 +276,9 @@ static int check_sopdt(void)
     tl_uint(&l, res.generations);
     tl_str(&l, " generations, ");
     line_ticks(&l, ticks);
+    tl_str(&l, ", stack ");
+    tl_uint(&l, stack);
+    tl_str(&l, " bytes");
     t_info(&l);
     return failed;
 }
@@ -310,6 +322,7 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
               pdt_cost_init(&c, &cfg, g_u, g_y, r->n, cfg.use_frequency ? g_cost_work : NULL,
                             ws) == PDT_OK;
     uint64_t t_eval = 0, t_prof = 0;
+    size_t stack_eval = 0, stack_prof = 0;
     if (ok) {
         uint64_t t0 = pdt_port_ticks();
         for (unsigned i = 0; i < COST_REPEAT; i++) {
@@ -323,6 +336,14 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
                  ok;
         }
         t_prof = (pdt_port_ticks() - t0) / COST_REPEAT;
+        size_t depth = pdt_cm4_stack_depth();
+        t_stack_repaint();
+        ok = pdt_cost_eval(&c, &r->m, &v) == PDT_OK && ok;
+        stack_eval = pdt_cm4_stack_used() - depth;
+        t_stack_repaint();
+        ok = pdt_cost_profile(&c, &r->m, (pdt_real_t)0, (pdt_real_t)0, g_sim, &prof) == PDT_OK &&
+             ok;
+        stack_prof = pdt_cm4_stack_used() - depth;
     }
     tline_t l;
     tl_init(&l);
@@ -353,12 +374,18 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
     tl_str(&l, name);
     tl_str(&l, " at N=2000: ");
     line_ticks(&l, t_eval);
+    tl_str(&l, ", stack ");
+    tl_uint(&l, stack_eval);
+    tl_str(&l, " bytes");
     t_info(&l);
     tl_init(&l);
     tl_str(&l, "one pdt_cost_profile ");
     tl_str(&l, name);
     tl_str(&l, " at N=2000: ");
     line_ticks(&l, t_prof);
+    tl_str(&l, ", stack ");
+    tl_uint(&l, stack_prof);
+    tl_str(&l, " bytes");
     t_info(&l);
     *value = (double)v;
     return failed;

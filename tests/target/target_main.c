@@ -56,14 +56,15 @@ int main(void)
     }
 
     tl_init(&l);
-    tl_str(&l, "stack high-water mark ");
-    tl_uint(&l, pdt_cm4_stack_used());
+    size_t stack = t_stack_max();
+    tl_str(&l, "stack high-water mark of the program ");
+    tl_uint(&l, stack);
     tl_str(&l, " of ");
     tl_uint(&l, pdt_cm4_stack_size());
     tl_str(&l, " bytes");
     t_info(&l);
     /* The whole stack used means it may have overflowed into .bss. */
-    bool stack_ok = pdt_cm4_stack_used() < pdt_cm4_stack_size();
+    bool stack_ok = stack < pdt_cm4_stack_size();
     if (!stack_ok) {
         tl_init(&l);
         tl_str(&l, "stack within its reserve");

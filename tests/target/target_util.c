@@ -4,9 +4,11 @@
 #include <math.h>
 
 #include "pdt_port.h"
+#include "pdt_port_cm4.h"
 
 static unsigned g_run;
 static unsigned g_failed;
+static size_t g_stack_max;
 
 void tl_init(tline_t *l)
 {
@@ -219,4 +221,19 @@ unsigned t_checks_run(void)
 unsigned t_checks_failed(void)
 {
     return g_failed;
+}
+
+void t_stack_repaint(void)
+{
+    (void)t_stack_max();
+    pdt_cm4_stack_paint();
+}
+
+size_t t_stack_max(void)
+{
+    size_t used = pdt_cm4_stack_used();
+    if (used > g_stack_max) {
+        g_stack_max = used;
+    }
+    return g_stack_max;
 }

@@ -49,6 +49,13 @@ double t_rel_err(double got, double want);
  * and the 25 MHz counter advances once per 40 of them. */
 uint64_t t_ticks_to_instructions(uint64_t ticks);
 
+/* Repaints the free stack (pdt_cm4_stack_paint) to measure one call,
+ * keeping the program's high-water mark so far for t_stack_max. */
+void t_stack_repaint(void);
+
+/* The deepest stack use of the whole run, bytes. */
+size_t t_stack_max(void);
+
 /* Checks run and failed so far (all t_verdict calls). */
 unsigned t_checks_run(void);
 unsigned t_checks_failed(void);
