@@ -11,6 +11,7 @@
 #include "pdt/pdt_discrete.h"
 #include "pdt/pdt_fft.h"
 #include "pdt/pdt_ident.h"
+#include "pdt/pdt_ls.h"
 #include "pdt/pdt_model.h"
 
 #endif /* PDT_H */
