@@ -12,6 +12,7 @@
  * DWT, so there it is SysTick; with -icount shift=0 QEMU's clock advances
  * 1 ns per instruction, so 25 MHz ticks are then 40 instructions each.
  */
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -26,6 +27,9 @@ void pdt_cm4_systick_handler(void);
 #define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
 #define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
 #define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
+
+#define SCB_ICSR (*(volatile uint32_t *)0xE000ED04u)
+#define SCB_ICSR_PENDSTSET (1u << 26)
 
 #define SYST_RELOAD 0x00FFFFFFu
 
@@ -127,12 +131,23 @@ uint64_t pdt_port_ticks(void)
     case PDT_CM4_COUNTER_SYSTICK: {
         uint32_t wraps;
         uint32_t cvr;
+        bool pending;
         /* Reread if the wrap interrupt ran in between. */
         do {
             wraps = g_systick_wraps;
             cvr = SYST_CVR;
+            pending = (SCB_ICSR & SCB_ICSR_PENDSTSET) != 0u;
         } while (wraps != g_systick_wraps);
-        return (uint64_t)wraps * (SYST_RELOAD + 1u) + (SYST_RELOAD - cvr);
+        /* The interrupt comes as the count reaches 0, one tick before the
+         * reload, so a wrap is counted at 0: the period's elapsed ticks are
+         * 0 there and RELOAD + 1 - cvr after the reload. A wrap whose
+         * interrupt is still pending (masked, or not taken yet) is counted
+         * here: the count is then at 0 or just reloaded. */
+        if (pending && (cvr == 0u || cvr > SYST_RELOAD / 2u)) {
+            wraps++;
+        }
+        uint32_t elapsed = cvr == 0u ? 0u : SYST_RELOAD + 1u - cvr;
+        return (uint64_t)wraps * (SYST_RELOAD + 1u) + elapsed;
     }
     default:
         return 0u;

@@ -14,6 +14,72 @@ typedef struct target_check {
     int (*run)(void); /* returns the number of failed checks */
 } target_check_t;
 
+/* Reads the ticks `reads` times or, with until > 0, until they pass
+ * `until`; false if they ever step back. *last gets the last value. */
+static bool ticks_forward(uint32_t reads, uint64_t until, uint64_t *last)
+{
+    uint64_t prev = pdt_port_ticks();
+    bool monotonic = true;
+    for (uint32_t i = 0; until > 0u ? prev <= until : i < reads; i++) {
+        /* Far from the target, wait between reads: each read is a device
+         * access, slow to emulate. */
+        if (until > 0u && until - prev > 50000u) {
+            for (volatile uint32_t j = 0; j < 2000u; j++) {
+            }
+        }
+        uint64_t now = pdt_port_ticks();
+        monotonic = monotonic && now >= prev;
+        prev = now;
+    }
+    *last = prev;
+    return monotonic;
+}
+
+/* The port itself: a counter was found, runs at its stated rate and moves
+ * forward. */
+static int check_port(void)
+{
+    uint64_t hz = pdt_port_ticks_per_second();
+    uint64_t t0 = pdt_port_ticks();
+    uint64_t t1 = 0;
+    bool monotonic = ticks_forward(20000u, 0u, &t1);
+    bool ok = pdt_cm4_counter() != PDT_CM4_COUNTER_NONE && hz == PDT_CM4_CORE_HZ &&
+              monotonic && t1 > t0;
+    tline_t l;
+    tl_init(&l);
+    tl_str(&l, "port: ticks at ");
+    tl_uint(&l, hz);
+    tl_str(&l, " Hz, 20000 reads in ");
+    tl_uint(&l, t1 - t0);
+    tl_str(&l, " ticks, ");
+    tl_str(&l, monotonic ? "never backwards" : "went BACKWARDS");
+    return t_verdict(ok, &l);
+}
+
+/* SysTick's 24-bit count wraps every 2^24 ticks (0.67 s at 25 MHz, 671 M
+ * instructions under -icount shift=0); the widened count must go on
+ * rising across the next wrap. Run last, when most of the way there. */
+static int check_port_wrap(void)
+{
+    if (pdt_cm4_counter() != PDT_CM4_COUNTER_SYSTICK) {
+        return 0; /* the DWT count wraps only every 2^32 cycles */
+    }
+    const uint64_t period = (uint64_t)1u << 24;
+    uint64_t t0 = pdt_port_ticks();
+    uint64_t until = (t0 / period + 1u) * period + 1000u;
+    uint64_t t1 = 0;
+    bool monotonic = ticks_forward(0u, until, &t1);
+    tline_t l;
+    tl_init(&l);
+    tl_str(&l, "port: ticks from ");
+    tl_uint(&l, t0);
+    tl_str(&l, " to ");
+    tl_uint(&l, t1);
+    tl_str(&l, " across a SysTick wrap, ");
+    tl_str(&l, monotonic ? "never backwards" : "went BACKWARDS");
+    return t_verdict(monotonic && t1 > until, &l);
+}
+
 /*
  * The registry of target checks, run in this order. To add one (e.g. an
  * autotune of a simulated plant once that module exists), write
@@ -22,12 +88,14 @@ typedef struct target_check {
  * and add a line here.
  */
 static const target_check_t target_checks[] = {
+    {"port", check_port},
     {"fft", target_check_fft},
     {"model", target_check_model},
     {"discrete", target_check_discrete},
     {"cost", target_check_cost},
     {"cost work at N=2000", target_check_cost_work},
     {"identification", target_check_ident},
+    {"port counter across a wrap", check_port_wrap},
 };
 
 int main(void)
