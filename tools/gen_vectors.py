@@ -20,10 +20,10 @@ sys.path.insert(0, str(TOOLS))
 import vectorgen  # noqa: E402
 
 
-def all_files():
+def all_files(only=None):
     files = {}
     for info in sorted(pkgutil.iter_modules(vectorgen.__path__), key=lambda i: i.name):
-        if info.name.startswith("_"):
+        if info.name.startswith("_") or (only and info.name not in only):
             continue
         module = importlib.import_module("vectorgen." + info.name)
         for name, text in module.generate().items():
@@ -38,9 +38,11 @@ def main():
     parser.add_argument("--check", action="store_true",
                         help="compare with tests/vectors/ instead of writing")
     parser.add_argument("--out", type=pathlib.Path, default=ROOT / "tests" / "vectors")
+    parser.add_argument("--only", nargs="+", metavar="MODULE",
+                        help="only these generators (names in tools/vectorgen/)")
     args = parser.parse_args()
 
-    files = all_files()
+    files = all_files(args.only)
     bad = 0
     for name, text in files.items():
         path = args.out / name

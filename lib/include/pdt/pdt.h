@@ -9,9 +9,11 @@
 #include "pdt/pdt_common.h"
 #include "pdt/pdt_cost.h"
 #include "pdt/pdt_discrete.h"
+#include "pdt/pdt_excite.h"
 #include "pdt/pdt_fft.h"
 #include "pdt/pdt_ident.h"
 #include "pdt/pdt_ls.h"
 #include "pdt/pdt_model.h"
+#include "pdt/pdt_record.h"
 
 #endif /* PDT_H */
