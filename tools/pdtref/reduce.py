@@ -24,7 +24,7 @@ from typing import NamedTuple, Sequence
 
 import numpy as np
 
-MAX_PASSES = 10
+MAX_PASSES = 48
 N_FREQ = 10
 
 RULE_T1 = 0x01

@@ -160,3 +160,15 @@ def test_vectors_deterministic():
     b = V.generate()
     assert a == b
     assert sum(len(v) for v in a.values()) < 200_000
+
+
+def test_iteration_leaves_an_unstable_fixed_point():
+    """A clamped T3 lag that lands in the dead time makes the delay map
+    theta -> (5 theta - T0) / 2 (slope 2.5): the iteration moves away from
+    its fixed point until rule T2 removes the lag."""
+    p = R.Plant(1.0, (0.36512213, 0.021476748), (0.032494574,))
+    r = R.half_rule(p, 1)
+    assert r.converged and r.passes == 7
+    assert r.rules == R.RULE_T2
+    assert r.Td == 0.0 and r.T == pytest.approx((0.021476748,))
+    assert r.K == pytest.approx(0.032494574 / 0.36512213)

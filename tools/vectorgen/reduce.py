@@ -114,6 +114,9 @@ def cases():
     out.append((plant(1, (0.5, 0.4, 0.3), (0.8,), 1.0), 0.0))    # T1b
     out.append((plant(1, (10.0, 3.0, 1.0), (9.0,)), 0.0))        # T2
     out.append((plant(1, (10.0, 4.0, 1.0), (2.0,), 0.1), 0.0))   # T3, clamped
+    # T3 clamped with its lag in the dead time: the delay moves away from an
+    # unstable fixed point for several passes until rule T2 takes over
+    out.append((plant(1, (0.36512213, 0.021476748), (0.032494574,)), 0.0))
     # several zeros of both kinds, negative gain, h
     out.append((plant(-2, (5.0, 2.0, 1.0, 0.5, 0.1), (1.5, 0.3, -0.2), 0.7), f32(0.2)))
     out.append((plant(0.5, (4.0, 4.0, 0.7, 0.2), (0.6, 0.15, -0.4, -0.1), 0.25), 0.0))

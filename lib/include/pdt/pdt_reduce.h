@@ -36,7 +36,7 @@ extern "C" {
 
 /* Passes of the half rule's fixed-point iteration on the effective delay
  * (the left-half-plane zero rules depend on it; see docs/reduce.md). */
-#define PDT_REDUCE_MAX_PASSES 10u
+#define PDT_REDUCE_MAX_PASSES 48u
 
 /* Default number of frequencies of Sung's least squares. */
 #define PDT_REDUCE_N_FREQ_DEFAULT 10u
