@@ -37,6 +37,8 @@ const char *pdt_status_str(pdt_status_t status)
         return "model fits too poorly";
     case PDT_ERR_UNSTABLE:
         return "no stable loop for this model";
+    case PDT_ERR_ABORTED:
+        return "stopped by the caller";
     default:
         return "unknown status";
     }

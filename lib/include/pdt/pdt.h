@@ -6,6 +6,7 @@
 #ifndef PDT_H
 #define PDT_H
 
+#include "pdt/pdt_autotune.h"
 #include "pdt/pdt_common.h"
 #include "pdt/pdt_cost.h"
 #include "pdt/pdt_discrete.h"
@@ -15,5 +16,7 @@
 #include "pdt/pdt_ls.h"
 #include "pdt/pdt_model.h"
 #include "pdt/pdt_record.h"
+#include "pdt/pdt_reduce.h"
+#include "pdt/pdt_tune.h"
 
 #endif /* PDT_H */

@@ -74,7 +74,9 @@ typedef enum pdt_status {
      * gains would make is not robustly stable. */
     PDT_ERR_POOR_FIT = -14,
     /* Gains refused: no rule gives a stable loop for this model. */
-    PDT_ERR_UNSTABLE = -15
+    PDT_ERR_UNSTABLE = -15,
+    /* Stopped by the caller (e.g. an operator cancelled an autotune). */
+    PDT_ERR_ABORTED = -16
 } pdt_status_t;
 
 /* A short, static, English name of a status ("bad argument", ...). Never

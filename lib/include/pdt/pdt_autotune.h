@@ -1,0 +1,184 @@
+/*
+ * pdtfit autotune: one state machine that a PLC task or an MCU loop calls
+ * once per scan. It holds the output while it measures the operating point,
+ * runs an experiment (step, pulse, chirp, PRBS or relay) inside safety
+ * limits while recording, identifies a FOPDT or SOPDT in bounded steps, and
+ * turns the model into PI/PID gains with robustness figures, or refuses.
+ *
+ * Per scan:
+ *
+ *   pdt_real_t u;
+ *   pdt_status_t st = pdt_autotune_scan(&at, pv, &u);   // read pv, get u
+ *   write_output(u);
+ *   if (st == PDT_OK)         { pdt_autotune_result(&at, &r); ... }  // gains
+ *   else if (st != PDT_RUNNING) { ... }  // aborted or refused: u is safe
+ *
+ * The output returned is always the one to apply: the excitation while the
+ * experiment runs, the operating point u0 before and after it, and u0 after
+ * an abort. pv is the process value read in this scan, before the output
+ * is written; the output then holds until the next scan (zero-order hold),
+ * which is the convention of the identification.
+ *
+ * Recording: with decimation D, each identification sample pairs the output
+ * of an interval's first scan with the mean process value over its D scans
+ * (an anti-alias filter). That mean is centred (D - 1) / 2 scans later, so
+ * the identified dead time is (D - 1) Ts / 2 short; the autotune adds it
+ * back to the model it reports.
+ *
+ * Work per call (worst case): settle and excite, O(1); the first identify
+ * call prepares the identification (O(n), plus O(N_f log N_f) for the
+ * frequency or combined criterion); every other identify call at most
+ * evals_per_scan cost evaluations (O(n) each, O(N_f) for the frequency
+ * part) plus one GA breeding step (O(P^2)); the tune call, one
+ * pdt_tune_compute (a few thousand loop evaluations, see pdt_tune.h).
+ */
+#ifndef PDT_AUTOTUNE_H
+#define PDT_AUTOTUNE_H
+
+#include "pdt/pdt_common.h"
+#include "pdt/pdt_excite.h"
+#include "pdt/pdt_ident.h"
+#include "pdt/pdt_record.h"
+#include "pdt/pdt_tune.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum pdt_autotune_phase {
+    PDT_AUTOTUNE_SETTLE = 1,   /* output held, operating point measured */
+    PDT_AUTOTUNE_EXCITE = 2,   /* the experiment runs and is recorded */
+    PDT_AUTOTUNE_IDENTIFY = 3, /* output at u0, model identified in steps */
+    PDT_AUTOTUNE_TUNE = 4,     /* gains computed (one scan) */
+    PDT_AUTOTUNE_DONE = 5,     /* model and gains ready */
+    PDT_AUTOTUNE_FAILED = 6    /* aborted or refused: see the status */
+} pdt_autotune_phase_t;
+
+typedef struct pdt_autotune_config {
+    pdt_real_t Ts;            /* scan period, s, > 0. Default 0 (must be set) */
+    uint32_t decimation;      /* scans per identification sample, >= 1: the
+                               * identification runs at Ts * decimation.
+                               * Default 1 */
+    size_t capacity;          /* most samples recorded (identification rate),
+                               * PDT_MIN_SAMPLES + settle .. ; sizes the
+                               * workspace. Default 0 (must be set) */
+    uint32_t settle;          /* identification samples at u0 before the
+                               * excitation, to measure the operating point.
+                               * Default 20 */
+    uint32_t tail;            /* identification samples still recorded after
+                               * the excitation ends (the process is still
+                               * responding); 0: until the record is full.
+                               * Default 0 */
+    uint32_t evals_per_scan;  /* cost evaluations per scan while identifying,
+                               * >= 1. Default 4 */
+    /* The experiment. Set kind, levels and timing; the autotune sets Ts
+     * (the scan period), u0 (the output at init) and pre (the settle
+     * time) itself, and the limits from u_min, u_max below. */
+    pdt_excite_config_t excite;
+    /* Safety limits, checked every scan until the end (also while
+     * identifying, with the output back at u0). */
+    pdt_real_t u_min;         /* output limits. Default -/+ the largest real */
+    pdt_real_t u_max;
+    pdt_real_t pv_min;        /* process value limits. Default -/+ the */
+    pdt_real_t pv_max;        /* largest real: set them */
+    uint32_t max_scans;       /* the experiment's time limit in scans; 0:
+                               * none. Default 0 */
+    pdt_record_move_t move;   /* set-point check of the recorder (a relay's
+                               * set-point must be crossable). Default ANY */
+    /* The identification: model, criterion, bounds, search. Ts is set by
+     * the autotune (Ts * decimation). */
+    pdt_ident_config_t ident;
+    /* The tuning rule and its refusal limits (fit_min, ms_max). */
+    pdt_tune_config_t tune;
+} pdt_autotune_config_t;
+
+typedef struct pdt_autotune_result {
+    pdt_status_t status;      /* PDT_OK, or why it failed: an abort
+                               * (PDT_ERR_PV_LIMIT, ...), data that could
+                               * not support a model, or refused gains
+                               * (PDT_ERR_POOR_FIT, PDT_ERR_UNSTABLE) */
+    pdt_autotune_phase_t failed_in; /* the phase that failed (when it did) */
+    bool has_model;           /* the identification finished */
+    pdt_ident_result_t ident; /* the model, fit and operating point */
+    bool has_gains;           /* gains passed the refusal rules */
+    pdt_tune_result_t tune;   /* the gains and their robustness */
+    bool has_relay;           /* the experiment was a relay test */
+    pdt_excite_relay_t relay; /* Ku, Pu measured by the relay */
+    size_t samples;           /* samples recorded */
+    uint32_t scans;           /* scans since init */
+    uint32_t scans_experiment; /* scans of settle + experiment */
+} pdt_autotune_result_t;
+
+/* The autotune. Fields are private. */
+typedef struct pdt_autotune {
+    pdt_autotune_config_t cfg;
+    uint32_t magic;
+    pdt_autotune_phase_t phase;
+    pdt_real_t u_init;        /* output at init: the operating point */
+    pdt_real_t u_hold;        /* output applied while identifying */
+    pdt_real_t *u;            /* record (workspace) */
+    pdt_real_t *y;
+    void *ident_work;         /* identification's part of the workspace */
+    size_t ident_work_len;
+    uint32_t tail_left;       /* samples of tail still to record */
+    bool excite_over;         /* the excitation has ended */
+    bool ident_started;       /* pdt_ident_init has run */
+    pdt_excite_t gen;
+    pdt_record_t rec;
+    pdt_ident_t ident;
+    pdt_autotune_result_t res;
+} pdt_autotune_t;
+
+/* Fills cfg with the documented defaults, and its sub-configs with theirs
+ * (the experiment a PRBS of 7 bits, amplitude 1). Nothing for NULL. */
+void pdt_autotune_config_default(pdt_autotune_config_t *cfg);
+
+/* Workspace bytes for cfg: 2 capacity reals for the record plus the
+ * identification's workspace for capacity samples. 0 when cfg is NULL or
+ * not valid (init then says why). */
+size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
+
+/* Prepares at for an autotune starting from the output u_now, which is
+ * taken as the operating point: the process must be at rest there. work is
+ * caller memory of pdt_autotune_workspace_size bytes, aligned for
+ * pdt_real_t, owned by at until it is done.
+ * Returns PDT_ERR_ARG (NULL, a bad value in cfg or in the identification's
+ * config, u_now not finite, misaligned work), PDT_ERR_BOUNDS (limits
+ * inverted), PDT_ERR_OUTPUT_LIMIT (u_now or the experiment's levels outside
+ * the output limits), PDT_ERR_TOO_SHORT (capacity below settle +
+ * PDT_MIN_SAMPLES), PDT_ERR_NOMEM (work NULL or too small), or what
+ * pdt_excite_init / pdt_record_init return for the experiment's config; at
+ * is untouched on error. O(1). */
+pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
+                               pdt_real_t u_now, void *work, size_t work_len);
+
+/* One scan: pv is the process value read now; *u receives the output to
+ * apply until the next scan (always written, even on error, when at and u
+ * are not NULL and at was initialised).
+ * Returns PDT_RUNNING while the autotune goes on, PDT_OK once model and
+ * gains are ready (and on every later call), or the status that ended it
+ * (an abort, a refusal; the same on every later call). PDT_ERR_ARG for NULL,
+ * PDT_ERR_STATE if at was never initialised. Work: see the top of this
+ * file. */
+pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u);
+
+/* Stops the autotune now (e.g. the operator cancels): unless it is already
+ * done or failed, the phase becomes FAILED with the status PDT_ERR_ABORTED.
+ * *u receives the output to apply: the operating point (the output at init
+ * if the operating point is not measured yet). Returns PDT_OK, PDT_ERR_ARG
+ * for NULL, PDT_ERR_STATE if never initialised. O(1). */
+pdt_status_t pdt_autotune_abort(pdt_autotune_t *at, pdt_real_t *u);
+
+/* The phase now, for display. 0 for NULL or an uninitialised at. */
+pdt_autotune_phase_t pdt_autotune_phase(const pdt_autotune_t *at);
+
+/* What happened: model, gains, relay figures, counts. Valid in any phase
+ * (fields not reached yet are flagged false). PDT_ERR_ARG for NULL,
+ * PDT_ERR_STATE if never initialised. O(1). */
+pdt_status_t pdt_autotune_result(const pdt_autotune_t *at, pdt_autotune_result_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PDT_AUTOTUNE_H */

@@ -1,0 +1,376 @@
+/*
+ * Autotune: the experiment, the identification and the tuning as one state
+ * machine, one call per scan. Each phase delegates to its module; this file
+ * only sequences them and keeps the output safe.
+ */
+#include "pdt/pdt_autotune.h"
+
+#include "pdt_internal.h"
+
+#define AUTOTUNE_MAGIC 0x70647461u
+
+void pdt_autotune_config_default(pdt_autotune_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return;
+    }
+    *cfg = (pdt_autotune_config_t){0};
+    cfg->Ts = PDT_R(0.0);
+    cfg->decimation = 1u;
+    cfg->capacity = 0u;
+    cfg->settle = 20u;
+    cfg->tail = 0u;
+    cfg->evals_per_scan = 4u;
+    pdt_excite_config_default(&cfg->excite, PDT_EXCITE_PRBS);
+    cfg->u_min = -PDT_REAL_MAX;
+    cfg->u_max = PDT_REAL_MAX;
+    cfg->pv_min = -PDT_REAL_MAX;
+    cfg->pv_max = PDT_REAL_MAX;
+    cfg->max_scans = 0u;
+    cfg->move = PDT_RECORD_MOVE_ANY;
+    pdt_ident_config_default(&cfg->ident);
+    pdt_tune_config_default(&cfg->tune);
+}
+
+/* The identification's config: the caller's, at the identification rate. */
+static pdt_ident_config_t ident_config(const pdt_autotune_config_t *cfg)
+{
+    pdt_ident_config_t ic = cfg->ident;
+    ic.Ts = cfg->Ts * (pdt_real_t)cfg->decimation;
+    return ic;
+}
+
+static pdt_status_t check_config(const pdt_autotune_config_t *cfg)
+{
+    if (!pdt_finite(cfg->Ts) || !(cfg->Ts > PDT_R(0.0)) || cfg->decimation == 0u ||
+        cfg->settle == 0u || cfg->evals_per_scan == 0u) {
+        return PDT_ERR_ARG;
+    }
+    if (!pdt_finite(cfg->u_min) || !pdt_finite(cfg->u_max) || !pdt_finite(cfg->pv_min) ||
+        !pdt_finite(cfg->pv_max)) {
+        return PDT_ERR_ARG;
+    }
+    if (cfg->u_min > cfg->u_max || cfg->pv_min > cfg->pv_max) {
+        return PDT_ERR_BOUNDS;
+    }
+    if (cfg->capacity < (size_t)cfg->settle + PDT_MIN_SAMPLES) {
+        return PDT_ERR_TOO_SHORT;
+    }
+    return PDT_OK;
+}
+
+/* Bytes of the identification's part, for capacity samples. The size grows
+ * with the record length, so it covers any shorter record. */
+static size_t ident_bytes(const pdt_autotune_config_t *cfg)
+{
+    pdt_ident_config_t ic = ident_config(cfg);
+    return pdt_ident_workspace_size(&ic, cfg->capacity);
+}
+
+size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg)
+{
+    if (cfg == NULL || check_config(cfg) != PDT_OK) {
+        return 0u;
+    }
+    size_t ib = ident_bytes(cfg);
+    if (ib == 0u) {
+        return 0u;
+    }
+    return 2u * cfg->capacity * sizeof(pdt_real_t) + ib;
+}
+
+pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
+                               pdt_real_t u_now, void *work, size_t work_len)
+{
+    if (at == NULL || cfg == NULL || !pdt_finite(u_now)) {
+        return PDT_ERR_ARG;
+    }
+    pdt_status_t st = check_config(cfg);
+    if (st != PDT_OK) {
+        return st;
+    }
+    if (u_now < cfg->u_min || u_now > cfg->u_max) {
+        return PDT_ERR_OUTPUT_LIMIT;
+    }
+    size_t ib = ident_bytes(cfg);
+    if (ib == 0u) {
+        /* The identification refuses its config (or the capacity): say
+         * why, as pdt_ident_workspace_size only says no. */
+        return PDT_ERR_ARG;
+    }
+    if (work == NULL) {
+        return PDT_ERR_NOMEM;
+    }
+    if (!pdt_aligned(work)) {
+        return PDT_ERR_ARG;
+    }
+    if (work_len < 2u * cfg->capacity * sizeof(pdt_real_t) + ib) {
+        return PDT_ERR_NOMEM;
+    }
+    pdt_real_t *u = (pdt_real_t *)work;
+    pdt_real_t *y = u + cfg->capacity;
+
+    /* The experiment holds u_now while the recorder measures the operating
+     * point, then excites. */
+    pdt_excite_config_t ec = cfg->excite;
+    ec.Ts = cfg->Ts;
+    ec.u0 = u_now;
+    ec.u_min = cfg->u_min;
+    ec.u_max = cfg->u_max;
+    ec.pre = cfg->Ts * (pdt_real_t)cfg->decimation * (pdt_real_t)cfg->settle;
+    pdt_excite_t gen;
+    st = pdt_excite_init(&gen, &ec);
+    if (st != PDT_OK) {
+        return st;
+    }
+    pdt_record_config_t rc;
+    pdt_record_config_default(&rc);
+    rc.decimation = cfg->decimation;
+    rc.settle = cfg->settle;
+    rc.u_min = cfg->u_min;
+    rc.u_max = cfg->u_max;
+    rc.pv_min = cfg->pv_min;
+    rc.pv_max = cfg->pv_max;
+    rc.max_scans = cfg->max_scans;
+    rc.move = cfg->move;
+    rc.setpoint = ec.kind == PDT_EXCITE_RELAY ? ec.setpoint : PDT_R(0.0);
+    pdt_record_t rec;
+    st = pdt_record_init(&rec, &rc, u, y, cfg->capacity);
+    if (st != PDT_OK) {
+        return st;
+    }
+
+    /* Nothing failed: only now is *at written. */
+    at->cfg = *cfg;
+    at->phase = PDT_AUTOTUNE_SETTLE;
+    at->u_init = u_now;
+    at->u_hold = u_now;
+    at->u = u;
+    at->y = y;
+    at->ident_work = (void *)(y + cfg->capacity);
+    at->ident_work_len = ib;
+    at->gen = gen;
+    at->rec = rec;
+    at->tail_left = cfg->tail;
+    at->excite_over = false;
+    at->ident_started = false;
+    at->res = (pdt_autotune_result_t){0};
+    at->res.status = PDT_RUNNING;
+    at->magic = AUTOTUNE_MAGIC;
+    return PDT_OK;
+}
+
+static pdt_status_t fail(pdt_autotune_t *at, pdt_status_t why, pdt_real_t *u)
+{
+    at->res.status = why;
+    at->res.failed_in = at->phase;
+    at->phase = PDT_AUTOTUNE_FAILED;
+    *u = at->u_hold;
+    return why;
+}
+
+/* The safety limits that still hold once the experiment is over. */
+static pdt_status_t check_pv(const pdt_autotune_t *at, pdt_real_t pv)
+{
+    if (!pdt_finite(pv)) {
+        return PDT_ERR_NONFINITE;
+    }
+    if (pv < at->cfg.pv_min || pv > at->cfg.pv_max) {
+        return PDT_ERR_PV_LIMIT;
+    }
+    return PDT_OK;
+}
+
+/* The record is complete: back to the operating point, identify next. */
+static void end_experiment(pdt_autotune_t *at)
+{
+    pdt_record_result_t rr;
+    (void)pdt_record_result(&at->rec, &rr);
+    at->u_hold = rr.u0;
+    at->res.samples = rr.n;
+    if (at->cfg.excite.kind == PDT_EXCITE_RELAY &&
+        pdt_excite_relay_result(&at->gen, &at->res.relay) == PDT_OK) {
+        at->res.has_relay = true;
+    }
+    at->phase = PDT_AUTOTUNE_IDENTIFY;
+}
+
+static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
+{
+    pdt_real_t un;
+    pdt_status_t se = pdt_excite_next(&at->gen, pv, &un);
+    if (se != PDT_OK && se != PDT_RUNNING) {
+        /* Only a relay fails here (pv not finite): hold the operating point. */
+        return fail(at, se, u);
+    }
+    pdt_status_t sr = pdt_record_push(&at->rec, un, pv);
+    at->res.scans_experiment++;
+    if (sr != PDT_OK && sr != PDT_RUNNING) {
+        pdt_record_result_t rr;
+        (void)pdt_record_result(&at->rec, &rr);
+        at->u_hold = rr.u_safe;
+        return fail(at, sr, u);
+    }
+    if (at->phase == PDT_AUTOTUNE_SETTLE) {
+        pdt_record_result_t rr;
+        (void)pdt_record_result(&at->rec, &rr);
+        if (rr.settled) {
+            at->phase = PDT_AUTOTUNE_EXCITE;
+        }
+    }
+    if (se == PDT_OK && !at->excite_over) {
+        /* The excitation is over; the response is not: record the tail. */
+        at->excite_over = true;
+    }
+    if (at->excite_over && sr == PDT_RUNNING && at->cfg.tail != 0u) {
+        /* The tail is counted in scans of whole samples. */
+        if (at->tail_left == 0u) {
+            if (pdt_record_stop(&at->rec) == PDT_OK) {
+                sr = PDT_OK;
+            }
+        } else if (at->tail_left > 0u &&
+                   at->res.scans_experiment % at->cfg.decimation == 0u) {
+            at->tail_left--;
+        }
+    }
+    if (sr == PDT_OK) {
+        end_experiment(at);
+        *u = at->u_hold;
+        return PDT_RUNNING;
+    }
+    *u = un;
+    return PDT_RUNNING;
+}
+
+static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
+{
+    pdt_status_t st;
+    *u = at->u_hold;
+    if (!at->ident_started) {
+        pdt_ident_config_t ic = ident_config(&at->cfg);
+        pdt_ident_data_t data = {at->u, at->y, at->res.samples};
+        st = pdt_ident_init(&at->ident, &ic, &data, at->ident_work, at->ident_work_len);
+        if (st != PDT_OK) {
+            return fail(at, st, u);
+        }
+        at->ident_started = true;
+        return PDT_RUNNING;
+    }
+    st = pdt_ident_step(&at->ident, at->cfg.evals_per_scan);
+    if (st == PDT_RUNNING) {
+        return PDT_RUNNING;
+    }
+    if (st == PDT_OK) {
+        st = pdt_ident_result(&at->ident, &at->res.ident);
+    }
+    if (st != PDT_OK) {
+        return fail(at, st, u);
+    }
+    /* The recorder pairs the output of an interval's first scan with the
+     * mean process value over its scans, which lags that output by
+     * (decimation - 1) / 2 scans less than a point sample would: the model
+     * saw that much less dead time than the process has. */
+    pdt_real_t shift = at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5);
+    if (at->res.ident.model.kind == PDT_MODEL_FOPDT) {
+        at->res.ident.model.p.fopdt.Td += shift;
+    } else {
+        at->res.ident.model.p.sopdt.Td += shift;
+    }
+    at->res.has_model = true;
+    at->phase = PDT_AUTOTUNE_TUNE;
+    return PDT_RUNNING;
+}
+
+static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
+{
+    *u = at->u_hold;
+    pdt_status_t st = pdt_tune_compute(&at->res.ident.model, at->res.ident.fit, &at->cfg.tune,
+                                       &at->res.tune);
+    if (st != PDT_OK) {
+        return fail(at, st, u);
+    }
+    at->res.has_gains = true;
+    at->res.status = PDT_OK;
+    at->phase = PDT_AUTOTUNE_DONE;
+    return PDT_OK;
+}
+
+pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
+{
+    if (at == NULL || u == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (at->magic != AUTOTUNE_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    switch (at->phase) {
+    case PDT_AUTOTUNE_SETTLE:
+    case PDT_AUTOTUNE_EXCITE:
+        at->res.scans++;
+        return scan_experiment(at, pv, u);
+    case PDT_AUTOTUNE_IDENTIFY:
+    case PDT_AUTOTUNE_TUNE: {
+        /* The process is still watched while the output rests at u0. */
+        pdt_status_t sp = check_pv(at, pv);
+        at->res.scans++;
+        if (sp != PDT_OK) {
+            return fail(at, sp, u);
+        }
+        return at->phase == PDT_AUTOTUNE_IDENTIFY ? scan_identify(at, u) : scan_tune(at, u);
+    }
+    case PDT_AUTOTUNE_DONE:
+        *u = at->u_hold;
+        return PDT_OK;
+    case PDT_AUTOTUNE_FAILED:
+    default:
+        *u = at->u_hold;
+        return at->res.status;
+    }
+}
+
+pdt_status_t pdt_autotune_abort(pdt_autotune_t *at, pdt_real_t *u)
+{
+    if (at == NULL || u == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (at->magic != AUTOTUNE_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    if (at->phase == PDT_AUTOTUNE_SETTLE || at->phase == PDT_AUTOTUNE_EXCITE) {
+        pdt_record_result_t rr;
+        (void)pdt_record_result(&at->rec, &rr);
+        /* Before the operating point is known, the output at init is it. */
+        at->u_hold = rr.settled ? rr.u0 : at->u_init;
+    }
+    if (at->phase != PDT_AUTOTUNE_DONE && at->phase != PDT_AUTOTUNE_FAILED) {
+        (void)fail(at, PDT_ERR_ABORTED, u);
+    }
+    *u = at->u_hold;
+    return PDT_OK;
+}
+
+pdt_autotune_phase_t pdt_autotune_phase(const pdt_autotune_t *at)
+{
+    if (at == NULL || at->magic != AUTOTUNE_MAGIC) {
+        return (pdt_autotune_phase_t)0;
+    }
+    return at->phase;
+}
+
+pdt_status_t pdt_autotune_result(const pdt_autotune_t *at, pdt_autotune_result_t *out)
+{
+    if (at == NULL || out == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (at->magic != AUTOTUNE_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    pdt_autotune_result_t r = at->res;
+    if (at->phase == PDT_AUTOTUNE_SETTLE || at->phase == PDT_AUTOTUNE_EXCITE) {
+        pdt_record_result_t rr;
+        (void)pdt_record_result(&at->rec, &rr);
+        r.samples = rr.n;
+    }
+    *out = r;
+    return PDT_OK;
+}
