@@ -87,6 +87,9 @@ static int check_port_wrap(void)
  * declare it in target_checks.h, list the file in tests/target/CMakeLists.txt
  * and add a line here.
  */
+/* check_autotune.c */
+int target_check_autotune(void);
+
 static const target_check_t target_checks[] = {
     {"port", check_port},
     {"fft", target_check_fft},
@@ -95,6 +98,7 @@ static const target_check_t target_checks[] = {
     {"cost", target_check_cost},
     {"cost work at N=2000", target_check_cost_work},
     {"identification", target_check_ident},
+    {"autotune", target_check_autotune},
     {"port counter across a wrap", check_port_wrap},
 };
 

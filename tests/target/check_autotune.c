@@ -1,0 +1,295 @@
+/*
+ * Autotune on the target: a FOPDT and a SOPDT plant simulated here scan by
+ * scan (the exact ZOH model at the scan period, output held per scan,
+ * deterministic noise), each tuned by one complete pdt_autotune run with a
+ * PRBS experiment and a record of 600 samples (the configuration
+ * docs/autotune.md tabulates). Checks the model and the gains against the
+ * plant, and reports the worst-case work of one pdt_autotune_scan call in
+ * each phase, in port ticks and instructions (QEMU -icount), and the stack
+ * the calls used.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "target_checks.h"
+#include "target_util.h"
+
+#include "pdt_port.h"
+#include "pdt_port_cm4.h"
+
+/* Registered in target_main.c. */
+int target_check_autotune(void);
+
+#define AT_CAPACITY 600u
+#define AT_HIST 256u
+
+static pdt_real_t g_at_work[PDT_IDENT_WORKSPACE_SIZE(AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
+                                sizeof(pdt_real_t) +
+                            2u * AT_CAPACITY + 1u];
+static pdt_autotune_t g_at;
+
+/* The plant: the d[] form of pdt_dmodel_t in double, from rest. */
+typedef struct at_plant {
+    pdt_dmodel_t d;
+    double u0, y0;
+    double uh[AT_HIST];
+    double y1, y2;
+    uint32_t k;
+    uint32_t seed;
+    double noise_sd;
+} at_plant_t;
+
+static uint32_t at_lcg(uint32_t *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return *s;
+}
+
+static double at_normal(uint32_t *s)
+{
+    double sum = 0.0;
+    for (int i = 0; i < 12; i++) {
+        sum += (double)(at_lcg(s) >> 8) / 16777216.0;
+    }
+    return sum - 6.0;
+}
+
+static pdt_real_t at_pv(at_plant_t *p)
+{
+    return (pdt_real_t)(p->y0 + p->y1 + p->noise_sd * at_normal(&p->seed));
+}
+
+static void at_apply(at_plant_t *p, pdt_real_t u)
+{
+    p->uh[p->k % AT_HIST] = (double)u - p->u0;
+    p->k++;
+    double bu = 0.0;
+    for (uint32_t j = 0; j < 3u; j++) {
+        uint32_t lag = (uint32_t)p->d.delay + j;
+        if (p->k >= lag + 1u) {
+            bu += (double)p->d.b[j] * p->uh[(p->k - 1u - lag) % AT_HIST];
+        }
+    }
+    double yn;
+    if (p->d.order == 1u) {
+        yn = p->y1 - (double)p->d.d[0] * p->y1 + bu;
+    } else {
+        yn = p->y1 + (1.0 - (double)p->d.d[0]) * (p->y1 - p->y2) - (double)p->d.d[1] * p->y2 + bu;
+    }
+    p->y2 = p->y1;
+    p->y1 = yn;
+}
+
+typedef struct at_run {
+    pdt_status_t st;
+    pdt_autotune_result_t res;
+    uint32_t scans;
+    uint64_t worst[7];  /* ticks of the slowest call in each phase */
+    uint32_t calls[7];
+    uint32_t max_evals; /* most cost evaluations in one call */
+    size_t stack;       /* bytes below this function's frame */
+} at_run_t;
+
+/* One autotune to the end, timing every call. The stack is painted once
+ * and read at the end: the deepest of all the calls (and of the plant's
+ * small helpers, which sit at the same depth). */
+static bool at_run(const pdt_autotune_config_t *c, at_plant_t *p, at_run_t *r)
+{
+    memset(r, 0, sizeof *r);
+    size_t need = pdt_autotune_workspace_size(c);
+    if (need == 0u || need > sizeof g_at_work ||
+        pdt_autotune_init(&g_at, c, (pdt_real_t)p->u0, g_at_work, need) != PDT_OK) {
+        return false;
+    }
+    size_t depth = pdt_cm4_stack_depth();
+    t_stack_repaint();
+    r->st = PDT_RUNNING;
+    while (r->st == PDT_RUNNING && r->scans < 100000u) {
+        pdt_autotune_phase_t ph = pdt_autotune_phase(&g_at);
+        pdt_real_t pv = at_pv(p);
+        pdt_real_t u;
+        bool counting = ph == PDT_AUTOTUNE_IDENTIFY && g_at.ident_started;
+        uint32_t e0 = counting ? g_at.ident.evaluations : 0u;
+        uint64_t t0 = pdt_port_ticks();
+        r->st = pdt_autotune_scan(&g_at, pv, &u);
+        uint64_t dt = pdt_port_ticks() - t0;
+        if (counting && g_at.ident.evaluations - e0 > r->max_evals) {
+            r->max_evals = g_at.ident.evaluations - e0;
+        }
+        if ((unsigned)ph < 7u) {
+            r->calls[ph]++;
+            if (dt > r->worst[ph]) {
+                r->worst[ph] = dt;
+            }
+        }
+        r->scans++;
+        at_apply(p, u);
+    }
+    r->stack = pdt_cm4_stack_used() - depth;
+    return pdt_autotune_result(&g_at, &r->res) == PDT_OK;
+}
+
+static void at_config(pdt_autotune_config_t *c, double Ts, pdt_model_kind_t kind,
+                      uint32_t hold, double amp)
+{
+    pdt_autotune_config_default(c);
+    c->Ts = (pdt_real_t)Ts;
+    c->capacity = AT_CAPACITY;
+    c->excite.kind = PDT_EXCITE_PRBS;
+    c->excite.amplitude = (pdt_real_t)amp;
+    c->excite.prbs_bits = 7u;
+    c->excite.prbs_hold = hold;
+    c->u_min = (pdt_real_t)0.0;
+    c->u_max = (pdt_real_t)100.0;
+    c->pv_min = (pdt_real_t)-100.0;
+    c->pv_max = (pdt_real_t)200.0;
+    c->ident.model = kind;
+}
+
+static void at_report(const char *name, const at_run_t *r)
+{
+    static const char *const names[7] = {"", "settle", "excite", "identify", "tune", "", ""};
+    for (unsigned ph = 1u; ph <= 4u; ph++) {
+        tline_t l;
+        tl_init(&l);
+        tl_str(&l, "autotune ");
+        tl_str(&l, name);
+        tl_str(&l, ": worst pdt_autotune_scan in ");
+        tl_str(&l, names[ph]);
+        tl_str(&l, " ");
+        tl_uint(&l, t_ticks_to_instructions(r->worst[ph]));
+        tl_str(&l, " instructions (");
+        tl_uint(&l, r->calls[ph]);
+        tl_str(&l, " calls)");
+        t_info(&l);
+    }
+    tline_t l;
+    tl_init(&l);
+    tl_str(&l, "autotune ");
+    tl_str(&l, name);
+    tl_str(&l, ": ");
+    tl_uint(&l, r->res.ident.evaluations);
+    tl_str(&l, " evaluations, at most ");
+    tl_uint(&l, r->max_evals);
+    tl_str(&l, " per call; ");
+    tl_uint(&l, r->scans);
+    tl_str(&l, " scans; stack ");
+    tl_uint(&l, r->stack);
+    tl_str(&l, " bytes; workspace ");
+    tl_uint(&l, pdt_autotune_workspace_size(&g_at.cfg));
+    tl_str(&l, " bytes");
+    t_info(&l);
+}
+
+static void at_gains(tline_t *l, const at_run_t *r)
+{
+    tl_str(l, " fit ");
+    tl_num(l, (double)r->res.ident.fit, 4);
+    tl_str(l, "%; PI Kc ");
+    tl_num(l, (double)r->res.tune.ideal.Kc, 4);
+    tl_str(l, " tauI ");
+    tl_num(l, (double)r->res.tune.ideal.tauI, 4);
+    tl_str(l, " Ms ");
+    tl_num(l, (double)r->res.tune.fig.Ms, 3);
+}
+
+/* Host test's tolerances: K, tau 3 %, Td 3 % of tau. The gains are SIMC's
+ * PI from the true model: Kc = tau / (K 2 Td), tauI = min(tau, 8 Td). */
+static int check_fopdt(void)
+{
+    pdt_autotune_config_t c;
+    at_config(&c, 0.5, PDT_MODEL_FOPDT, 4u, 3.0);
+    pdt_model_t m;
+    memset(&m, 0, sizeof m);
+    m.kind = PDT_MODEL_FOPDT;
+    m.p.fopdt.K = (pdt_real_t)2.0;
+    m.p.fopdt.tau = (pdt_real_t)10.0;
+    m.p.fopdt.Td = (pdt_real_t)3.0;
+    at_plant_t p;
+    memset(&p, 0, sizeof p);
+    p.u0 = 40.0;
+    p.y0 = 20.0;
+    p.noise_sd = 0.05;
+    p.seed = 23u;
+    at_run_t r;
+    bool ok = pdt_discretize(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) &&
+              r.st == PDT_OK && r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_FOPDT;
+    tline_t l;
+    tl_init(&l);
+    tl_str(&l, "autotune FOPDT K=2 tau=10 Td=3, PRBS, capacity 600: ");
+    if (!ok) {
+        tl_str(&l, pdt_status_str(r.st));
+        return t_verdict(false, &l);
+    }
+    const pdt_fopdt_t *g = &r.res.ident.model.p.fopdt;
+    double eK = t_rel_err((double)g->K, 2.0);
+    double etau = t_rel_err((double)g->tau, 10.0);
+    double eTd = fabs((double)g->Td - 3.0) / 10.0;
+    double eKc = t_rel_err((double)r.res.tune.ideal.Kc, 10.0 / (2.0 * 6.0));
+    double etI = t_rel_err((double)r.res.tune.ideal.tauI, 10.0);
+    ok = eK <= 0.03 && etau <= 0.03 && eTd <= 0.03 && eKc <= 0.06 && etI <= 0.03 &&
+         r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;
+    tl_str(&l, "K ");
+    tl_num(&l, (double)g->K, 5);
+    tl_str(&l, " tau ");
+    tl_num(&l, (double)g->tau, 5);
+    tl_str(&l, " Td ");
+    tl_num(&l, (double)g->Td, 5);
+    at_gains(&l, &r);
+    int failed = t_verdict(ok, &l);
+    at_report("FOPDT", &r);
+    return failed;
+}
+
+/* K = 1.5, T1 = 8, T2 = 3, Td = 2: DC gain 3 %, Td within 0.3 s. */
+static int check_sopdt(void)
+{
+    pdt_autotune_config_t c;
+    at_config(&c, 0.5, PDT_MODEL_SOPDT, 4u, 3.0);
+    pdt_sopdt_tc_t tc = {(pdt_real_t)1.5, (pdt_real_t)8.0, (pdt_real_t)3.0, false,
+                         (pdt_real_t)2.0};
+    pdt_model_t m;
+    memset(&m, 0, sizeof m);
+    m.kind = PDT_MODEL_SOPDT;
+    at_plant_t p;
+    memset(&p, 0, sizeof p);
+    p.u0 = 50.0;
+    p.y0 = 10.0;
+    p.noise_sd = 0.03;
+    p.seed = 5u;
+    at_run_t r;
+    pdt_sopdt_tc_t gtc;
+    bool ok = pdt_sopdt_from_tc(&tc, &m.p.sopdt) == PDT_OK &&
+              pdt_discretize(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) &&
+              r.st == PDT_OK && r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_SOPDT &&
+              pdt_sopdt_to_tc(&r.res.ident.model.p.sopdt, &gtc) == PDT_OK;
+    tline_t l;
+    tl_init(&l);
+    tl_str(&l, "autotune SOPDT K=1.5 T1=8 T2=3 Td=2, PRBS, capacity 600: ");
+    if (!ok) {
+        tl_str(&l, pdt_status_str(r.st));
+        return t_verdict(false, &l);
+    }
+    double eK = t_rel_err((double)gtc.K, 1.5);
+    double eT = t_rel_err((double)gtc.T1 + (double)gtc.T2, 11.0);
+    double eTd = fabs((double)gtc.Td - 2.0);
+    ok = !gtc.complex && eK <= 0.03 && eT <= 0.05 && eTd <= 0.3 &&
+         r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;
+    tl_str(&l, "K ");
+    tl_num(&l, (double)gtc.K, 5);
+    tl_str(&l, " T1 ");
+    tl_num(&l, (double)gtc.T1, 5);
+    tl_str(&l, " T2 ");
+    tl_num(&l, (double)gtc.T2, 5);
+    tl_str(&l, " Td ");
+    tl_num(&l, (double)gtc.Td, 5);
+    at_gains(&l, &r);
+    int failed = t_verdict(ok, &l);
+    at_report("SOPDT", &r);
+    return failed;
+}
+
+int target_check_autotune(void)
+{
+    return check_fopdt() + check_sopdt();
+}
