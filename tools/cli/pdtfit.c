@@ -17,10 +17,13 @@
 #include <string.h>
 
 #include "csv.h"
+#include "plant_sim.h"
 #include "pdt/pdt.h"
 #include "pdt/pdt_ident.h"
 #include "pdt/pdt_ls.h"
 #include "pdt/pdt_reduce.h"
+
+#define M_PI_VALUE 3.14159265358979323846
 
 #define EXIT_REFUSED 1
 #define EXIT_USAGE 2
@@ -33,6 +36,10 @@ static const char usage_line[] =
     "usage: pdtfit identify --model fopdt|sopdt [--method ga|elms|eiv] [options] FILE.csv\n"
     "       pdtfit reduce --method skogestad|sung --model fopdt|sopdt --gain K\n"
     "                     --lags T1,T2,... [--zeros Z1,...] [--delay D] [--h H]\n"
+    "       pdtfit tune --rule simc|imc|amigo|zn [--form pi|pid] --model fopdt|sopdt\n"
+    "                   --K K --Td D (--tau T | --wn W --zeta Z | --tau1 T1 --tau2 T2)\n"
+    "       pdtfit tune --rule zn [--form pi|pid] --Ku KU --Pu PU\n"
+    "       pdtfit autotune-sim --plant-gain K --plant-lags T1,... [options]\n"
     "       pdtfit --help | --version\n";
 
 /* In paragraphs: ISO C99 compilers need only take 4095-character strings. */
@@ -136,10 +143,54 @@ static const char *const help_text[] = {
     "    pdtfit reduce --method skogestad --model fopdt --gain 1 \\\n"
     "      --lags 2,1,0.4,0.2,0.05,0.05,0.05 --zeros -0.3,0.08\n"
     "\n",
-    "Exit status: 0 model printed; 1 the data cannot be identified or the model\n"
-    "not reduced (the library's reason is printed, e.g. the input never moves);\n"
-    "2 bad usage or an unreadable or malformed file. Errors are one line on\n"
-    "stderr starting \"pdtfit: \"; nothing is printed on stdout then.\n",
+    "tune: PI/PID gains of a known model by a published rule, with the\n"
+    "  robustness of the loop they make (pdt_tune.h, docs/tuning.md)\n"
+    "  --rule simc|imc|amigo|zn  the rule (required)\n"
+    "  --form pi|pid         the controller (default pi)\n"
+    "  --model fopdt|sopdt   with --K and --Td, and --tau (fopdt), or --wn and\n"
+    "                        --zeta, or --tau1 and --tau2 (sopdt)\n"
+    "  --Ku KU --Pu PU       zn only: ultimate gain and period (e.g. from a relay)\n"
+    "                        instead of a model; with a model too, the figures\n"
+    "                        are those of these gains on that model\n"
+    "  --tau-c X             simc: closed-loop time constant, s (default Td)\n"
+    "  --lambda X            imc: closed-loop time constant, s (default\n"
+    "                        max(tau, 3 Td))\n"
+    "  --ms-max X            refuse gains whose Ms exceeds X (default 2; 0: none)\n"
+    "  --deriv-filter N      derivative filter Tf = tauD / N (default 10; 0: none)\n"
+    "  Prints {\"rule\",\"form\",\"Kc\",\"tauI\",\"tauD\",\"Tf\" (ideal form),\"Ms\",\n"
+    "  \"gain_margin\",\"phase_margin_deg\",\"w_ms\",\"w_pc\",\"w_gc\" (rad/s),\n"
+    "  \"series\" ({\"Kc\",\"tauI\",\"tauD\",\"Tf\"} or null),\"stated_in\", and\n"
+    "  \"tau_c\" (simc) or \"lambda\" (imc)}. null: infinite or absent.\n"
+    "\n",
+    "autotune-sim: the on-device autotune (pdt_autotune) run scan by scan on a\n"
+    "  simulated plant K prod (Zj s + 1) / prod (Ti s + 1) e^(-D s)\n"
+    "  --plant-gain K, --plant-lags T1,..., --plant-zeros Z1,..., --plant-delay D\n"
+    "                        the plant, as for reduce (gain and lags required)\n"
+    "  --experiment KIND     step|pulse|chirp|prbs|relay (default prbs)\n"
+    "  --amplitude A         step/pulse change, chirp/prbs half swing, relay d\n"
+    "                        (default 1)\n"
+    "  --scan-period S       default (sum of lags + D) / 200\n"
+    "  --decimation N        scans per identification sample (default 4; chirp\n"
+    "                        and relay 1)\n"
+    "  --capacity N          samples recorded (default: settle + the experiment\n"
+    "                        + a settling time 4 sum(lags) + D)\n"
+    "  --model fopdt|sopdt   identified model (default fopdt); --evaluations N\n"
+    "  --rule, --form, --tau-c, --lambda, --ms-max, --deriv-filter  as for tune\n"
+    "  --noise STD, --seed N Gaussian noise on pv; seed of noise and search\n"
+    "  --u0 U, --y0 Y        operating point (default 0, 0)\n"
+    "  --setpoint SP         relay set-point (default y0)\n"
+    "  --pv-min, --pv-max, --u-min, --u-max  safety limits (default none)\n"
+    "  --trace FILE          also write t,u,pv of every scan as CSV\n"
+    "  Prints {\"status\",\"reason\",[\"failed_in\"],\"scan_period\",\"decimation\",\n"
+    "  \"capacity\",\"samples\",\"scans\",\"experiment\",\"phases\",\"ident\" (as\n"
+    "  identify),\"tune\" (as tune),[\"relay\"]}; printed also when the autotune\n"
+    "  aborts or refuses, with exit status 1 and the reason on stderr.\n"
+    "\n",
+    "Exit status: 0 model printed; 1 the data cannot be identified, the model\n"
+    "not reduced, gains refused or the autotune aborted (the library's reason is\n"
+    "printed, e.g. the input never moves); 2 bad usage or an unreadable or\n"
+    "malformed file. Errors are one line on stderr starting \"pdtfit: \"; nothing\n"
+    "is printed on stdout then (except autotune-sim's JSON).\n",
 };
 
 typedef enum method { METHOD_GA, METHOD_ELMS, METHOD_EIV } method_t;
@@ -396,9 +447,9 @@ static void json_key(const char *key, double v)
     json_num(v);
 }
 
-/* One model as JSON. r NULL (pdtfit reduce): the model's keys only, no
- * operating point, cost, fit or evaluations. */
-static void print_model(const pdt_model_t *model, const pdt_ident_result_t *r)
+/* One model as a JSON object (no line end). r NULL (pdtfit reduce): the
+ * model's keys only, no operating point, cost, fit or evaluations. */
+static void print_model_object(const pdt_model_t *model, const pdt_ident_result_t *r)
 {
     if (model->kind == PDT_MODEL_FOPDT) {
         const pdt_fopdt_t *m = &model->p.fopdt;
@@ -466,7 +517,13 @@ static void print_model(const pdt_model_t *model, const pdt_ident_result_t *r)
         json_key("fit", (double)r->fit);
         printf(",\"evaluations\":%lu", (unsigned long)r->evaluations);
     }
-    fputs("}\n", stdout);
+    fputc('}', stdout);
+}
+
+static void print_model(const pdt_model_t *model, const pdt_ident_result_t *r)
+{
+    print_model_object(model, r);
+    fputc('\n', stdout);
 }
 
 static void print_result(const pdt_ident_result_t *r) { print_model(&r->model, r); }
@@ -780,6 +837,799 @@ static int cmd_reduce(int argc, char **argv)
     return 0;
 }
 
+/* ------------------------------------------------------------------ tune */
+
+/* The enum's name without PDT_ / PDT_ERR_, for scripts ("POOR_FIT"). */
+static const char *status_name(pdt_status_t st)
+{
+    switch (st) {
+    case PDT_RUNNING: return "RUNNING";
+    case PDT_OK: return "OK";
+    case PDT_ERR_ARG: return "ARG";
+    case PDT_ERR_LENGTH: return "LENGTH";
+    case PDT_ERR_NOMEM: return "NOMEM";
+    case PDT_ERR_NONFINITE: return "NONFINITE";
+    case PDT_ERR_TOO_SHORT: return "TOO_SHORT";
+    case PDT_ERR_BOUNDS: return "BOUNDS";
+    case PDT_ERR_NO_FORM: return "NO_FORM";
+    case PDT_ERR_NO_EXCITATION: return "NO_EXCITATION";
+    case PDT_ERR_STATE: return "STATE";
+    case PDT_ERR_PV_LIMIT: return "PV_LIMIT";
+    case PDT_ERR_OUTPUT_LIMIT: return "OUTPUT_LIMIT";
+    case PDT_ERR_TIMEOUT: return "TIMEOUT";
+    case PDT_ERR_SETPOINT: return "SETPOINT";
+    case PDT_ERR_POOR_FIT: return "POOR_FIT";
+    case PDT_ERR_UNSTABLE: return "UNSTABLE";
+    case PDT_ERR_ABORTED: return "ABORTED";
+    default: return "UNKNOWN";
+    }
+}
+
+static const char *const rule_names[] = {"simc", "imc", "amigo", "zn"};
+static const char *const form_names[] = {"pi", "pid"};
+
+/* The options of the tuning rule, shared by tune and autotune-sim. */
+typedef struct tune_opts {
+    pdt_tune_rule_t rule;
+    pdt_tune_form_t form;
+    int have_tau_c, have_lambda, have_ms_max, have_filter;
+    double tau_c, lambda, ms_max, deriv_filter;
+} tune_opts_t;
+
+/* Splits argv[*i] into an option name and its value (next argument or
+ * after '='); fails on anything not listed in valued. */
+static void take_option(int argc, char **argv, int *i, const char *cmd,
+                        const char *const *valued, size_t n_valued, char name[32],
+                        const char **value)
+{
+    const char *arg = argv[*i];
+    if (arg[0] != '-' || arg[1] != '-')
+        fail(EXIT_USAGE, "%s: unexpected argument '%s' (%s reads no file)", cmd, arg, cmd);
+    const char *eq = strchr(arg, '=');
+    size_t name_len = eq ? (size_t)(eq - arg) : strlen(arg);
+    if (name_len >= 32) fail(EXIT_USAGE, "%s: unknown option '%s' (see pdtfit --help)", cmd, arg);
+    memcpy(name, arg, name_len);
+    name[name_len] = '\0';
+    int known = 0;
+    for (size_t k = 0; k < n_valued; k++)
+        if (strcmp(name, valued[k]) == 0) known = 1;
+    if (!known) fail(EXIT_USAGE, "%s: unknown option '%s' (see pdtfit --help)", cmd, name);
+    if (eq) {
+        *value = eq + 1;
+    } else {
+        if (*i + 1 >= argc) fail(EXIT_USAGE, "%s: %s needs a value", cmd, name);
+        *value = argv[++*i];
+    }
+}
+
+static double real_option(const char *cmd, const char *name, const char *value)
+{
+    double v;
+    if (parse_real(value, &v) != 0)
+        fail(EXIT_USAGE, "%s: %s needs a finite number, got '%s'", cmd, name, value);
+    return v;
+}
+
+/* Handles --rule, --form, --tau-c, --lambda, --ms-max, --deriv-filter;
+ * returns 0 when name is none of them. */
+static int tune_option(const char *cmd, const char *name, const char *value, tune_opts_t *t)
+{
+    if (strcmp(name, "--rule") == 0) {
+        for (size_t k = 0; k < 4; k++)
+            if (strcmp(value, rule_names[k]) == 0) {
+                t->rule = (pdt_tune_rule_t)k;
+                return 1;
+            }
+        fail(EXIT_USAGE, "%s: unknown rule '%s' (simc, imc, amigo or zn)", cmd, value);
+    }
+    if (strcmp(name, "--form") == 0) {
+        if (strcmp(value, "pi") == 0)
+            t->form = PDT_TUNE_PI;
+        else if (strcmp(value, "pid") == 0)
+            t->form = PDT_TUNE_PID;
+        else
+            fail(EXIT_USAGE, "%s: unknown form '%s' (pi or pid)", cmd, value);
+        return 1;
+    }
+    if (strcmp(name, "--tau-c") == 0) {
+        t->tau_c = real_option(cmd, name, value);
+        if (!(t->tau_c >= 0.0))
+            fail(EXIT_USAGE, "%s: --tau-c needs a time >= 0 s (0: the dead time), got '%s'", cmd,
+                 value);
+        t->have_tau_c = 1;
+        return 1;
+    }
+    if (strcmp(name, "--lambda") == 0) {
+        t->lambda = real_option(cmd, name, value);
+        if (!(t->lambda >= 0.0))
+            fail(EXIT_USAGE, "%s: --lambda needs a time >= 0 s (0: the rule's default), got '%s'",
+                 cmd, value);
+        t->have_lambda = 1;
+        return 1;
+    }
+    if (strcmp(name, "--ms-max") == 0) {
+        t->ms_max = real_option(cmd, name, value);
+        if (!(t->ms_max == 0.0 || t->ms_max > 1.0))
+            fail(EXIT_USAGE, "%s: --ms-max needs a limit > 1 (or 0 for none), got '%s'", cmd,
+                 value);
+        t->have_ms_max = 1;
+        return 1;
+    }
+    if (strcmp(name, "--deriv-filter") == 0) {
+        t->deriv_filter = real_option(cmd, name, value);
+        if (!(t->deriv_filter == 0.0 || t->deriv_filter >= 1.0))
+            fail(EXIT_USAGE, "%s: --deriv-filter needs N >= 1 (or 0 for none), got '%s'", cmd,
+                 value);
+        t->have_filter = 1;
+        return 1;
+    }
+    return 0;
+}
+
+static void tune_opts_check(const char *cmd, const tune_opts_t *t)
+{
+    if (t->have_tau_c && t->rule != PDT_TUNE_SIMC)
+        fail(EXIT_USAGE, "%s: --tau-c is the knob of --rule simc only", cmd);
+    if (t->have_lambda && t->rule != PDT_TUNE_IMC)
+        fail(EXIT_USAGE, "%s: --lambda is the knob of --rule imc only", cmd);
+}
+
+static void tune_config(const tune_opts_t *t, pdt_tune_config_t *cfg)
+{
+    cfg->rule = t->rule;
+    cfg->form = t->form;
+    if (t->have_tau_c) cfg->tau_c = (pdt_real_t)t->tau_c;
+    if (t->have_lambda) cfg->lambda = (pdt_real_t)t->lambda;
+    if (t->have_ms_max) cfg->ms_max = (pdt_real_t)t->ms_max;
+    if (t->have_filter) cfg->deriv_filter = (pdt_real_t)t->deriv_filter;
+}
+
+static void print_gains(const pdt_tune_gains_t *g)
+{
+    fputs("\"Kc\":", stdout);
+    json_num((double)g->Kc);
+    json_key("tauI", (double)g->tauI);
+    json_key("tauD", (double)g->tauD);
+    json_key("Tf", (double)g->Tf);
+}
+
+/* The tuning result as one JSON object (no line end). fig NULL: no model,
+ * the figures are null. Ku, Pu: echoed when finite (zn from a relay). */
+static void print_tune_object(pdt_tune_rule_t rule, pdt_tune_form_t form,
+                              const pdt_tune_result_t *r, const pdt_tune_figures_t *fig,
+                              double Ku, double Pu)
+{
+    printf("{\"rule\":\"%s\",\"form\":\"%s\",", rule_names[rule], form_names[form]);
+    print_gains(&r->ideal);
+    const double nan = (double)NAN;
+    json_key("Ms", fig ? (double)fig->Ms : nan);
+    json_key("gain_margin", fig ? (double)fig->gain_margin : nan);
+    json_key("phase_margin_deg", fig ? (double)fig->phase_margin_deg : nan);
+    json_key("w_ms", fig ? (double)fig->w_ms : nan);
+    json_key("w_pc", fig && fig->w_pc > 0 ? (double)fig->w_pc : nan);
+    json_key("w_gc", fig ? (double)fig->w_gc : nan);
+    fputs(",\"series\":", stdout);
+    if (r->series_exists || r->series_rule) {
+        fputc('{', stdout);
+        print_gains(&r->series);
+        fputc('}', stdout);
+    } else {
+        fputs("null", stdout);
+    }
+    printf(",\"stated_in\":\"%s\"", r->series_rule ? "series" : "ideal");
+    if (rule == PDT_TUNE_SIMC) json_key("tau_c", (double)r->knob);
+    if (rule == PDT_TUNE_IMC) json_key("lambda", (double)r->knob);
+    if (isfinite(Ku)) json_key("Ku", Ku);
+    if (isfinite(Pu)) json_key("Pu", Pu);
+    fputc('}', stdout);
+}
+
+static const char *tune_hint(pdt_status_t st)
+{
+    switch (st) {
+    case PDT_ERR_NO_FORM:
+        return " (complex SOPDT poles: only simc and imc pid apply; zn needs a model whose "
+               "phase reaches -180 degrees)";
+    case PDT_ERR_UNSTABLE:
+        return " (the loop these gains make with the model is unstable)";
+    case PDT_ERR_ARG:
+        return " (the rule needs dead time: simc with tau_c + Td = 0, amigo with Td = 0; or a "
+               "value out of the real type's range)";
+    default:
+        return "";
+    }
+}
+
+/* Why the gains were refused, for a POOR_FIT from the Ms limit: the Ms
+ * they would have had. */
+static void fail_ms(const pdt_model_t *m, const pdt_tune_config_t *cfg, const char *cmd)
+{
+    pdt_tune_config_t open = *cfg;
+    open.ms_max = 0;
+    pdt_tune_result_t r;
+    if (pdt_tune_compute(m, 100, &open, &r) == PDT_OK)
+        fail(EXIT_REFUSED, "%s: gains refused: Ms %.4g exceeds the limit %.4g (--ms-max 0 "
+             "prints them)", cmd, (double)r.fig.Ms, (double)cfg->ms_max);
+    fail(EXIT_REFUSED, "%s: gains refused: %s", cmd, pdt_status_str(PDT_ERR_POOR_FIT));
+}
+
+static int cmd_tune(int argc, char **argv)
+{
+    for (int i = 0; i < argc; i++)
+        if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) print_help();
+    static const char *const valued[] = {"--rule", "--form", "--tau-c", "--lambda",
+                                         "--ms-max", "--deriv-filter", "--model", "--K",
+                                         "--tau", "--Td", "--wn", "--zeta", "--tau1",
+                                         "--tau2", "--Ku", "--Pu"};
+    /* Index in valued - 7 of each model number. */
+    enum { P_K, P_TAU, P_TD, P_WN, P_ZETA, P_TAU1, P_TAU2, P_KU, P_PU, P_COUNT };
+    double par[P_COUNT];
+    int have[P_COUNT] = {0};
+    tune_opts_t t;
+    memset(&t, 0, sizeof t);
+    int have_rule = 0, model = 0; /* 0 none, 1 fopdt, 2 sopdt */
+    for (int i = 0; i < argc; i++) {
+        char name[32];
+        const char *value;
+        take_option(argc, argv, &i, "tune", valued, sizeof valued / sizeof valued[0], name,
+                    &value);
+        if (strcmp(name, "--rule") == 0) have_rule = 1;
+        if (tune_option("tune", name, value, &t)) continue;
+        if (strcmp(name, "--model") == 0) {
+            if (strcmp(value, "fopdt") == 0)
+                model = 1;
+            else if (strcmp(value, "sopdt") == 0)
+                model = 2;
+            else
+                fail(EXIT_USAGE, "tune: unknown model '%s' (fopdt or sopdt)", value);
+            continue;
+        }
+        for (size_t k = 7; k < sizeof valued / sizeof valued[0]; k++)
+            if (strcmp(name, valued[k]) == 0) {
+                par[k - 7] = real_option("tune", name, value);
+                have[k - 7] = 1;
+            }
+    }
+    if (!have_rule) fail(EXIT_USAGE, "tune: --rule simc|imc|amigo|zn is required");
+    tune_opts_check("tune", &t);
+    const int relay = have[P_KU] || have[P_PU];
+    if (relay) {
+        if (t.rule != PDT_TUNE_ZN)
+            fail(EXIT_USAGE, "tune: --Ku and --Pu are inputs of --rule zn only");
+        if (!have[P_KU] || !have[P_PU]) fail(EXIT_USAGE, "tune: --Ku and --Pu go together");
+        if (par[P_KU] == 0.0) fail(EXIT_USAGE, "tune: --Ku must not be 0");
+        if (!(par[P_PU] > 0.0)) fail(EXIT_USAGE, "tune: --Pu needs a period > 0 s");
+    }
+    static const char *const pname[P_COUNT] = {"--K", "--tau", "--Td", "--wn", "--zeta",
+                                               "--tau1", "--tau2", "--Ku", "--Pu"};
+    if (!model) {
+        if (!relay)
+            fail(EXIT_USAGE, "tune: --model fopdt|sopdt is required (or --Ku and --Pu with "
+                 "--rule zn)");
+        for (int k = 0; k < P_KU; k++)
+            if (have[k]) fail(EXIT_USAGE, "tune: %s needs --model", pname[k]);
+    }
+    pdt_model_t m;
+    memset(&m, 0, sizeof m);
+    if (model) {
+        int allowed[P_COUNT] = {0};
+        allowed[P_K] = allowed[P_TD] = allowed[P_KU] = allowed[P_PU] = 1;
+        if (model == 1) {
+            allowed[P_TAU] = 1;
+        } else {
+            const int natural = have[P_WN] || have[P_ZETA];
+            const int tc = have[P_TAU1] || have[P_TAU2];
+            if (natural && tc)
+                fail(EXIT_USAGE, "tune: give the sopdt as --wn --zeta or as --tau1 --tau2, "
+                     "not both");
+            allowed[P_WN] = allowed[P_ZETA] = !tc;
+            allowed[P_TAU1] = allowed[P_TAU2] = !natural;
+        }
+        for (int k = 0; k < P_COUNT; k++)
+            if (have[k] && !allowed[k])
+                fail(EXIT_USAGE, "tune: %s is not a parameter of --model %s", pname[k],
+                     model == 1 ? "fopdt" : "sopdt (--K, --Td and --wn, --zeta or --tau1, "
+                                            "--tau2)");
+        const int need1[] = {P_K, P_TAU, P_TD};
+        const int need2n[] = {P_K, P_WN, P_ZETA, P_TD};
+        const int need2t[] = {P_K, P_TAU1, P_TAU2, P_TD};
+        const int *need = model == 1 ? need1 : (have[P_TAU1] || have[P_TAU2]) ? need2t : need2n;
+        const int n_need = model == 1 ? 3 : 4;
+        for (int k = 0; k < n_need; k++)
+            if (!have[need[k]])
+                fail(EXIT_USAGE, "tune: --model %s needs %s", model == 1 ? "fopdt" : "sopdt",
+                     pname[need[k]]);
+        if (par[P_K] == 0.0) fail(EXIT_USAGE, "tune: --K must not be 0");
+        if (!(par[P_TD] >= 0.0)) fail(EXIT_USAGE, "tune: --Td needs a dead time >= 0 s");
+        for (int k = P_TAU; k <= P_TAU2; k++)
+            if (k != P_TD && have[k] && !(par[k] > 0.0))
+                fail(EXIT_USAGE, "tune: %s must be > 0", pname[k]);
+        pdt_status_t st = PDT_OK;
+        if (model == 1) {
+            m.kind = PDT_MODEL_FOPDT;
+            m.p.fopdt.K = (pdt_real_t)par[P_K];
+            m.p.fopdt.tau = (pdt_real_t)par[P_TAU];
+            m.p.fopdt.Td = (pdt_real_t)par[P_TD];
+            st = pdt_model_check(&m);
+        } else if (have[P_WN]) {
+            m.kind = PDT_MODEL_SOPDT;
+            const pdt_sopdt_natural_t nat = {(pdt_real_t)par[P_K], (pdt_real_t)par[P_WN],
+                                             (pdt_real_t)par[P_ZETA], (pdt_real_t)par[P_TD]};
+            st = pdt_sopdt_from_natural(&nat, &m.p.sopdt);
+        } else {
+            m.kind = PDT_MODEL_SOPDT;
+            const pdt_sopdt_tc_t tc = {(pdt_real_t)par[P_K], (pdt_real_t)par[P_TAU1],
+                                       (pdt_real_t)par[P_TAU2], false, (pdt_real_t)par[P_TD]};
+            st = pdt_sopdt_from_tc(&tc, &m.p.sopdt);
+        }
+        if (st == PDT_OK) st = pdt_model_check(&m);
+        if (st != PDT_OK)
+            fail(EXIT_USAGE, "tune: the model is out of the real type's range (%s)",
+                 pdt_status_str(st));
+    }
+
+    pdt_tune_config_t cfg;
+    pdt_tune_config_default(&cfg);
+    tune_config(&t, &cfg);
+    pdt_tune_result_t r;
+    memset(&r, 0, sizeof r);
+    double Ku = (double)NAN, Pu = (double)NAN;
+    int have_fig = model != 0;
+    if (relay) {
+        Ku = par[P_KU];
+        Pu = par[P_PU];
+        pdt_status_t st = pdt_tune_ziegler_nichols((pdt_real_t)Ku, (pdt_real_t)Pu, t.form,
+                                                   &r.ideal);
+        if (st != PDT_OK)
+            fail(EXIT_REFUSED, "tune: cannot tune: %s (Ku or Pu out of the real type's range)",
+                 pdt_status_str(st));
+        r.series_exists = pdt_tune_to_series(&r.ideal, &r.series) == PDT_OK;
+        if (model) {
+            st = pdt_tune_robustness(&m, &r.ideal, &r.fig);
+            if (st != PDT_OK)
+                fail(EXIT_REFUSED, "tune: cannot tune: %s%s", pdt_status_str(st),
+                     tune_hint(st));
+            if (cfg.ms_max > 0 && r.fig.Ms > cfg.ms_max)
+                fail(EXIT_REFUSED, "tune: gains refused: Ms %.4g exceeds the limit %.4g "
+                     "(--ms-max 0 prints them)", (double)r.fig.Ms, (double)cfg.ms_max);
+        }
+    } else {
+        pdt_status_t st = pdt_tune_compute(&m, 100, &cfg, &r);
+        if (st == PDT_ERR_POOR_FIT) fail_ms(&m, &cfg, "tune");
+        if (st != PDT_OK)
+            fail(EXIT_REFUSED, "tune: cannot tune: %s%s", pdt_status_str(st), tune_hint(st));
+    }
+    print_tune_object(t.rule, t.form, &r, have_fig ? &r.fig : NULL, Ku, Pu);
+    fputc('\n', stdout);
+    if (fflush(stdout) != 0 || ferror(stdout)) fail(EXIT_REFUSED, "cannot write the result");
+    return 0;
+}
+
+/* ---------------------------------------------------------- autotune-sim */
+
+/* Deterministic Gaussian noise: xorshift64* and Box-Muller. */
+typedef struct noise_gen {
+    uint64_t s;
+    int have_spare;
+    double spare;
+} noise_gen_t;
+
+static double noise_uniform(noise_gen_t *g)
+{
+    g->s ^= g->s >> 12;
+    g->s ^= g->s << 25;
+    g->s ^= g->s >> 27;
+    uint64_t v = g->s * 2685821657736338717ull;
+    return ((double)(v >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+static double noise_gauss(noise_gen_t *g)
+{
+    if (g->have_spare) {
+        g->have_spare = 0;
+        return g->spare;
+    }
+    double r = sqrt(-2.0 * log(noise_uniform(g)));
+    double a = 6.283185307179586 * noise_uniform(g);
+    g->spare = r * sin(a);
+    g->have_spare = 1;
+    return r * cos(a);
+}
+
+/* First frequency (rad/s) where the plant's phase, its gain's sign aside,
+ * reaches -180 degrees; 0 if it never does on 1e-4 .. 1e4 / T. */
+static double plant_ultimate_w(const double *lags, int n_lags, const double *zeros, int n_zeros,
+                               double delay, double T)
+{
+    double prev_w = 0.0;
+    for (int k = 0; k <= 800; k++) {
+        double w = 1e-4 / T * pow(10.0, (double)k / 100.0);
+        double ph = -delay * w;
+        for (int i = 0; i < n_lags; i++) ph -= atan(lags[i] * w);
+        for (int j = 0; j < n_zeros; j++) ph += atan(zeros[j] * w);
+        if (ph <= -M_PI_VALUE) {
+            double lo = prev_w, hi = w;
+            for (int it = 0; it < 60; it++) {
+                double mid = 0.5 * (lo + hi), pm = -delay * mid;
+                for (int i = 0; i < n_lags; i++) pm -= atan(lags[i] * mid);
+                for (int j = 0; j < n_zeros; j++) pm += atan(zeros[j] * mid);
+                if (pm <= -M_PI_VALUE)
+                    hi = mid;
+                else
+                    lo = mid;
+            }
+            return 0.5 * (lo + hi);
+        }
+        prev_w = w;
+    }
+    return 0.0;
+}
+
+static const char *const phase_names[] = {"settle", "excite", "identify", "tune"};
+static const char *const kind_names[] = {"", "step", "pulse", "chirp", "prbs", "relay"};
+
+static int cmd_autotune_sim(int argc, char **argv)
+{
+    for (int i = 0; i < argc; i++)
+        if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) print_help();
+    static const char *const valued[] = {
+        "--rule", "--form", "--tau-c", "--lambda", "--ms-max", "--deriv-filter",
+        "--plant-gain", "--plant-lags", "--plant-zeros", "--plant-delay", "--experiment",
+        "--amplitude", "--scan-period", "--decimation", "--capacity", "--model", "--noise",
+        "--seed", "--u0", "--y0", "--setpoint", "--pv-min", "--pv-max", "--u-min", "--u-max",
+        "--trace", "--evaluations"};
+    const char *cmd = "autotune-sim";
+    tune_opts_t t;
+    memset(&t, 0, sizeof t);
+    double lags[REDUCE_MAX_LIST], zeros[REDUCE_MAX_LIST];
+    int n_lags = -1, n_zeros = 0, have_gain = 0, have_ts = 0, have_sp = 0;
+    double gain = 0, delay = 0, amplitude = 1, Ts = 0, noise_std = 0, u0 = 0, y0 = 0, sp = 0;
+    int have_lim[4] = {0};
+    double lim[4] = {0}; /* pv_min, pv_max, u_min, u_max */
+    uint64_t seed = 1, decimation = 0, capacity = 0, evaluations = 0;
+    pdt_excite_kind_t kind = PDT_EXCITE_PRBS;
+    pdt_model_kind_t model = PDT_MODEL_FOPDT;
+    const char *trace = NULL;
+    for (int i = 0; i < argc; i++) {
+        char name[32];
+        const char *value;
+        take_option(argc, argv, &i, cmd, valued, sizeof valued / sizeof valued[0], name, &value);
+        if (tune_option(cmd, name, value, &t)) continue;
+        if (strcmp(name, "--plant-gain") == 0) {
+            gain = real_option(cmd, name, value);
+            if (gain == 0.0) fail(EXIT_USAGE, "%s: --plant-gain must not be 0", cmd);
+            have_gain = 1;
+        } else if (strcmp(name, "--plant-lags") == 0) {
+            n_lags = parse_list(value, lags, REDUCE_MAX_LIST);
+            if (n_lags < 0)
+                fail(EXIT_USAGE, "%s: --plant-lags needs 1 to %d numbers separated by commas, "
+                     "got '%s'", cmd, REDUCE_MAX_LIST, value);
+            for (int k = 0; k < n_lags; k++)
+                if (!(lags[k] > 0.0))
+                    fail(EXIT_USAGE, "%s: --plant-lags: every time constant must be > 0, got "
+                         "%.9g", cmd, lags[k]);
+        } else if (strcmp(name, "--plant-zeros") == 0) {
+            n_zeros = parse_list(value, zeros, REDUCE_MAX_LIST);
+            if (n_zeros < 0)
+                fail(EXIT_USAGE, "%s: --plant-zeros needs 1 to %d numbers separated by commas, "
+                     "got '%s'", cmd, REDUCE_MAX_LIST, value);
+            for (int k = 0; k < n_zeros; k++)
+                if (zeros[k] == 0.0)
+                    fail(EXIT_USAGE, "%s: --plant-zeros: a zero time constant cannot be 0", cmd);
+        } else if (strcmp(name, "--plant-delay") == 0) {
+            delay = real_option(cmd, name, value);
+            if (!(delay >= 0.0))
+                fail(EXIT_USAGE, "%s: --plant-delay needs a dead time >= 0 s, got '%s'", cmd,
+                     value);
+        } else if (strcmp(name, "--experiment") == 0) {
+            int found = 0;
+            for (int k = 1; k <= 5; k++)
+                if (strcmp(value, kind_names[k]) == 0) {
+                    kind = (pdt_excite_kind_t)k;
+                    found = 1;
+                }
+            if (!found)
+                fail(EXIT_USAGE, "%s: unknown experiment '%s' (step, pulse, chirp, prbs or "
+                     "relay)", cmd, value);
+        } else if (strcmp(name, "--amplitude") == 0) {
+            amplitude = real_option(cmd, name, value);
+            if (amplitude == 0.0) fail(EXIT_USAGE, "%s: --amplitude must not be 0", cmd);
+        } else if (strcmp(name, "--scan-period") == 0) {
+            Ts = real_option(cmd, name, value);
+            if (!(Ts > 0.0)) fail(EXIT_USAGE, "%s: --scan-period needs a period > 0 s", cmd);
+            have_ts = 1;
+        } else if (strcmp(name, "--decimation") == 0) {
+            if (parse_u64(value, &decimation) != 0 || decimation == 0 || decimation > 1000000)
+                fail(EXIT_USAGE, "%s: --decimation needs a whole number 1 .. 1000000, got '%s'",
+                     cmd, value);
+        } else if (strcmp(name, "--capacity") == 0) {
+            if (parse_u64(value, &capacity) != 0 || capacity == 0 || capacity > 100000000)
+                fail(EXIT_USAGE, "%s: --capacity needs a whole number 1 .. 100000000, got '%s'",
+                     cmd, value);
+        } else if (strcmp(name, "--evaluations") == 0) {
+            if (parse_u64(value, &evaluations) != 0 || evaluations == 0 ||
+                evaluations > UINT32_MAX)
+                fail(EXIT_USAGE, "%s: --evaluations needs a whole number >= 1, got '%s'", cmd,
+                     value);
+        } else if (strcmp(name, "--model") == 0) {
+            if (strcmp(value, "fopdt") == 0)
+                model = PDT_MODEL_FOPDT;
+            else if (strcmp(value, "sopdt") == 0)
+                model = PDT_MODEL_SOPDT;
+            else
+                fail(EXIT_USAGE, "%s: unknown model '%s' (fopdt or sopdt)", cmd, value);
+        } else if (strcmp(name, "--noise") == 0) {
+            noise_std = real_option(cmd, name, value);
+            if (!(noise_std >= 0.0))
+                fail(EXIT_USAGE, "%s: --noise needs a standard deviation >= 0, got '%s'", cmd,
+                     value);
+        } else if (strcmp(name, "--seed") == 0) {
+            if (parse_u64(value, &seed) != 0)
+                fail(EXIT_USAGE, "%s: --seed needs a whole number >= 0, got '%s'", cmd, value);
+        } else if (strcmp(name, "--u0") == 0) {
+            u0 = real_option(cmd, name, value);
+        } else if (strcmp(name, "--y0") == 0) {
+            y0 = real_option(cmd, name, value);
+        } else if (strcmp(name, "--setpoint") == 0) {
+            sp = real_option(cmd, name, value);
+            have_sp = 1;
+        } else if (strcmp(name, "--trace") == 0) {
+            trace = value;
+        } else {
+            static const char *const limits[] = {"--pv-min", "--pv-max", "--u-min", "--u-max"};
+            for (int k = 0; k < 4; k++)
+                if (strcmp(name, limits[k]) == 0) {
+                    lim[k] = real_option(cmd, name, value);
+                    have_lim[k] = 1;
+                }
+        }
+    }
+    if (!have_gain) fail(EXIT_USAGE, "%s: --plant-gain K is required", cmd);
+    if (n_lags < 0) fail(EXIT_USAGE, "%s: --plant-lags T1,T2,... is required", cmd);
+    if (n_zeros > n_lags)
+        fail(EXIT_USAGE, "%s: more zeros (%d) than lags (%d): the plant is improper", cmd,
+             n_zeros, n_lags);
+    if (have_sp && kind != PDT_EXCITE_RELAY)
+        fail(EXIT_USAGE, "%s: --setpoint is an option of --experiment relay only", cmd);
+    if ((have_lim[0] && have_lim[1] && lim[0] > lim[1]) ||
+        (have_lim[2] && have_lim[3] && lim[2] > lim[3]))
+        fail(EXIT_USAGE, "%s: a lower limit lies above its upper limit", cmd);
+    tune_opts_check(cmd, &t);
+
+    /* Defaults from the plant: time scale, dominant lag, settling time. */
+    double sum_lags = 0.0, T1 = 0.0;
+    for (int k = 0; k < n_lags; k++) {
+        sum_lags += lags[k];
+        if (lags[k] > T1) T1 = lags[k];
+    }
+    const double T_scale = sum_lags + delay;
+    const double T_settle = 4.0 * sum_lags + delay;
+    if (!have_ts) Ts = T_scale / 200.0;
+    /* The recorder keeps the output of each interval's first scan: right
+     * for an output that changes on interval boundaries (step, pulse,
+     * PRBS chips below), late for one that changes at any scan (relay,
+     * chirp), which therefore record every scan by default. */
+    if (!decimation)
+        decimation = kind == PDT_EXCITE_RELAY || kind == PDT_EXCITE_CHIRP ? 1u : 4u;
+    const double Ts_id = Ts * (double)decimation;
+    const double wu = plant_ultimate_w(lags, n_lags, zeros, n_zeros, delay, T_scale);
+    const uint32_t settle = 20;
+
+    pdt_autotune_config_t cfg;
+    pdt_autotune_config_default(&cfg);
+    pdt_excite_config_default(&cfg.excite, kind);
+    pdt_excite_config_t *ec = &cfg.excite;
+    double window = 0.0; /* experiment time after the settle window, s */
+    switch (kind) {
+    case PDT_EXCITE_STEP:
+        ec->amplitude = (pdt_real_t)amplitude;
+        ec->duration = 0;
+        window = 2.0 * T_settle;
+        break;
+    case PDT_EXCITE_PULSE:
+        ec->amplitude = (pdt_real_t)amplitude;
+        /* Whole identification samples, as the PRBS chips. */
+        double on = floor(0.5 * T_settle / Ts_id + 0.5);
+        ec->t_on = (pdt_real_t)((on < 1.0 ? 1.0 : on) * Ts_id);
+        ec->t_off = (pdt_real_t)(floor(T_settle / Ts_id + 0.5) * Ts_id);
+        ec->count = 1;
+        window = 2.0 * T_settle;
+        break;
+    case PDT_EXCITE_CHIRP: {
+        ec->amplitude = (pdt_real_t)fabs(amplitude);
+        double f1 = (wu > 0.0 ? 1.5 * wu : 3.0 / T1) / (2.0 * M_PI_VALUE);
+        if (f1 > 0.25 / Ts) f1 = 0.25 / Ts;
+        ec->f0 = 0;
+        ec->f1 = (pdt_real_t)f1;
+        ec->duration = (pdt_real_t)(5.0 * T_settle);
+        window = 6.0 * T_settle;
+        break;
+    }
+    case PDT_EXCITE_PRBS: {
+        ec->amplitude = (pdt_real_t)fabs(amplitude);
+        ec->prbs_bits = 6;
+        /* Chips of whole identification samples: the recorder keeps the
+         * output of an interval's first scan, so a change inside an
+         * interval would be recorded late. */
+        double chips = floor(T1 / Ts_id + 0.5);
+        double hold = (chips < 1.0 ? 1.0 : chips) * (double)decimation;
+        ec->prbs_hold = hold > 1e8 ? 100000000u : (uint32_t)hold;
+        ec->periods = 1;
+        window = 63.0 * (double)ec->prbs_hold * Ts + T_settle;
+        break;
+    }
+    case PDT_EXCITE_RELAY:
+    default: {
+        ec->d = (pdt_real_t)fabs(amplitude);
+        ec->setpoint = (pdt_real_t)(have_sp ? sp : y0);
+        ec->eps = (pdt_real_t)(3.0 * noise_std);
+        ec->action = gain > 0.0 ? PDT_EXCITE_REVERSE : PDT_EXCITE_DIRECT;
+        const double Pu = wu > 0.0 ? 2.0 * M_PI_VALUE / wu : 2.0 * T_scale;
+        window = 8.0 * Pu + T_settle;
+        break;
+    }
+    }
+    if (!capacity) {
+        double c = (double)settle + ceil(window / Ts_id);
+        capacity = c > 1e8 ? 100000000u : (uint64_t)c;
+    }
+    cfg.Ts = (pdt_real_t)Ts;
+    cfg.decimation = (uint32_t)decimation;
+    cfg.capacity = (size_t)capacity;
+    cfg.settle = settle;
+    if (have_lim[0]) cfg.pv_min = (pdt_real_t)lim[0];
+    if (have_lim[1]) cfg.pv_max = (pdt_real_t)lim[1];
+    if (have_lim[2]) cfg.u_min = (pdt_real_t)lim[2];
+    if (have_lim[3]) cfg.u_max = (pdt_real_t)lim[3];
+    cfg.ident.model = model;
+    cfg.ident.seed = seed;
+    if (evaluations) cfg.ident.max_evaluations = (uint32_t)evaluations;
+    tune_config(&t, &cfg.tune);
+
+    plant_sim_t plant;
+    if (plant_init(&plant, gain, lags, (size_t)n_lags, zeros, (size_t)n_zeros, delay, Ts,
+                   u0, y0) != 0)
+        fail(EXIT_REFUSED, "out of memory");
+    FILE *tf = NULL;
+    if (trace) {
+        tf = fopen(trace, "w");
+        if (!tf) fail(EXIT_USAGE, "cannot open %s: %s", trace, strerror(errno));
+        fputs("t,u,pv\n", tf);
+    }
+
+    pdt_autotune_t *at = malloc(sizeof *at);
+    if (!at) fail(EXIT_REFUSED, "out of memory");
+    size_t work_len = pdt_autotune_workspace_size(&cfg);
+    void *work = work_len ? malloc(work_len) : NULL;
+    if (work_len && !work) fail(EXIT_REFUSED, "out of memory (%zu bytes of workspace)", work_len);
+    noise_gen_t ng = {seed * 0x9E3779B97F4A7C15ull + 0x2545F4914F6CDD1Dull, 0, 0.0};
+    if (ng.s == 0) ng.s = 1;
+
+    uint32_t phase_scans[4] = {0};
+    uint64_t scans = 0;
+    pdt_autotune_result_t res;
+    memset(&res, 0, sizeof res);
+    pdt_status_t st = pdt_autotune_init(at, &cfg, (pdt_real_t)u0, work, work_len);
+    int initialised = st == PDT_OK;
+    /* Scans can only end the experiment (capacity, relay) and the search
+     * (its evaluations); this bound only guards the host against a bug. */
+    const uint64_t guard = 4ull * capacity * decimation + 10000000ull;
+    while (st == PDT_OK && initialised) {
+        double pv = plant_output(&plant);
+        if (noise_std > 0.0) pv += noise_std * noise_gauss(&ng);
+        pdt_autotune_phase_t ph = pdt_autotune_phase(at);
+        if (ph >= PDT_AUTOTUNE_SETTLE && ph <= PDT_AUTOTUNE_TUNE) phase_scans[ph - 1]++;
+        pdt_real_t u;
+        pdt_status_t ss = pdt_autotune_scan(at, (pdt_real_t)pv, &u);
+        if (tf) fprintf(tf, "%.9g,%.9g,%.9g\n", (double)scans * Ts, (double)u, pv);
+        plant_advance(&plant, (double)u);
+        scans++;
+        if (ss == PDT_RUNNING && scans < guard) continue;
+        if (ss == PDT_RUNNING) (void)pdt_autotune_abort(at, &u);
+        break;
+    }
+    if (initialised) {
+        (void)pdt_autotune_result(at, &res);
+        st = res.status;
+    }
+    if (tf && (fflush(tf) != 0 || ferror(tf) || fclose(tf) != 0))
+        fail(EXIT_REFUSED, "cannot write %s", trace);
+
+    printf("{\"status\":\"%s\",\"reason\":\"%s\"", status_name(st), pdt_status_str(st));
+    if (st != PDT_OK) {
+        static const char *const failed[] = {"init",     "settle", "excite", "identify",
+                                             "tune",     "done",   "failed"};
+        int fi = initialised ? (int)res.failed_in : 0;
+        printf(",\"failed_in\":\"%s\"", fi >= 0 && fi <= 6 ? failed[fi] : "unknown");
+    }
+    json_key("scan_period", Ts);
+    printf(",\"decimation\":%lu,\"capacity\":%lu,\"samples\":%lu,\"scans\":%lu",
+           (unsigned long)decimation, (unsigned long)capacity, (unsigned long)res.samples,
+           (unsigned long)scans);
+    printf(",\"experiment\":{\"kind\":\"%s\"", kind_names[kind]);
+    json_key("duration", (double)res.scans_experiment * Ts);
+    printf(",\"scans\":%lu", (unsigned long)res.scans_experiment);
+    switch (kind) {
+    case PDT_EXCITE_STEP:
+        json_key("amplitude", (double)ec->amplitude);
+        break;
+    case PDT_EXCITE_PULSE:
+        json_key("amplitude", (double)ec->amplitude);
+        json_key("t_on", (double)ec->t_on);
+        json_key("t_off", (double)ec->t_off);
+        break;
+    case PDT_EXCITE_CHIRP:
+        json_key("amplitude", (double)ec->amplitude);
+        json_key("f0", (double)ec->f0);
+        json_key("f1", (double)ec->f1);
+        json_key("sweep", (double)ec->duration);
+        break;
+    case PDT_EXCITE_PRBS:
+        json_key("amplitude", (double)ec->amplitude);
+        printf(",\"bits\":%u", (unsigned)ec->prbs_bits);
+        json_key("hold", (double)ec->prbs_hold * Ts);
+        break;
+    default:
+        json_key("d", (double)ec->d);
+        json_key("eps", (double)ec->eps);
+        json_key("setpoint", (double)ec->setpoint);
+        printf(",\"action\":\"%s\"", ec->action == PDT_EXCITE_REVERSE ? "reverse" : "direct");
+        break;
+    }
+    fputs("},\"phases\":{", stdout);
+    for (int k = 0; k < 4; k++)
+        printf("%s\"%s\":%lu", k ? "," : "", phase_names[k], (unsigned long)phase_scans[k]);
+    fputs("},\"ident\":", stdout);
+    if (res.has_model)
+        print_model_object(&res.ident.model, &res.ident);
+    else
+        fputs("null", stdout);
+    fputs(",\"tune\":", stdout);
+    if (res.has_gains)
+        print_tune_object(t.rule, t.form, &res.tune, &res.tune.fig, (double)NAN, (double)NAN);
+    else
+        fputs("null", stdout);
+    if (kind == PDT_EXCITE_RELAY) {
+        fputs(",\"relay\":", stdout);
+        if (res.has_relay) {
+            fputs("{\"Ku\":", stdout);
+            json_num((double)res.relay.Ku);
+            json_key("Pu", (double)res.relay.Pu);
+            json_key("a", (double)res.relay.a);
+            json_key("d", (double)res.relay.d);
+            printf(",\"cycles\":%u}", (unsigned)res.relay.cycles);
+        } else {
+            fputs("null", stdout);
+        }
+    }
+    fputs("}\n", stdout);
+    if (fflush(stdout) != 0 || ferror(stdout)) fail(EXIT_REFUSED, "cannot write the result");
+    free(work);
+    free(at);
+    plant_free(&plant);
+    if (st != PDT_OK) {
+        static const char *const phase_of[] = {"init", "settle", "excite", "identify", "tune"};
+        const int fi = initialised ? (int)res.failed_in : 0;
+        const char *where = fi >= 0 && fi <= 4 ? phase_of[fi] : "?";
+        if (st == PDT_ERR_POOR_FIT && res.has_model && res.ident.fit < cfg.tune.fit_min)
+            fail(EXIT_REFUSED, "autotune-sim: %s (%s in %s): fit %.4g%% below %.4g%%: too much "
+                 "noise or too little excitation", pdt_status_str(st), status_name(st), where,
+                 (double)res.ident.fit, (double)cfg.tune.fit_min);
+        if (st == PDT_ERR_POOR_FIT && res.has_model) {
+            pdt_tune_config_t open = cfg.tune;
+            open.ms_max = 0;
+            pdt_tune_result_t tr;
+            if (pdt_tune_compute(&res.ident.model, res.ident.fit, &open, &tr) == PDT_OK)
+                fail(EXIT_REFUSED, "autotune-sim: %s (%s in %s): Ms %.4g exceeds the limit %.4g "
+                     "(--ms-max, a slower knob or another rule)", pdt_status_str(st),
+                     status_name(st), where, (double)tr.fig.Ms, (double)cfg.tune.ms_max);
+        }
+        fail(EXIT_REFUSED, "autotune-sim: %s (%s in %s)", pdt_status_str(st), status_name(st),
+             where);
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -798,6 +1648,8 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "identify") == 0) return cmd_identify(argc - 2, argv + 2);
     if (strcmp(cmd, "reduce") == 0) return cmd_reduce(argc - 2, argv + 2);
+    if (strcmp(cmd, "tune") == 0) return cmd_tune(argc - 2, argv + 2);
+    if (strcmp(cmd, "autotune-sim") == 0) return cmd_autotune_sim(argc - 2, argv + 2);
     fail(EXIT_USAGE, "unknown command '%s' (see pdtfit --help)", cmd);
     return EXIT_USAGE;
 }
