@@ -200,9 +200,10 @@ static void test_stop(void **state)
     assert_int_equal(pdt_record_result(&rec, &res), PDT_OK);
     assert_int_equal(res.status, PDT_OK);
     assert_int_equal(res.n, 2);
-    assert_true(res.u0 == R(10.5) && res.u_safe == R(10.5));
+    /* Both signals are interval means: u 10, 10 -> 10 and 11, 12 -> 11.5. */
+    assert_true(res.u0 == R(10.75) && res.u_safe == R(10.75));
     assert_true(res.y0 == R(2.5));
-    assert_true(u[0] == R(10.0) && u[1] == R(11.0) && y[0] == R(1.5) && y[1] == R(3.5));
+    assert_true(u[0] == R(10.0) && u[1] == R(11.5) && y[0] == R(1.5) && y[1] == R(3.5));
     canary_check(u + 2, 6 + CANARY_COUNT);
     canary_check(y + 2, 6 + CANARY_COUNT);
 }

@@ -168,9 +168,14 @@ pdt_status_t pdt_record_push(pdt_record_t *rec, pdt_real_t u_applied, pdt_real_t
         rec->scans++;
     }
     if (rec->pend == 0u) {
-        rec->pend_u = u_applied;
+        rec->pend_u = PDT_R(0.0);
         rec->pend_sum = PDT_R(0.0);
     }
+    /* Both signals are averaged over the interval: an input that changes
+     * inside it (a relay switching, a hold that is not a multiple of the
+     * decimation) then keeps its area, where its first value would move
+     * the change to the interval's start. */
+    rec->pend_u += u_applied;
     rec->pend_sum += pv;
     rec->pend++;
     if (rec->pend < c->decimation) {
@@ -178,6 +183,7 @@ pdt_status_t pdt_record_push(pdt_record_t *rec, pdt_real_t u_applied, pdt_real_t
     }
     rec->pend = 0u;
     pdt_real_t ys = rec->pend_sum / (pdt_real_t)c->decimation;
+    rec->pend_u /= (pdt_real_t)c->decimation;
     if (!rec->settled) {
         settle_sample(rec, rec->pend_u, ys);
         if (rec->settled

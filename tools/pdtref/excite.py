@@ -258,7 +258,7 @@ def record(c, capacity, u_scan, pv_scan):
     abort = int(hits[0]) if len(hits) else None
     good = m if abort is None else abort
     ns = good // D  # complete samples before the abort
-    us = u_scan[:ns * D:D]
+    us = u_scan[:ns * D].reshape(ns, D).mean(axis=1) if ns else np.zeros(0)
     ys = pv_scan[:ns * D].reshape(ns, D).mean(axis=1) if ns else np.zeros(0)
 
     # settle window start s and the sample j that completes it

@@ -19,11 +19,12 @@
  * is written; the output then holds until the next scan (zero-order hold),
  * which is the convention of the identification.
  *
- * Recording: with decimation D, each identification sample pairs the output
- * of an interval's first scan with the mean process value over its D scans
- * (an anti-alias filter). That mean is centred (D - 1) / 2 scans later, so
- * the identified dead time is (D - 1) Ts / 2 short; the autotune adds it
- * back to the model it reports.
+ * Recording: with decimation D, each identification sample pairs the mean
+ * output and the mean process value over its D scans (an anti-alias
+ * filter; see pdt_record.h). The process value's mean is centred
+ * (D - 1) / 2 scans after the interval's start, so the identified dead time
+ * is (D - 1) Ts / 2 short; the autotune adds it back to the model it
+ * reports.
  *
  * Work per call (worst case): settle and excite, O(1); the first identify
  * call prepares the identification (O(n), plus O(N_f log N_f) for the

@@ -7,13 +7,15 @@
  * Scans and samples. The application calls pdt_record_push once per scan
  * (its control cycle) with the output it applied and the process value it
  * read. Every `decimation` scans make one identification sample:
- *   u[j] = the output pushed at the first scan of the interval (the output
- *          is held piecewise constant, so this is the value held);
- *   y[j] = the mean of the process values of the decimation scans of
- *          the interval (a boxcar anti-alias filter).
- * The mean is centred (decimation - 1) / 2 scans after the interval's start,
- * so a model identified from the record shows a dead time shorter by that
- * much than one sampled at the interval starts.
+ *   u[j] = the mean of the outputs pushed in the decimation scans of the
+ *          interval: the held value when the output does not change in
+ *          the interval, and the right area when it does (a relay
+ *          switching, a hold that is not a multiple of the decimation);
+ *   y[j] = the mean of the process values of the same scans (a boxcar
+ *          anti-alias filter).
+ * The process value's mean is centred (decimation - 1) / 2 scans after the
+ * interval's start, so a model identified from the record shows a dead time
+ * shorter by that much than the process's (pdt_autotune adds it back).
  *
  * Phases.
  *  1. Settle: the application holds its output at the operating point. The
@@ -108,7 +110,7 @@ typedef struct pdt_record {
     bool settled;
     uint32_t scans;         /* scans accepted */
     uint32_t pend;          /* scans in the open interval */
-    pdt_real_t pend_u;      /* output of its first scan */
+    pdt_real_t pend_u;      /* sum of its outputs */
     pdt_real_t pend_sum;    /* sum of its process values */
     pdt_real_t win_min;     /* y extremes of the settle window */
     pdt_real_t win_max;
