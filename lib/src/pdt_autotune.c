@@ -151,7 +151,7 @@ pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *
     at->ident_work_len = ib;
     at->gen = gen;
     at->rec = rec;
-    at->tail_left = cfg->tail;
+    at->tail_end = 0u;
     at->excite_over = false;
     at->ident_started = false;
     at->res = (pdt_autotune_result_t){0};
@@ -203,6 +203,9 @@ static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_
         /* Only a relay fails here (pv not finite): hold the operating point. */
         return fail(at, se, u);
     }
+    /* Samples complete before this scan: the tail counts from here when the
+     * excitation ends in this scan. */
+    const size_t n_before = at->rec.n;
     pdt_status_t sr = pdt_record_push(&at->rec, un, pv);
     at->res.scans_experiment++;
     if (sr != PDT_OK && sr != PDT_RUNNING) {
@@ -218,19 +221,17 @@ static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_
             at->phase = PDT_AUTOTUNE_EXCITE;
         }
     }
-    if (se == PDT_OK && !at->excite_over) {
-        /* The excitation is over; the response is not: record the tail. */
-        at->excite_over = true;
-    }
-    if (at->excite_over && sr == PDT_RUNNING && at->cfg.tail != 0u) {
-        /* The tail is counted in scans of whole samples. */
-        if (at->tail_left == 0u) {
-            if (pdt_record_stop(&at->rec) == PDT_OK) {
-                sr = PDT_OK;
-            }
-        } else if (at->tail_left > 0u &&
-                   at->res.scans_experiment % at->cfg.decimation == 0u) {
-            at->tail_left--;
+    if (at->cfg.tail != 0u && sr == PDT_RUNNING && (se == PDT_OK || at->excite_over)) {
+        /* The excitation is over; the response is not: record `tail` more
+         * samples than were complete when it ended. */
+        pdt_record_result_t rr;
+        (void)pdt_record_result(&at->rec, &rr);
+        if (!at->excite_over) {
+            at->excite_over = true;
+            at->tail_end = n_before + at->cfg.tail;
+        }
+        if (rr.n >= at->tail_end && pdt_record_stop(&at->rec) == PDT_OK) {
+            sr = PDT_OK;
         }
     }
     if (sr == PDT_OK) {

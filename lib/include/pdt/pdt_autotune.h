@@ -121,7 +121,7 @@ typedef struct pdt_autotune {
     pdt_real_t *y;
     void *ident_work;         /* identification's part of the workspace */
     size_t ident_work_len;
-    uint32_t tail_left;       /* samples of tail still to record */
+    size_t tail_end;          /* samples recorded when the tail is complete */
     bool excite_over;         /* the excitation has ended */
     bool ident_started;       /* pdt_ident_init has run */
     pdt_excite_t gen;
