@@ -693,6 +693,38 @@ static void test_relay(void **state)
     assert_close(fb->rDeadTime, PLANT_TD, 0.0, 0.2);
 }
 
+/* The glue entry points: refuse a block the PLC declared differently. */
+static void test_ext_entry_points(void **state)
+{
+    harness_t *h = *state;
+    pdt_fb_autotune_t *fb = &h->fb;
+    uint32_t size = (uint32_t)sizeof *fb;
+    fb->xExecute = true;
+    assert_int_equal(pdt_fb_autotune_ext_init(NULL, size), PDT_ERR_ARG);
+    assert_int_equal(pdt_fb_autotune_ext_cycle(NULL, size), PDT_ERR_ARG);
+    assert_int_equal(pdt_fb_autotune_ext_init(fb, size - 8u), PDT_ERR_ARG);
+    assert_int_equal(pdt_fb_autotune_ext_cycle(fb, size + 8u), PDT_ERR_ARG);
+    void *odd = (char *)fb + 4;
+    assert_int_equal(pdt_fb_autotune_ext_init(odd, size), PDT_ERR_ARG);
+    assert_int_equal(pdt_fb_autotune_ext_cycle(odd, size), PDT_ERR_ARG);
+    /* Nothing was done: still the harness's parameters, no edge seen. */
+    assert_int_equal(fb->udiDecimation, 2);
+    assert_false(fb->xBusy);
+    assert_false(fb->internal.xExecutePrev);
+
+    assert_int_equal(pdt_fb_autotune_ext_init(fb, size), PDT_OK);
+    assert_int_equal(fb->udiDecimation, 1);
+    assert_false(fb->xExecute);
+    fb->rOutputNow = R(U0);
+    fb->rPvMin = R(0.0);
+    fb->rPvMax = R(200.0);
+    fb->xExecute = true;
+    fb->rPV = plant_pv(&h->plant);
+    assert_int_equal(pdt_fb_autotune_ext_cycle(fb, size), PDT_OK);
+    assert_true(fb->xBusy);
+    assert_int_equal(fb->iPhase, PDT_AUTOTUNE_SETTLE);
+}
+
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
 
 int main(void)
@@ -714,6 +746,7 @@ int main(void)
         T(test_refused_tuning),
         T(test_prbs_sopdt_pid),
         T(test_relay),
+        T(test_ext_entry_points),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

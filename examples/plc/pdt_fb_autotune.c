@@ -365,3 +365,33 @@ pdt_status_t pdt_fb_autotune(pdt_fb_autotune_t *fb)
     }
     return PDT_OK;
 }
+
+/* Alignment of the instance, without C11's _Alignof. */
+struct fb_align_probe {
+    char c;
+    pdt_fb_autotune_t fb;
+};
+
+static pdt_fb_autotune_t *ext_block(void *block, uint32_t size)
+{
+    if (block == NULL || (size_t)size != sizeof(pdt_fb_autotune_t) ||
+        (uintptr_t)block % offsetof(struct fb_align_probe, fb) != 0u) {
+        return NULL;
+    }
+    return (pdt_fb_autotune_t *)block;
+}
+
+pdt_status_t pdt_fb_autotune_ext_init(void *block, uint32_t size)
+{
+    pdt_fb_autotune_t *fb = ext_block(block, size);
+    if (fb == NULL) {
+        return PDT_ERR_ARG;
+    }
+    pdt_fb_autotune_init(fb);
+    return PDT_OK;
+}
+
+pdt_status_t pdt_fb_autotune_ext_cycle(void *block, uint32_t size)
+{
+    return pdt_fb_autotune(ext_block(block, size));
+}

@@ -186,6 +186,16 @@ void pdt_fb_autotune_init(pdt_fb_autotune_t *fb);
  * pdt_autotune_init (O(1)). */
 pdt_status_t pdt_fb_autotune(pdt_fb_autotune_t *fb);
 
+/* Entry points for a PLC runtime's external-function glue, where the
+ * instance is memory the PLC declared (AutotuneFB.st, PDT_FB_AUTOTUNE_T):
+ * size is the PLC's SIZEOF of it, checked against sizeof(pdt_fb_autotune_t)
+ * so that a declaration out of step with this header is refused instead of
+ * misread. Return PDT_ERR_ARG (nothing done) for NULL, a size that differs,
+ * or block not aligned for the struct; else as pdt_fb_autotune_init (then
+ * PDT_OK) and pdt_fb_autotune. */
+pdt_status_t pdt_fb_autotune_ext_init(void *block, uint32_t size);
+pdt_status_t pdt_fb_autotune_ext_cycle(void *block, uint32_t size);
+
 #ifdef __cplusplus
 }
 #endif
