@@ -6,9 +6,10 @@
  * rising-edge start, Busy on every running cycle, Done with a model and
  * gains close to the plant's, the PLCopen end-flag handshake (held while
  * Execute, one cycle when Execute fell early), Error and ErrorID on a pv
- * limit, a time limit and refused gains, refused starts, the Abort input,
- * re-trigger after Done, the instance size and workspace, and that nothing
- * is written past the instance (canaries).
+ * limit, a time limit, a failed sensor and refused gains, refused starts,
+ * the Abort input, re-trigger after Done, an instance moved while busy, the
+ * size-checked glue entry points, the instance's size, layout and
+ * workspace, and that nothing is written past the instance (canaries).
  */
 #include "test_util.h"
 
@@ -725,6 +726,43 @@ static void test_ext_entry_points(void **state)
     assert_int_equal(fb->iPhase, PDT_AUTOTUNE_SETTLE);
 }
 
+/* An instance copied elsewhere while busy (as an online change may do)
+ * stops safely instead of following the old copy's pointers. */
+static void test_moved_while_busy(void **state)
+{
+    harness_t *h = *state;
+    start_edge(h);
+    for (int i = 0; i < 100; i++) {
+        cycle(h);
+    }
+    assert_true(h->fb.xBusy);
+    harness_t *h2 = test_malloc(sizeof *h2);
+    memcpy(h2, h, sizeof *h2);
+    /* The old copy is gone: poison it so any use through a stale pointer
+     * would show. */
+    memset(&h->fb.internal.work, 0xA5, sizeof h->fb.internal.work);
+    pdt_fb_autotune_t *fb = &h2->fb;
+    cycle(h2);
+    assert_false(fb->xBusy);
+    assert_true(fb->xError);
+    assert_int_equal(fb->iErrorID, PDT_ERR_STATE);
+    assert_int_equal(fb->iPhase, PDT_AUTOTUNE_FAILED);
+    assert_string_equal(fb->sStatus, "error: instance moved");
+    assert_true(fb->rOutput == R(U0));
+    cycle(h2);
+    assert_true(fb->rOutput == R(U0));
+    /* A new start in the new place works. */
+    fb->xExecute = false;
+    for (int i = 0; i < 400; i++) {
+        cycle(h2);
+    }
+    start_edge(h2);
+    run_until_idle(h2, MAX_CYCLES);
+    assert_true(fb->xDone);
+    canary_check(h2->canary, CANARY_COUNT);
+    test_free(h2);
+}
+
 #define T(f) cmocka_unit_test_setup_teardown(f, setup, teardown)
 
 int main(void)
@@ -747,6 +785,7 @@ int main(void)
         T(test_prbs_sopdt_pid),
         T(test_relay),
         T(test_ext_entry_points),
+        T(test_moved_while_busy),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

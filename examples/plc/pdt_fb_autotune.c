@@ -283,6 +283,8 @@ static void start(pdt_fb_autotune_t *fb)
         text_set(fb->sStatus, "refused: ", pdt_status_str(st));
         return;
     }
+    fb->internal.rStartOutput = fb->rOutputNow;
+    fb->internal.self = fb;
     fb->xBusy = true;
 }
 
@@ -344,6 +346,16 @@ pdt_status_t pdt_fb_autotune(pdt_fb_autotune_t *fb)
             }
             return PDT_OK;
         }
+    } else if (in->self != (const void *)fb) {
+        /* Moved while busy: the autotune's pointers lead to the old copy,
+         * so it must not run again. The output at the start is safe. */
+        fb->rOutput = in->rStartOutput;
+        fb->xBusy = false;
+        fb->xError = true;
+        fb->iErrorID = (int16_t)PDT_ERR_STATE;
+        fb->iPhase = (int16_t)PDT_AUTOTUNE_FAILED;
+        text_set(fb->sStatus, NULL, "error: instance moved");
+        return PDT_OK;
     } else if (abort_edge) {
         pdt_real_t u;
         if (pdt_autotune_abort(&in->at, &u) == PDT_OK) {

@@ -46,6 +46,11 @@
  *  - rOutput: rOutputNow before the first start and after a refused start;
  *    the experiment while busy; the operating point once the command has
  *    ended, held until the next start.
+ *  - The running autotune keeps pointers into the instance. An instance
+ *    moved while busy (e.g. by a runtime's online change) is detected on
+ *    its next cycle: it ends with PDT_ERR_STATE and rOutput = the output at
+ *    the start, without touching the stale pointers. An idle instance may
+ *    be moved freely.
  *
  * Time and memory per cycle: see docs/plc.md. The instance holds the
  * record and the identification's workspace for PDT_FB_AUTOTUNE_CAPACITY
@@ -85,6 +90,9 @@ extern "C" {
 typedef struct pdt_fb_autotune_internal {
     bool xExecutePrev;        /* xExecute of the last cycle (edge memory) */
     bool xAbortPrev;          /* xAbort of the last cycle */
+    pdt_real_t rStartOutput;  /* rOutputNow at the start */
+    const void *self;         /* the instance's address at the start: the
+                               * autotune points into the instance */
     pdt_autotune_t at;        /* the autotune, valid while xBusy and after */
     pdt_real_t work[PDT_FB_AUTOTUNE_WORK_REALS]; /* its workspace */
 } pdt_fb_autotune_internal_t;
