@@ -1,0 +1,410 @@
+/*
+ * Host driver of the autotune benchmark (tools/bench/autotune_bench.py):
+ * runs the library's autotune and relay test against a simulated true
+ * plant, and the library's half rule and tuning rules on known models. Not
+ * part of the library: stdio and malloc are fine here.
+ *
+ * One job per run, read from stdin as whitespace-separated tokens; the
+ * answer is printed as `key value` lines.
+ *
+ *   autotune PLANT NOISE AT        the autotune, one call per scan
+ *   relay    PLANT NOISE RELAY     a relay test with pdt_excite, then
+ *                                  Ziegler-Nichols PI and PID gains
+ *   model    KIND P1 P2 P3 [P4]    SIMC PI and PID of a known model
+ *                                  (1: K tau Td; 2: k a b Td, form (2))
+ *   halfrule k NL lags.. NZ zeros.. theta0
+ *                                  half-rule FOPDT and SOPDT, SIMC PI on
+ *                                  the FOPDT and PID on the SOPDT
+ *
+ * PLANT: Ts n l, then Phi (n x n, row-major), Gb (n), Ga (n), C (n): the
+ * exact zero-order-hold discretisation at the scan period Ts of a strictly
+ * proper plant whose dead time is (l + f) Ts:
+ *   x[k+1] = Phi x[k] + Gb u[k-l] + Ga u[k-l-1],   y[k] = C x[k]
+ * (Gb carries the last (1 - f) Ts of the interval, Ga the first f Ts;
+ * the script computes them). The process value read at scan k is
+ * y[k] + noise[k].
+ * NOISE: std seed max_scans. White Gaussian noise of that standard
+ * deviation (xorshift64* and Box-Muller: the same stream everywhere).
+ * AT: decimation capacity settle amplitude t_on t_off u_min u_max pv_min
+ * pv_max model(1 FOPDT, 2 SOPDT) ident_seed form(0 PI, 1 PID): the
+ * autotune's own rule is SIMC of that form.
+ * RELAY: d eps skip cycles.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pdt/pdt.h"
+
+#define MAXN 16
+#define PI_D 3.14159265358979323846
+#define RL(x) ((pdt_real_t)(x))
+#define MAXL 200000
+
+typedef struct plant {
+    double Ts;
+    int n;
+    long l;
+    double Phi[MAXN * MAXN];
+    double Gb[MAXN];
+    double Ga[MAXN];
+    double C[MAXN];
+    double x[MAXN];
+    double *ubuf; /* u[k-l-1] .. u[k] (ring of l + 2) */
+    long blen;
+    long head;
+} plant_t;
+
+typedef struct noise {
+    double std;
+    uint64_t s;
+    int have;
+    double spare;
+} noise_t;
+
+static int rd(double *v)
+{
+    return scanf("%lf", v) == 1 ? 0 : -1;
+}
+
+static int rdl(long *v)
+{
+    return scanf("%ld", v) == 1 ? 0 : -1;
+}
+
+static void die(const char *what)
+{
+    fprintf(stderr, "autotune_driver: bad input (%s)\n", what);
+    exit(2);
+}
+
+static void read_plant(plant_t *p)
+{
+    long n;
+    if (rd(&p->Ts) || rdl(&n) || rdl(&p->l) || n < 1 || n > MAXN || p->l < 0 || p->l > MAXL) {
+        die("plant header");
+    }
+    p->n = (int)n;
+    for (int i = 0; i < p->n * p->n; i++) {
+        if (rd(&p->Phi[i])) die("Phi");
+    }
+    for (int i = 0; i < p->n; i++) {
+        if (rd(&p->Gb[i])) die("Gb");
+    }
+    for (int i = 0; i < p->n; i++) {
+        if (rd(&p->Ga[i])) die("Ga");
+    }
+    for (int i = 0; i < p->n; i++) {
+        if (rd(&p->C[i])) die("C");
+    }
+    memset(p->x, 0, sizeof p->x);
+    p->blen = p->l + 2;
+    p->ubuf = calloc((size_t)p->blen, sizeof(double));
+    if (p->ubuf == NULL) die("memory");
+    p->head = 0;
+}
+
+static double plant_y(const plant_t *p)
+{
+    double y = 0.0;
+    for (int i = 0; i < p->n; i++) y += p->C[i] * p->x[i];
+    return y;
+}
+
+/* Applies u over the scan interval that starts now. The plant starts at
+ * rest with u = 0 in its past. */
+static void plant_step(plant_t *p, double u)
+{
+    p->ubuf[p->head] = u; /* u[k] */
+    double ub = p->ubuf[(p->head - p->l + p->blen * 2) % p->blen];     /* u[k-l] */
+    double ua = p->ubuf[(p->head - p->l - 1 + p->blen * 2) % p->blen]; /* u[k-l-1] */
+    double xn[MAXN];
+    for (int i = 0; i < p->n; i++) {
+        double s = p->Gb[i] * ub + p->Ga[i] * ua;
+        for (int j = 0; j < p->n; j++) s += p->Phi[i * p->n + j] * p->x[j];
+        xn[i] = s;
+    }
+    memcpy(p->x, xn, sizeof(double) * (size_t)p->n);
+    p->head = (p->head + 1) % p->blen;
+}
+
+static double noise_next(noise_t *z)
+{
+    if (z->std == 0.0) return 0.0;
+    if (z->have) {
+        z->have = 0;
+        return z->std * z->spare;
+    }
+    double u[2];
+    for (int i = 0; i < 2; i++) {
+        z->s ^= z->s >> 12;
+        z->s ^= z->s << 25;
+        z->s ^= z->s >> 27;
+        uint64_t r = z->s * 2685821657736338717ull;
+        u[i] = ((double)(r >> 11) + 0.5) / 9007199254740992.0; /* (0, 1) */
+    }
+    double rad = sqrt(-2.0 * log(u[0]));
+    z->spare = rad * sin(2.0 * PI_D * u[1]);
+    z->have = 1;
+    return z->std * rad * cos(2.0 * PI_D * u[1]);
+}
+
+static void read_noise(noise_t *z, long *max_scans)
+{
+    long seed;
+    if (rd(&z->std) || rdl(&seed) || rdl(max_scans) || z->std < 0.0 || *max_scans < 1) {
+        die("noise");
+    }
+    z->s = 0x9E3779B97F4A7C15ull ^ ((uint64_t)seed * 0xD1B54A32D192ED03ull);
+    if (z->s == 0) z->s = 1;
+    z->have = 0;
+}
+
+static void print_gains(const char *tag, const pdt_tune_gains_t *g)
+{
+    printf("%s_Kc %.9g\n%s_tauI %.9g\n%s_tauD %.9g\n%s_Tf %.9g\n", tag, (double)g->Kc, tag,
+           (double)g->tauI, tag, (double)g->tauD, tag, (double)g->Tf);
+}
+
+static void print_model(const char *tag, const pdt_model_t *m)
+{
+    if (m->kind == PDT_MODEL_FOPDT) {
+        printf("%s_kind 1\n%s_K %.9g\n%s_tau %.9g\n%s_Td %.9g\n", tag, tag, (double)m->p.fopdt.K,
+               tag, (double)m->p.fopdt.tau, tag, (double)m->p.fopdt.Td);
+    } else {
+        printf("%s_kind 2\n%s_k %.9g\n%s_a %.9g\n%s_b %.9g\n%s_Td %.9g\n", tag, tag,
+               (double)m->p.sopdt.k, tag, (double)m->p.sopdt.a, tag, (double)m->p.sopdt.b, tag,
+               (double)m->p.sopdt.Td);
+    }
+}
+
+/* SIMC gains of form `form` for model m, printed under tag with their
+ * status; the limits as given. */
+static void tune_print(const char *tag, const pdt_model_t *m, pdt_real_t fit,
+                       pdt_tune_form_t form, pdt_real_t fit_min, pdt_real_t ms_max)
+{
+    pdt_tune_config_t tc;
+    pdt_tune_config_default(&tc);
+    tc.rule = PDT_TUNE_SIMC;
+    tc.form = form;
+    tc.fit_min = fit_min;
+    tc.ms_max = ms_max;
+    pdt_tune_result_t r;
+    pdt_status_t st = pdt_tune_compute(m, fit, &tc, &r);
+    printf("%s_status %d\n", tag, (int)st);
+    if (st == PDT_OK) {
+        print_gains(tag, &r.ideal);
+        printf("%s_Ms_model %.9g\n", tag, (double)r.fig.Ms);
+    } else if (st == PDT_ERR_POOR_FIT || st == PDT_ERR_UNSTABLE) {
+        /* The gains the limits refused, for the record. */
+        tc.ms_max = RL(0.0);
+        tc.fit_min = RL(-1.0);
+        if (pdt_tune_compute(m, fit, &tc, &r) == PDT_OK) {
+            char t2[64];
+            snprintf(t2, sizeof t2, "%s_refused", tag);
+            print_gains(t2, &r.ideal);
+            printf("%s_Ms_model %.9g\n", t2, (double)r.fig.Ms);
+        }
+    }
+}
+
+static int run_autotune(void)
+{
+    plant_t p;
+    noise_t z;
+    long max_scans;
+    read_plant(&p);
+    read_noise(&z, &max_scans);
+    double v[13];
+    for (int i = 0; i < 13; i++) {
+        if (rd(&v[i])) die("autotune config");
+    }
+    pdt_autotune_config_t cfg;
+    pdt_autotune_config_default(&cfg);
+    cfg.Ts = (pdt_real_t)p.Ts;
+    cfg.decimation = (uint32_t)v[0];
+    cfg.capacity = (size_t)v[1];
+    cfg.settle = (uint32_t)v[2];
+    pdt_excite_config_default(&cfg.excite, PDT_EXCITE_PULSE);
+    cfg.excite.amplitude = (pdt_real_t)v[3];
+    cfg.excite.t_on = (pdt_real_t)v[4];
+    cfg.excite.t_off = (pdt_real_t)v[5];
+    cfg.excite.count = 1u;
+    cfg.u_min = (pdt_real_t)v[6];
+    cfg.u_max = (pdt_real_t)v[7];
+    cfg.pv_min = (pdt_real_t)v[8];
+    cfg.pv_max = (pdt_real_t)v[9];
+    cfg.max_scans = (uint32_t)max_scans;
+    pdt_ident_config_default(&cfg.ident);
+    cfg.ident.model = v[10] == 1.0 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+    cfg.ident.seed = (uint64_t)v[11];
+    pdt_tune_config_default(&cfg.tune);
+    cfg.tune.rule = PDT_TUNE_SIMC;
+    cfg.tune.form = v[12] == 0.0 ? PDT_TUNE_PI : PDT_TUNE_PID;
+
+    size_t ws = pdt_autotune_workspace_size(&cfg);
+    void *work = malloc(ws ? ws : 1u);
+    pdt_autotune_t at;
+    pdt_status_t st = pdt_autotune_init(&at, &cfg, RL(0.0), work, ws);
+    printf("init_status %d\n", (int)st);
+    if (st != PDT_OK) {
+        free(work);
+        return 0;
+    }
+    /* The scans go on through the identification, which takes no process
+     * time of its own beyond the scans it needs. */
+    long k;
+    for (k = 0; k < 50L * max_scans; k++) {
+        double pv = plant_y(&p) + noise_next(&z);
+        pdt_real_t u;
+        st = pdt_autotune_scan(&at, (pdt_real_t)pv, &u);
+        plant_step(&p, (double)u);
+        if (st != PDT_RUNNING) break;
+    }
+    pdt_autotune_result_t r;
+    (void)pdt_autotune_result(&at, &r);
+    printf("status %d\nfailed_in %d\nscans %lu\nscans_experiment %lu\nsamples %lu\n", (int)st,
+           (int)r.failed_in, (unsigned long)r.scans, (unsigned long)r.scans_experiment,
+           (unsigned long)r.samples);
+    printf("has_model %d\nhas_gains %d\n", (int)r.has_model, (int)r.has_gains);
+    if (r.has_model) {
+        print_model("model", &r.ident.model);
+        printf("fit %.9g\nevaluations %lu\n", (double)r.ident.fit,
+               (unsigned long)r.ident.evaluations);
+        /* Both forms on the model the run identified, with the autotune's
+         * limits: the one of cfg.tune.form is the autotune's own answer. */
+        tune_print("pid", &r.ident.model, r.ident.fit, PDT_TUNE_PID, cfg.tune.fit_min,
+                   cfg.tune.ms_max);
+        tune_print("pi", &r.ident.model, r.ident.fit, PDT_TUNE_PI, cfg.tune.fit_min,
+                   cfg.tune.ms_max);
+    }
+    free(work);
+    free(p.ubuf);
+    return 0;
+}
+
+static int run_relay(void)
+{
+    plant_t p;
+    noise_t z;
+    long max_scans;
+    read_plant(&p);
+    read_noise(&z, &max_scans);
+    double v[4];
+    for (int i = 0; i < 4; i++) {
+        if (rd(&v[i])) die("relay config");
+    }
+    pdt_excite_config_t ec;
+    pdt_excite_config_default(&ec, PDT_EXCITE_RELAY);
+    ec.Ts = (pdt_real_t)p.Ts;
+    ec.d = (pdt_real_t)v[0];
+    ec.eps = (pdt_real_t)v[1];
+    ec.relay_skip = (uint32_t)v[2];
+    ec.relay_cycles = (uint32_t)v[3];
+    ec.setpoint = RL(0.0);
+    pdt_excite_t gen;
+    pdt_status_t st = pdt_excite_init(&gen, &ec);
+    printf("init_status %d\n", (int)st);
+    if (st != PDT_OK) return 0;
+    long k;
+    for (k = 0; k < max_scans; k++) {
+        double pv = plant_y(&p) + noise_next(&z);
+        pdt_real_t u;
+        st = pdt_excite_next(&gen, (pdt_real_t)pv, &u);
+        plant_step(&p, (double)u);
+        if (st != PDT_RUNNING) break;
+    }
+    printf("status %d\nscans %ld\n", (int)(st == PDT_RUNNING ? PDT_ERR_TIMEOUT : st), k + 1);
+    pdt_excite_relay_t rr;
+    if (st == PDT_OK && pdt_excite_relay_result(&gen, &rr) == PDT_OK) {
+        printf("Ku %.9g\nPu %.9g\na %.9g\ncycles %lu\n", (double)rr.Ku, (double)rr.Pu,
+               (double)rr.a, (unsigned long)rr.cycles);
+        pdt_tune_gains_t g;
+        if (pdt_tune_ziegler_nichols(rr.Ku, rr.Pu, PDT_TUNE_PI, &g) == PDT_OK) {
+            print_gains("pi", &g);
+        }
+        if (pdt_tune_ziegler_nichols(rr.Ku, rr.Pu, PDT_TUNE_PID, &g) == PDT_OK) {
+            print_gains("pid", &g);
+        }
+    }
+    free(p.ubuf);
+    return 0;
+}
+
+static int run_model(void)
+{
+    long kind;
+    double v[4] = {0, 0, 0, 0};
+    if (rdl(&kind) || (kind != 1 && kind != 2)) die("model kind");
+    for (int i = 0; i < (kind == 1 ? 3 : 4); i++) {
+        if (rd(&v[i])) die("model");
+    }
+    pdt_model_t m;
+    if (kind == 1) {
+        m.kind = PDT_MODEL_FOPDT;
+        m.p.fopdt = (pdt_fopdt_t){(pdt_real_t)v[0], (pdt_real_t)v[1], (pdt_real_t)v[2]};
+    } else {
+        m.kind = PDT_MODEL_SOPDT;
+        m.p.sopdt = (pdt_sopdt_t){(pdt_real_t)v[0], (pdt_real_t)v[1], (pdt_real_t)v[2],
+                                  (pdt_real_t)v[3]};
+    }
+    print_model("model", &m);
+    tune_print("pi", &m, RL(100.0), PDT_TUNE_PI, RL(0.0), RL(0.0));
+    tune_print("pid", &m, RL(100.0), PDT_TUNE_PID, RL(0.0), RL(0.0));
+    return 0;
+}
+
+static int run_halfrule(void)
+{
+    double k, th0;
+    long nl, nz;
+    pdt_real_t lags[PDT_REDUCE_MAX_LAGS], zeros[PDT_REDUCE_MAX_LAGS];
+    if (rd(&k) || rdl(&nl) || nl < 1 || nl > (long)PDT_REDUCE_MAX_LAGS) die("lags");
+    for (long i = 0; i < nl; i++) {
+        double t;
+        if (rd(&t)) die("lag");
+        lags[i] = (pdt_real_t)t;
+    }
+    if (rdl(&nz) || nz < 0 || nz > (long)PDT_REDUCE_MAX_LAGS) die("zeros");
+    for (long i = 0; i < nz; i++) {
+        double t;
+        if (rd(&t)) die("zero");
+        zeros[i] = (pdt_real_t)t;
+    }
+    if (rd(&th0)) die("theta0");
+    pdt_reduce_plant_t pl = {(pdt_real_t)k, lags, (size_t)nl, zeros, (size_t)nz, (pdt_real_t)th0};
+    pdt_reduce_config_t rc;
+    pdt_reduce_config_default(&rc);
+    pdt_model_t fo, so;
+    rc.model = PDT_MODEL_FOPDT;
+    pdt_status_t st = pdt_reduce_half_rule(&pl, &rc, &fo, NULL);
+    printf("fopdt_status %d\n", (int)st);
+    if (st != PDT_OK) return 0;
+    print_model("fopdt", &fo);
+    tune_print("pi", &fo, RL(100.0), PDT_TUNE_PI, RL(0.0), RL(0.0));
+    rc.model = PDT_MODEL_SOPDT;
+    st = pdt_reduce_half_rule(&pl, &rc, &so, NULL);
+    printf("sopdt_status %d\n", (int)st);
+    if (st == PDT_OK) {
+        print_model("sopdt", &so);
+        tune_print("pid", &so, RL(100.0), PDT_TUNE_PID, RL(0.0), RL(0.0));
+    } else {
+        /* One lag: SIMC's PID is the PI. */
+        tune_print("pid", &fo, RL(100.0), PDT_TUNE_PID, RL(0.0), RL(0.0));
+    }
+    return 0;
+}
+
+int main(void)
+{
+    char mode[32];
+    if (scanf("%31s", mode) != 1) die("mode");
+    if (strcmp(mode, "autotune") == 0) return run_autotune();
+    if (strcmp(mode, "relay") == 0) return run_relay();
+    if (strcmp(mode, "model") == 0) return run_model();
+    if (strcmp(mode, "halfrule") == 0) return run_halfrule();
+    die("unknown mode");
+    return 2;
+}
