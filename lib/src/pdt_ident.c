@@ -33,6 +33,10 @@ enum nm_state { NM_VERTEX = 1, NM_REFLECT, NM_EXPAND, NM_CONTRACT, NM_SHRINK, NM
 /* Most refinement starts (niches refined). */
 #define NM_STARTS 3u
 
+/* The dead-time gene is linear below a sixteenth of its range, then
+ * logarithmic (see td_offset). */
+#define TD_OFFSET_DIV PDT_R(16.0)
+
 /* The frequency criterion cannot see the dead time or the sign of the gain;
  * after its search, Td is scanned on a grid of SCAN_POINTS values of the
  * time cost (both signs of the gain each), then refined by GOLDEN_STEPS of
@@ -146,6 +150,19 @@ static pdt_status_t resolve_bounds(const pdt_ident_config_t *cfg, size_t n, boun
     return PDT_OK;
 }
 
+/* Offset of the dead-time gene log(Td + c0): below c0 the scale is about
+ * linear, above it logarithmic, so long dead times get as much room per
+ * decade as short ones, but dead times below c0 (a sixteenth of the range)
+ * share one stretch. With c0 = Ts instead, a third of the range went to
+ * dead times of a few samples, and on a relay record (periodic: a half
+ * period of delay looks like a sign change) 10 of 40 seeds ended at Td = 0
+ * with the wrong sign; with a sixteenth, none. */
+static pdt_real_t td_offset(const pdt_ident_config_t *cfg, const bounds_t *b)
+{
+    pdt_real_t c0 = (b->Td_max - b->Td_min) / TD_OFFSET_DIV;
+    return c0 > cfg->Ts ? c0 : cfg->Ts;
+}
+
 /* Gene bounds of the search: shape genes first, the dead-time gene last.
  * Checked here, before anything is written, and by the size query. */
 static pdt_status_t gene_bounds(const pdt_ident_config_t *cfg, const bounds_t *b, pdt_real_t *lo,
@@ -175,8 +192,9 @@ static pdt_status_t gene_bounds(const pdt_ident_config_t *cfg, const bounds_t *b
     /* Dead-time gene log(Td + Ts): every decade of dead time gets the same
      * room, so a dead time of a few samples is as easy to find as one of a
      * third of the record. */
-    lo[G - 1u] = pdt_log(b->Td_min + cfg->Ts);
-    hi[G - 1u] = pdt_log(b->Td_max + cfg->Ts);
+    const pdt_real_t c0 = td_offset(cfg, b);
+    lo[G - 1u] = pdt_log(b->Td_min + c0);
+    hi[G - 1u] = pdt_log(b->Td_max + c0);
     if (!(hi[G - 1u] > lo[G - 1u])) {
         /* A fixed dead time: a range of zero width the operators can still
          * handle. */
@@ -391,6 +409,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         c.lo[j] = glo[j];
         c.hi[j] = ghi[j];
     }
+    c.td_offset = td_offset(cfg, &b);
 
     /* Latin hypercube start: each gene's range cut into P strata, one
      * individual per stratum, strata paired across genes at random, so the
@@ -427,13 +446,13 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 /* Dead time of a dead-time gene, and back. */
 static pdt_real_t td_of_gene(const pdt_ident_t *c, pdt_real_t g)
 {
-    pdt_real_t Td = pdt_exp(g) - c->cfg.Ts;
+    pdt_real_t Td = pdt_exp(g) - c->td_offset;
     return Td > PDT_R(0.0) ? Td : PDT_R(0.0);
 }
 
 static pdt_real_t gene_of_td(const pdt_ident_t *c, pdt_real_t Td)
 {
-    pdt_real_t g = pdt_log(Td + c->cfg.Ts);
+    pdt_real_t g = pdt_log(Td + c->td_offset);
     const uint32_t j = c->genes - 1u;
     return g < c->lo[j] ? c->lo[j] : (g > c->hi[j] ? c->hi[j] : g);
 }

@@ -130,6 +130,7 @@ typedef struct pdt_ident {
     uint64_t rng_state;
     uint64_t rng_inc;
     pdt_real_t lo[3];         /* gene bounds */
+    pdt_real_t td_offset;     /* c0 of the dead-time gene log(Td + c0), s */
     pdt_real_t hi[3];
     pdt_real_t best_history;  /* best cost at the last stall check */
     pdt_real_t *pop;          /* P x genes (workspace) */
