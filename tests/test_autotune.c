@@ -134,6 +134,9 @@ static size_t work_prepare(const pdt_autotune_config_t *c)
 {
     size_t need = pdt_autotune_workspace_size(c);
     assert_true(need > 0u);
+    if (c->ident.population == 0u) {
+        assert_true(need <= PDT_AUTOTUNE_WORKSPACE_SIZE(c->capacity, PDT_IDENT_POPULATION_SOPDT));
+    }
     size_t reals = (need + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t);
     assert_true(reals <= WORK_REALS);
     canary_fill(g_work, WORK_REALS + CANARY_COUNT);

@@ -75,12 +75,10 @@ extern "C" {
 #define PDT_FB_AUTOTUNE_CAPACITY 400u
 #endif
 
-/* Workspace reals in one instance: the record (u and y) plus the
- * identification's workspace for any configuration and the automatic
- * population of either model. */
-#define PDT_FB_AUTOTUNE_WORK_REALS                                              \
-    (2u * (size_t)PDT_FB_AUTOTUNE_CAPACITY +                                    \
-     (PDT_IDENT_WORKSPACE_SIZE(PDT_FB_AUTOTUNE_CAPACITY, PDT_IDENT_POPULATION_SOPDT) + \
+/* Workspace reals in one instance: enough for any configuration and the
+ * automatic population of either model. */
+#define PDT_FB_AUTOTUNE_WORK_REALS                                                         \
+    ((PDT_AUTOTUNE_WORKSPACE_SIZE(PDT_FB_AUTOTUNE_CAPACITY, PDT_IDENT_POPULATION_SOPDT) + \
       sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t))
 
 /* Length of sStatus, terminating NUL included: STRING(39). */

@@ -139,6 +139,12 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg);
  * not valid (init then says why). */
 size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
 
+/* Compile-time upper bound of the workspace for a record of capacity
+ * samples and a GA population of pop (PDT_IDENT_POPULATION_SOPDT covers both
+ * automatic populations), any configuration: for static arrays. */
+#define PDT_AUTOTUNE_WORKSPACE_SIZE(capacity, pop) \
+    (2u * (size_t)(capacity) * sizeof(pdt_real_t) + PDT_IDENT_WORKSPACE_SIZE(capacity, pop))
+
 /* Prepares at for an autotune starting from the output u_now, which is
  * taken as the operating point: the process must be at rest there. work is
  * caller memory of pdt_autotune_workspace_size bytes, aligned for
