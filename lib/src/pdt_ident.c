@@ -702,12 +702,14 @@ static void refine_starts(pdt_ident_t *c)
     c->start_i = 0u;
 }
 
-/* A Nelder-Mead run from starts[start_i], with an equal share of what is
- * left of the budget for each remaining start. */
+/* A Nelder-Mead run from starts[start_i]. The niche runs share half of
+ * what the refinement has; a last run then polishes the best point found
+ * with all that is left (start_i == nstarts): a restarted simplex also
+ * escapes the premature collapse Nelder-Mead is prone to. */
 static void nm_start(pdt_ident_t *c)
 {
     const size_t G = c->genes;
-    const pdt_real_t *x0 = c->starts[c->start_i];
+    const pdt_real_t *x0 = c->start_i < c->nstarts ? c->starts[c->start_i] : c->best;
     for (size_t i = 0; i <= G; i++) {
         for (size_t j = 0; j < G; j++) {
             c->nm_x[i][j] = x0[j];
@@ -726,12 +728,22 @@ static void nm_start(pdt_ident_t *c)
     c->nm_index = 0u;
     uint32_t left = c->cfg.max_evaluations - late_reserve(&c->cfg);
     left = left > c->evaluations ? left - c->evaluations : 0u;
-    /* Fewer starts when the budget cannot give each a whole simplex; the
-     * first always fits (refine_evaluations >= genes + 1). */
-    if (c->start_i == 0u && c->nstarts > 1u && left / c->nstarts < G + 1u) {
-        c->nstarts = left / (uint32_t)(G + 1u) > 0u ? left / (uint32_t)(G + 1u) : 1u;
+    if (c->start_i == 0u) {
+        /* Fewer starts when half the budget cannot give each a whole
+         * simplex; the first always fits (refine_evaluations >= genes + 1). */
+        uint32_t per = (left / 2u) / (uint32_t)(G + 1u);
+        if (c->nstarts > per) {
+            c->nstarts = per > 0u ? per : 1u;
+        }
+        c->refine_half = left / 2u;
     }
-    c->nm_budget = left / (c->nstarts - c->start_i);
+    if (c->start_i < c->nstarts) {
+        uint32_t share = c->refine_half / c->nstarts;
+        c->nm_budget = share > G + 1u ? share : (uint32_t)(G + 1u);
+        c->nm_budget = c->nm_budget < left ? c->nm_budget : left;
+    } else {
+        c->nm_budget = left;
+    }
 }
 
 static void nm_order(pdt_ident_t *c)
@@ -1103,10 +1115,16 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
             c->phase = PH_REFINE;
             break;
         case PH_REFINE:
-            if (c->nm_state == NM_END && c->start_i + 1u < c->nstarts) {
+            if (c->nm_state == NM_END && c->start_i < c->nstarts) {
+                /* Next niche, then the polish of the best (start_i ==
+                 * nstarts), if a whole simplex still fits. */
+                uint32_t left = c->cfg.max_evaluations - late_reserve(&c->cfg);
+                left = left > c->evaluations ? left - c->evaluations : 0u;
                 c->start_i++;
-                nm_start(c);
-                break;
+                if (left >= c->genes + 1u) {
+                    nm_start(c);
+                    break;
+                }
             }
             if (c->nm_state == NM_END) {
                 if (c->cfg.cost == PDT_COST_FREQUENCY) {

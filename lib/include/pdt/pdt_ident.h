@@ -77,9 +77,11 @@ typedef struct pdt_ident_config {
                                * _SOPDT by the model. Default 0 */
     uint32_t max_evaluations; /* cost evaluations in all (GA + refinement).
                                * Default 3000 */
-    uint32_t refine_evaluations; /* of those, kept for the refinement.
-                                  * Default 300, shared by up to three
-                                  * niches' refinements */
+    uint32_t refine_evaluations; /* of those, kept for the refinement, at
+                                  * least genes + 1. Default 300: up to
+                                  * three niches' runs share half of what
+                                  * is left after the GA, a polish of the
+                                  * best gets the rest */
     pdt_real_t tolerance;     /* stop the GA when the best cost improved by
                                * less than this fraction over stall_generations.
                                * Default 1e-4 */
@@ -158,7 +160,8 @@ typedef struct pdt_ident {
     uint32_t nm_budget;
     pdt_real_t starts[3][3];  /* refinement starts: best of up to 3 niches */
     uint32_t nstarts;
-    uint32_t start_i;
+    uint32_t start_i;         /* nstarts: the final polish of the best */
+    uint32_t refine_half;     /* budget the niche runs share */
     /* Frequency criterion: the dead-time scan on the time cost. */
     pdt_cost_t cost_time;
     uint32_t scan_i;
