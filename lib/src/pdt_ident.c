@@ -1004,12 +1004,22 @@ static void finish(pdt_ident_t *c)
             PDT_R(2.0) * b * PDT_R(100.0) * T < a + pdt_sqrt(disc)) {
             pdt_cost_profile_t pr;
             pdt_model_t shape = m;
+            pdt_real_t glo, ghi;
             shape.p.sopdt.b = PDT_R(0.0);
             shape.p.sopdt.k = PDT_R(1.0);
+            gain_bounds(c, &shape, &glo, &ghi);
             c->evaluations++;
-            if (pdt_cost_profile(&c->cost, &shape, c->best_gain, c->best_gain, c->scratch, &pr) ==
-                PDT_OK) {
+            /* Gain and offset solved again for the integrator (the
+             * frequency criterion keeps its gain: its sign came from the
+             * dead-time scan). */
+            if (c->cfg.cost == PDT_COST_FREQUENCY) {
+                glo = c->best_gain;
+                ghi = c->best_gain;
+            }
+            if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) == PDT_OK) {
                 m.p.sopdt.b = PDT_R(0.0);
+                m.p.sopdt.k = pr.gain;
+                c->best_gain = pr.gain;
                 c->best_cost = pr.cost;
                 c->best_offset = (c->cfg.cost == PDT_COST_FREQUENCY) ? c->best_offset : pr.offset;
             }
