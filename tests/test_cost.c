@@ -76,38 +76,12 @@ static void init_ok(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
 
 static pdt_dmodel_t dmodel_of(int order, int delay, const double *coef)
 {
-    pdt_dmodel_t d;
-    memset(&d, 0, sizeof d);
-    d.order = (uint8_t)order;
-    d.delay = (size_t)delay;
-    d.a[0] = (pdt_real_t)coef[0];
-    d.a[1] = (pdt_real_t)coef[1];
-    for (int j = 0; j < 3; j++) {
-        d.b[j] = (pdt_real_t)coef[2 + j];
-    }
-    d.d[0] = (pdt_real_t)coef[5];
-    d.d[1] = (pdt_real_t)coef[6];
-    return d;
+    return vector_dmodel(order, delay, coef);
 }
 
 static pdt_model_t model_of(const cost_vec_set_t *s, size_t i)
 {
-    pdt_model_t m;
-    const double *p = s->param + 4u * i;
-    memset(&m, 0, sizeof m);
-    if (s->kind[i] == 1) {
-        m.kind = PDT_MODEL_FOPDT;
-        m.p.fopdt.K = (pdt_real_t)p[0];
-        m.p.fopdt.tau = (pdt_real_t)p[1];
-        m.p.fopdt.Td = (pdt_real_t)p[2];
-    } else {
-        m.kind = PDT_MODEL_SOPDT;
-        m.p.sopdt.k = (pdt_real_t)p[0];
-        m.p.sopdt.a = (pdt_real_t)p[1];
-        m.p.sopdt.b = (pdt_real_t)p[2];
-        m.p.sopdt.Td = (pdt_real_t)p[3];
-    }
-    return m;
+    return vector_model(s->kind[i], s->param + 4u * i);
 }
 
 static double rel_err(double got, double want)

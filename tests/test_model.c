@@ -18,22 +18,7 @@
 
 static pdt_model_t vec_model(int i)
 {
-    pdt_model_t m;
-    const double *p = &model_par[4 * i];
-    memset(&m, 0, sizeof m);
-    if (model_kind[i] == 1) {
-        m.kind = PDT_MODEL_FOPDT;
-        m.p.fopdt.K = (pdt_real_t)p[0];
-        m.p.fopdt.tau = (pdt_real_t)p[1];
-        m.p.fopdt.Td = (pdt_real_t)p[2];
-    } else {
-        m.kind = PDT_MODEL_SOPDT;
-        m.p.sopdt.k = (pdt_real_t)p[0];
-        m.p.sopdt.a = (pdt_real_t)p[1];
-        m.p.sopdt.b = (pdt_real_t)p[2];
-        m.p.sopdt.Td = (pdt_real_t)p[3];
-    }
-    return m;
+    return vector_model(model_kind[i], &model_par[4 * i]);
 }
 
 static void test_step_vectors(void **state)

@@ -58,21 +58,7 @@ static void note(double *worst, double got, double want)
 
 static pdt_model_t model_of(int kind, const double *p)
 {
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    if (kind == 1) {
-        m.kind = PDT_MODEL_FOPDT;
-        m.p.fopdt.K = (pdt_real_t)p[0];
-        m.p.fopdt.tau = (pdt_real_t)p[1];
-        m.p.fopdt.Td = (pdt_real_t)p[2];
-    } else {
-        m.kind = PDT_MODEL_SOPDT;
-        m.p.sopdt.k = (pdt_real_t)p[0];
-        m.p.sopdt.a = (pdt_real_t)p[1];
-        m.p.sopdt.b = (pdt_real_t)p[2];
-        m.p.sopdt.Td = (pdt_real_t)p[3];
-    }
-    return m;
+    return vector_model(kind, p);
 }
 
 static pdt_model_t fopdt(double K, double tau, double Td)

@@ -77,4 +77,43 @@ static inline double snr_db(const pdt_real_t *got, const double *ref, size_t n)
     return 10.0 * log10(sig / err);
 }
 
+/* The model a vector row describes: kind 1 is a FOPDT (p: K, tau, Td),
+ * kind 2 a SOPDT in form (2) (p: k, a, b, Td). */
+static inline pdt_model_t vector_model(int kind, const double *p)
+{
+    pdt_model_t m;
+    memset(&m, 0, sizeof m);
+    if (kind == 1) {
+        m.kind = PDT_MODEL_FOPDT;
+        m.p.fopdt.K = (pdt_real_t)p[0];
+        m.p.fopdt.tau = (pdt_real_t)p[1];
+        m.p.fopdt.Td = (pdt_real_t)p[2];
+    } else {
+        m.kind = PDT_MODEL_SOPDT;
+        m.p.sopdt.k = (pdt_real_t)p[0];
+        m.p.sopdt.a = (pdt_real_t)p[1];
+        m.p.sopdt.b = (pdt_real_t)p[2];
+        m.p.sopdt.Td = (pdt_real_t)p[3];
+    }
+    return m;
+}
+
+/* The discrete model a vector row describes: coef holds a[0], a[1], b[0],
+ * b[1], b[2], d[0], d[1]. */
+static inline pdt_dmodel_t vector_dmodel(int order, int delay, const double *coef)
+{
+    pdt_dmodel_t d;
+    memset(&d, 0, sizeof d);
+    d.order = (uint8_t)order;
+    d.delay = (size_t)delay;
+    d.a[0] = (pdt_real_t)coef[0];
+    d.a[1] = (pdt_real_t)coef[1];
+    for (int j = 0; j < 3; j++) {
+        d.b[j] = (pdt_real_t)coef[2 + j];
+    }
+    d.d[0] = (pdt_real_t)coef[5];
+    d.d[1] = (pdt_real_t)coef[6];
+    return d;
+}
+
 #endif /* PDT_TEST_UTIL_H */
