@@ -22,35 +22,14 @@ point, cost and discrete estimate, and the truth.
 """
 import numpy as np
 
+
 from pdtref import ls as ref
 
 from . import _emit
+from ._lcg import Lcg
 
 FILE = "ls_vectors.h"
 QUANTUM = 1.0 / 4096.0
-
-
-class Lcg:
-    """32-bit LCG (Numerical Recipes constants) in plain Python integers."""
-
-    def __init__(self, seed):
-        self.state = seed & 0xFFFFFFFF
-
-    def uniform(self):
-        self.state = (1664525 * self.state + 1013904223) & 0xFFFFFFFF
-        return self.state / 4294967296.0
-
-    def noise(self, amp, count):
-        """Sums of four uniforms, centred: bell-shaped, std amp / sqrt(3)."""
-        return np.array([amp * (sum(self.uniform() for _ in range(4)) - 2.0)
-                         for _ in range(count)])
-
-    def bits(self, count, hold):
-        """+-1 sequence, each level held for `hold` samples."""
-        out = []
-        while len(out) < count:
-            out.extend([1.0 if self.uniform() < 0.5 else -1.0] * hold)
-        return np.array(out[:count])
 
 
 def step_response(truth, t):
