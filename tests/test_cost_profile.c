@@ -525,7 +525,7 @@ static void test_whole_record_too_short(void **state)
     init_ok(&c, &cfg, n);
     /* The whole record is scored even with the largest delay bound: a
      * model at delay n - 1 sees none of its input, so its simulation cost
-     * without the offset fit is the mean square of y - y0 over k = 1 ..
+     * without the offset fit is the mean square of y - y0 over k = 0 ..
      * n-1. */
     {
         pdt_dmodel_t d = dmodel_of(s->kind[0], 0, s->coef_frac);
@@ -536,11 +536,11 @@ static void test_whole_record_too_short(void **state)
         init_ok(&c, &cfg, n);
         d.delay = n - 1u;
         assert_int_equal(pdt_cost_simulation(&c, &d, &v), PDT_OK);
-        for (size_t k = 1; k < n; k++) {
+        for (size_t k = 0; k < n; k++) {
             double e = (double)g_y[k] - s->y0;
             want += e * e;
         }
-        assert_close(v, want / (double)(n - 1u), CPV_RTOL, 0.0);
+        assert_close(v, want / (double)n, CPV_RTOL, 0.0);
     }
 }
 

@@ -17,8 +17,10 @@ Conventions:
   ``a``, ``b`` (SOPDT, form (2)) attributes, as pdtref.models' Fopdt and
   Sopdt.
 - delay_max None means n // 2 (the C PDT_DELAY_AUTO).
-- whole_record True scores the time costs on k = order .. n-1 instead of
-  k = l_u + order .. n-1.
+- whole_record True scores the time costs on the whole record instead of
+  k = l_u + order .. n-1: k = order .. n-1 for the prediction (it needs past
+  outputs), k = 0 .. n-1 for the simulation (its output from rest is known
+  from the first sample).
 
 profile() minimises a cost over the gain multiplier and the output offset by
 evaluating the cost functions above at a few gains and fitting the exact
@@ -51,10 +53,11 @@ def fft_size(n, delay_max=None):
     return 1 << (need - 1).bit_length()
 
 
-def time_range(n, delay_max, order, whole_record=False):
+def time_range(n, delay_max, order, whole_record=False, simulation=False):
     """The sample indices k the time costs average over."""
-    first = 0 if whole_record else resolve_delay_max(n, delay_max)
-    return np.arange(first + order, n)
+    if whole_record:
+        return np.arange(0 if simulation else order, n)
+    return np.arange(resolve_delay_max(n, delay_max) + order, n)
 
 
 def _deviation(x, x0):
@@ -111,7 +114,7 @@ def simulation_output(u, dm, u0=0.0):
 def simulation_residuals(u, y, dm, u0=0.0, y0=0.0, delay_max=None, whole_record=False):
     yd = _deviation(y, y0)
     order = int(dm.order)
-    k = time_range(len(yd), delay_max, order, whole_record)
+    k = time_range(len(yd), delay_max, order, whole_record, simulation=True)
     return yd[k] - simulation_output(u, dm, u0)[k]
 
 

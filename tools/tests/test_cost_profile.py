@@ -38,13 +38,15 @@ def _opts(rec, cfg, **extra):
 # ---- whole_record ----
 
 @pytest.mark.parametrize("rec", RECORDS, ids=IDS)
-def test_whole_record_is_the_window_of_delay_bound_zero(rec):
+def test_whole_record_scores_every_sample_the_cost_can(rec):
     u, y, u0, y0, Ts, lu = rec["u"], rec["y"], rec["u0"], rec["y0"], rec["Ts"], rec["delay_max"]
     n = len(u)
     for m in rec["shapes"]:
         dm = base.zoh(m, Ts)
         k = ref.time_range(n, lu, dm.order, whole_record=True)
         assert k[0] == dm.order and k[-1] == n - 1 and len(k) == n - dm.order
+        ks = ref.time_range(n, lu, dm.order, whole_record=True, simulation=True)
+        assert ks[0] == 0 and ks[-1] == n - 1 and len(ks) == n
         ud, yd = u - u0, y - y0
         r_pred = signal.lfilter(_apoly(dm), [1.0], yd) - signal.lfilter(_bpoly(dm), [1.0], ud)
         r_sim = yd - signal.lfilter(_bpoly(dm), _apoly(dm), ud)
@@ -52,11 +54,17 @@ def test_whole_record_is_the_window_of_delay_bound_zero(rec):
         np.testing.assert_allclose(ref.prediction_residuals(u, y, dm, u0, y0, lu, True),
                                    r_pred[k], rtol=0, atol=1e-12 * scale)
         np.testing.assert_allclose(ref.simulation_residuals(u, y, dm, u0, y0, lu, True),
-                                   r_sim[k], rtol=0, atol=1e-10 * scale)
+                                   r_sim, rtol=0, atol=1e-10 * scale)
         for ofs in (False, True):
+            # The prediction over the whole record is the paper's window
+            # with delay bound 0; the simulation scores `order` more samples.
+            whole = ref.prediction_cost(u, y, dm, u0, y0, lu, ofs, True)
+            assert whole == pytest.approx(ref.prediction_cost(u, y, dm, u0, y0, 0, ofs),
+                                          rel=1e-13)
+            whole = ref.simulation_cost(u, y, dm, u0, y0, lu, ofs, True)
+            assert whole == pytest.approx(ref.time_cost(r_sim, ofs), rel=1e-12)
             for fn in (ref.prediction_cost, ref.simulation_cost):
                 whole = fn(u, y, dm, u0, y0, lu, ofs, True)
-                assert whole == pytest.approx(fn(u, y, dm, u0, y0, 0, ofs), rel=1e-13)
                 # The default keeps the paper's window.
                 assert fn(u, y, dm, u0, y0, lu, ofs) == fn(u, y, dm, u0, y0, lu, ofs, False)
                 if lu > 0:
@@ -85,7 +93,7 @@ def _time_regression(rec, dm, tk, ofs, whole):
     reference does not use."""
     u, y, u0, y0 = rec["u"], rec["y"], rec["u0"], rec["y0"]
     ud, yd = u - u0, y - y0
-    k = ref.time_range(len(u), rec["delay_max"], dm.order, whole)
+    k = ref.time_range(len(u), rec["delay_max"], dm.order, whole, tk == "simulation")
     if tk == "simulation":
         x = signal.lfilter(_bpoly(dm), _apoly(dm), ud)[k]
         e = yd[k]

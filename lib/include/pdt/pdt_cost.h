@@ -94,12 +94,16 @@ typedef struct pdt_cost_config {
                                 * SIMULATION. Default SIMULATION (the paper
                                 * uses PREDICTION, which output noise biases) */
     pdt_delay_mode_t delay_mode; /* Default FRACTIONAL */
-    bool whole_record;      /* score the time costs on k = order .. n-1
+    bool whole_record;      /* score the time costs on the whole record
                              * instead of the paper's k = l_u + order ..
-                             * n-1. The paper's window drops the first l_u
-                             * samples, which is where a step test shows
-                             * its dead time; identification uses the
-                             * whole record. Default false (the paper) */
+                             * n-1: k = 0 .. n-1 for the simulation (its
+                             * output from rest is defined from the first
+                             * sample), k = order .. n-1 for the prediction
+                             * (it needs past outputs). The paper's window
+                             * drops the first l_u samples, which is where
+                             * a step test shows its dead time;
+                             * identification uses the whole record.
+                             * Default false (the paper) */
     bool estimate_offset;   /* time costs fit a constant output offset. Default true */
     bool use_frequency;     /* prepare spectra (needed for FREQUENCY and
                              * COMBINED; needs a workspace, see
