@@ -15,6 +15,7 @@ enum phase {
     PH_INIT_POP = 1, /* evaluating the initial population */
     PH_BREED,        /* next call breeds a generation */
     PH_EVAL_OFF,     /* evaluating offspring */
+    PH_BAND,         /* CONTROL weighting: the band from the time model */
     PH_REFINE_PREP,  /* re-centre the spectra on the estimated offset */
     PH_REFINE,       /* Nelder-Mead */
     PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
@@ -57,7 +58,7 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
     cfg->time_kind = PDT_COST_SIMULATION;
     cfg->phi_t = PDT_R(1.0);
     cfg->phi_f = PDT_R(1.0);
-    cfg->weight = PDT_WEIGHT_UNIFORM;
+    cfg->weight = PDT_WEIGHT_AUTO;
     cfg->delay_mode = PDT_DELAY_FRACTIONAL;
     cfg->zeta_min = PDT_R(0.2);
     cfg->integrating = true;
@@ -95,6 +96,21 @@ static bool uses_frequency(pdt_cost_kind_t kind)
     return kind == PDT_COST_FREQUENCY || kind == PDT_COST_COMBINED;
 }
 
+/* The weighting with AUTO resolved. */
+static pdt_weight_kind_t weight_of(const pdt_ident_config_t *cfg)
+{
+    if (cfg->weight != PDT_WEIGHT_AUTO) {
+        return cfg->weight;
+    }
+    return cfg->model == PDT_MODEL_FOPDT ? PDT_WEIGHT_CONTROL : PDT_WEIGHT_UNIFORM;
+}
+
+/* Whether the search starts on the time cost to find the control band. */
+static bool control_band(const pdt_ident_config_t *cfg)
+{
+    return uses_frequency(cfg->cost) && weight_of(cfg) == PDT_WEIGHT_CONTROL;
+}
+
 /* The cost configuration the identification runs on. */
 static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t y0,
                         size_t delay_max, pdt_cost_config_t *cc)
@@ -107,6 +123,11 @@ static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t
     cc->delay_max = delay_max;
     cc->kind = cfg->cost;
     cc->time_kind = cfg->time_kind;
+    if (control_band(cfg)) {
+        /* First stage: the time cost; the spectra are prepared all the
+         * same, so the workspace is sized for the second. */
+        cc->kind = cfg->time_kind;
+    }
     cc->delay_mode = cfg->delay_mode;
     cc->estimate_offset = true;
     /* The paper's window would drop the first Td_max / Ts samples: where a
@@ -115,7 +136,7 @@ static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t
     cc->use_frequency = uses_frequency(cfg->cost);
     cc->phi_t = cfg->phi_t;
     cc->phi_f = cfg->phi_f;
-    cc->weight = cfg->weight;
+    cc->weight = weight_of(cfg) == PDT_WEIGHT_CONTROL ? PDT_WEIGHT_UNIFORM : weight_of(cfg);
     cc->f_lo = cfg->f_lo;
     cc->f_hi = cfg->f_hi;
     cc->weights = cfg->weights;
@@ -437,6 +458,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     c.rng_inc = rng.inc;
     c.best_cost = PDT_REAL_MAX;
     c.best_history = PDT_REAL_MAX;
+    c.stage = control_band(cfg) ? 1u : 0u;
     c.phase = PH_INIT_POP;
     c.magic = IDENT_MAGIC;
     *ctx = c;
@@ -645,8 +667,18 @@ static bool ga_continues(pdt_ident_t *c)
         c->stall++;
     }
     uint32_t ga_budget = c->cfg.max_evaluations - c->cfg.refine_evaluations - late_reserve(&c->cfg);
+    if (c->stage == 1u) {
+        /* The time-cost stage of the CONTROL weighting gets half. */
+        ga_budget /= 2u;
+    }
     return c->stall < c->cfg.stall_generations &&
            c->evaluations + c->cfg.population <= ga_budget;
+}
+
+/* Where the search goes when the GA stops. */
+static uint32_t ga_done(const pdt_ident_t *c)
+{
+    return c->stage == 1u ? PH_BAND : PH_REFINE_PREP;
 }
 
 /* ---- Nelder-Mead, by reverse communication: propose a point, take its cost. */
@@ -881,6 +913,83 @@ static void nm_advance(pdt_ident_t *c)
 
 static void finish(pdt_ident_t *c);
 
+/* The phase of a model (gain sign aside) at w rad/s. */
+static pdt_real_t model_phase(const pdt_model_t *m, pdt_real_t w)
+{
+    if (m->kind == PDT_MODEL_FOPDT) {
+        return -w * m->p.fopdt.Td - pdt_atan(w * m->p.fopdt.tau);
+    }
+    return -w * m->p.sopdt.Td - pdt_atan2(m->p.sopdt.a * w, m->p.sopdt.b - w * w);
+}
+
+/* Phase crossover (rad/s) of a model with a dead time: the phase falls
+ * monotonically and the dead time alone reaches -pi at pi / Td, so
+ * bisection on [0, pi / Td] finds it. 0 without a dead time. */
+static pdt_real_t phase_crossover(const pdt_model_t *m)
+{
+    pdt_real_t Td = pdt_model_dead_time(m);
+    if (!(Td > PDT_R(0.0))) {
+        return PDT_R(0.0);
+    }
+    pdt_real_t lo = PDT_R(0.0), hi = PDT_PI / Td;
+    for (uint32_t i = 0; i < 48u; i++) {
+        pdt_real_t mid = PDT_R(0.5) * (lo + hi);
+        if (mid <= lo || mid >= hi) {
+            break;
+        }
+        if (model_phase(m, mid) <= -PDT_PI) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    return PDT_R(0.5) * (lo + hi);
+}
+
+/* CONTROL weighting, between the stages: the band up to half the phase
+ * crossover of the time model (the whole spectrum if it has none below
+ * the Nyquist frequency, at least one bin), Cf scaled by the bins' share,
+ * and the population evaluated again on the criterion. The crossover
+ * bounds the bandwidth any controller can reach; half of it covers the
+ * closed-loop band of the usual tuning rules. */
+static void band_start(pdt_ident_t *c)
+{
+    pdt_model_t m;
+    shape_of(c, c->best, &m);
+    const pdt_real_t Ts = c->cfg.Ts;
+    const size_t nf = c->cost.nf, nb = nf / 2u;
+    pdt_real_t f = PDT_R(0.5) * phase_crossover(&m) / (PDT_R(2.0) * PDT_PI);
+    pdt_real_t f_nyq = PDT_R(0.5) / Ts, f_bin = PDT_R(1.0) / ((pdt_real_t)nf * Ts);
+    if (!(f > PDT_R(0.0)) || f > f_nyq) {
+        f = f_nyq;
+    }
+    f = f < f_bin ? f_bin : f;
+    size_t bins = (size_t)(f / f_bin);
+    bins = bins < 1u ? 1u : (bins > nb ? nb : bins);
+    pdt_cost_config_t cc = c->cost.cfg;
+    pdt_cost_t nc;
+    cc.kind = c->cfg.cost;
+    cc.y0 += c->best_offset;
+    cc.weight = PDT_WEIGHT_BAND;
+    cc.f_lo = PDT_R(0.0);
+    cc.f_hi = f;
+    cc.phi_f = c->cfg.phi_f * (pdt_real_t)nb / (pdt_real_t)bins;
+    /* The same record, sizes and workspace as init, which checked them:
+     * this cannot fail; if it did, the search would go on with the time
+     * cost and f_band stay 0. */
+    if (pdt_cost_init(&nc, &cc, c->data.u, c->data.y, c->data.n, c->cost_work,
+                      c->cost_work_len) == PDT_OK) {
+        c->cost = nc;
+        c->f_band = f;
+    }
+    c->stage = 2u;
+    c->best_cost = PDT_REAL_MAX;
+    c->best_history = PDT_REAL_MAX;
+    c->stall = 0u;
+    c->next = 0u;
+    c->phase = PH_INIT_POP;
+}
+
 /* ---- Dead time of the frequency criterion, from the time cost. */
 
 /* Time cost of the best shape with dead time Td and a fixed gain. */
@@ -1073,7 +1182,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
                      &c->pop_offset[c->next]);
             budget--;
             if (++c->next == P) {
-                c->phase = ga_continues(c) ? PH_BREED : PH_REFINE_PREP;
+                c->phase = ga_continues(c) ? PH_BREED : ga_done(c);
             }
             break;
         case PH_BREED:
@@ -1095,8 +1204,16 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
             budget--;
             if (++c->next == P) {
                 survive(c);
-                c->phase = ga_continues(c) ? PH_BREED : PH_REFINE_PREP;
+                c->phase = ga_continues(c) ? PH_BREED : ga_done(c);
             }
+            break;
+        case PH_BAND:
+            /* A cost preparation, as much work as init: a call of its own. */
+            if (bred) {
+                return PDT_RUNNING;
+            }
+            band_start(c);
+            bred = true;
             break;
         case PH_REFINE_PREP:
             if (c->cost.cfg.kind == PDT_COST_COMBINED) {
@@ -1188,6 +1305,7 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.fit = ctx->fit;
     r.evaluations = ctx->evaluations;
     r.generations = ctx->generations;
+    r.f_band = ctx->f_band;
     *out = r;
     return PDT_OK;
 }

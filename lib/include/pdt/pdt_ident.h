@@ -50,7 +50,24 @@ typedef struct pdt_ident_config {
     pdt_cost_kind_t time_kind; /* time part of COMBINED. Default SIMULATION */
     pdt_real_t phi_t;         /* COMBINED weights, >= 0. Default 1, 1 */
     pdt_real_t phi_f;
-    pdt_weight_kind_t weight; /* frequency weighting, as in pdt_cost_config_t */
+    pdt_weight_kind_t weight; /* frequency weighting of FREQUENCY and
+                               * COMBINED. UNIFORM, BAND (f_lo, f_hi) and
+                               * CUSTOM (weights) as in pdt_cost_config_t.
+                               * CONTROL: the search first runs on the time
+                               * cost alone; the band is then 0 .. f_band,
+                               * half the phase crossover frequency of the
+                               * model found, and the search goes on with
+                               * the criterion. The band is where a
+                               * controller needs the model; its Cf is
+                               * divided by the share of bins it holds, so
+                               * that phi_f weighs the band's mean square
+                               * as it would the whole spectrum's.
+                               * AUTO (the default): CONTROL for a FOPDT,
+                               * which cannot follow a higher-order process
+                               * everywhere and must be told where to fit;
+                               * UNIFORM for a SOPDT, which fits the whole
+                               * measured band closely (docs/benchmarks.md
+                               * has the comparison) */
     pdt_real_t f_lo;
     pdt_real_t f_hi;
     const pdt_real_t *weights;
@@ -113,6 +130,9 @@ typedef struct pdt_ident_result {
                                * 100 is perfect, 0 no better than a constant */
     uint32_t evaluations;     /* cost evaluations used */
     uint32_t generations;     /* GA generations run */
+    pdt_real_t f_band;        /* CONTROL weighting: the band's upper edge,
+                               * Hz; 0 when the criterion has no frequency
+                               * part or another weighting */
 } pdt_ident_result_t;
 
 /* The identification context. Fields are private. */
@@ -162,6 +182,9 @@ typedef struct pdt_ident {
     uint32_t nstarts;
     uint32_t start_i;         /* nstarts: the final polish of the best */
     uint32_t refine_half;     /* budget the niche runs share */
+    uint32_t stage;           /* CONTROL weighting: 1 while the search runs
+                               * on the time cost, 2 after; 0 otherwise */
+    pdt_real_t f_band;        /* CONTROL weighting: the band's edge, Hz */
     /* Frequency criterion: the dead-time scan on the time cost. */
     pdt_cost_t cost_time;
     uint32_t scan_i;
@@ -200,7 +223,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 
 /* Advances the search by at most max_evaluations cost evaluations (each
  * O(n) time domain, O(N_f / 2) frequency domain) plus at most one breeding
- * step (O(P^2 genes) for the sharing). Returns PDT_RUNNING while there is
+ * step (O(P^2 genes) for the sharing) or one preparation of the spectra
+ * (O(N_f log N_f), as in init: COMBINED re-centres them once before the
+ * refinement, and the CONTROL weighting sets its band once). Returns PDT_RUNNING while there is
  * work left, PDT_OK when done (also on every later call), PDT_ERR_ARG for
  * NULL or max_evaluations = 0, PDT_ERR_STATE if ctx was not initialised. */
 pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations);
