@@ -82,6 +82,17 @@ static const char *const help_text[] = {
     "                                      part): the time part fixes the dead time.\n"
     "                        frequency and combined need a record that also ends at\n"
     "                        rest (u back at u[0], y settled).\n"
+    "  --weight KIND         frequency weighting of frequency and combined:\n"
+    "                          auto     (default) control for fopdt, uniform for sopdt\n"
+    "                          control  the band from 0 to half the phase crossover\n"
+    "                                   of the model the simulation cost finds\n"
+    "                                   first: where a controller needs the model.\n"
+    "                                   The output adds \"f_band\" (Hz)\n"
+    "                          uniform  every frequency bin alike (the paper's W = 1)\n"
+    "                          band     the bins in --band F_LO:F_HI only\n"
+    "  --band F_LO:F_HI      the band of --weight band, Hz, 0 <= F_LO <= F_HI\n"
+    "  --phi-t X, --phi-f X  weights of the time and frequency parts of combined,\n"
+    "                        >= 0 (default 1 and 1)\n"
     "  --seed N              seed of the search's random numbers (default 1); the\n"
     "                        same seed, data and build give the same output\n"
     "  --fs HZ               sampling frequency; required without a t column,\n"
@@ -211,6 +222,12 @@ typedef struct options {
     int have_population;
     uint32_t population;
     int integer_delay;
+    int have_weight;
+    int have_band;
+    pdt_weight_kind_t weight;
+    double f_lo, f_hi;
+    int have_phi_t, have_phi_f;
+    double phi_t, phi_f;
     const char *file;
 } options_t;
 
@@ -315,7 +332,8 @@ static void parse_identify_args(int argc, char **argv, options_t *o)
         }
         static const char *const valued[] = {"--model", "--cost", "--seed", "--fs",
                                              "--evaluations", "--population", "--method",
-                                             "--td-max"};
+                                             "--td-max", "--weight", "--band", "--phi-t",
+                                             "--phi-f"};
         const char *known = NULL;
         for (size_t k = 0; k < sizeof valued / sizeof valued[0]; k++)
             if (strcmp(name, valued[k]) == 0) known = valued[k];
@@ -328,7 +346,9 @@ static void parse_identify_args(int argc, char **argv, options_t *o)
         }
 
         if (strcmp(name, "--cost") == 0 || strcmp(name, "--seed") == 0 ||
-            strcmp(name, "--evaluations") == 0 || strcmp(name, "--population") == 0)
+            strcmp(name, "--evaluations") == 0 || strcmp(name, "--population") == 0 ||
+            strcmp(name, "--weight") == 0 || strcmp(name, "--band") == 0 ||
+            strcmp(name, "--phi-t") == 0 || strcmp(name, "--phi-f") == 0)
             o->ga_only = known;
         if (strcmp(name, "--model") == 0) {
             if (strcmp(value, "fopdt") == 0)
@@ -364,6 +384,43 @@ static void parse_identify_args(int argc, char **argv, options_t *o)
                 fail(EXIT_USAGE,
                      "identify: unknown cost '%s' (prediction, simulation, frequency or combined)",
                      value);
+        } else if (strcmp(name, "--weight") == 0) {
+            if (strcmp(value, "auto") == 0)
+                o->weight = PDT_WEIGHT_AUTO;
+            else if (strcmp(value, "control") == 0)
+                o->weight = PDT_WEIGHT_CONTROL;
+            else if (strcmp(value, "uniform") == 0)
+                o->weight = PDT_WEIGHT_UNIFORM;
+            else if (strcmp(value, "band") == 0)
+                o->weight = PDT_WEIGHT_BAND;
+            else
+                fail(EXIT_USAGE,
+                     "identify: unknown weight '%s' (auto, control, uniform or band)", value);
+            o->have_weight = 1;
+        } else if (strcmp(name, "--band") == 0) {
+            char lo[64];
+            const char *colon = strchr(value, ':');
+            size_t len = colon ? (size_t)(colon - value) : 0;
+            if (!colon || len >= sizeof lo)
+                fail(EXIT_USAGE, "identify: --band needs F_LO:F_HI in Hz, got '%s'", value);
+            memcpy(lo, value, len);
+            lo[len] = '\0';
+            if (parse_real(lo, &o->f_lo) != 0 || parse_real(colon + 1, &o->f_hi) != 0 ||
+                !(o->f_lo >= 0.0) || !(o->f_hi >= o->f_lo))
+                fail(EXIT_USAGE,
+                     "identify: --band needs F_LO:F_HI in Hz, 0 <= F_LO <= F_HI, got '%s'", value);
+            o->have_band = 1;
+        } else if (strcmp(name, "--phi-t") == 0 || strcmp(name, "--phi-f") == 0) {
+            double v;
+            if (parse_real(value, &v) != 0 || !(v >= 0.0))
+                fail(EXIT_USAGE, "identify: %s needs a weight >= 0, got '%s'", name, value);
+            if (name[6] == 't') {
+                o->phi_t = v;
+                o->have_phi_t = 1;
+            } else {
+                o->phi_f = v;
+                o->have_phi_f = 1;
+            }
         } else if (strcmp(name, "--seed") == 0) {
             if (parse_u64(value, &o->seed) != 0)
                 fail(EXIT_USAGE, "identify: --seed needs a whole number >= 0, got '%s'", value);
@@ -389,6 +446,10 @@ static void parse_identify_args(int argc, char **argv, options_t *o)
         }
     }
     if (!o->have_model) fail(EXIT_USAGE, "identify: --model fopdt|sopdt is required");
+    if (o->have_weight && o->weight == PDT_WEIGHT_BAND && !o->have_band)
+        fail(EXIT_USAGE, "identify: --weight band needs --band F_LO:F_HI");
+    if (o->have_band && !(o->have_weight && o->weight == PDT_WEIGHT_BAND))
+        fail(EXIT_USAGE, "identify: --band goes with --weight band");
     if (o->method != METHOD_GA && o->ga_only)
         fail(EXIT_USAGE, "identify: %s is an option of --method ga only", o->ga_only);
     if (o->method == METHOD_GA && o->have_td_max && !(o->td_max > 0.0))
@@ -516,6 +577,7 @@ static void print_model_object(const pdt_model_t *model, const pdt_ident_result_
         json_key("cost", (double)r->cost);
         json_key("fit", (double)r->fit);
         printf(",\"evaluations\":%lu", (unsigned long)r->evaluations);
+        if (r->f_band > 0.0f) json_key("f_band", (double)r->f_band);
     }
     fputc('}', stdout);
 }
@@ -677,6 +739,11 @@ static int cmd_identify(int argc, char **argv)
     if (o.have_evaluations) cfg.max_evaluations = o.evaluations;
     if (o.have_population) cfg.population = o.population;
     if (o.have_td_max) cfg.Td_max = (pdt_real_t)o.td_max;
+    if (o.have_weight) cfg.weight = o.weight;
+    cfg.f_lo = (pdt_real_t)o.f_lo;
+    cfg.f_hi = (pdt_real_t)o.f_hi;
+    if (o.have_phi_t) cfg.phi_t = (pdt_real_t)o.phi_t;
+    if (o.have_phi_f) cfg.phi_f = (pdt_real_t)o.phi_f;
 
     /* A size of 0 means the configuration is refused; pdt_identify then
      * says why, so it is still called. */
