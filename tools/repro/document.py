@@ -150,12 +150,13 @@ Its step-response IAE against (17) is {hi_iae:.3f}.
   not the structure of (17), and the prediction error weights the high
   frequencies where the noise is.
 - **Combined cost, FOPDT.** The paper's combined FOPDT (2.4, 1.55) is
-  close to the best FOPDT by step IAE; ours stays near the time-domain
-  model. Our Cf is divided by n so that it is a mean square like Ct (the
-  paper's is n times larger and dominates its sum), and our time part is the
-  output error, not the prediction; docs/paper-experiment.md shows that
-  weighting Cf on 0-0.1 Hz by 1000 reaches the paper's model. The command
-  line keeps the library's default weights.
+  close to the best FOPDT by step IAE. The command line's default weighting
+  for a FOPDT puts Cf on the band from 0 to half the phase crossover of the
+  model the time cost finds first, and lands near it too; with the paper's
+  W = 1 on every bin the FOPDT stays near the time-domain model
+  (docs/paper-experiment.md compares both). Our Cf is a mean square like
+  Ct (the paper's is n times larger), and our time part is the output
+  error, not the prediction.
 - **SOPDT.** From the pulses our GA reaches about the best SOPDT any method
   can by step IAE (0.013-0.018 against the paper's 0.031-0.041); from the
   chirp it fits a lightly damped complex pair, which follows the chirp's
