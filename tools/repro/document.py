@@ -158,7 +158,7 @@ Its step-response IAE against (17) is {hi_iae:.3f}.
   Ct (the paper's is n times larger), and our time part is the output
   error, not the prediction.
 - **SOPDT.** From the pulses our GA reaches about the best SOPDT any method
-  can by step IAE (0.013-0.018 against the paper's 0.031-0.041); from the
+  can by step IAE (0.013-0.022 against the paper's 0.031-0.041); from the
   chirp it fits a lightly damped complex pair, which follows the chirp's
   resonance region better than the step (docs/paper-experiment.md).
 - **Table 3.** The paper's bootstrap models are far from (17) (their step
