@@ -769,6 +769,22 @@ static void test_init_errors(void **state)
     cfg = good;
     cfg.weight = (pdt_weight_kind_t)9;
     INIT_FAILS(&cfg, n, PDT_ERR_ARG);
+    /* CONTROL and AUTO are the identification's to resolve into a band or
+     * UNIFORM: the cost has no model to take a band from. Refused with or
+     * without spectra, as any weighting it does not know. */
+    {
+        static const pdt_weight_kind_t ident_only[2] = {PDT_WEIGHT_CONTROL, PDT_WEIGHT_AUTO};
+        for (int i = 0; i < 2; i++) {
+            cfg = good;
+            cfg.weight = ident_only[i];
+            INIT_FAILS(&cfg, n, PDT_ERR_ARG);
+            cfg.kind = PDT_COST_FREQUENCY;
+            INIT_FAILS(&cfg, n, PDT_ERR_ARG);
+            cfg.kind = PDT_COST_SIMULATION;
+            cfg.use_frequency = false;
+            INIT_FAILS(&cfg, n, PDT_ERR_ARG);
+        }
+    }
     cfg = good;
     cfg.phi_t = ((pdt_real_t)-1.0);
     INIT_FAILS(&cfg, n, PDT_ERR_ARG);
