@@ -18,6 +18,7 @@ import subprocess
 import numpy as np
 import pytest
 import scipy.signal as ss
+from scipy.optimize import brentq
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
@@ -162,7 +163,9 @@ def test_help_and_version():
         assert text.startswith("usage: pdtfit identify")
         for word in ["--model", "--cost", "--seed", "--fs", "--evaluations", "--population",
                      "--integer-delay", "prediction", "simulation", "frequency", "combined",
-                     "Exit status", "Ki", "tau1", "tau2", "y0", "u0", "fit", "evaluations"]:
+                     "--weight", "--band", "--phi-t", "--phi-f", "auto", "control", "uniform",
+                     "f_band", "Exit status", "Ki", "tau1", "tau2", "y0", "u0", "fit",
+                     "evaluations"]:
             assert word in text, word
     header = (ROOT / "lib/include/pdt/pdt_common.h").read_text()
     version = re.search(r'#define PDT_VERSION_STRING "([^"]+)"', header).group(1)
@@ -191,6 +194,36 @@ def test_help_and_version():
     (["identify", "--model", "fopdt", "--population", "2", "X"], "--population"),
     (["identify", "--model", "fopdt", "--integer-delay=yes", "X"], "--integer-delay"),
     (["identify", "--model", "fopdt", "X", "Y"], "one FILE"),
+    (["identify", "--model", "fopdt", "--weight", "heavy", "X"], "unknown weight 'heavy'"),
+    (["identify", "--model", "fopdt", "--weight", "Control", "X"], "unknown weight"),
+    (["identify", "--model", "fopdt", "--weight", "band", "X"], "--weight band needs --band"),
+    (["identify", "--model", "fopdt", "--band", "0:1", "X"], "--band goes with --weight band"),
+    (["identify", "--model", "fopdt", "--weight", "control", "--band", "0:1", "X"],
+     "--band goes with --weight band"),
+    (["identify", "--model", "fopdt", "--band=0:1", "--weight", "auto", "X"],
+     "--band goes with --weight band"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", "1", "X"], "--band"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", "a:b", "X"], "--band"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", "2:1", "X"], "--band"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", "-1:2", "X"], "--band"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", ":1", "X"], "--band"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", "0:", "X"], "--band"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", "0:1:2", "X"], "--band"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", "0:inf", "X"], "--band"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", "nan:1", "X"], "--band"),
+    (["identify", "--model", "fopdt", "--phi-f", "-1", "X"], "--phi-f"),
+    (["identify", "--model", "fopdt", "--phi-f=-0.5", "X"], "--phi-f"),
+    (["identify", "--model", "fopdt", "--phi-f", "nan", "X"], "--phi-f"),
+    (["identify", "--model", "fopdt", "--phi-t", "-1", "X"], "--phi-t"),
+    (["identify", "--model", "fopdt", "--phi-t", "one", "X"], "--phi-t"),
+    (["identify", "--model", "fopdt", "--weight", "control", "--method", "elms", "X"],
+     "--weight is an option of --method ga only"),
+    (["identify", "--model", "fopdt", "--method", "eiv", "--weight", "uniform", "X"],
+     "--method ga only"),
+    (["identify", "--model", "fopdt", "--weight", "band", "--band", "0:1", "--method", "elms",
+      "X"], "--method ga only"),
+    (["identify", "--model", "fopdt", "--phi-f", "2", "--method", "elms", "X"],
+     "--phi-f is an option of --method ga only"),
 ])
 def test_usage_errors(args, frag):
     # Usage is checked before the file is opened, so X need not exist.
@@ -436,8 +469,11 @@ def at_rest_csv(tmp_path_factory):
 @slow
 @pytest.mark.parametrize("cost", ["prediction", "simulation", "frequency", "combined"])
 def test_every_cost_and_integer_delay(at_rest_csv, cost):
+    # The uniform weighting: at this budget the control band, the default,
+    # is not reliable (test_control_weight_small_budget).
     res = run(["identify", "--model", "fopdt", "--cost", cost, "--integer-delay",
-               "--evaluations", "600", "--population", "16", "--seed", "3", at_rest_csv])
+               "--evaluations", "600", "--population", "16", "--seed", "3",
+               "--weight", "uniform", at_rest_csv])
     out = parse_output(res)
     assert list(out) == FOPDT_KEYS
     assert out["evaluations"] <= 600
@@ -445,3 +481,93 @@ def test_every_cost_and_integer_delay(at_rest_csv, cost):
     assert out["Td"] == pytest.approx(1.3, abs=1e-6)
     assert out["K"] == pytest.approx(2.0, rel=0.03)
     assert out["tau"] == pytest.approx(5.0, rel=0.03)
+
+
+# ----------------------------------------------------------------- weighting
+
+def half_crossover_hz(tau, Td):
+    """Half the phase crossover of K e^{-Td s} / (tau s + 1), Hz: w180
+    solves w Td + atan(w tau) = pi, below pi / Td."""
+    w180 = brentq(lambda w: w * Td + np.arctan(w * tau) - np.pi, 1e-9, np.pi / Td)
+    return 0.5 * w180 / (2 * np.pi)
+
+
+def identify_rest(at_rest_csv, *extra, model="fopdt"):
+    return run(["identify", "--model", model, "--cost", "combined", *extra, at_rest_csv])
+
+
+@slow
+def test_weight_control_reports_band(at_rest_csv):
+    """The band's edge is half the phase crossover of the model the time
+    cost finds first: the truth's within 1 % on this record."""
+    out = parse_output(identify_rest(at_rest_csv, "--weight", "control"))
+    assert list(out) == FOPDT_KEYS + ["f_band"]
+    assert out["f_band"] == pytest.approx(half_crossover_hz(5.0, 1.3), rel=0.01)
+    assert out["f_band"] <= 0.5 / TS
+    assert out["K"] == pytest.approx(2.0, rel=0.02)
+    assert out["tau"] == pytest.approx(5.0, rel=0.02)
+    assert out["Td"] == pytest.approx(1.3, abs=0.05)
+    assert out["fit"] > 95.0
+
+
+@slow
+def test_weight_auto_is_control_for_fopdt_uniform_for_sopdt(at_rest_csv):
+    fo_auto = identify_rest(at_rest_csv)
+    assert "f_band" in parse_output(fo_auto)
+    assert identify_rest(at_rest_csv, "--weight", "auto").stdout == fo_auto.stdout
+    assert identify_rest(at_rest_csv, "--weight", "control").stdout == fo_auto.stdout
+    so_auto = identify_rest(at_rest_csv, model="sopdt")
+    assert "f_band" not in parse_output(so_auto)
+    assert identify_rest(at_rest_csv, "--weight", "uniform", model="sopdt").stdout == \
+        so_auto.stdout
+
+
+@slow
+@pytest.mark.parametrize("extra", [
+    ["--weight", "uniform"],
+    ["--weight", "band", "--band", "0:0.5"],
+    ["--weight", "band", "--band", "0.05:2"],
+], ids=["uniform", "band-0-0.5", "band-0.05-2"])
+def test_other_weights_no_band(at_rest_csv, extra):
+    out = parse_output(identify_rest(at_rest_csv, *extra))
+    assert list(out) == FOPDT_KEYS
+    assert out["K"] == pytest.approx(2.0, rel=0.02)
+    assert out["tau"] == pytest.approx(5.0, rel=0.02)
+    assert out["Td"] == pytest.approx(1.3, abs=0.05)
+
+
+@slow
+def test_weight_control_without_frequency_part(at_rest_csv):
+    """The time criteria have no frequency part to weight: control changes
+    nothing and reports no band."""
+    args = ["identify", "--model", "fopdt", "--cost", "simulation"]
+    plain = run(args + [at_rest_csv])
+    assert "f_band" not in parse_output(plain)
+    assert run(args + ["--weight", "control", at_rest_csv]).stdout == plain.stdout
+
+
+@slow
+def test_phi_options_reach_the_criterion(at_rest_csv):
+    base = identify_rest(at_rest_csv, "--weight", "uniform")
+    same = identify_rest(at_rest_csv, "--weight", "uniform", "--phi-t", "1", "--phi-f=1")
+    assert same.stdout == base.stdout  # the defaults, spelt out
+    heavier = parse_output(identify_rest(at_rest_csv, "--weight", "uniform", "--phi-f", "4"))
+    assert heavier["cost"] != parse_output(base)["cost"]
+    assert heavier["K"] == pytest.approx(2.0, rel=0.02)
+
+
+@slow
+@pytest.mark.xfail(strict=True, reason="the control band, the default for a FOPDT, misses the "
+                   "model at 600 evaluations from 5 seeds of 6 and stops with 70 to 140 of "
+                   "them unused; the uniform weighting finds it from every seed")
+def test_control_weight_small_budget(at_rest_csv):
+    for seed in range(1, 7):
+        args = ["identify", "--model", "fopdt", "--cost", "frequency", "--evaluations", "600",
+                "--population", "16", "--seed", seed]
+        uniform = parse_output(run(args + ["--weight", "uniform", at_rest_csv]))
+        assert uniform["K"] == pytest.approx(2.0, rel=0.03), seed
+        assert uniform["tau"] == pytest.approx(5.0, rel=0.03), seed
+        out = parse_output(run(args + [at_rest_csv]))
+        assert out["evaluations"] <= 600
+        assert out["K"] == pytest.approx(2.0, rel=0.03), seed
+        assert out["tau"] == pytest.approx(5.0, rel=0.03), seed
