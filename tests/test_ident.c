@@ -660,20 +660,21 @@ static void test_budget(void **state)
             assert_int_equal(pdt_ident_workspace_size(&cfg, s.n), 0u);
         }
     }
-    /* CONTROL at the smallest budget the check accepts: the time-cost
-     * stage and the population's second evaluation on the band both come
-     * out of it, and the band is still found. */
+    /* CONTROL at the smallest budget the check accepts: the population is
+     * scored on the time cost and again on the band, both out of the
+     * budget (identify checks it is kept), and the band is still found. */
     for (int model = 1; model <= 2; model++) {
         for (int kind = PDT_COST_FREQUENCY; kind <= PDT_COST_COMBINED; kind++) {
             pdt_ident_config_t cfg = base_config((pdt_model_kind_t)model, s.Ts);
             uint32_t P = model == 2 ? PDT_IDENT_POPULATION_SOPDT : PDT_IDENT_POPULATION_FOPDT;
             cfg.cost = (pdt_cost_kind_t)kind;
             cfg.weight = PDT_WEIGHT_CONTROL;
-            cfg.max_evaluations = P + cfg.refine_evaluations +
+            cfg.max_evaluations = 2u * P + cfg.refine_evaluations +
                                   (kind == PDT_COST_FREQUENCY ? 146u : 0u) +
                                   (model == PDT_MODEL_SOPDT ? 1u : 0u);
             identify(&cfg, s.n, &res);
             assert_true(res.f_band > (pdt_real_t)0.0);
+            assert_int_equal(res.generations, 2u);
             cfg.max_evaluations--;
             assert_int_equal(pdt_ident_workspace_size(&cfg, s.n), 0u);
         }

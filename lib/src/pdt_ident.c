@@ -102,7 +102,8 @@ static pdt_weight_kind_t weight_of(const pdt_ident_config_t *cfg)
     if (cfg->weight != PDT_WEIGHT_AUTO) {
         return cfg->weight;
     }
-    return cfg->model == PDT_MODEL_FOPDT ? PDT_WEIGHT_CONTROL : PDT_WEIGHT_UNIFORM;
+    return cfg->model == PDT_MODEL_FOPDT && cfg->cost == PDT_COST_COMBINED ? PDT_WEIGHT_CONTROL
+                                                                            : PDT_WEIGHT_UNIFORM;
 }
 
 /* Whether the search starts on the time cost to find the control band. */
@@ -236,6 +237,43 @@ static uint32_t late_reserve(const pdt_ident_config_t *cfg)
     return r;
 }
 
+/* The weighting and the criterion's weights, checked here so that the size
+ * query refuses what init would. */
+static pdt_status_t check_weight(const pdt_ident_config_t *cfg)
+{
+    switch (cfg->weight) {
+    case PDT_WEIGHT_UNIFORM:
+    case PDT_WEIGHT_CONTROL:
+    case PDT_WEIGHT_AUTO:
+        break;
+    case PDT_WEIGHT_BAND:
+        if (!pdt_finite(cfg->f_lo) || !pdt_finite(cfg->f_hi) || cfg->f_lo < PDT_R(0.0)) {
+            return PDT_ERR_ARG;
+        }
+        if (cfg->f_lo > cfg->f_hi) {
+            return PDT_ERR_BOUNDS;
+        }
+        break;
+    case PDT_WEIGHT_CUSTOM:
+        if (cfg->weights == NULL) {
+            return PDT_ERR_ARG;
+        }
+        break;
+    default:
+        return PDT_ERR_ARG;
+    }
+    if (!pdt_finite(cfg->phi_t) || !pdt_finite(cfg->phi_f) || cfg->phi_t < PDT_R(0.0) ||
+        cfg->phi_f < PDT_R(0.0)) {
+        return PDT_ERR_ARG;
+    }
+    /* Both parts weighted 0 leave nothing to minimise. */
+    if (cfg->cost == PDT_COST_COMBINED && !(cfg->phi_t > PDT_R(0.0)) &&
+        !(cfg->phi_f > PDT_R(0.0))) {
+        return PDT_ERR_ARG;
+    }
+    return PDT_OK;
+}
+
 static pdt_status_t check_config(const pdt_ident_config_t *cfg)
 {
     if (cfg->model != PDT_MODEL_FOPDT && cfg->model != PDT_MODEL_SOPDT) {
@@ -255,10 +293,16 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     if (cfg->delay_mode != PDT_DELAY_FRACTIONAL && cfg->delay_mode != PDT_DELAY_INTEGER) {
         return PDT_ERR_ARG;
     }
-    /* The refinement needs at least one simplex: genes + 1 evaluations. */
+    if (check_weight(cfg) != PDT_OK) {
+        return check_weight(cfg);
+    }
+    /* The refinement needs at least one simplex: genes + 1 evaluations;
+     * the CONTROL weighting scores the population twice (once per cost). */
+    const uint64_t populations = control_band(cfg) ? 2u : 1u;
     if (cfg->elite >= P || cfg->stall_generations == 0u ||
         cfg->refine_evaluations < genes_of(cfg->model) + 1u ||
-        cfg->max_evaluations < (uint64_t)P + cfg->refine_evaluations + late_reserve(cfg)) {
+        cfg->max_evaluations <
+            populations * P + cfg->refine_evaluations + late_reserve(cfg)) {
         return PDT_ERR_ARG;
     }
     if (!(cfg->eta_c > PDT_R(0.0)) || !(cfg->eta_m > PDT_R(0.0)) || !pdt_finite(cfg->eta_c) ||
@@ -398,6 +442,14 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     st = pdt_cost_init(&c.cost, &cc, data->u, data->y, data->n, work, cost_bytes);
     if (st != PDT_OK) {
         return st;
+    }
+    /* A band or custom weights that select no bin of this record (e.g. a
+     * band above the Nyquist frequency) would leave the frequency part
+     * empty and the search blind in it. */
+    if ((cfg->cost == PDT_COST_FREQUENCY ||
+         (cfg->cost == PDT_COST_COMBINED && cfg->phi_f > PDT_R(0.0))) &&
+        c.cost.k_first > c.cost.k_last) {
+        return PDT_ERR_ARG;
     }
     c.cost_work = work;
     c.cost_work_len = cost_bytes;

@@ -78,7 +78,8 @@ typedef enum pdt_weight_kind {
      * the cost functions refuse them (PDT_ERR_ARG): */
     PDT_WEIGHT_CONTROL = 3, /* a band up to half the phase crossover of
                              * the model the time cost finds */
-    PDT_WEIGHT_AUTO = 4     /* CONTROL for a FOPDT, UNIFORM for a SOPDT */
+    PDT_WEIGHT_AUTO = 4     /* CONTROL for a FOPDT with the combined
+                             * criterion, else UNIFORM */
 } pdt_weight_kind_t;
 
 /* How pdt_cost_eval turns the model's dead time into samples. */

@@ -62,12 +62,16 @@ typedef struct pdt_ident_config {
                                * divided by the share of bins it holds, so
                                * that phi_f weighs the band's mean square
                                * as it would the whole spectrum's.
-                               * AUTO (the default): CONTROL for a FOPDT,
-                               * which cannot follow a higher-order process
-                               * everywhere and must be told where to fit;
-                               * UNIFORM for a SOPDT, which fits the whole
-                               * measured band closely (docs/benchmarks.md
-                               * has the comparison) */
+                               * AUTO (the default): CONTROL for a FOPDT
+                               * with COMBINED (a FOPDT cannot follow a
+                               * higher-order process everywhere and must be
+                               * told where to fit), else UNIFORM: a SOPDT
+                               * fits the whole measured band closely
+                               * (docs/benchmarks.md has the comparison),
+                               * and without the time part a band of a few
+                               * bins above the corner frequency fixes only
+                               * K / tau, which a small budget does not
+                               * settle */
     pdt_real_t f_lo;
     pdt_real_t f_hi;
     const pdt_real_t *weights;
@@ -129,7 +133,9 @@ typedef struct pdt_ident_result {
                                * percent: 100 (1 - |y - ysim| / |y - mean y|);
                                * 100 is perfect, 0 no better than a constant */
     uint32_t evaluations;     /* cost evaluations used */
-    uint32_t generations;     /* GA generations run */
+    uint32_t generations;     /* GA generations run (with the CONTROL
+                               * weighting, the population's scoring on the
+                               * criterion counts as one) */
     pdt_real_t f_band;        /* CONTROL weighting: the band's upper edge,
                                * Hz; 0 when the criterion has no frequency
                                * part or another weighting */
@@ -212,9 +218,11 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
 /* Prepares ctx for one identification: checks cfg and the data, derives the
  * bounds, prepares the cost (O(n), plus O(N_f log N_f) when the criterion
  * uses the frequency domain). Does no cost evaluation.
- * Returns PDT_ERR_ARG (NULL, bad config value), PDT_ERR_BOUNDS (a lower
- * bound above its upper bound), PDT_ERR_NONFINITE (NaN or infinity in the
- * data), PDT_ERR_TOO_SHORT (fewer samples than the dead-time bound and
+ * Returns PDT_ERR_ARG (NULL, bad config value, a frequency weighting that
+ * selects no bin of the record, max_evaluations below the population (two
+ * with the CONTROL weighting) plus the refinement and the late reserve),
+ * PDT_ERR_BOUNDS (a lower bound above its upper bound), PDT_ERR_NONFINITE
+ * (NaN or infinity in the data), PDT_ERR_TOO_SHORT (fewer samples than the dead-time bound and
  * PDT_MIN_SAMPLES need), PDT_ERR_NO_EXCITATION (u or y constant),
  * PDT_ERR_LENGTH (record too long for the FFT), PDT_ERR_NOMEM (work NULL or
  * too small). ctx is left untouched on error. */
