@@ -83,7 +83,8 @@ static const char *const help_text[] = {
     "                        frequency and combined need a record that also ends at\n"
     "                        rest (u back at u[0], y settled).\n"
     "  --weight KIND         frequency weighting of frequency and combined:\n"
-    "                          auto     (default) control for fopdt, uniform for sopdt\n"
+    "                          auto     (default) control for fopdt with combined,\n"
+    "                                   else uniform\n"
     "                          control  the band from 0 to half the phase crossover\n"
     "                                   of the model the simulation cost finds\n"
     "                                   first: where a controller needs the model.\n"
@@ -298,6 +299,12 @@ static int parse_real(const char *s, double *out)
     return 0;
 }
 
+/* Whether a finite double stays finite as pdt_real_t (float by default). */
+static int real_fits(double v)
+{
+    return isfinite((double)(pdt_real_t)v);
+}
+
 static void parse_identify_args(int argc, char **argv, options_t *o)
 {
     /* Help wins over any mistake elsewhere on the line. */
@@ -406,13 +413,13 @@ static void parse_identify_args(int argc, char **argv, options_t *o)
             memcpy(lo, value, len);
             lo[len] = '\0';
             if (parse_real(lo, &o->f_lo) != 0 || parse_real(colon + 1, &o->f_hi) != 0 ||
-                !(o->f_lo >= 0.0) || !(o->f_hi >= o->f_lo))
+                !(o->f_lo >= 0.0) || !(o->f_hi >= o->f_lo) || !real_fits(o->f_hi))
                 fail(EXIT_USAGE,
                      "identify: --band needs F_LO:F_HI in Hz, 0 <= F_LO <= F_HI, got '%s'", value);
             o->have_band = 1;
         } else if (strcmp(name, "--phi-t") == 0 || strcmp(name, "--phi-f") == 0) {
             double v;
-            if (parse_real(value, &v) != 0 || !(v >= 0.0))
+            if (parse_real(value, &v) != 0 || !(v >= 0.0) || !real_fits(v))
                 fail(EXIT_USAGE, "identify: %s needs a weight >= 0, got '%s'", name, value);
             if (name[6] == 't') {
                 o->phi_t = v;
@@ -450,6 +457,8 @@ static void parse_identify_args(int argc, char **argv, options_t *o)
         fail(EXIT_USAGE, "identify: --weight band needs --band F_LO:F_HI");
     if (o->have_band && !(o->have_weight && o->weight == PDT_WEIGHT_BAND))
         fail(EXIT_USAGE, "identify: --band goes with --weight band");
+    if (o->have_phi_t && o->have_phi_f && o->phi_t == 0.0 && o->phi_f == 0.0)
+        fail(EXIT_USAGE, "identify: --phi-t and --phi-f cannot both be 0");
     if (o->method != METHOD_GA && o->ga_only)
         fail(EXIT_USAGE, "identify: %s is an option of --method ga only", o->ga_only);
     if (o->method == METHOD_GA && o->have_td_max && !(o->td_max > 0.0))
@@ -577,7 +586,7 @@ static void print_model_object(const pdt_model_t *model, const pdt_ident_result_
         json_key("cost", (double)r->cost);
         json_key("fit", (double)r->fit);
         printf(",\"evaluations\":%lu", (unsigned long)r->evaluations);
-        if (r->f_band > 0.0f) json_key("f_band", (double)r->f_band);
+        if (r->f_band > (pdt_real_t)0) json_key("f_band", (double)r->f_band);
     }
     fputc('}', stdout);
 }
@@ -600,8 +609,8 @@ static const char *status_hint(pdt_status_t st)
     case PDT_ERR_LENGTH:
         return " (the record is too long for the frequency cost: decimate it)";
     case PDT_ERR_ARG:
-        return " (a setting is out of range, e.g. --evaluations too small, or the sampling "
-               "period is unusable)";
+        return " (a setting is out of range, e.g. --evaluations too small, a --band outside "
+               "0 .. fs/2, or the sampling period is unusable)";
     case PDT_ERR_NO_FORM:
         return " (no dead time in the scan gave a stable model of this order: try the other "
                "model or --method ga)";
