@@ -676,7 +676,7 @@ def main():
                f"more than 2 %.\n")
     doc.extend(weight_report(wres))
     doc.append("\nThe library's default weighting (`AUTO`) is the control band for a FOPDT "
-               "and uniform for a SOPDT.\n")
+               "with the combined criterion and uniform otherwise.\n")
 
     # ---- 3
     doc.append("## 3. Reliability of the global search\n")
