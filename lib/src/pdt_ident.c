@@ -372,6 +372,28 @@ static pdt_real_t initial_level(const pdt_ident_data_t *d, size_t quiet_extra)
     return shift + sum / (pdt_real_t)k;
 }
 
+/* Whether the record ends at rest, as the frequency criteria need: over
+ * the last twentieth (at least 8 samples) the means of u and y lie within
+ * REST_TOLERANCE of their ranges from the starting levels. A coarse guard
+ * against a step test or an integrating process, whose spectra Cf would
+ * compare as if the record were whole; a chirp that stops mid-cycle
+ * passes. */
+#define REST_TOLERANCE PDT_R(0.2)
+
+static bool ends_at_rest(const pdt_ident_data_t *d, pdt_real_t y_start, pdt_real_t u_range,
+                         pdt_real_t y_range)
+{
+    size_t tail = d->n / 20u;
+    tail = tail < 8u ? 8u : tail;
+    pdt_real_t su = PDT_R(0.0), sy = PDT_R(0.0);
+    for (size_t k = d->n - tail; k < d->n; k++) {
+        su += d->u[k] - d->u[0];
+        sy += d->y[k] - y_start;
+    }
+    return pdt_fabs(su / (pdt_real_t)tail) <= REST_TOLERANCE * u_range &&
+           pdt_fabs(sy / (pdt_real_t)tail) <= REST_TOLERANCE * y_range;
+}
+
 pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                             const pdt_ident_data_t *data, void *work, size_t work_len)
 {
@@ -407,6 +429,11 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     }
     if (!(umax > umin) || !(ymax > ymin)) {
         return PDT_ERR_NO_EXCITATION;
+    }
+    if (uses_frequency(cfg->cost) &&
+        !ends_at_rest(data, initial_level(data, (size_t)(b.Td_min / cfg->Ts)), umax - umin,
+                      ymax - ymin)) {
+        return PDT_ERR_NOT_AT_REST;
     }
     pdt_real_t lmax = b.Td_max / cfg->Ts;
     if (!(lmax < (pdt_real_t)(data->n))) {

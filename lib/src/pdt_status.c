@@ -39,6 +39,8 @@ const char *pdt_status_str(pdt_status_t status)
         return "no stable loop for this model";
     case PDT_ERR_ABORTED:
         return "stopped by the caller";
+    case PDT_ERR_NOT_AT_REST:
+        return "record does not end at rest";
     default:
         return "unknown status";
     }

@@ -614,6 +614,9 @@ static const char *status_hint(pdt_status_t st)
     case PDT_ERR_NO_FORM:
         return " (no dead time in the scan gave a stable model of this order: try the other "
                "model or --method ga)";
+    case PDT_ERR_NOT_AT_REST:
+        return " (the frequency and combined costs need u back at its start and y settled at "
+               "the end of the record: use --cost simulation)";
     default:
         return "";
     }
@@ -937,6 +940,7 @@ static const char *status_name(pdt_status_t st)
     case PDT_ERR_POOR_FIT: return "POOR_FIT";
     case PDT_ERR_UNSTABLE: return "UNSTABLE";
     case PDT_ERR_ABORTED: return "ABORTED";
+    case PDT_ERR_NOT_AT_REST: return "NOT_AT_REST";
     default: return "UNKNOWN";
     }
 }

@@ -76,7 +76,12 @@ typedef enum pdt_status {
     /* Gains refused: no rule gives a stable loop for this model. */
     PDT_ERR_UNSTABLE = -15,
     /* Stopped by the caller (e.g. an operator cancelled an autotune). */
-    PDT_ERR_ABORTED = -16
+    PDT_ERR_ABORTED = -16,
+    /* The frequency criteria compare the spectra of the whole record, which
+     * needs a record that ends at rest (the input back at its start, the
+     * output settled); this one does not (a step test, an integrating
+     * process). */
+    PDT_ERR_NOT_AT_REST = -17
 } pdt_status_t;
 
 /* A short, static, English name of a status ("bad argument", ...). Never

@@ -224,6 +224,9 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
  * PDT_ERR_BOUNDS (a lower bound above its upper bound), PDT_ERR_NONFINITE
  * (NaN or infinity in the data), PDT_ERR_TOO_SHORT (fewer samples than the dead-time bound and
  * PDT_MIN_SAMPLES need), PDT_ERR_NO_EXCITATION (u or y constant),
+ * PDT_ERR_NOT_AT_REST (FREQUENCY or COMBINED on a record that does not end
+ * at rest: over its last twentieth, at least 8 samples, the mean of u or
+ * of y lies more than a fifth of its range from its starting level),
  * PDT_ERR_LENGTH (record too long for the FFT), PDT_ERR_NOMEM (work NULL or
  * too small). ctx is left untouched on error. */
 pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
