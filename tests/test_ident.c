@@ -942,6 +942,11 @@ static void error_record(void)
     pdt_model_t m = fopdt(2.0, 8.0, 3.0);
     record_spec_t s = {m, (pdt_real_t)1.0, ERR_N, 40.0, 350.0, 5.0, 30.0, false, 99u};
     make_prbs(g_dev, s.n, 5u, 6u, 7u);
+    /* Back at rest for the last 60 samples (7 time constants), as the
+     * frequency criteria need. */
+    for (size_t k = s.n - 60u; k < s.n; k++) {
+        g_dev[k] = (pdt_real_t)0.0;
+    }
     make_record(&s);
 }
 
@@ -1144,6 +1149,39 @@ static void test_errors_data(void **state)
     }
     /* The data are usable again. */
     assert_int_equal(pdt_ident_init(&g_ctx, &cfg, &data, g_work, need), PDT_OK);
+    /* The frequency criteria on a record that does not end at rest: a step
+     * that stays up, then an output that ends off its starting level (an
+     * integrator's pulse response) while u is back. The time costs take
+     * both. */
+    pdt_model_t m = fopdt(2.0, 8.0, 3.0);
+    record_spec_t step = {m, (pdt_real_t)1.0, ERR_N, 40.0, 350.0, 5.0, 30.0, false, 99u};
+    for (size_t k = 0; k < ERR_N; k++) {
+        g_dev[k] = k < 10u ? (pdt_real_t)0.0 : (pdt_real_t)1.0;
+    }
+    make_record(&step);
+    for (int pass = 0; pass < 2; pass++) {
+        for (int kind = PDT_COST_FREQUENCY; kind <= PDT_COST_COMBINED; kind++) {
+            pdt_ident_config_t fc = base_config(PDT_MODEL_FOPDT, (pdt_real_t)1.0);
+            fc.cost = (pdt_cost_kind_t)kind;
+            size_t fneed = pdt_ident_workspace_size(&fc, ERR_N);
+            assert_true(fneed > 0u);
+            expect_init_error(&fc, &data, g_work, fneed, PDT_ERR_NOT_AT_REST,
+                              pass == 0 ? "step record" : "output off its start");
+            fc.cost = PDT_COST_SIMULATION;
+            fneed = pdt_ident_workspace_size(&fc, ERR_N);
+            assert_int_equal(pdt_ident_init(&g_ctx, &fc, &data, g_work, fneed), PDT_OK);
+        }
+        /* u back at rest for the second half, y held at its end level. */
+        for (size_t k = ERR_N / 2u; k < ERR_N; k++) {
+            g_u[k] = g_u[0];
+        }
+    }
+    /* A record at rest again passes. */
+    error_record();
+    pdt_ident_config_t fc = base_config(PDT_MODEL_FOPDT, (pdt_real_t)1.0);
+    fc.cost = PDT_COST_COMBINED;
+    size_t fneed = pdt_ident_workspace_size(&fc, ERR_N);
+    assert_int_equal(pdt_ident_init(&g_ctx, &fc, &data, g_work, fneed), PDT_OK);
 }
 
 static void test_errors_state(void **state)

@@ -560,6 +560,22 @@ def test_phi_options_reach_the_criterion(at_rest_csv):
 
 
 @slow
+def test_frequency_criteria_refuse_a_record_not_at_rest(tmp_path):
+    """A step that stays up: the spectra Cf compares would be those of a
+    truncated response, so the frequency criteria refuse it with the reason;
+    the simulation cost takes it."""
+    t = np.arange(N) * TS
+    u = np.where(t >= 2.0, U0 + 5.0, U0)
+    y = Y0 + simulate([2.0], [5.0, 1.0], 1.3, u - U0, TS) + noise(N, 0.02, 11)
+    path = write_csv(tmp_path / "step.csv", {"t": t, "u": u, "y": y})
+    for cost in ("frequency", "combined"):
+        res = run(["identify", "--model", "fopdt", "--cost", cost, path])
+        assert res.returncode == 1 and res.stdout == ""
+        assert "does not end at rest" in res.stderr and "--cost simulation" in res.stderr
+        assert res.stderr.count("\n") == 1
+    check_fopdt(parse_output(run(["identify", "--model", "fopdt", path])), 2.0, 5.0, 1.3)
+
+
 def test_band_above_nyquist_refused(at_rest_csv):
     res = run(["identify", "--model", "fopdt", "--cost", "combined", "--weight", "band",
                "--band", "100:200", at_rest_csv])
