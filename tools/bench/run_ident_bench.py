@@ -547,7 +547,12 @@ with hysteresis of 3 noise deviations drives the plant between u0 + 10 % and
 u0 - 5 % to hold y at a set-point above y0; u and the measured y are
 recorded). *Quantised*: y rounded to a step of 0.5 % of its range.
 `pdtfit combined` rows use `--cost combined` on the records that return to
-rest (pulse, PRBS; not for the integrating plant, whose output does not).
+rest (pulse, PRBS; not for the integrating plant, whose output does not),
+with the default weighting: the control band for a FOPDT, uniform for a
+SOPDT. On a process that *is* a FOPDT the band's few, heavily weighted bins
+make the parameters noisier than the output error's; the combined
+criterion is meant for low-order approximations of higher-order processes
+(section 2), the output error (the default) for estimating a FOPDT/SOPDT.
 
 **Figures.** Parameter errors are relative (`|p/p_true - 1|`); the dead
 time's error is `|Td - Td_true|` divided by the plant's time constant (tau,
