@@ -57,9 +57,11 @@ phase crossover of (17), 1.186 rad/s.
   a controller works in, with `Cf` taken as the band's mean square. That
   gives IAE 0.17, with K 1.01, tau 2.57, Td 1.49 beside the paper's 1.0,
   2.4, 1.55 (with the prediction cost as the time part, IAE 0.24). The band is derived from the data's own model, not set for
-  (17), and on the 24 non-integrating Astrom-Hagglund plants it also
-  lowers the FOPDT's step error ([benchmarks](benchmarks.md), "Frequency
-  weighting").
+  (17). On the 24 non-integrating Astrom-Hagglund plants it lowers the
+  FOPDT's step IAE from chirp and PRBS records and leaves it about equal
+  from pulses ([benchmarks](benchmarks.md), "Frequency weighting"); on a
+  process that is itself a FOPDT it makes the parameters a little noisier
+  than the output error does.
 - **SOPDT.** From the pulse records, pdtfit's SOPDT reaches step IAE
   0.013-0.022, near the best any SOPDT can (about 0.014) and better than
   the paper's pulse models (0.041, 0.031) and than Skogestad's half rule
