@@ -183,8 +183,7 @@ static const char *const help_text[] = {
     "  --amplitude A         step/pulse change, chirp/prbs half swing, relay d\n"
     "                        (default 1)\n"
     "  --scan-period S       default (sum of lags + D) / 200\n"
-    "  --decimation N        scans per identification sample (default 4; chirp\n"
-    "                        and relay 1)\n"
+    "  --decimation N        scans per identification sample (default 4)\n"
     "  --capacity N          samples recorded (default: settle + the experiment\n"
     "                        + a settling time 4 sum(lags) + D)\n"
     "  --model fopdt|sopdt   identified model (default fopdt); --evaluations N\n"
@@ -1490,8 +1489,9 @@ static int cmd_autotune_sim(int argc, char **argv)
      * for an output that changes on interval boundaries (step, pulse,
      * PRBS chips below), late for one that changes at any scan (relay,
      * chirp), which therefore record every scan by default. */
-    if (!decimation)
-        decimation = kind == PDT_EXCITE_RELAY || kind == PDT_EXCITE_CHIRP ? 1u : 4u;
+    /* The recorder averages u and pv over each sample, so an output that
+     * changes at any scan (chirp, relay) is recorded as well as a step. */
+    if (!decimation) decimation = 4u;
     const double Ts_id = Ts * (double)decimation;
     const double wu = plant_ultimate_w(lags, n_lags, zeros, n_zeros, delay, T_scale);
     const uint32_t settle = 20;

@@ -356,7 +356,7 @@ def ultimate(K, tau, Td):
 def test_autotune_relay():
     out = autotune(*FOPDT_PLANT, "--experiment", "relay", "--amplitude", "0.5")
     check_run(out, "relay")
-    assert out["decimation"] == 1
+    assert out["decimation"] == 4
     r = out["relay"]
     assert list(r) == ["Ku", "Pu", "a", "d", "cycles"]
     assert r["d"] == 0.5 and r["cycles"] == 3
