@@ -293,8 +293,9 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     if (cfg->delay_mode != PDT_DELAY_FRACTIONAL && cfg->delay_mode != PDT_DELAY_INTEGER) {
         return PDT_ERR_ARG;
     }
-    if (check_weight(cfg) != PDT_OK) {
-        return check_weight(cfg);
+    const pdt_status_t wst = check_weight(cfg);
+    if (wst != PDT_OK) {
+        return wst;
     }
     /* The refinement needs at least one simplex: genes + 1 evaluations;
      * the CONTROL weighting scores the population twice (once per cost). */
