@@ -6,7 +6,7 @@
  * the model and the gains; every safety abort, the refusals, and every bad
  * input with the autotune left untouched.
  *
- * The plants: the exact ZOH model (pdt_discretize at the scan period) run
+ * The plants: the exact ZOH model (pdt_discrete_init at the scan period) run
  * as a difference equation in double, the output held for one scan, plus
  * deterministic noise from a 32-bit LCG. pv of scan k is read before the
  * output of scan k is applied, as the autotune's header says.
@@ -23,7 +23,7 @@
 #define HIST 1024u /* input history (scans): longer than any delay used */
 
 typedef struct plant {
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     double u0, y0;        /* operating point */
     double uh[HIST];      /* input deviations, ring */
     double y1, y2;        /* output deviations at k and k - 1 */
@@ -63,21 +63,21 @@ static pdt_model_t fopdt(double K, double tau, double Td)
 
 static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
 {
-    pdt_sopdt_tc_t tc = {R(K), R(T1), R(T2), false, R(Td)};
+    pdt_model_tc_t tc = {R(K), R(T1), R(T2), false, R(Td)};
     pdt_model_t m;
     memset(&m, 0, sizeof m);
     m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
     return m;
 }
 
 static pdt_model_t integ(double Ki, double T, double Td)
 {
-    pdt_sopdt_integ_t in = {R(Ki), R(T), R(Td)};
+    pdt_model_integ_t in = {R(Ki), R(T), R(Td)};
     pdt_model_t m;
     memset(&m, 0, sizeof m);
     m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_sopdt_from_integ(&in, &m.p.sopdt), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_from_integ(&in, &m.p.sopdt), PDT_OK);
     return m;
 }
 
@@ -85,7 +85,7 @@ static void plant_init(plant_t *p, const pdt_model_t *m, double Ts, double u0, d
                        double noise_sd, uint32_t seed)
 {
     memset(p, 0, sizeof *p);
-    assert_int_equal(pdt_discretize(m, R(Ts), &p->d), PDT_OK);
+    assert_int_equal(pdt_discrete_init(m, R(Ts), &p->d), PDT_OK);
     assert_true(p->d.delay + 3u < HIST);
     p->u0 = u0;
     p->y0 = y0;
@@ -101,7 +101,7 @@ static pdt_real_t plant_pv(plant_t *p)
 }
 
 /* Applies u for one scan and advances the plant to the next scan. The
- * difference equation is written around q = 1 (the d[] of pdt_dmodel_t),
+ * difference equation is written around q = 1 (the d[] of pdt_discrete_t),
  * which keeps the gain of slow and integrating plants. */
 static void plant_apply(plant_t *p, pdt_real_t u)
 {
@@ -342,10 +342,10 @@ static void assert_fopdt(const run_t *r, double K, double tau, double Td, double
 static void assert_sopdt(const run_t *r, const pdt_model_t *truth, double rtol)
 {
     const pdt_model_t *m = &r->res.ident.model;
-    pdt_sopdt_natural_t g, w;
+    pdt_model_natural_t g, w;
     assert_int_equal(m->kind, PDT_MODEL_SOPDT);
-    assert_int_equal(pdt_sopdt_to_natural(&m->p.sopdt, &g), PDT_OK);
-    assert_int_equal(pdt_sopdt_to_natural(&truth->p.sopdt, &w), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_to_natural(&m->p.sopdt, &g), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_to_natural(&truth->p.sopdt, &w), PDT_OK);
     assert_close(g.K, w.K, rtol, 0.0);
     assert_close(g.wn, w.wn, 2.0 * rtol, 0.0);
     assert_close(g.zeta, w.zeta, 2.0 * rtol, 0.0);
@@ -458,15 +458,15 @@ static void test_integrating_pulse(void **state)
     run_autotune(&g_at, &c, &p, R(20.0), 100000u, NULL, &r);
     report("integrating pulse", &r);
     assert_success(&g_at, &c, &r, 0.05);
-    const pdt_sopdt_t *s = &r.res.ident.model.p.sopdt;
+    const pdt_model_sopdt_t *s = &r.res.ident.model.p.sopdt;
     assert_int_equal(r.res.ident.model.kind, PDT_MODEL_SOPDT);
     /* Integrating (b = 0), or a slowest pole below 1/4000 s^-1: b / a at
      * most 1/20 of 1 / the record length. Its integrating gain is k / a. */
     assert_true((double)s->b / (double)s->a * 200.0 <= 0.05);
-    pdt_sopdt_integ_t gi;
-    pdt_sopdt_t gz = *s;
+    pdt_model_integ_t gi;
+    pdt_model_sopdt_t gz = *s;
     gz.b = R(0.0);
-    assert_int_equal(pdt_sopdt_to_integ(&gz, &gi), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_to_integ(&gz, &gi), PDT_OK);
     assert_close(gi.Ki, 0.05, 0.04, 0.0);
     assert_close(gi.T + gi.Td, 6.0, 0.04, 0.0);
 }

@@ -54,7 +54,7 @@ static void set_config(const cost_vec_set_t *s, pdt_cost_config_t *cfg)
     cfg->u0 = (pdt_real_t)s->u0;
     cfg->y0 = (pdt_real_t)s->y0;
     cfg->delay_min = s->delay_min;
-    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_AUTO : s->delay_max;
+    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_HALF : s->delay_max;
     cfg->f_lo = (pdt_real_t)s->f_lo;
     cfg->f_hi = (pdt_real_t)s->f_hi;
     cfg->weights = g_w;
@@ -74,7 +74,7 @@ static void init_ok(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
     canary_check(g_work + reals, CANARY_COUNT);
 }
 
-static pdt_dmodel_t dmodel_of(int order, int delay, const double *coef)
+static pdt_discrete_t dmodel_of(int order, int delay, const double *coef)
 {
     return vector_dmodel(order, delay, coef);
 }
@@ -119,8 +119,8 @@ static void test_vectors_time(void **state)
             cfg.estimate_offset = (ofs != 0);
             init_ok(&c, &cfg, s->n);
             for (size_t i = 0; i < s->ncand; i++) {
-                pdt_dmodel_t df = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
-                pdt_dmodel_t di = dmodel_of(s->kind[i], s->delay_int[i], s->coef_int + 7u * i);
+                pdt_discrete_t df = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
+                pdt_discrete_t di = dmodel_of(s->kind[i], s->delay_int[i], s->coef_int + 7u * i);
                 const double *want = s->cost + COST_NCOL * i;
                 pdt_real_t v[CANARY_COUNT + 1];
                 canary_fill(v + 1, CANARY_COUNT);
@@ -175,7 +175,7 @@ static void test_vectors_frequency(void **state)
     print_message("worst relative error, frequency costs: %.3g\n", g_worst_freq);
 }
 
-/* pdt_cost_eval discretises with the library's pdt_discretize(_int). Each
+/* pdt_cost_eval discretises with the library's pdt_discrete_init(_int). Each
  * config is checked against one column; costs share the one workspace, so
  * each is initialised just before use. */
 typedef struct eval_case {
@@ -268,7 +268,7 @@ static void make_input(pdt_real_t *u, size_t n, pdt_real_t u0, uint32_t seed)
 }
 
 /* y = y0 + simulation of d from rest on u - u0, direct form in double. */
-static void simulate_ref(const pdt_dmodel_t *d, const pdt_real_t *u, pdt_real_t u0,
+static void simulate_ref(const pdt_discrete_t *d, const pdt_real_t *u, pdt_real_t u0,
                          pdt_real_t y0, size_t n, pdt_real_t *y)
 {
     double y1 = 0.0;
@@ -289,9 +289,9 @@ static void simulate_ref(const pdt_dmodel_t *d, const pdt_real_t *u, pdt_real_t 
     }
 }
 
-static pdt_dmodel_t fopdt_dmodel(double K, double tau, double Ts, size_t delay)
+static pdt_discrete_t fopdt_dmodel(double K, double tau, double Ts, size_t delay)
 {
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     double p = exp(-Ts / tau);
     memset(&d, 0, sizeof d);
     d.order = 1;
@@ -303,9 +303,9 @@ static pdt_dmodel_t fopdt_dmodel(double K, double tau, double Ts, size_t delay)
 }
 
 /* Underdamped pair r e^{+-i th}, fractional-like three-term numerator. */
-static pdt_dmodel_t sopdt_dmodel(double r, double th, size_t delay)
+static pdt_discrete_t sopdt_dmodel(double r, double th, size_t delay)
 {
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     memset(&d, 0, sizeof d);
     d.order = 2;
     d.delay = delay;
@@ -334,13 +334,13 @@ static void test_exact_model_zero_cost(void **state)
     const size_t n = 500;
     const pdt_real_t u0 = ((pdt_real_t)12.5);
     const pdt_real_t y0 = ((pdt_real_t)-40.0);
-    pdt_dmodel_t models[2];
+    pdt_discrete_t models[2];
     (void)state;
     models[0] = fopdt_dmodel(2.5, 4.0, 0.1, 7);
     models[1] = sopdt_dmodel(0.97, 0.12, 3);
     make_input(g_u, n, u0, 12345u);
     for (size_t mi = 0; mi < 2; mi++) {
-        const pdt_dmodel_t *d = &models[mi];
+        const pdt_discrete_t *d = &models[mi];
         pdt_cost_config_t cfg;
         double power;
         simulate_ref(d, g_u, u0, y0, n, g_y);
@@ -374,7 +374,7 @@ static void test_exact_model_zero_cost(void **state)
 static pdt_real_t g_ubig[COST_NBIG];
 static pdt_real_t g_ybig[COST_NBIG];
 
-static double time_cost_double(const pdt_dmodel_t *d, const pdt_real_t *u, const pdt_real_t *y,
+static double time_cost_double(const pdt_discrete_t *d, const pdt_real_t *u, const pdt_real_t *y,
                                double u0, double y0, size_t n, size_t lu, bool sim, bool ofs)
 {
     double ys = 0.0, dys = 0.0, s1 = 0.0, s2 = 0.0;
@@ -420,7 +420,7 @@ static void test_long_record_accuracy(void **state)
     const pdt_real_t u0 = (pdt_real_t)250.0;
     const pdt_real_t y0 = (pdt_real_t)1000.0;
     const size_t lu = 50;
-    pdt_dmodel_t models[2];
+    pdt_discrete_t models[2];
     uint32_t x = 777u;
     double worst = 0.0;
     (void)state;
@@ -428,8 +428,8 @@ static void test_long_record_accuracy(void **state)
     models[1] = sopdt_dmodel(0.97, 0.12, 3);
     make_input(g_ubig, COST_NBIG, u0, 4242u);
     for (size_t mi = 0; mi < 2; mi++) {
-        pdt_dmodel_t truth = models[mi];
-        pdt_dmodel_t off = truth;
+        pdt_discrete_t truth = models[mi];
+        pdt_discrete_t off = truth;
         pdt_cost_config_t cfg;
         simulate_ref(&truth, g_ubig, u0, y0, COST_NBIG, g_ybig);
         for (size_t k = 0; k < COST_NBIG; k++) {
@@ -448,7 +448,7 @@ static void test_long_record_accuracy(void **state)
             cfg.estimate_offset = (ofs != 0);
             assert_int_equal(pdt_cost_init(&c, &cfg, g_ubig, g_ybig, COST_NBIG, NULL, 0), PDT_OK);
             for (int which = 0; which < 4; which++) {
-                const pdt_dmodel_t *d = (which & 1) ? &off : &truth;
+                const pdt_discrete_t *d = (which & 1) ? &off : &truth;
                 bool sim = (which & 2) != 0;
                 pdt_real_t v;
                 double want = time_cost_double(d, g_ubig, g_ybig, (double)u0, (double)y0,
@@ -500,7 +500,7 @@ static void test_offset_invariance(void **state)
     set_config(s, &cfg);
     cfg.use_frequency = false;
     for (size_t i = 0; i < s->ncand; i++) {
-        pdt_dmodel_t d = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
+        pdt_discrete_t d = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
         pdt_real_t p0, q0, p1, q1, r0, r1;
         pdt_cost_t c;
         load_set(s);
@@ -606,8 +606,8 @@ static void test_fft_size_and_workspace(void **state)
     pdt_cost_config_t cfg;
     (void)state;
     assert_int_equal(pdt_cost_fft_size(300, 40), 1024);
-    assert_int_equal(pdt_cost_fft_size(600, PDT_DELAY_AUTO), 1024);
-    assert_int_equal(pdt_cost_fft_size(2000, PDT_DELAY_AUTO), 2048);
+    assert_int_equal(pdt_cost_fft_size(600, PDT_DELAY_HALF), 1024);
+    assert_int_equal(pdt_cost_fft_size(2000, PDT_DELAY_HALF), 2048);
     assert_int_equal(pdt_cost_fft_size(20, 0), 64);
     assert_int_equal(pdt_cost_fft_size(20, 15), 32);
     assert_int_equal(pdt_cost_fft_size(20, 19), 32);
@@ -632,12 +632,12 @@ static void test_fft_size_and_workspace(void **state)
         assert_int_equal(PDT_COST_FFT_SIZE_MAX(n), nf);
         assert_int_equal(pdt_cost_workspace_size(&cfg, n), PDT_COST_WORKSPACE_SIZE(n));
         assert_int_equal(pdt_cost_workspace_size(&cfg, n),
-                         3u * (nf / 2u) * sizeof(pdt_real_t) + pdt_rfft_workspace_size(nf));
+                         3u * (nf / 2u) * sizeof(pdt_real_t) + pdt_fft_workspace_size(nf));
         for (size_t lu = 1; lu < n; lu += 1u + n / 7u) {
             cfg.delay_max = lu;
             assert_true(pdt_cost_workspace_size(&cfg, n) <= PDT_COST_WORKSPACE_SIZE(n));
         }
-        cfg.delay_max = PDT_DELAY_AUTO;
+        cfg.delay_max = PDT_DELAY_HALF;
         assert_true(pdt_cost_workspace_size(&cfg, n) <= PDT_COST_WORKSPACE_SIZE(n));
     }
     cfg.use_frequency = false;
@@ -673,7 +673,7 @@ static void test_diverging_model(void **state)
     const cost_vec_set_t *s = &cost_vec_sets[0];
     pdt_cost_config_t cfg;
     pdt_cost_t c;
-    pdt_dmodel_t d = fopdt_dmodel(1.0, 1.0, 0.1, 3);
+    pdt_discrete_t d = fopdt_dmodel(1.0, 1.0, 0.1, 3);
     pdt_real_t v;
     (void)state;
     load_set(s);
@@ -827,7 +827,7 @@ static void test_init_errors(void **state)
     INIT_FAILS(&cfg, n, PDT_ERR_TOO_SHORT);
     cfg.delay_max = n - 2u - PDT_MIN_SAMPLES;
     init_ok(&c, &cfg, n);
-    cfg.delay_max = PDT_DELAY_AUTO;
+    cfg.delay_max = PDT_DELAY_HALF;
     INIT_FAILS(&cfg, 0, PDT_ERR_TOO_SHORT);
     INIT_FAILS(&cfg, 2u * (PDT_MIN_SAMPLES + 2u) - 2u, PDT_ERR_TOO_SHORT);
     init_ok(&c, &cfg, 2u * (PDT_MIN_SAMPLES + 2u) - 1u);
@@ -883,8 +883,8 @@ static void test_eval_errors(void **state)
     const cost_vec_set_t *s = &cost_vec_sets[0];
     pdt_cost_config_t cfg;
     pdt_cost_t c, cnof, zero;
-    pdt_dmodel_t d0 = dmodel_of(s->kind[0], s->delay_frac[0], s->coef_frac);
-    pdt_dmodel_t d;
+    pdt_discrete_t d0 = dmodel_of(s->kind[0], s->delay_frac[0], s->coef_frac);
+    pdt_discrete_t d;
     pdt_model_t m0 = model_of(s, 0);
     pdt_model_t m;
     pdt_real_t v = ((pdt_real_t)123.0);
@@ -996,7 +996,7 @@ static void test_config_default(void **state)
     assert_true(cfg.Ts == ((pdt_real_t)0.0));
     assert_true(cfg.u0 == ((pdt_real_t)0.0) && cfg.y0 == ((pdt_real_t)0.0));
     assert_int_equal(cfg.delay_min, 0);
-    assert_int_equal(cfg.delay_max, PDT_DELAY_AUTO);
+    assert_int_equal(cfg.delay_max, PDT_DELAY_HALF);
     assert_int_equal(cfg.kind, PDT_COST_COMBINED);
     assert_int_equal(cfg.time_kind, PDT_COST_SIMULATION);
     assert_int_equal(cfg.delay_mode, PDT_DELAY_FRACTIONAL);

@@ -6,7 +6,7 @@
  * tools/vectorgen/cost_profile.py), plus properties: the profile's cost is
  * the cost of the rebuilt model, its gain beats gains 1% away, the offset
  * reproduces the profiled time cost, pdt_cost_simulate is
- * pdt_dmodel_simulate plus y0, whole_record moves the TOO_SHORT threshold;
+ * pdt_discrete_simulate plus y0, whole_record moves the TOO_SHORT threshold;
  * and every bad-input status with outputs left untouched.
  */
 #include "test_util.h"
@@ -60,7 +60,7 @@ static void base_config(const cpv_set_t *s, pdt_cost_config_t *cfg)
     cfg->u0 = (pdt_real_t)s->u0;
     cfg->y0 = (pdt_real_t)s->y0;
     cfg->delay_min = s->delay_min;
-    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_AUTO : s->delay_max;
+    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_HALF : s->delay_max;
     cfg->f_lo = (pdt_real_t)s->f_lo;
     cfg->f_hi = (pdt_real_t)s->f_hi;
 }
@@ -91,7 +91,7 @@ static void init_ok(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
     canary_check(g_work + reals, CANARY_COUNT);
 }
 
-static pdt_dmodel_t dmodel_of(int order, int delay, const double *coef)
+static pdt_discrete_t dmodel_of(int order, int delay, const double *coef)
 {
     return vector_dmodel(order, delay, coef);
 }
@@ -154,7 +154,7 @@ static void test_vectors_whole_record(void **state)
             cfg.estimate_offset = (ofs != 0);
             init_ok(&c, &cfg, s->n);
             for (size_t i = 0; i < s->nshape; i++) {
-                pdt_dmodel_t dm[2];
+                pdt_discrete_t dm[2];
                 dm[0] = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
                 dm[1] = dmodel_of(s->kind[i], s->delay_int[i], s->coef_int + 7u * i);
                 for (size_t j = 0; j < 2; j++) {
@@ -243,7 +243,7 @@ static void test_vectors_simulate(void **state)
         cfg.use_frequency = false;
         init_ok(&c, &cfg, s->n);
         for (size_t j = 0; j < 2; j++) {
-            pdt_dmodel_t d = dmodel_of(s->sim_order[j], s->sim_delay[j], s->sim_coef + 7u * j);
+            pdt_discrete_t d = dmodel_of(s->sim_order[j], s->sim_delay[j], s->sim_coef + 7u * j);
             const double *want = s->ysim + j * s->n;
             double snr;
             canary_fill(g_ysim + s->n, CANARY_COUNT);
@@ -453,7 +453,7 @@ static void test_profile_zero_weights(void **state)
     }
 }
 
-/* pdt_cost_simulate is pdt_dmodel_simulate on the deviation input, plus y0. */
+/* pdt_cost_simulate is pdt_discrete_simulate on the deviation input, plus y0. */
 static void test_simulate_matches_dmodel(void **state)
 {
     (void)state;
@@ -469,9 +469,9 @@ static void test_simulate_matches_dmodel(void **state)
             g_dev[k] = g_u[k] - cfg.u0;
         }
         for (size_t i = 0; i < s->nshape; i++) {
-            pdt_dmodel_t d = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
+            pdt_discrete_t d = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
             pdt_real_t ys = (pdt_real_t)y_scale(s);
-            assert_int_equal(pdt_dmodel_simulate(&d, g_dev, s->n, g_ref), PDT_OK);
+            assert_int_equal(pdt_discrete_simulate(&d, g_dev, s->n, g_ref), PDT_OK);
             assert_int_equal(pdt_cost_simulate(&c, &d, g_ysim), PDT_OK);
             for (size_t k = 0; k < s->n; k++) {
                 /* Same recursion; only the rounding of adding y0 differs. */
@@ -528,7 +528,7 @@ static void test_whole_record_too_short(void **state)
      * without the offset fit is the mean square of y - y0 over k = 0 ..
      * n-1. */
     {
-        pdt_dmodel_t d = dmodel_of(s->kind[0], 0, s->coef_frac);
+        pdt_discrete_t d = dmodel_of(s->kind[0], 0, s->coef_frac);
         pdt_real_t v;
         double want = 0.0;
         cfg.use_frequency = false;
@@ -709,8 +709,8 @@ static void test_simulate_errors(void **state)
     const cpv_set_t *s = &cpv_sets[0];
     pdt_cost_config_t cfg;
     pdt_cost_t c, zero;
-    pdt_dmodel_t d0 = dmodel_of(s->kind[0], s->delay_frac[0], s->coef_frac);
-    pdt_dmodel_t d;
+    pdt_discrete_t d0 = dmodel_of(s->kind[0], s->delay_frac[0], s->coef_frac);
+    pdt_discrete_t d;
     (void)state;
     load_set(s);
     base_config(s, &cfg);

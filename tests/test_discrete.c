@@ -68,8 +68,8 @@ static void test_zoh_vectors(void **state)
     for (int c = 0; c < DISC_VEC_COUNT; c++) {
         pdt_model_t m = case_model(c);
         pdt_real_t Ts = (pdt_real_t)disc_par[3 * c];
-        pdt_dmodel_t d;
-        assert_int_equal(pdt_discretize(&m, Ts, &d), PDT_OK);
+        pdt_discrete_t d;
+        assert_int_equal(pdt_discrete_init(&m, Ts, &d), PDT_OK);
         assert_int_equal((int)d.delay, disc_delay[c]);
         int order = m.kind == PDT_MODEL_FOPDT ? 1 : 2;
         assert_int_equal(d.order, order);
@@ -102,8 +102,8 @@ static void test_zoh_vectors(void **state)
             assert_true(d.d[1] == R(0.0)); /* integrator: a pole at exactly 1 */
         }
         /* the integer-delay model with the same l */
-        pdt_dmodel_t di;
-        assert_int_equal(pdt_discretize_int(&m, Ts, (size_t)disc_delay[c], &di), PDT_OK);
+        pdt_discrete_t di;
+        assert_int_equal(pdt_discrete_init_int(&m, Ts, (size_t)disc_delay[c], &di), PDT_OK);
         assert_int_equal((int)di.delay, disc_delay[c]);
         assert_memory_equal(di.a, d.a, sizeof d.a);
         assert_memory_equal(di.d, d.d, sizeof d.d);
@@ -129,8 +129,8 @@ static void test_dc_gain(void **state)
         if (pdt_model_dc_gain(&m, &K) != PDT_OK) {
             continue; /* integrator */
         }
-        pdt_dmodel_t d;
-        assert_int_equal(pdt_discretize(&m, (pdt_real_t)disc_par[3 * c], &d), PDT_OK);
+        pdt_discrete_t d;
+        assert_int_equal(pdt_discrete_init(&m, (pdt_real_t)disc_par[3 * c], &d), PDT_OK);
         double s = (double)d.b[0] + (double)d.b[1] + (double)d.b[2];
         double g = s / (double)(d.order == 1 ? d.d[0] : d.d[1]);
         double e = fabs(g - (double)K) / fabs((double)K);
@@ -156,10 +156,10 @@ static void test_step_matches_continuous(void **state)
     for (int c = 0; c < DISC_VEC_COUNT; c++) {
         pdt_model_t m = case_model(c);
         pdt_real_t Ts = (pdt_real_t)disc_par[3 * c];
-        pdt_dmodel_t d;
-        assert_int_equal(pdt_discretize(&m, Ts, &d), PDT_OK);
+        pdt_discrete_t d;
+        assert_int_equal(pdt_discrete_init(&m, Ts, &d), PDT_OK);
         canary_fill(y, N + CANARY_COUNT);
-        assert_int_equal(pdt_dmodel_simulate(&d, u, N, y), PDT_OK);
+        assert_int_equal(pdt_discrete_simulate(&d, u, N, y), PDT_OK);
         canary_check(y + N, CANARY_COUNT);
         for (int i = 0; i < N; i++) {
             t[i] = (pdt_real_t)i * Ts;
@@ -186,10 +186,10 @@ static void test_fraction_zero_is_integer_delay(void **state)
         for (size_t l = 0; l < 5; l++) {
             pdt_real_t Ts = R(0.0625);
             pdt_model_t m = vec_model(i, (double)l * 0.0625);
-            pdt_dmodel_t a;
-            pdt_dmodel_t b;
-            assert_int_equal(pdt_discretize(&m, Ts, &a), PDT_OK);
-            assert_int_equal(pdt_discretize_int(&m, Ts, l, &b), PDT_OK);
+            pdt_discrete_t a;
+            pdt_discrete_t b;
+            assert_int_equal(pdt_discrete_init(&m, Ts, &a), PDT_OK);
+            assert_int_equal(pdt_discrete_init_int(&m, Ts, l, &b), PDT_OK);
             assert_int_equal(a.delay, l);
             assert_memory_equal(&a.a, &b.a, sizeof a.a);
             assert_memory_equal(&a.b, &b.b, sizeof a.b);
@@ -201,16 +201,16 @@ static void test_fraction_zero_is_integer_delay(void **state)
     }
     /* a dead time a hair below a whole number of samples counts as whole */
     pdt_model_t m = vec_model(0, 0.3 * 7.0);
-    pdt_dmodel_t d;
-    assert_int_equal(pdt_discretize(&m, R(0.3), &d), PDT_OK);
+    pdt_discrete_t d;
+    assert_int_equal(pdt_discrete_init(&m, R(0.3), &d), PDT_OK);
     assert_int_equal(d.delay, 7);
     assert_close(d.b[2], 0.0, 0.0, 1e-5 * fabs((double)d.b[0]));
     /* continuity: a tiny fraction moves the coefficients only a little */
-    pdt_dmodel_t e;
+    pdt_discrete_t e;
     m = vec_model(6, 2.0 * 0.0625 + 1e-6);
-    assert_int_equal(pdt_discretize(&m, R(0.0625), &e), PDT_OK);
+    assert_int_equal(pdt_discrete_init(&m, R(0.0625), &e), PDT_OK);
     m = vec_model(6, 2.0 * 0.0625);
-    assert_int_equal(pdt_discretize(&m, R(0.0625), &d), PDT_OK);
+    assert_int_equal(pdt_discrete_init(&m, R(0.0625), &d), PDT_OK);
     assert_int_equal(e.delay, 2);
     for (int j = 0; j < 3; j++) {
         assert_close(e.b[j], d.b[j], 0.0, 1e-3 * fabs((double)d.b[0]));
@@ -226,14 +226,14 @@ static void test_integrator_grows_linearly(void **state)
     for (int i = 0; i < N; i++) {
         u[i] = R(1.0);
     }
-    pdt_sopdt_integ_t ig = {R(0.5), R(2.0), R(0.33)};
+    pdt_model_integ_t ig = {R(0.5), R(2.0), R(0.33)};
     pdt_model_t m;
     m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_sopdt_from_integ(&ig, &m.p.sopdt), PDT_OK);
-    pdt_dmodel_t d;
+    assert_int_equal(pdt_model_sopdt_from_integ(&ig, &m.p.sopdt), PDT_OK);
+    pdt_discrete_t d;
     const pdt_real_t Ts = R(0.125);
-    assert_int_equal(pdt_discretize(&m, Ts, &d), PDT_OK);
-    assert_int_equal(pdt_dmodel_simulate(&d, u, N, y), PDT_OK);
+    assert_int_equal(pdt_discrete_init(&m, Ts, &d), PDT_OK);
+    assert_int_equal(pdt_discrete_simulate(&d, u, N, y), PDT_OK);
     /* after ~18 lags: slope Ki Ts per sample, offset -(Td + T) Ki */
     for (int k = 300; k < N; k++) {
         assert_close(y[k] - y[k - 1], 0.5 * 0.125, 1e-4, 0.0);
@@ -241,7 +241,7 @@ static void test_integrator_grows_linearly(void **state)
     }
 }
 
-static void load_ref(int c, pdt_dmodel_t *d)
+static void load_ref(int c, pdt_discrete_t *d)
 {
     memset(d, 0, sizeof *d);
     d->delay = (size_t)disc_delay[c];
@@ -272,7 +272,7 @@ static void test_simulate_predict_vectors(void **state)
     static pdt_real_t y[DISC_SIM_N + CANARY_COUNT];
     static pdt_real_t yh[DISC_SIM_N + CANARY_COUNT];
     for (int s = 0; s < DISC_SIM_CASES; s++) {
-        pdt_dmodel_t d;
+        pdt_discrete_t d;
         load_ref(disc_sim_case[s], &d);
         for (int i = 0; i < DISC_SIM_N; i++) {
             u[i] = (pdt_real_t)disc_u[DISC_SIM_N * s + i];
@@ -280,8 +280,8 @@ static void test_simulate_predict_vectors(void **state)
         }
         canary_fill(y, DISC_SIM_N + CANARY_COUNT);
         canary_fill(yh, DISC_SIM_N + CANARY_COUNT);
-        assert_int_equal(pdt_dmodel_simulate(&d, u, DISC_SIM_N, y), PDT_OK);
-        assert_int_equal(pdt_dmodel_predict(&d, u, ym, DISC_SIM_N, yh), PDT_OK);
+        assert_int_equal(pdt_discrete_simulate(&d, u, DISC_SIM_N, y), PDT_OK);
+        assert_int_equal(pdt_discrete_predict(&d, u, ym, DISC_SIM_N, yh), PDT_OK);
         canary_check(y + DISC_SIM_N, CANARY_COUNT);
         canary_check(yh + DISC_SIM_N, CANARY_COUNT);
         double snr_s = snr_db(y, &disc_ysim[DISC_SIM_N * s], DISC_SIM_N);
@@ -291,7 +291,7 @@ static void test_simulate_predict_vectors(void **state)
         assert_true(snr_s >= SIM_SNR_DB);
         assert_true(snr_p >= SIM_SNR_DB);
         /* prediction from the model's own output reproduces it */
-        assert_int_equal(pdt_dmodel_predict(&d, u, y, DISC_SIM_N, yh), PDT_OK);
+        assert_int_equal(pdt_discrete_predict(&d, u, y, DISC_SIM_N, yh), PDT_OK);
         double scale = 0.0;
         for (int i = 0; i < DISC_SIM_N; i++) {
             scale = fabs((double)y[i]) > scale ? fabs((double)y[i]) : scale;
@@ -307,22 +307,22 @@ static void test_short_records(void **state)
     (void)state;
     /* records shorter than the delay and the start region, and n = 0 */
     pdt_model_t m = vec_model(6, 5.0 * 0.0625 + 0.5 * 0.0625);
-    pdt_dmodel_t d;
-    assert_int_equal(pdt_discretize(&m, R(0.0625), &d), PDT_OK);
+    pdt_discrete_t d;
+    assert_int_equal(pdt_discrete_init(&m, R(0.0625), &d), PDT_OK);
     assert_int_equal(d.delay, 5);
     pdt_real_t u[12];
     pdt_real_t yl[12];
     for (int i = 0; i < 12; i++) {
         u[i] = (pdt_real_t)(i % 3) - R(0.5);
     }
-    assert_int_equal(pdt_dmodel_simulate(&d, u, 12, yl), PDT_OK);
+    assert_int_equal(pdt_discrete_simulate(&d, u, 12, yl), PDT_OK);
     for (size_t n = 0; n < 12; n++) {
         pdt_real_t y[12 + CANARY_COUNT];
         pdt_real_t yh[12 + CANARY_COUNT];
         canary_fill(y, 12 + CANARY_COUNT);
         canary_fill(yh, 12 + CANARY_COUNT);
-        assert_int_equal(pdt_dmodel_simulate(&d, u, n, y), PDT_OK);
-        assert_int_equal(pdt_dmodel_predict(&d, u, yl, n, yh), PDT_OK);
+        assert_int_equal(pdt_discrete_simulate(&d, u, n, y), PDT_OK);
+        assert_int_equal(pdt_discrete_predict(&d, u, yl, n, yh), PDT_OK);
         canary_check(y + n, 12 + CANARY_COUNT - n);
         canary_check(yh + n, 12 + CANARY_COUNT - n);
         for (size_t i = 0; i < n; i++) {
@@ -340,20 +340,20 @@ static void test_short_records(void **state)
 static void test_bad_discretize(void **state)
 {
     (void)state;
-    pdt_dmodel_t out;
+    pdt_discrete_t out;
     memset(&out, 0x5c, sizeof out);
-    pdt_dmodel_t keep = out;
+    pdt_discrete_t keep = out;
     pdt_model_t good = vec_model(6, 0.1);
     const pdt_real_t bad_ts[5] = {R(0.0), R(-0.1), (pdt_real_t)NAN, (pdt_real_t)INFINITY,
                                   -(pdt_real_t)INFINITY};
     for (int i = 0; i < 5; i++) {
-        assert_int_equal(pdt_discretize(&good, bad_ts[i], &out), PDT_ERR_ARG);
-        assert_int_equal(pdt_discretize_int(&good, bad_ts[i], 2, &out), PDT_ERR_ARG);
+        assert_int_equal(pdt_discrete_init(&good, bad_ts[i], &out), PDT_ERR_ARG);
+        assert_int_equal(pdt_discrete_init_int(&good, bad_ts[i], 2, &out), PDT_ERR_ARG);
     }
-    assert_int_equal(pdt_discretize(NULL, R(0.1), &out), PDT_ERR_ARG);
-    assert_int_equal(pdt_discretize_int(NULL, R(0.1), 1, &out), PDT_ERR_ARG);
-    assert_int_equal(pdt_discretize(&good, R(0.1), NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_discretize_int(&good, R(0.1), 1, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_init(NULL, R(0.1), &out), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_init_int(NULL, R(0.1), 1, &out), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_init(&good, R(0.1), NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_init_int(&good, R(0.1), 1, NULL), PDT_ERR_ARG);
     pdt_model_t bad[8];
     bad[0] = vec_model(0, 0.1);
     bad[0].p.fopdt.tau = R(0.0);
@@ -370,12 +370,12 @@ static void test_bad_discretize(void **state)
     bad[7] = vec_model(6, 0.1);
     bad[7].kind = (pdt_model_kind_t)7;
     for (int i = 0; i < 8; i++) {
-        assert_int_equal(pdt_discretize(&bad[i], R(0.1), &out), PDT_ERR_ARG);
-        assert_int_equal(pdt_discretize_int(&bad[i], R(0.1), 1, &out), PDT_ERR_ARG);
+        assert_int_equal(pdt_discrete_init(&bad[i], R(0.1), &out), PDT_ERR_ARG);
+        assert_int_equal(pdt_discrete_init_int(&bad[i], R(0.1), 1, &out), PDT_ERR_ARG);
     }
     /* a dead time of more than SIZE_MAX samples */
     pdt_model_t far = vec_model(6, 1e30);
-    assert_int_equal(pdt_discretize(&far, R(1e-8), &out), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_init(&far, R(1e-8), &out), PDT_ERR_ARG);
     assert_memory_equal(&out, &keep, sizeof out);
 }
 
@@ -383,24 +383,24 @@ static void test_bad_simulate(void **state)
 {
     (void)state;
     pdt_model_t m = vec_model(6, 0.1);
-    pdt_dmodel_t d;
-    assert_int_equal(pdt_discretize(&m, R(0.05), &d), PDT_OK);
+    pdt_discrete_t d;
+    assert_int_equal(pdt_discrete_init(&m, R(0.05), &d), PDT_OK);
     pdt_real_t u[4] = {R(1.0), R(1.0), R(1.0), R(1.0)};
     pdt_real_t y[4 + CANARY_COUNT];
     canary_fill(y, 4 + CANARY_COUNT);
-    assert_int_equal(pdt_dmodel_simulate(NULL, u, 4, y), PDT_ERR_ARG);
-    assert_int_equal(pdt_dmodel_simulate(&d, NULL, 4, y), PDT_ERR_ARG);
-    assert_int_equal(pdt_dmodel_simulate(&d, u, 4, NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_dmodel_predict(NULL, u, u, 4, y), PDT_ERR_ARG);
-    assert_int_equal(pdt_dmodel_predict(&d, NULL, u, 4, y), PDT_ERR_ARG);
-    assert_int_equal(pdt_dmodel_predict(&d, u, NULL, 4, y), PDT_ERR_ARG);
-    assert_int_equal(pdt_dmodel_predict(&d, u, u, 4, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_simulate(NULL, u, 4, y), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_simulate(&d, NULL, 4, y), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_simulate(&d, u, 4, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_predict(NULL, u, u, 4, y), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_predict(&d, NULL, u, 4, y), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_predict(&d, u, NULL, 4, y), PDT_ERR_ARG);
+    assert_int_equal(pdt_discrete_predict(&d, u, u, 4, NULL), PDT_ERR_ARG);
     const uint8_t orders[3] = {0u, 3u, 255u};
     for (int i = 0; i < 3; i++) {
-        pdt_dmodel_t b = d;
+        pdt_discrete_t b = d;
         b.order = orders[i];
-        assert_int_equal(pdt_dmodel_simulate(&b, u, 4, y), PDT_ERR_ARG);
-        assert_int_equal(pdt_dmodel_predict(&b, u, u, 4, y), PDT_ERR_ARG);
+        assert_int_equal(pdt_discrete_simulate(&b, u, 4, y), PDT_ERR_ARG);
+        assert_int_equal(pdt_discrete_predict(&b, u, u, 4, y), PDT_ERR_ARG);
     }
     canary_check(y, 4 + CANARY_COUNT);
 }

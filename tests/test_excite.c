@@ -243,7 +243,7 @@ static void test_chirp_frequency(void **state)
 }
 
 /* The relay closes the loop around K e^{-L s} / (tau s + 1), sampled with
- * pdt_discretize. The ideal relay's limit cycle is known in closed form:
+ * pdt_discrete_init. The ideal relay's limit cycle is known in closed form:
  * half period tau ln(2 e^{L/tau} - 1), amplitude K d (1 - e^{-L/tau}). */
 static void relay_fopdt(pdt_real_t eps, double *Ku, double *Pu, double *a_out)
 {
@@ -257,8 +257,8 @@ static void relay_fopdt(pdt_real_t eps, double *Ku, double *Pu, double *a_out)
     m.p.fopdt.K = R(K);
     m.p.fopdt.tau = R(tau);
     m.p.fopdt.Td = R(L);
-    pdt_dmodel_t dm;
-    assert_int_equal(pdt_discretize(&m, R(Ts), &dm), PDT_OK);
+    pdt_discrete_t dm;
+    assert_int_equal(pdt_discrete_init(&m, R(Ts), &dm), PDT_OK);
     pdt_excite_config_t c;
     pdt_excite_t g;
     pdt_excite_config_default(&c, PDT_EXCITE_RELAY);
@@ -290,7 +290,7 @@ static void relay_fopdt(pdt_real_t eps, double *Ku, double *Pu, double *a_out)
     }
     assert_int_equal(st, PDT_OK);
     /* the loop's pv is the model's response to the relay's output */
-    assert_int_equal(pdt_dmodel_simulate(&dm, uu, n, ysim), PDT_OK);
+    assert_int_equal(pdt_discrete_simulate(&dm, uu, n, ysim), PDT_OK);
     for (size_t k = 0; k < n; k++) {
         assert_close(ysim[k], pv[k], 0.0, 1e3 * TEST_RTOL);
     }

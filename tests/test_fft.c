@@ -44,12 +44,12 @@ static pdt_real_t g_buf[FFT_NMAX + CANARY_COUNT];
 static pdt_real_t g_mag[FFT_NMAX / 2u + 1u + CANARY_COUNT];
 static double g_ref[FFT_NMAX];
 
-static void init_ok(pdt_rfft_t *f, size_t n)
+static void init_ok(pdt_fft_t *f, size_t n)
 {
-    size_t ws = pdt_rfft_workspace_size(n);
-    assert_int_equal(ws, PDT_RFFT_WORKSPACE_SIZE(n));
+    size_t ws = pdt_fft_workspace_size(n);
+    assert_int_equal(ws, PDT_FFT_WORKSPACE_SIZE(n));
     canary_fill(g_work + ws / sizeof(pdt_real_t), CANARY_COUNT);
-    assert_int_equal(pdt_rfft_init(f, n, g_work, ws), PDT_OK);
+    assert_int_equal(pdt_fft_init(f, n, g_work, ws), PDT_OK);
     canary_check(g_work + ws / sizeof(pdt_real_t), CANARY_COUNT);
 }
 
@@ -107,13 +107,13 @@ static void test_workspace_size(void **state)
 {
     (void)state;
     for (size_t n = 16u; n <= FFT_NMAX; n *= 2u) {
-        assert_int_equal(pdt_rfft_workspace_size(n), n / 2u * sizeof(pdt_real_t));
-        assert_int_equal(pdt_rfft_workspace_size(n), PDT_RFFT_WORKSPACE_SIZE(n));
+        assert_int_equal(pdt_fft_workspace_size(n), n / 2u * sizeof(pdt_real_t));
+        assert_int_equal(pdt_fft_workspace_size(n), PDT_FFT_WORKSPACE_SIZE(n));
     }
     const size_t bad[] = {0u, 1u, 2u, 8u, 15u, 17u, 24u, 48u, 1000u, FFT_NMAX - 1u,
                           FFT_NMAX + 1u, 2u * FFT_NMAX, 3u * FFT_NMAX / 2u};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        assert_int_equal(pdt_rfft_workspace_size(bad[i]), 0u);
+        assert_int_equal(pdt_fft_workspace_size(bad[i]), 0u);
     }
 }
 
@@ -122,11 +122,11 @@ static void test_forward_vectors(void **state)
     (void)state;
     for (size_t c = 0; c < FFT_NCASES; c++) {
         const fft_case_t *tc = &fft_cases[c];
-        pdt_rfft_t f;
+        pdt_fft_t f;
         init_ok(&f, tc->n);
         load_input(tc, g_buf);
         canary_fill(g_buf + tc->n, CANARY_COUNT);
-        assert_int_equal(pdt_rfft_forward(&f, g_buf), PDT_OK);
+        assert_int_equal(pdt_fft_forward(&f, g_buf), PDT_OK);
         canary_check(g_buf + tc->n, CANARY_COUNT);
         check_against("forward", tc->n, g_buf, tc->spec, tc->n);
     }
@@ -137,13 +137,13 @@ static void test_inverse_vectors(void **state)
     (void)state;
     for (size_t c = 0; c < FFT_NCASES; c++) {
         const fft_case_t *tc = &fft_cases[c];
-        pdt_rfft_t f;
+        pdt_fft_t f;
         init_ok(&f, tc->n);
         for (size_t i = 0; i < tc->n; i++) {
             g_buf[i] = (pdt_real_t)tc->spec[i];
         }
         canary_fill(g_buf + tc->n, CANARY_COUNT);
-        assert_int_equal(pdt_rfft_inverse(&f, g_buf), PDT_OK);
+        assert_int_equal(pdt_fft_inverse(&f, g_buf), PDT_OK);
         canary_check(g_buf + tc->n, CANARY_COUNT);
         load_input_ref(tc, g_ref);
         check_against("inverse", tc->n, g_buf, g_ref, tc->n);
@@ -155,12 +155,12 @@ static void test_round_trip(void **state)
     (void)state;
     for (size_t c = 0; c < FFT_NCASES; c++) {
         const fft_case_t *tc = &fft_cases[c];
-        pdt_rfft_t f;
+        pdt_fft_t f;
         init_ok(&f, tc->n);
         load_input(tc, g_buf);
         canary_fill(g_buf + tc->n, CANARY_COUNT);
-        assert_int_equal(pdt_rfft_forward(&f, g_buf), PDT_OK);
-        assert_int_equal(pdt_rfft_inverse(&f, g_buf), PDT_OK);
+        assert_int_equal(pdt_fft_forward(&f, g_buf), PDT_OK);
+        assert_int_equal(pdt_fft_inverse(&f, g_buf), PDT_OK);
         canary_check(g_buf + tc->n, CANARY_COUNT);
         load_input_ref(tc, g_ref);
         check_against("roundtrip", tc->n, g_buf, g_ref, tc->n);
@@ -179,13 +179,13 @@ static void test_largest_size(void **state)
         skip();
     }
     const size_t rep = n / tc->n;
-    pdt_rfft_t f;
+    pdt_fft_t f;
     init_ok(&f, n);
     for (size_t r = 0; r < rep; r++) {
         load_input(tc, g_buf + r * tc->n);
     }
     canary_fill(g_buf + n, CANARY_COUNT);
-    assert_int_equal(pdt_rfft_forward(&f, g_buf), PDT_OK);
+    assert_int_equal(pdt_fft_forward(&f, g_buf), PDT_OK);
     canary_check(g_buf + n, CANARY_COUNT);
 
     /* Expected: X[k rep] = rep X8192[k], all other bins zero. */
@@ -202,7 +202,7 @@ static void test_largest_size(void **state)
     }
     check_against("forward", n, g_buf, g_ref, n);
 
-    assert_int_equal(pdt_rfft_inverse(&f, g_buf), PDT_OK);
+    assert_int_equal(pdt_fft_inverse(&f, g_buf), PDT_OK);
     canary_check(g_buf + n, CANARY_COUNT);
     for (size_t r = 0; r < rep; r++) {
         load_input_ref(tc, g_ref + r * tc->n);
@@ -216,14 +216,14 @@ static void test_parseval(void **state)
     (void)state;
     for (size_t c = 0; c < FFT_NCASES; c++) {
         const fft_case_t *tc = &fft_cases[c];
-        pdt_rfft_t f;
+        pdt_fft_t f;
         init_ok(&f, tc->n);
         load_input(tc, g_buf);
         double ex = 0.0;
         for (size_t j = 0; j < tc->n; j++) {
             ex += (double)g_buf[j] * (double)g_buf[j];
         }
-        assert_int_equal(pdt_rfft_forward(&f, g_buf), PDT_OK);
+        assert_int_equal(pdt_fft_forward(&f, g_buf), PDT_OK);
         double es = (double)g_buf[0] * (double)g_buf[0] + (double)g_buf[1] * (double)g_buf[1];
         for (size_t i = 2u; i < tc->n; i++) {
             es += 2.0 * (double)g_buf[i] * (double)g_buf[i];
@@ -239,7 +239,7 @@ static void test_magnitude_vectors(void **state)
     for (size_t c = 0; c < FFT_NCASES; c++) {
         const fft_case_t *tc = &fft_cases[c];
         const size_t nm = tc->n / 2u + 1u;
-        pdt_rfft_t f;
+        pdt_fft_t f;
         init_ok(&f, tc->n);
 
         /* From numpy's spectrum: only the magnitude step is measured. */
@@ -248,7 +248,7 @@ static void test_magnitude_vectors(void **state)
         }
         canary_fill(g_buf + tc->n, CANARY_COUNT);
         canary_fill(g_mag + nm, CANARY_COUNT);
-        assert_int_equal(pdt_rfft_magnitude(&f, g_buf, g_mag), PDT_OK);
+        assert_int_equal(pdt_fft_magnitude(&f, g_buf, g_mag), PDT_OK);
         canary_check(g_mag + nm, CANARY_COUNT);
         canary_check(g_buf + tc->n, CANARY_COUNT);
         for (size_t k = 0; k < nm; k++) {
@@ -261,13 +261,13 @@ static void test_magnitude_vectors(void **state)
 
         /* From the library's own forward transform. */
         load_input(tc, g_buf);
-        assert_int_equal(pdt_rfft_forward(&f, g_buf), PDT_OK);
-        assert_int_equal(pdt_rfft_magnitude(&f, g_buf, g_mag), PDT_OK);
+        assert_int_equal(pdt_fft_forward(&f, g_buf), PDT_OK);
+        assert_int_equal(pdt_fft_magnitude(&f, g_buf, g_mag), PDT_OK);
         canary_check(g_mag + nm, CANARY_COUNT);
         check_against("magnitude", tc->n, g_mag, tc->mag, nm);
 
         /* In place gives the same numbers. */
-        assert_int_equal(pdt_rfft_magnitude(&f, g_buf, g_buf), PDT_OK);
+        assert_int_equal(pdt_fft_magnitude(&f, g_buf, g_buf), PDT_OK);
         canary_check(g_buf + tc->n, CANARY_COUNT);
         for (size_t k = 0; k < nm; k++) {
             assert_true(g_buf[k] == g_mag[k]);
@@ -277,7 +277,7 @@ static void test_magnitude_vectors(void **state)
 
 /* A tone on bin b: cos gives X[b] = n/2 (n at b = 0 and b = n/2), sin gives
  * Im X[b] = -n/2; every other packed value stays near zero. */
-static void check_tone(const pdt_rfft_t *f, size_t n, size_t b, bool sine)
+static void check_tone(const pdt_fft_t *f, size_t n, size_t b, bool sine)
 {
     for (size_t j = 0; j < n; j++) {
         /* (j b) mod n keeps the argument of the double cos small and exact. */
@@ -285,7 +285,7 @@ static void check_tone(const pdt_rfft_t *f, size_t n, size_t b, bool sine)
         g_buf[j] = (pdt_real_t)(sine ? sin(a) : cos(a));
     }
     canary_fill(g_buf + n, CANARY_COUNT);
-    assert_int_equal(pdt_rfft_forward(f, g_buf), PDT_OK);
+    assert_int_equal(pdt_fft_forward(f, g_buf), PDT_OK);
     canary_check(g_buf + n, CANARY_COUNT);
 
     for (size_t i = 0; i < n; i++) {
@@ -307,7 +307,7 @@ static void check_tone(const pdt_rfft_t *f, size_t n, size_t b, bool sine)
         assert_close(g_buf[i], g_ref[i], 0.0, FFT_PEAK_RTOL * half);
     }
 
-    assert_int_equal(pdt_rfft_magnitude(f, g_buf, g_mag), PDT_OK);
+    assert_int_equal(pdt_fft_magnitude(f, g_buf, g_mag), PDT_OK);
     size_t best = 0u;
     for (size_t k = 1u; k <= n / 2u; k++) {
         if (g_mag[k] > g_mag[best]) {
@@ -327,7 +327,7 @@ static void test_tones(void **state)
         const size_t n = sizes[s];
         const size_t bins[] = {0u, 1u, 3u, n / 8u + 1u, n / 4u - 1u, n / 4u, n / 4u + 1u,
                                n / 2u - 1u, n / 2u};
-        pdt_rfft_t f;
+        pdt_fft_t f;
         init_ok(&f, n);
         for (size_t i = 0; i < sizeof bins / sizeof bins[0]; i++) {
             check_tone(&f, n, bins[i], false);
@@ -342,14 +342,14 @@ static void test_impulse(void **state)
 {
     (void)state;
     const size_t n = 256u;
-    pdt_rfft_t f;
+    pdt_fft_t f;
     init_ok(&f, n);
     for (size_t d = 0; d < 5u; d++) {
         for (size_t j = 0; j < n; j++) {
             g_buf[j] = (pdt_real_t)0;
         }
         g_buf[d] = (pdt_real_t)1;
-        assert_int_equal(pdt_rfft_forward(&f, g_buf), PDT_OK);
+        assert_int_equal(pdt_fft_forward(&f, g_buf), PDT_OK);
         /* X[k] = e^{-2 pi i k d / n} */
         for (size_t k = 1u; k < n / 2u; k++) {
             double a = 2.0 * 3.14159265358979323846 * (double)((k * d) % n) / (double)n;
@@ -364,33 +364,33 @@ static void test_impulse(void **state)
 static void test_init_errors(void **state)
 {
     (void)state;
-    pdt_rfft_t f;
-    pdt_rfft_t before;
+    pdt_fft_t f;
+    pdt_fft_t before;
     memset(&f, 0xA5, sizeof f);
     memcpy(&before, &f, sizeof f);
     const size_t n = 64u;
-    const size_t ws = pdt_rfft_workspace_size(n);
+    const size_t ws = pdt_fft_workspace_size(n);
     const size_t wn = ws / sizeof(pdt_real_t);
     canary_fill(g_work, wn + CANARY_COUNT);
 
-    assert_int_equal(pdt_rfft_init(NULL, n, g_work, ws), PDT_ERR_ARG);
+    assert_int_equal(pdt_fft_init(NULL, n, g_work, ws), PDT_ERR_ARG);
 
     const size_t bad_n[] = {0u, 8u, 15u, 17u, 48u, 100u, FFT_NMAX + 1u, 2u * FFT_NMAX};
     for (size_t i = 0; i < sizeof bad_n / sizeof bad_n[0]; i++) {
-        assert_int_equal(pdt_rfft_init(&f, bad_n[i], g_work, sizeof g_work), PDT_ERR_LENGTH);
+        assert_int_equal(pdt_fft_init(&f, bad_n[i], g_work, sizeof g_work), PDT_ERR_LENGTH);
     }
-    assert_int_equal(pdt_rfft_init(&f, n, NULL, ws), PDT_ERR_NOMEM);
-    assert_int_equal(pdt_rfft_init(&f, n, g_work, ws - 1u), PDT_ERR_NOMEM);
-    assert_int_equal(pdt_rfft_init(&f, n, g_work, ws - sizeof(pdt_real_t)), PDT_ERR_NOMEM);
-    assert_int_equal(pdt_rfft_init(&f, n, g_work, 0u), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_fft_init(&f, n, NULL, ws), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_fft_init(&f, n, g_work, ws - 1u), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_fft_init(&f, n, g_work, ws - sizeof(pdt_real_t)), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_fft_init(&f, n, g_work, 0u), PDT_ERR_NOMEM);
     /* Misaligned by one byte, with plenty of room. */
-    assert_int_equal(pdt_rfft_init(&f, n, (unsigned char *)g_work + 1, ws + 64u), PDT_ERR_ARG);
+    assert_int_equal(pdt_fft_init(&f, n, (unsigned char *)g_work + 1, ws + 64u), PDT_ERR_ARG);
 
     assert_memory_equal(&f, &before, sizeof f);
     canary_check(g_work, wn + CANARY_COUNT);
 
     /* Exactly the queried size is enough. */
-    assert_int_equal(pdt_rfft_init(&f, n, g_work, ws), PDT_OK);
+    assert_int_equal(pdt_fft_init(&f, n, g_work, ws), PDT_OK);
     canary_check(g_work + wn, CANARY_COUNT);
 }
 
@@ -398,27 +398,27 @@ static void test_transform_errors(void **state)
 {
     (void)state;
     const size_t n = 32u;
-    pdt_rfft_t f;
+    pdt_fft_t f;
     init_ok(&f, n);
-    pdt_rfft_t zero;
+    pdt_fft_t zero;
     memset(&zero, 0, sizeof zero);
-    pdt_rfft_t no_table = f;
+    pdt_fft_t no_table = f;
     no_table.twid = NULL;
-    pdt_rfft_t bad_n = f;
+    pdt_fft_t bad_n = f;
     bad_n.n = 24u;
 
-    const pdt_rfft_t *bad[] = {NULL, &zero, &no_table, &bad_n};
+    const pdt_fft_t *bad[] = {NULL, &zero, &no_table, &bad_n};
     canary_fill(g_buf, n + CANARY_COUNT);
     canary_fill(g_mag, n / 2u + 1u + CANARY_COUNT);
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        assert_int_equal(pdt_rfft_forward(bad[i], g_buf), PDT_ERR_ARG);
-        assert_int_equal(pdt_rfft_inverse(bad[i], g_buf), PDT_ERR_ARG);
-        assert_int_equal(pdt_rfft_magnitude(bad[i], g_buf, g_mag), PDT_ERR_ARG);
+        assert_int_equal(pdt_fft_forward(bad[i], g_buf), PDT_ERR_ARG);
+        assert_int_equal(pdt_fft_inverse(bad[i], g_buf), PDT_ERR_ARG);
+        assert_int_equal(pdt_fft_magnitude(bad[i], g_buf, g_mag), PDT_ERR_ARG);
     }
-    assert_int_equal(pdt_rfft_forward(&f, NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_rfft_inverse(&f, NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_rfft_magnitude(&f, NULL, g_mag), PDT_ERR_ARG);
-    assert_int_equal(pdt_rfft_magnitude(&f, g_buf, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_fft_forward(&f, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_fft_inverse(&f, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_fft_magnitude(&f, NULL, g_mag), PDT_ERR_ARG);
+    assert_int_equal(pdt_fft_magnitude(&f, g_buf, NULL), PDT_ERR_ARG);
     canary_check(g_buf, n + CANARY_COUNT);
     canary_check(g_mag, n / 2u + 1u + CANARY_COUNT);
 }
@@ -430,7 +430,7 @@ static void test_table_constant(void **state)
     (void)state;
     const size_t n = 128u;
     const size_t wn = n / 2u;
-    pdt_rfft_t f;
+    pdt_fft_t f;
     init_ok(&f, n);
     pdt_real_t saved[64];
     memcpy(saved, g_work, sizeof saved);
@@ -438,11 +438,11 @@ static void test_table_constant(void **state)
 
     const fft_case_t *tc = &fft_cases[3];
     assert_int_equal(tc->n, n);
-    pdt_rfft_t copy = f;
+    pdt_fft_t copy = f;
     load_input(tc, g_buf);
-    assert_int_equal(pdt_rfft_forward(&copy, g_buf), PDT_OK);
-    assert_int_equal(pdt_rfft_magnitude(&f, g_buf, g_mag), PDT_OK);
-    assert_int_equal(pdt_rfft_inverse(&f, g_buf), PDT_OK);
+    assert_int_equal(pdt_fft_forward(&copy, g_buf), PDT_OK);
+    assert_int_equal(pdt_fft_magnitude(&f, g_buf, g_mag), PDT_OK);
+    assert_int_equal(pdt_fft_inverse(&f, g_buf), PDT_OK);
     assert_memory_equal(saved, g_work, sizeof saved);
 }
 

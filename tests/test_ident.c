@@ -10,7 +10,7 @@
  * macro, canaries after its end through a whole run).
  *
  * The records are made here: the true model discretised with
- * pdt_discretize and run with pdt_dmodel_simulate on the input's
+ * pdt_discrete_init and run with pdt_discrete_simulate on the input's
  * deviation, then shifted to an operating point and given noise from a
  * small LCG (same numbers on every platform and in both real types).
  * Each recovery case prints its measured errors.
@@ -113,13 +113,13 @@ typedef struct record_spec {
 
 static double make_record(const record_spec_t *s)
 {
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     assert_true(s->n <= NMAX);
     for (size_t k = 0; k < s->n; k++) {
         g_dev[k] = (pdt_real_t)(s->amp * (double)g_dev[k]);
     }
-    assert_int_equal(pdt_discretize(&s->m, s->Ts, &d), PDT_OK);
-    assert_int_equal(pdt_dmodel_simulate(&d, g_dev, s->n, g_sim), PDT_OK);
+    assert_int_equal(pdt_discrete_init(&s->m, s->Ts, &d), PDT_OK);
+    assert_int_equal(pdt_discrete_simulate(&d, g_dev, s->n, g_sim), PDT_OK);
     double mean = 0.0, lo = 0.0, hi = 0.0;
     for (size_t k = 0; k < s->n; k++) {
         double v = (double)g_sim[k];
@@ -159,28 +159,28 @@ static pdt_model_t fopdt(double K, double tau, double Td)
 
 static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
 {
-    pdt_sopdt_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
+    pdt_model_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
     pdt_model_t m;
     m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
     return m;
 }
 
 static pdt_model_t sopdt_natural(double K, double wn, double zeta, double Td)
 {
-    pdt_sopdt_natural_t nat = {(pdt_real_t)K, (pdt_real_t)wn, (pdt_real_t)zeta, (pdt_real_t)Td};
+    pdt_model_natural_t nat = {(pdt_real_t)K, (pdt_real_t)wn, (pdt_real_t)zeta, (pdt_real_t)Td};
     pdt_model_t m;
     m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_sopdt_from_natural(&nat, &m.p.sopdt), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_from_natural(&nat, &m.p.sopdt), PDT_OK);
     return m;
 }
 
 static pdt_model_t sopdt_integ(double Ki, double T, double Td)
 {
-    pdt_sopdt_integ_t in = {(pdt_real_t)Ki, (pdt_real_t)T, (pdt_real_t)Td};
+    pdt_model_integ_t in = {(pdt_real_t)Ki, (pdt_real_t)T, (pdt_real_t)Td};
     pdt_model_t m;
     m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_sopdt_from_integ(&in, &m.p.sopdt), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_from_integ(&in, &m.p.sopdt), PDT_OK);
     return m;
 }
 
@@ -233,7 +233,7 @@ static fopdt_err_t check_fopdt(const char *name, const pdt_ident_result_t *res,
                                const pdt_model_t *truth, double tol_K, double tol_tau,
                                double tol_Td)
 {
-    const pdt_fopdt_t *g = &res->model.p.fopdt, *w = &truth->p.fopdt;
+    const pdt_model_fopdt_t *g = &res->model.p.fopdt, *w = &truth->p.fopdt;
     fopdt_err_t e;
     assert_int_equal(res->model.kind, PDT_MODEL_FOPDT);
     e.K = rel_err((double)g->K, (double)w->K);
@@ -255,10 +255,10 @@ static fopdt_err_t check_fopdt(const char *name, const pdt_ident_result_t *res,
 static void check_sopdt(const char *name, const pdt_ident_result_t *res, const pdt_model_t *truth,
                         double tol_K, double tol_wn, double tol_zeta, double tol_Td)
 {
-    pdt_sopdt_natural_t g, w;
+    pdt_model_natural_t g, w;
     assert_int_equal(res->model.kind, PDT_MODEL_SOPDT);
-    assert_int_equal(pdt_sopdt_to_natural(&truth->p.sopdt, &w), PDT_OK);
-    if (pdt_sopdt_to_natural(&res->model.p.sopdt, &g) != PDT_OK) {
+    assert_int_equal(pdt_model_sopdt_to_natural(&truth->p.sopdt, &w), PDT_OK);
+    if (pdt_model_sopdt_to_natural(&res->model.p.sopdt, &g) != PDT_OK) {
         fail_msg("%s: no DC gain: k %g a %g b %g", name, (double)res->model.p.sopdt.k,
                  (double)res->model.p.sopdt.a, (double)res->model.p.sopdt.b);
     }
@@ -373,8 +373,8 @@ static void test_recover_sopdt(void **state)
     check_sopdt("overdamped T1 = 5 T2", &res, &m, SO_K, SO_WN, SO_ZETA, SO_TD);
     check_fit(&res, 95.0);
     {
-        pdt_sopdt_tc_t g;
-        assert_int_equal(pdt_sopdt_to_tc(&res.model.p.sopdt, &g), PDT_OK);
+        pdt_model_tc_t g;
+        assert_int_equal(pdt_model_sopdt_to_tc(&res.model.p.sopdt, &g), PDT_OK);
         assert_false(g.complex);
         print_message("    %-22s T1 %.4f  T2 %.4f\n", "", (double)g.T1, (double)g.T2);
         assert_close(g.T1, 10.0, 0.03, 0.0);
@@ -398,7 +398,7 @@ static void test_recover_integrating(void **state)
 {
     pdt_ident_result_t res;
     pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)0.5);
-    pdt_sopdt_integ_t g;
+    pdt_model_integ_t g;
     (void)state;
     /* Integrator with a lag: a symmetric random binary input keeps the
      * output bounded. */
@@ -407,7 +407,7 @@ static void test_recover_integrating(void **state)
     make_prbs(g_dev, s.n, 10u, 12u, 11u);
     make_record(&s);
     identify(&cfg, s.n, &res);
-    const pdt_sopdt_t *p = &res.model.p.sopdt;
+    const pdt_model_sopdt_t *p = &res.model.p.sopdt;
     double bscale = (double)p->a * (double)p->a;
     print_message("    %-22s k %.5g a %.5g b %.3g (b / a^2 %.2e)  Td %.4f  fit %6.2f  evals %u\n",
                   "integrating", (double)p->k, (double)p->a, (double)p->b,
@@ -418,11 +418,11 @@ static void test_recover_integrating(void **state)
      * library itself reports b = 0 from 100 record lengths). */
     assert_true((double)p->b <= (double)p->a / (20.0 * 1000.0 * 0.5));
     if (p->b == (pdt_real_t)0.0) {
-        assert_int_equal(pdt_sopdt_to_integ(p, &g), PDT_OK);
+        assert_int_equal(pdt_model_sopdt_to_integ(p, &g), PDT_OK);
     } else {
-        pdt_sopdt_t q = *p;
+        pdt_model_sopdt_t q = *p;
         q.b = (pdt_real_t)0.0;
-        assert_int_equal(pdt_sopdt_to_integ(&q, &g), PDT_OK);
+        assert_int_equal(pdt_model_sopdt_to_integ(&q, &g), PDT_OK);
     }
     print_message("    %-22s Ki %.5f (%.2e)  T %.4f (%.2e)\n", "", (double)g.Ki,
                   rel_err((double)g.Ki, 0.05), (double)g.T, rel_err((double)g.T, 3.0));

@@ -7,8 +7,8 @@
  * and prints the worst errors of each sweep.
  *
  * Records: a random binary input (held for about half the fastest time
- * constant), the true model through pdt_discretize and
- * pdt_dmodel_simulate, an operating point and noise from a small LCG.
+ * constant), the true model through pdt_discrete_init and
+ * pdt_discrete_simulate, an operating point and noise from a small LCG.
  */
 #include "test_util.h"
 
@@ -42,7 +42,7 @@ static double lcg_normal(uint32_t *s)
 static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t hold,
                         uint32_t seed)
 {
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     uint32_t r = seed * 7919u + 1u;
     pdt_real_t level = (pdt_real_t)1.0;
     for (size_t k = 0; k < n; k++) {
@@ -51,8 +51,8 @@ static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t ho
         }
         g_dev[k] = k < 10u ? (pdt_real_t)0.0 : level;
     }
-    assert_int_equal(pdt_discretize(m, Ts, &d), PDT_OK);
-    assert_int_equal(pdt_dmodel_simulate(&d, g_dev, n, g_sim), PDT_OK);
+    assert_int_equal(pdt_discrete_init(m, Ts, &d), PDT_OK);
+    assert_int_equal(pdt_discrete_simulate(&d, g_dev, n, g_sim), PDT_OK);
     double mean = 0.0, var = 0.0;
     for (size_t k = 0; k < n; k++) {
         mean += (double)g_sim[k];
@@ -115,7 +115,7 @@ static void test_sweep_fopdt(void **state)
                 cfg.Ts = (pdt_real_t)1.0;
                 cfg.Td_max = (pdt_real_t)100.0;
                 identify(&cfg, 800u, &res);
-                const pdt_fopdt_t *g = &res.model.p.fopdt;
+                const pdt_model_fopdt_t *g = &res.model.p.fopdt;
                 double e[3] = {rel_err((double)g->K, 1.3), rel_err((double)g->tau, taus[i]),
                                fabs((double)g->Td - (double)m.p.fopdt.Td) / taus[i]};
                 for (int k = 0; k < 3; k++) {
@@ -146,20 +146,20 @@ static void test_sweep_sopdt(void **state)
     (void)state;
     for (size_t i = 0; i < sizeof zetas / sizeof zetas[0]; i++) {
         for (uint32_t seed = 1u; seed <= 3u; seed++) {
-            pdt_sopdt_natural_t w = {(pdt_real_t)1.1, (pdt_real_t)0.25, (pdt_real_t)zetas[i],
+            pdt_model_natural_t w = {(pdt_real_t)1.1, (pdt_real_t)0.25, (pdt_real_t)zetas[i],
                                      (pdt_real_t)3.1};
-            pdt_sopdt_natural_t g;
+            pdt_model_natural_t g;
             pdt_model_t m;
             pdt_ident_result_t res;
             m.kind = PDT_MODEL_SOPDT;
-            assert_int_equal(pdt_sopdt_from_natural(&w, &m.p.sopdt), PDT_OK);
+            assert_int_equal(pdt_model_sopdt_from_natural(&w, &m.p.sopdt), PDT_OK);
             make_record(&m, (pdt_real_t)0.5, 1000u, 12u, seed + 10u);
             pdt_ident_config_t cfg;
             pdt_ident_config_default(&cfg);
             cfg.model = PDT_MODEL_SOPDT;
             cfg.Ts = (pdt_real_t)0.5;
             identify(&cfg, 1000u, &res);
-            if (pdt_sopdt_to_natural(&res.model.p.sopdt, &g) != PDT_OK) {
+            if (pdt_model_sopdt_to_natural(&res.model.p.sopdt, &g) != PDT_OK) {
                 fail_msg("zeta %g seed %u: integrating result", zetas[i], (unsigned)seed);
             }
             double e[4] = {rel_err((double)g.K, 1.1), rel_err((double)g.wn, 0.25),

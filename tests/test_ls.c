@@ -368,7 +368,7 @@ static void test_auto_bound(void **state)
     assert_int_equal(cfg.method, PDT_LS_ELMS);
     assert_true(cfg.Ts == (pdt_real_t)0);
     assert_int_equal(cfg.delay_min, 0u);
-    assert_true(cfg.delay_max == PDT_LS_DELAY_AUTO);
+    assert_true(cfg.delay_max == PDT_DELAY_QUARTER);
     assert_false(cfg.whole_record);
     assert_null(cfg.costs);
     pdt_ls_config_default(NULL);
@@ -461,7 +461,7 @@ static void test_bad_init(void **state)
     assert_int_equal(pdt_ls_init(&ctx, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 1u), PDT_OK);
     load_record(0);
     cfg = good;
-    cfg.delay_max = PDT_LS_DELAY_AUTO; /* n / 4 = 2: 8 - 2 - 1 < 16 */
+    cfg.delay_max = PDT_DELAY_QUARTER; /* n / 4 = 2: 8 - 2 - 1 < 16 */
     check_init_fails(&cfg, g_u, g_y, 8u, PDT_ERR_TOO_SHORT);
     check_init_fails(&cfg, g_u, g_y, 0u, PDT_ERR_TOO_SHORT);
 

@@ -105,33 +105,33 @@ static void test_conversions_vectors(void **state)
             continue;
         }
         pdt_model_t m = vec_model(i);
-        const pdt_sopdt_t *s = &m.p.sopdt;
-        pdt_sopdt_natural_t nat;
-        pdt_sopdt_tc_t tc;
-        pdt_sopdt_integ_t integ;
-        pdt_sopdt_t back;
+        const pdt_model_sopdt_t *s = &m.p.sopdt;
+        pdt_model_natural_t nat;
+        pdt_model_tc_t tc;
+        pdt_model_integ_t integ;
+        pdt_model_sopdt_t back;
         int mask = model_forms[i];
         if (mask & 1) {
             const double *v = &model_natural[4 * i];
-            assert_int_equal(pdt_sopdt_to_natural(s, &nat), PDT_OK);
+            assert_int_equal(pdt_model_sopdt_to_natural(s, &nat), PDT_OK);
             assert_close(nat.K, v[0], rt, 0.0);
             assert_close(nat.wn, v[1], rt, 0.0);
             assert_close(nat.zeta, v[2], rt, 0.0);
             assert_close(nat.Td, v[3], 0.0, 0.0);
-            assert_int_equal(pdt_sopdt_from_natural(&nat, &back), PDT_OK);
+            assert_int_equal(pdt_model_sopdt_from_natural(&nat, &back), PDT_OK);
             assert_close(back.k, s->k, rt, 0.0);
             assert_close(back.a, s->a, rt, 0.0);
             assert_close(back.b, s->b, rt, 0.0);
             assert_close(back.Td, s->Td, 0.0, 0.0);
         } else {
             memset(&nat, 0x5a, sizeof nat);
-            pdt_sopdt_natural_t keep = nat;
-            assert_int_equal(pdt_sopdt_to_natural(s, &nat), PDT_ERR_NO_FORM);
+            pdt_model_natural_t keep = nat;
+            assert_int_equal(pdt_model_sopdt_to_natural(s, &nat), PDT_ERR_NO_FORM);
             assert_memory_equal(&nat, &keep, sizeof nat);
         }
         if (mask & 2) {
             const double *v = &model_tc[5 * i];
-            assert_int_equal(pdt_sopdt_to_tc(s, &tc), PDT_OK);
+            assert_int_equal(pdt_model_sopdt_to_tc(s, &tc), PDT_OK);
             assert_int_equal(tc.complex ? 1 : 0, v[3] != 0.0 ? 1 : 0);
             assert_close(tc.K, v[0], rt, 0.0);
             /* near critical damping the split of the pair is a square root
@@ -139,29 +139,29 @@ static void test_conversions_vectors(void **state)
             double ttol = fabs(v[1] - v[2]) < 0.1 * v[1] ? 3e-3 : rt;
             assert_close(tc.T1, v[1], ttol, 0.0);
             assert_close(tc.T2, v[2], ttol, ttol * v[1]);
-            assert_int_equal(pdt_sopdt_from_tc(&tc, &back), PDT_OK);
+            assert_int_equal(pdt_model_sopdt_from_tc(&tc, &back), PDT_OK);
             assert_close(back.k, s->k, rt, 0.0);
             assert_close(back.a, s->a, rt, 0.0);
             assert_close(back.b, s->b, rt, 0.0);
         } else {
             memset(&tc, 0x5a, sizeof tc);
-            pdt_sopdt_tc_t keep = tc;
-            assert_int_equal(pdt_sopdt_to_tc(s, &tc), PDT_ERR_NO_FORM);
+            pdt_model_tc_t keep = tc;
+            assert_int_equal(pdt_model_sopdt_to_tc(s, &tc), PDT_ERR_NO_FORM);
             assert_memory_equal(&tc, &keep, sizeof tc);
         }
         if (mask & 4) {
             const double *v = &model_integ[3 * i];
-            assert_int_equal(pdt_sopdt_to_integ(s, &integ), PDT_OK);
+            assert_int_equal(pdt_model_sopdt_to_integ(s, &integ), PDT_OK);
             assert_close(integ.Ki, v[0], rt, 0.0);
             assert_close(integ.T, v[1], rt, 0.0);
-            assert_int_equal(pdt_sopdt_from_integ(&integ, &back), PDT_OK);
+            assert_int_equal(pdt_model_sopdt_from_integ(&integ, &back), PDT_OK);
             assert_close(back.k, s->k, rt, 0.0);
             assert_close(back.a, s->a, rt, 0.0);
             assert_true(back.b == R(0.0));
         } else {
             memset(&integ, 0x5a, sizeof integ);
-            pdt_sopdt_integ_t keep = integ;
-            assert_int_equal(pdt_sopdt_to_integ(s, &integ), PDT_ERR_NO_FORM);
+            pdt_model_integ_t keep = integ;
+            assert_int_equal(pdt_model_sopdt_to_integ(s, &integ), PDT_ERR_NO_FORM);
             assert_memory_equal(&integ, &keep, sizeof integ);
         }
     }
@@ -171,14 +171,14 @@ static void test_conversions_round_trip(void **state)
 {
     (void)state;
     const double rt = 1e-5 > TEST_RTOL * 0.01 ? TEST_RTOL * 0.01 : 1e-5;
-    pdt_sopdt_tc_t in[3] = {{R(2.0), R(3.0), R(0.5), false, R(0.25)},
+    pdt_model_tc_t in[3] = {{R(2.0), R(3.0), R(0.5), false, R(0.25)},
                             {R(-1.0), R(0.5), R(3.0), false, R(0.0)},
                             {R(1.0), R(2.9), R(0.5), true, R(0.79)}};
     for (int i = 0; i < 3; i++) {
-        pdt_sopdt_t s;
-        pdt_sopdt_tc_t out;
-        assert_int_equal(pdt_sopdt_from_tc(&in[i], &s), PDT_OK);
-        assert_int_equal(pdt_sopdt_to_tc(&s, &out), PDT_OK);
+        pdt_model_sopdt_t s;
+        pdt_model_tc_t out;
+        assert_int_equal(pdt_model_sopdt_from_tc(&in[i], &s), PDT_OK);
+        assert_int_equal(pdt_model_sopdt_to_tc(&s, &out), PDT_OK);
         /* to_tc orders a real pair: larger first */
         pdt_real_t hi = in[i].complex || in[i].T1 > in[i].T2 ? in[i].T1 : in[i].T2;
         pdt_real_t lo = in[i].complex || in[i].T1 > in[i].T2 ? in[i].T2 : in[i].T1;
@@ -187,27 +187,27 @@ static void test_conversions_round_trip(void **state)
         assert_close(out.T1, hi, rt, 0.0);
         assert_close(out.T2, lo, rt, 0.0);
         assert_close(out.Td, in[i].Td, 0.0, 0.0);
-        pdt_sopdt_natural_t n;
-        pdt_sopdt_t s2;
-        assert_int_equal(pdt_sopdt_to_natural(&s, &n), PDT_OK);
-        assert_int_equal(pdt_sopdt_from_natural(&n, &s2), PDT_OK);
+        pdt_model_natural_t n;
+        pdt_model_sopdt_t s2;
+        assert_int_equal(pdt_model_sopdt_to_natural(&s, &n), PDT_OK);
+        assert_int_equal(pdt_model_sopdt_from_natural(&n, &s2), PDT_OK);
         assert_close(s2.k, s.k, rt, 0.0);
         assert_close(s2.a, s.a, rt, 0.0);
         assert_close(s2.b, s.b, rt, 0.0);
     }
     /* zeta = 1 exactly gives a repeated real pair */
-    pdt_sopdt_natural_t crit = {R(1.0), R(2.0), R(1.0), R(0.0)};
-    pdt_sopdt_t s;
-    pdt_sopdt_tc_t tc;
-    assert_int_equal(pdt_sopdt_from_natural(&crit, &s), PDT_OK);
-    assert_int_equal(pdt_sopdt_to_tc(&s, &tc), PDT_OK);
+    pdt_model_natural_t crit = {R(1.0), R(2.0), R(1.0), R(0.0)};
+    pdt_model_sopdt_t s;
+    pdt_model_tc_t tc;
+    assert_int_equal(pdt_model_sopdt_from_natural(&crit, &s), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_to_tc(&s, &tc), PDT_OK);
     assert_false(tc.complex);
     assert_close(tc.T1, 0.5, rt, 0.0);
     assert_close(tc.T2, 0.5, rt, 0.0);
-    pdt_sopdt_integ_t ig = {R(-0.4), R(1.5), R(2.0)};
-    pdt_sopdt_integ_t ig2;
-    assert_int_equal(pdt_sopdt_from_integ(&ig, &s), PDT_OK);
-    assert_int_equal(pdt_sopdt_to_integ(&s, &ig2), PDT_OK);
+    pdt_model_integ_t ig = {R(-0.4), R(1.5), R(2.0)};
+    pdt_model_integ_t ig2;
+    assert_int_equal(pdt_model_sopdt_from_integ(&ig, &s), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_to_integ(&s, &ig2), PDT_OK);
     assert_close(ig2.Ki, ig.Ki, rt, 0.0);
     assert_close(ig2.T, ig.T, rt, 0.0);
     assert_close(ig2.Td, ig.Td, 0.0, 0.0);
@@ -246,10 +246,10 @@ static void test_step_properties(void **state)
 {
     (void)state;
     /* integrator: slope Ki at large times, and y = Ki (t - Td - T) there */
-    pdt_sopdt_integ_t ig = {R(0.5), R(2.0), R(0.33)};
+    pdt_model_integ_t ig = {R(0.5), R(2.0), R(0.33)};
     pdt_model_t m;
     m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_sopdt_from_integ(&ig, &m.p.sopdt), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_from_integ(&ig, &m.p.sopdt), PDT_OK);
     pdt_real_t t[4] = {R(40.0), R(60.0), R(80.0), R(100.0)};
     pdt_real_t y[4];
     assert_int_equal(pdt_model_step(&m, t, 4, y), PDT_OK);
@@ -264,8 +264,8 @@ static void test_step_properties(void **state)
     double prev[3][8];
     const pdt_real_t zetas[3] = {R(0.9999), R(1.0), R(1.0001)};
     for (int z = 0; z < 3; z++) {
-        pdt_sopdt_natural_t n = {R(1.0), R(1.0), zetas[z], R(0.0)};
-        assert_int_equal(pdt_sopdt_from_natural(&n, &m.p.sopdt), PDT_OK);
+        pdt_model_natural_t n = {R(1.0), R(1.0), zetas[z], R(0.0)};
+        assert_int_equal(pdt_model_sopdt_from_natural(&n, &m.p.sopdt), PDT_OK);
         for (int j = 0; j < 8; j++) {
             pdt_real_t tj = R(0.01) * (pdt_real_t)(1 << (2 * j));
             pdt_real_t yj;
@@ -278,8 +278,8 @@ static void test_step_properties(void **state)
         assert_close(prev[2][j], prev[1][j], 2e-4, 1e-7);
     }
     /* widely separated poles at large times: no overflow, settles at K */
-    pdt_sopdt_tc_t tc = {R(1.0), R(1.0), R(0.6), false, R(0.0)};
-    assert_int_equal(pdt_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
+    pdt_model_tc_t tc = {R(1.0), R(1.0), R(0.6), false, R(0.0)};
+    assert_int_equal(pdt_model_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
     pdt_real_t tl[3] = {R(200.0), R(1e4), R(1e30)};
     pdt_real_t yl[3];
     assert_int_equal(pdt_model_step(&m, tl, 3, yl), PDT_OK);
@@ -297,8 +297,8 @@ static void test_negative_gain_phase(void **state)
     pdt_model_t p;
     pdt_model_t n;
     p.kind = n.kind = PDT_MODEL_FOPDT;
-    p.p.fopdt = (pdt_fopdt_t){R(2.0), R(1.0), R(0.5)};
-    n.p.fopdt = (pdt_fopdt_t){R(-2.0), R(1.0), R(0.5)};
+    p.p.fopdt = (pdt_model_fopdt_t){R(2.0), R(1.0), R(0.5)};
+    n.p.fopdt = (pdt_model_fopdt_t){R(-2.0), R(1.0), R(0.5)};
     pdt_real_t w[3] = {R(0.0), R(1.0), R(3.0)};
     pdt_real_t mp[3], pp[3], mn[3], pn[3];
     assert_int_equal(pdt_model_freq(&p, w, 3, mp, pp), PDT_OK);
@@ -310,7 +310,7 @@ static void test_negative_gain_phase(void **state)
     /* integrator at w = 0: +inf, -pi/2 */
     pdt_model_t ig;
     ig.kind = PDT_MODEL_SOPDT;
-    ig.p.sopdt = (pdt_sopdt_t){R(1.0), R(2.0), R(0.0), R(1.0)};
+    ig.p.sopdt = (pdt_model_sopdt_t){R(1.0), R(2.0), R(0.0), R(1.0)};
     assert_int_equal(pdt_model_freq(&ig, w, 1, mp, pp), PDT_OK);
     assert_true(isinf(mp[0]) && mp[0] > 0);
     assert_close(pp[0], -1.5707963267949, 1e-6, 0.0);
@@ -322,7 +322,7 @@ static pdt_model_t good_sopdt(void)
 {
     pdt_model_t m;
     m.kind = PDT_MODEL_SOPDT;
-    m.p.sopdt = (pdt_sopdt_t){R(1.0), R(1.5), R(0.5), R(0.2)};
+    m.p.sopdt = (pdt_model_sopdt_t){R(1.0), R(1.5), R(0.5), R(0.2)};
     return m;
 }
 
@@ -330,7 +330,7 @@ static pdt_model_t good_fopdt(void)
 {
     pdt_model_t m;
     m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt = (pdt_fopdt_t){R(1.0), R(1.5), R(0.2)};
+    m.p.fopdt = (pdt_model_fopdt_t){R(1.0), R(1.5), R(0.2)};
     return m;
 }
 
@@ -380,18 +380,18 @@ static void test_bad_models(void **state)
         canary_check(y2, 2 + CANARY_COUNT);
         canary_check(&g, 1);
         if (bad[i].kind == PDT_MODEL_SOPDT) {
-            pdt_sopdt_natural_t n;
-            pdt_sopdt_tc_t tc;
-            pdt_sopdt_integ_t ig;
+            pdt_model_natural_t n;
+            pdt_model_tc_t tc;
+            pdt_model_integ_t ig;
             memset(&n, 0x33, sizeof n);
             memset(&tc, 0x33, sizeof tc);
             memset(&ig, 0x33, sizeof ig);
-            pdt_sopdt_natural_t n0 = n;
-            pdt_sopdt_tc_t tc0 = tc;
-            pdt_sopdt_integ_t ig0 = ig;
-            assert_int_equal(pdt_sopdt_to_natural(&bad[i].p.sopdt, &n), PDT_ERR_ARG);
-            assert_int_equal(pdt_sopdt_to_tc(&bad[i].p.sopdt, &tc), PDT_ERR_ARG);
-            assert_int_equal(pdt_sopdt_to_integ(&bad[i].p.sopdt, &ig), PDT_ERR_ARG);
+            pdt_model_natural_t n0 = n;
+            pdt_model_tc_t tc0 = tc;
+            pdt_model_integ_t ig0 = ig;
+            assert_int_equal(pdt_model_sopdt_to_natural(&bad[i].p.sopdt, &n), PDT_ERR_ARG);
+            assert_int_equal(pdt_model_sopdt_to_tc(&bad[i].p.sopdt, &tc), PDT_ERR_ARG);
+            assert_int_equal(pdt_model_sopdt_to_integ(&bad[i].p.sopdt, &ig), PDT_ERR_ARG);
             assert_memory_equal(&n, &n0, sizeof n);
             assert_memory_equal(&tc, &tc0, sizeof tc);
             assert_memory_equal(&ig, &ig0, sizeof ig);
@@ -443,48 +443,48 @@ static void test_bad_conversions(void **state)
 {
     (void)state;
     const pdt_real_t nan = (pdt_real_t)NAN;
-    pdt_sopdt_t out;
+    pdt_model_sopdt_t out;
     memset(&out, 0x44, sizeof out);
-    pdt_sopdt_t keep = out;
-    pdt_sopdt_natural_t nb[5] = {{R(1.0), R(0.0), R(0.5), R(0.0)},
+    pdt_model_sopdt_t keep = out;
+    pdt_model_natural_t nb[5] = {{R(1.0), R(0.0), R(0.5), R(0.0)},
                                  {R(1.0), R(1.0), R(0.0), R(0.0)},
                                  {R(1.0), R(1.0), R(0.5), R(-1.0)},
                                  {nan, R(1.0), R(0.5), R(0.0)},
                                  {R(1.0), R(-1.0), R(0.5), R(0.0)}};
     for (int i = 0; i < 5; i++) {
-        assert_int_equal(pdt_sopdt_from_natural(&nb[i], &out), PDT_ERR_ARG);
+        assert_int_equal(pdt_model_sopdt_from_natural(&nb[i], &out), PDT_ERR_ARG);
     }
-    pdt_sopdt_tc_t tb[5] = {{R(1.0), R(0.0), R(0.5), false, R(0.0)},
+    pdt_model_tc_t tb[5] = {{R(1.0), R(0.0), R(0.5), false, R(0.0)},
                             {R(1.0), R(1.0), R(-0.5), false, R(0.0)},
                             {R(1.0), R(1.0), R(0.0), true, R(0.0)},
                             {R(1.0), R(1.0), R(0.5), true, R(-1.0)},
                             {R(1.0), nan, R(0.5), false, R(0.0)}};
     for (int i = 0; i < 5; i++) {
-        assert_int_equal(pdt_sopdt_from_tc(&tb[i], &out), PDT_ERR_ARG);
+        assert_int_equal(pdt_model_sopdt_from_tc(&tb[i], &out), PDT_ERR_ARG);
     }
-    pdt_sopdt_integ_t ib[3] = {{R(1.0), R(0.0), R(0.0)},
+    pdt_model_integ_t ib[3] = {{R(1.0), R(0.0), R(0.0)},
                                {R(1.0), R(1.0), R(-1.0)},
                                {(pdt_real_t)INFINITY, R(1.0), R(0.0)}};
     for (int i = 0; i < 3; i++) {
-        assert_int_equal(pdt_sopdt_from_integ(&ib[i], &out), PDT_ERR_ARG);
+        assert_int_equal(pdt_model_sopdt_from_integ(&ib[i], &out), PDT_ERR_ARG);
     }
-    assert_int_equal(pdt_sopdt_from_natural(NULL, &out), PDT_ERR_ARG);
-    assert_int_equal(pdt_sopdt_from_tc(NULL, &out), PDT_ERR_ARG);
-    assert_int_equal(pdt_sopdt_from_integ(NULL, &out), PDT_ERR_ARG);
+    assert_int_equal(pdt_model_sopdt_from_natural(NULL, &out), PDT_ERR_ARG);
+    assert_int_equal(pdt_model_sopdt_from_tc(NULL, &out), PDT_ERR_ARG);
+    assert_int_equal(pdt_model_sopdt_from_integ(NULL, &out), PDT_ERR_ARG);
     assert_memory_equal(&out, &keep, sizeof out);
-    assert_int_equal(pdt_sopdt_from_natural(&nb[0], NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_sopdt_from_tc(&tb[0], NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_sopdt_from_integ(&ib[0], NULL), PDT_ERR_ARG);
-    pdt_sopdt_t s = good_sopdt().p.sopdt;
-    assert_int_equal(pdt_sopdt_to_natural(NULL, NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_sopdt_to_natural(&s, NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_sopdt_to_tc(&s, NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_sopdt_to_integ(&s, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_model_sopdt_from_natural(&nb[0], NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_model_sopdt_from_tc(&tb[0], NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_model_sopdt_from_integ(&ib[0], NULL), PDT_ERR_ARG);
+    pdt_model_sopdt_t s = good_sopdt().p.sopdt;
+    assert_int_equal(pdt_model_sopdt_to_natural(NULL, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_model_sopdt_to_natural(&s, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_model_sopdt_to_tc(&s, NULL), PDT_ERR_ARG);
+    assert_int_equal(pdt_model_sopdt_to_integ(&s, NULL), PDT_ERR_ARG);
     /* a non-integrating model has no integrating form */
-    pdt_sopdt_integ_t ig;
+    pdt_model_integ_t ig;
     memset(&ig, 0x21, sizeof ig);
-    pdt_sopdt_integ_t ig0 = ig;
-    assert_int_equal(pdt_sopdt_to_integ(&s, &ig), PDT_ERR_NO_FORM);
+    pdt_model_integ_t ig0 = ig;
+    assert_int_equal(pdt_model_sopdt_to_integ(&s, &ig), PDT_ERR_NO_FORM);
     assert_memory_equal(&ig, &ig0, sizeof ig);
 }
 

@@ -290,7 +290,7 @@ static void test_bad_inputs(void **state)
 }
 
 /* A whole experiment: the step generator at the scan rate, a FOPDT plant
- * (pdt_discretize) between them, the recorder decimating by 5. Then a rerun
+ * (pdt_discrete_init) between them, the recorder decimating by 5. Then a rerun
  * whose pv limit the step breaks: the abort comes at the scan where pv
  * passes the limit, with the operating point as the output to apply. */
 static void step_experiment(pdt_real_t pv_max, pdt_record_result_t *res, pdt_real_t *u,
@@ -302,8 +302,8 @@ static void step_experiment(pdt_real_t pv_max, pdt_record_result_t *res, pdt_rea
     m.p.fopdt.K = R(2.0);
     m.p.fopdt.tau = R(1.5);
     m.p.fopdt.Td = R(0.4);
-    pdt_dmodel_t d;
-    assert_int_equal(pdt_discretize(&m, Ts, &d), PDT_OK);
+    pdt_discrete_t d;
+    assert_int_equal(pdt_discrete_init(&m, Ts, &d), PDT_OK);
     pdt_excite_config_t ec;
     pdt_excite_t g;
     pdt_excite_config_default(&ec, PDT_EXCITE_STEP);

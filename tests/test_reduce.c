@@ -283,8 +283,8 @@ static void test_paper17(void **state)
 
     cfg.model = PDT_MODEL_SOPDT;
     assert_int_equal(pdt_reduce_half_rule(&p, &cfg, &m, &info), PDT_OK);
-    pdt_sopdt_tc_t tc;
-    assert_int_equal(pdt_sopdt_to_tc(&m.p.sopdt, &tc), PDT_OK);
+    pdt_model_tc_t tc;
+    assert_int_equal(pdt_model_sopdt_to_tc(&m.p.sopdt, &tc), PDT_OK);
     assert_false(tc.complex);
     assert_close(tc.K, 1.0, 1e-5, 0.0);
     assert_close(tc.T1, 2.0, 1e-5, 0.0);
@@ -316,7 +316,7 @@ static void test_paper17(void **state)
     cfg.model = PDT_MODEL_SOPDT;
     assert_int_equal(pdt_reduce_sung(&p, &cfg, &m, &info), PDT_OK);
     assert_int_equal(m.kind, PDT_MODEL_SOPDT);
-    assert_int_equal(pdt_sopdt_to_tc(&m.p.sopdt, &tc), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_to_tc(&m.p.sopdt, &tc), PDT_OK);
     assert_false(tc.complex);
     assert_close(tc.K, 1.0, 1e-4, 0.0);
     assert_close(tc.T1, 1.87, 0.0, 0.01);
@@ -343,8 +343,8 @@ static void test_half_exact(void **state)
     p.n_lags = 2;
     cfg.model = PDT_MODEL_SOPDT;
     assert_int_equal(pdt_reduce_half_rule(&p, &cfg, &m, NULL), PDT_OK);
-    pdt_sopdt_tc_t tc;
-    assert_int_equal(pdt_sopdt_to_tc(&m.p.sopdt, &tc), PDT_OK);
+    pdt_model_tc_t tc;
+    assert_int_equal(pdt_model_sopdt_to_tc(&m.p.sopdt, &tc), PDT_OK);
     assert_close(tc.T1, 4.0, 1e-6, 0.0);
     assert_close(tc.T2, 0.5, 1e-6, 0.0);
     assert_close(tc.K, -2.5, 1e-6, 0.0);
@@ -468,8 +468,8 @@ static void test_sung_exact(void **state)
     pdt_reduce_info_t info;
     assert_int_equal(pdt_reduce_sung(&p, &cfg, &m, &info), PDT_OK);
     assert_false(info.fallback);
-    pdt_sopdt_tc_t tc;
-    assert_int_equal(pdt_sopdt_to_tc(&m.p.sopdt, &tc), PDT_OK);
+    pdt_model_tc_t tc;
+    assert_int_equal(pdt_model_sopdt_to_tc(&m.p.sopdt, &tc), PDT_OK);
     assert_false(tc.complex);
     assert_close(tc.K, 1.5, TEST_RTOL, 0.0);
     assert_close(tc.T1, 2.0, 10 * SUNG2_RTOL, 0.0);

@@ -69,11 +69,11 @@ static pdt_model_t fopdt(double K, double tau, double Td)
 
 static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
 {
-    pdt_sopdt_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
+    pdt_model_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
     pdt_model_t m;
     memset(&m, 0, sizeof m);
     m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
     return m;
 }
 
@@ -476,11 +476,11 @@ static void test_refusals(void **state)
     assert_memory_equal(&out.r, &before, sizeof before);
 
     /* no form: complex poles with PI rules, AMIGO; ZN without dead time */
-    pdt_sopdt_natural_t nat = {TR(1.0), TR(1.0), TR(0.4), TR(0.5)};
+    pdt_model_natural_t nat = {TR(1.0), TR(1.0), TR(0.4), TR(0.5)};
     pdt_model_t u;
     memset(&u, 0, sizeof u);
     u.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_sopdt_from_natural(&nat, &u.p.sopdt), PDT_OK);
+    assert_int_equal(pdt_model_sopdt_from_natural(&nat, &u.p.sopdt), PDT_OK);
     const pdt_tune_rule_t rules[3] = {PDT_TUNE_SIMC, PDT_TUNE_IMC, PDT_TUNE_AMIGO};
     for (int i = 0; i < 3; i++) {
         c = config(rules[i], PDT_TUNE_PI);

@@ -185,8 +185,8 @@ static void copy_model(pdt_fb_autotune_t *fb, const pdt_ident_result_t *id)
         fb->rTau1 = m->p.fopdt.tau;
         fb->rDeadTime = m->p.fopdt.Td;
     } else if (m->p.sopdt.b == FB_R(0.0)) {
-        pdt_sopdt_integ_t in;
-        if (pdt_sopdt_to_integ(&m->p.sopdt, &in) != PDT_OK) {
+        pdt_model_integ_t in;
+        if (pdt_model_sopdt_to_integ(&m->p.sopdt, &in) != PDT_OK) {
             return;
         }
         fb->xIntegrating = true;
@@ -194,10 +194,10 @@ static void copy_model(pdt_fb_autotune_t *fb, const pdt_ident_result_t *id)
         fb->rTau1 = in.T;
         fb->rDeadTime = in.Td;
     } else {
-        pdt_sopdt_natural_t nat;
-        pdt_sopdt_tc_t tc;
-        if (pdt_sopdt_to_natural(&m->p.sopdt, &nat) != PDT_OK ||
-            pdt_sopdt_to_tc(&m->p.sopdt, &tc) != PDT_OK) {
+        pdt_model_natural_t nat;
+        pdt_model_tc_t tc;
+        if (pdt_model_sopdt_to_natural(&m->p.sopdt, &nat) != PDT_OK ||
+            pdt_model_sopdt_to_tc(&m->p.sopdt, &tc) != PDT_OK) {
             return;
         }
         fb->rGain = nat.K;

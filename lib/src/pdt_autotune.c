@@ -7,7 +7,7 @@
 
 #include "pdt_internal.h"
 
-#define AUTOTUNE_MAGIC 0x70647461u
+#define AUTOTUNE_MAGIC PDT_MAGIC('P', 'D', 'A', 'T')
 
 void pdt_autotune_config_default(pdt_autotune_config_t *cfg)
 {

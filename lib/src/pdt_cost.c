@@ -20,7 +20,7 @@ void pdt_cost_config_default(pdt_cost_config_t *cfg)
     cfg->u0 = PDT_R(0.0);
     cfg->y0 = PDT_R(0.0);
     cfg->delay_min = 0u;
-    cfg->delay_max = PDT_DELAY_AUTO;
+    cfg->delay_max = PDT_DELAY_HALF;
     cfg->kind = PDT_COST_COMBINED;
     cfg->time_kind = PDT_COST_SIMULATION;
     cfg->delay_mode = PDT_DELAY_FRACTIONAL;
@@ -37,7 +37,7 @@ void pdt_cost_config_default(pdt_cost_config_t *cfg)
 
 static size_t resolve_delay_max(size_t n, size_t delay_max)
 {
-    return (delay_max == PDT_DELAY_AUTO) ? n / 2u : delay_max;
+    return pdt_delay_bound(n, delay_max);
 }
 
 size_t pdt_cost_fft_size(size_t n, size_t delay_max)
@@ -63,7 +63,7 @@ size_t pdt_cost_fft_size(size_t n, size_t delay_max)
 /* Workspace bytes for FFT size nf, 0 if the FFT does not support nf. */
 static size_t workspace_bytes(size_t nf)
 {
-    size_t fft = pdt_rfft_workspace_size(nf);
+    size_t fft = pdt_fft_workspace_size(nf);
     if (fft == 0u) {
         return 0u;
     }
@@ -140,7 +140,7 @@ static bool config_ok(const pdt_cost_config_t *cfg)
  * |X(k)|, k = 1 .. nf/2, compacted in place into buf[0 .. nf/2 - 1]. Bin k
  * is read from buf[2k], buf[2k+1] and written to buf[k - 1], below
  * anything still to be read, once the Nyquist value in buf[1] is saved. */
-static pdt_status_t spectrum_magnitude(const pdt_rfft_t *f, const pdt_real_t *x, pdt_real_t x0,
+static pdt_status_t spectrum_magnitude(const pdt_fft_t *f, const pdt_real_t *x, pdt_real_t x0,
                                        size_t n, size_t nf, pdt_real_t *buf)
 {
     pdt_status_t st;
@@ -153,7 +153,7 @@ static pdt_status_t spectrum_magnitude(const pdt_rfft_t *f, const pdt_real_t *x,
     for (k = n; k < nf; k++) {
         buf[k] = PDT_R(0.0);
     }
-    st = pdt_rfft_forward(f, buf);
+    st = pdt_fft_forward(f, buf);
     if (st != PDT_OK) {
         return st;
     }
@@ -245,7 +245,7 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
         size_t nb;
         size_t need;
         pdt_real_t *base;
-        pdt_rfft_t fft;
+        pdt_fft_t fft;
         pdt_status_t st;
 
         if (nf == 0u) {
@@ -279,7 +279,7 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
          * its start; y's is [nb, 3nb) and leaves |Y| at its start; the
          * weights come last, over the end of y's buffer. */
         base = (pdt_real_t *)work;
-        st = pdt_rfft_init(&fft, nf, base + 3u * nb, work_len - 3u * nb * sizeof(pdt_real_t));
+        st = pdt_fft_init(&fft, nf, base + 3u * nb, work_len - 3u * nb * sizeof(pdt_real_t));
         if (st == PDT_OK) {
             st = spectrum_magnitude(&fft, u, cfg->u0, n, nf, base);
         }
@@ -371,7 +371,7 @@ static bool prepared(const pdt_cost_t *c)
     return c != NULL && c->u != NULL && c->y != NULL && c->n != 0u;
 }
 
-static pdt_status_t check_dmodel(const pdt_cost_t *c, const pdt_dmodel_t *d)
+static pdt_status_t check_dmodel(const pdt_cost_t *c, const pdt_discrete_t *d)
 {
     size_t i;
     if (d->order != 1u && d->order != 2u) {
@@ -419,7 +419,7 @@ typedef struct sim_state {
 } sim_state_t;
 
 /* One sample of the simulation: u1 = u(k-1-l); returns ysim(k). */
-static inline pdt_real_t sim_step(const pdt_dmodel_t *d, sim_state_t *s, pdt_real_t u1)
+static inline pdt_real_t sim_step(const pdt_discrete_t *d, sim_state_t *s, pdt_real_t u1)
 {
     pdt_real_t bu = d->b[0] * u1 + d->b[1] * s->p1 + d->b[2] * s->p2;
     if (d->order == 1u) {
@@ -434,7 +434,7 @@ static inline pdt_real_t sim_step(const pdt_dmodel_t *d, sim_state_t *s, pdt_rea
     return s->ys;
 }
 
-static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
+static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_discrete_t *d)
 {
     const pdt_real_t *y = c->y;
     const pdt_real_t y0 = c->cfg.y0;
@@ -466,7 +466,7 @@ static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
     return acc_result(&acc, c->n - k0);
 }
 
-static pdt_real_t simulation_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
+static pdt_real_t simulation_cost(const pdt_cost_t *c, const pdt_discrete_t *d)
 {
     const pdt_real_t *y = c->y;
     const pdt_real_t y0 = c->cfg.y0;
@@ -486,7 +486,7 @@ static pdt_real_t simulation_cost(const pdt_cost_t *c, const pdt_dmodel_t *d)
     return acc_result(&acc, c->n - k0);
 }
 
-pdt_status_t pdt_cost_prediction(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *cost)
+pdt_status_t pdt_cost_prediction(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *cost)
 {
     if (!prepared(c) || d == NULL || cost == NULL || check_dmodel(c, d) != PDT_OK) {
         return PDT_ERR_ARG;
@@ -495,7 +495,7 @@ pdt_status_t pdt_cost_prediction(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt
     return PDT_OK;
 }
 
-pdt_status_t pdt_cost_simulation(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *cost)
+pdt_status_t pdt_cost_simulation(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *cost)
 {
     if (!prepared(c) || d == NULL || cost == NULL || check_dmodel(c, d) != PDT_OK) {
         return PDT_ERR_ARG;
@@ -560,7 +560,7 @@ pdt_status_t pdt_cost_frequency(const pdt_cost_t *c, const pdt_model_t *m, pdt_r
 }
 
 /* The discrete model pdt_cost_eval scores m with, per delay_mode. */
-static pdt_status_t eval_discretize(const pdt_cost_t *c, const pdt_model_t *m, pdt_dmodel_t *d)
+static pdt_status_t eval_discretize(const pdt_cost_t *c, const pdt_model_t *m, pdt_discrete_t *d)
 {
     const pdt_real_t Ts = c->cfg.Ts;
     pdt_status_t st;
@@ -574,9 +574,9 @@ static pdt_status_t eval_discretize(const pdt_cost_t *c, const pdt_model_t *m, p
             return PDT_ERR_ARG;
         }
         l = (size_t)x;
-        st = pdt_discretize_int(m, Ts, l, d);
+        st = pdt_discrete_init_int(m, Ts, l, d);
     } else {
-        st = pdt_discretize(m, Ts, d);
+        st = pdt_discrete_init(m, Ts, d);
     }
     if (st != PDT_OK) {
         return PDT_ERR_ARG;
@@ -591,7 +591,7 @@ pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t
     pdt_real_t ct = PDT_R(0.0);
     pdt_real_t cf = PDT_R(0.0);
     pdt_real_t total;
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     bool need_time;
     bool need_freq;
 
@@ -637,7 +637,7 @@ pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t
 }
 
 /* Response of d, from rest, to the input deviations u - u0, into out[0..n-1]. */
-static void simulate_dev(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *out)
+static void simulate_dev(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *out)
 {
     const size_t l = d->delay;
     sim_state_t st = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
@@ -657,7 +657,7 @@ static void simulate_dev(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t 
 
 /* The equation-error regressor: B(q) applied to the input deviations,
  * i.e. the prediction's input part, into out[0..n-1]. */
-static void filter_input(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *out)
+static void filter_input(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *out)
 {
     const size_t l = d->delay;
     size_t k;
@@ -669,7 +669,7 @@ static void filter_input(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t 
 
 /* The data side of the time part at sample k: y(k) - y0 for the
  * simulation, A(q) (y - y0) at k for the prediction (k >= order). */
-static inline pdt_real_t data_side(const pdt_cost_t *c, const pdt_dmodel_t *d, bool pred,
+static inline pdt_real_t data_side(const pdt_cost_t *c, const pdt_discrete_t *d, bool pred,
                                    size_t k)
 {
     const pdt_real_t *y = c->y;
@@ -776,7 +776,7 @@ pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt
     const bool combined = (kind == PDT_COST_COMBINED);
     const pdt_cost_kind_t tkind = combined ? c->cfg.time_kind : kind;
     bool need_time, need_freq, pred, bounded;
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     /* Regression summaries: time part a (K - kt)^2, frequency part
      * b (|K| - kf)^2, each up to its constant. */
@@ -906,7 +906,7 @@ pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt
     return PDT_OK;
 }
 
-pdt_status_t pdt_cost_simulate(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *ysim)
+pdt_status_t pdt_cost_simulate(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *ysim)
 {
     size_t k;
     if (!prepared(c) || d == NULL || ysim == NULL || (d->order != 1u && d->order != 2u) ||

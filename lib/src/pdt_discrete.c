@@ -36,7 +36,7 @@ static pdt_status_t split_delay(pdt_real_t Td, pdt_real_t Ts, size_t *l, pdt_rea
 }
 
 /* FOPDT: alpha = e^{-Ts/tau}, b0 = K (1 - alpha^m), b1 = K alpha^m (1 - alpha^f). */
-static void zoh_fopdt(const pdt_fopdt_t *p, pdt_real_t Ts, pdt_real_t f, pdt_dmodel_t *out)
+static void zoh_fopdt(const pdt_model_fopdt_t *p, pdt_real_t Ts, pdt_real_t f, pdt_discrete_t *out)
 {
     pdt_real_t x = Ts / p->tau;
     pdt_real_t m = PDT_R(1.0) - f;
@@ -51,7 +51,7 @@ static void zoh_fopdt(const pdt_fopdt_t *p, pdt_real_t Ts, pdt_real_t f, pdt_dmo
 }
 
 /* SOPDT, any pole pair. Poles at -(sigma +/- sqrt(sigma^2 - b)). */
-static void zoh_sopdt(const pdt_sopdt_t *p, pdt_real_t Ts, pdt_real_t f, pdt_dmodel_t *out)
+static void zoh_sopdt(const pdt_model_sopdt_t *p, pdt_real_t Ts, pdt_real_t f, pdt_discrete_t *out)
 {
     pdt_real_t sigma = PDT_R(0.5) * p->a;
     pdt_real_t disc = sigma * sigma - p->b;
@@ -108,9 +108,9 @@ static void zoh_sopdt(const pdt_sopdt_t *p, pdt_real_t Ts, pdt_real_t f, pdt_dmo
 }
 
 static pdt_status_t zoh(const pdt_model_t *m, pdt_real_t Ts, size_t l, pdt_real_t f,
-                        pdt_dmodel_t *out)
+                        pdt_discrete_t *out)
 {
-    pdt_dmodel_t r;
+    pdt_discrete_t r;
     r.delay = l;
     if (m->kind == PDT_MODEL_FOPDT) {
         zoh_fopdt(&m->p.fopdt, Ts, f, &r);
@@ -131,7 +131,7 @@ static bool ts_valid(pdt_real_t Ts)
     return pdt_finite(Ts) && Ts > PDT_R(0.0);
 }
 
-pdt_status_t pdt_discretize(const pdt_model_t *m, pdt_real_t Ts, pdt_dmodel_t *out)
+pdt_status_t pdt_discrete_init(const pdt_model_t *m, pdt_real_t Ts, pdt_discrete_t *out)
 {
     if (out == NULL || !ts_valid(Ts) || pdt_model_check(m) != PDT_OK) {
         return PDT_ERR_ARG;
@@ -144,8 +144,8 @@ pdt_status_t pdt_discretize(const pdt_model_t *m, pdt_real_t Ts, pdt_dmodel_t *o
     return zoh(m, Ts, l, f, out);
 }
 
-pdt_status_t pdt_discretize_int(const pdt_model_t *m, pdt_real_t Ts, size_t l,
-                                pdt_dmodel_t *out)
+pdt_status_t pdt_discrete_init_int(const pdt_model_t *m, pdt_real_t Ts, size_t l,
+                                pdt_discrete_t *out)
 {
     if (out == NULL || !ts_valid(Ts) || pdt_model_check(m) != PDT_OK) {
         return PDT_ERR_ARG;
@@ -155,14 +155,14 @@ pdt_status_t pdt_discretize_int(const pdt_model_t *m, pdt_real_t Ts, size_t l,
 
 /* ---- simulation and prediction ------------------------------------------ */
 
-static bool dmodel_valid(const pdt_dmodel_t *d)
+static bool dmodel_valid(const pdt_discrete_t *d)
 {
     return d != NULL && (d->order == 1u || d->order == 2u);
 }
 
 /* B(q) u at sample k, with u = 0 before sample 0 (the start of the record,
  * where the indices k-1-l .. k-3-l may be negative). */
-static pdt_real_t input_at_start(const pdt_dmodel_t *d, const pdt_real_t *u, size_t k)
+static pdt_real_t input_at_start(const pdt_discrete_t *d, const pdt_real_t *u, size_t k)
 {
     pdt_real_t s = PDT_R(0.0);
     if (k <= d->delay) {
@@ -180,7 +180,7 @@ static pdt_real_t input_at_start(const pdt_dmodel_t *d, const pdt_real_t *u, siz
 }
 
 /* First sample from which all input indices are >= 0: l + 3, or n. */
-static size_t start_len(const pdt_dmodel_t *d, size_t n)
+static size_t start_len(const pdt_discrete_t *d, size_t n)
 {
     if (d->delay >= n || n - d->delay <= 3u) {
         return n;
@@ -188,7 +188,7 @@ static size_t start_len(const pdt_dmodel_t *d, size_t n)
     return d->delay + 3u;
 }
 
-pdt_status_t pdt_dmodel_simulate(const pdt_dmodel_t *d, const pdt_real_t *u, size_t n,
+pdt_status_t pdt_discrete_simulate(const pdt_discrete_t *d, const pdt_real_t *u, size_t n,
                                  pdt_real_t *y)
 {
     if (!dmodel_valid(d) || u == NULL || y == NULL) {
@@ -235,7 +235,7 @@ pdt_status_t pdt_dmodel_simulate(const pdt_dmodel_t *d, const pdt_real_t *u, siz
     return PDT_OK;
 }
 
-pdt_status_t pdt_dmodel_predict(const pdt_dmodel_t *d, const pdt_real_t *u,
+pdt_status_t pdt_discrete_predict(const pdt_discrete_t *d, const pdt_real_t *u,
                                 const pdt_real_t *y, size_t n, pdt_real_t *yhat)
 {
     if (!dmodel_valid(d) || u == NULL || y == NULL || yhat == NULL) {

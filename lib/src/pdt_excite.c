@@ -6,7 +6,7 @@
 
 #include "pdt_internal.h"
 
-#define EXCITE_MAGIC 0x45584349u /* "EXCI" */
+#define EXCITE_MAGIC PDT_MAGIC('P', 'D', 'E', 'X')
 
 /*
  * Primitive feedback polynomials x^n + ... + 1 over GF(2), one per register

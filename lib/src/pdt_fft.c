@@ -30,7 +30,7 @@ static bool fft_size_ok(size_t n)
     return n >= 16u && n <= ((size_t)1u << PDT_FFT_MAX_LOG2) && (n & (n - 1u)) == 0u;
 }
 
-static bool fft_ready(const pdt_rfft_t *f)
+static bool fft_ready(const pdt_fft_t *f)
 {
     return f != NULL && f->twid != NULL && fft_size_ok(f->n);
 }
@@ -126,12 +126,12 @@ static void fft_complex(pdt_real_t *z, size_t m, const pdt_real_t *tw)
     }
 }
 
-size_t pdt_rfft_workspace_size(size_t n)
+size_t pdt_fft_workspace_size(size_t n)
 {
-    return fft_size_ok(n) ? PDT_RFFT_WORKSPACE_SIZE(n) : 0u;
+    return fft_size_ok(n) ? PDT_FFT_WORKSPACE_SIZE(n) : 0u;
 }
 
-pdt_status_t pdt_rfft_init(pdt_rfft_t *f, size_t n, void *work, size_t work_len)
+pdt_status_t pdt_fft_init(pdt_fft_t *f, size_t n, void *work, size_t work_len)
 {
     if (f == NULL) {
         return PDT_ERR_ARG;
@@ -145,7 +145,7 @@ pdt_status_t pdt_rfft_init(pdt_rfft_t *f, size_t n, void *work, size_t work_len)
     if (!pdt_aligned(work)) {
         return PDT_ERR_ARG;
     }
-    if (work_len < PDT_RFFT_WORKSPACE_SIZE(n)) {
+    if (work_len < PDT_FFT_WORKSPACE_SIZE(n)) {
         return PDT_ERR_NOMEM;
     }
 
@@ -157,7 +157,7 @@ pdt_status_t pdt_rfft_init(pdt_rfft_t *f, size_t n, void *work, size_t work_len)
     return PDT_OK;
 }
 
-pdt_status_t pdt_rfft_forward(const pdt_rfft_t *f, pdt_real_t *buf)
+pdt_status_t pdt_fft_forward(const pdt_fft_t *f, pdt_real_t *buf)
 {
     if (!fft_ready(f) || buf == NULL) {
         return PDT_ERR_ARG;
@@ -199,7 +199,7 @@ pdt_status_t pdt_rfft_forward(const pdt_rfft_t *f, pdt_real_t *buf)
     return PDT_OK;
 }
 
-pdt_status_t pdt_rfft_inverse(const pdt_rfft_t *f, pdt_real_t *buf)
+pdt_status_t pdt_fft_inverse(const pdt_fft_t *f, pdt_real_t *buf)
 {
     if (!fft_ready(f) || buf == NULL) {
         return PDT_ERR_ARG;
@@ -252,7 +252,7 @@ pdt_status_t pdt_rfft_inverse(const pdt_rfft_t *f, pdt_real_t *buf)
     return PDT_OK;
 }
 
-pdt_status_t pdt_rfft_magnitude(const pdt_rfft_t *f, const pdt_real_t *spec, pdt_real_t *mag)
+pdt_status_t pdt_fft_magnitude(const pdt_fft_t *f, const pdt_real_t *spec, pdt_real_t *mag)
 {
     if (!fft_ready(f) || spec == NULL || mag == NULL) {
         return PDT_ERR_ARG;

@@ -9,7 +9,7 @@
 #include "pdt_ga.h"
 #include "pdt_internal.h"
 
-#define IDENT_MAGIC 0x70647469u
+#define IDENT_MAGIC PDT_MAGIC('P', 'D', 'I', 'D')
 
 enum phase {
     PH_INIT_POP = 1, /* evaluating the initial population */
@@ -1176,7 +1176,7 @@ static void scan_advance(pdt_ident_t *c)
 static void finish(pdt_ident_t *c)
 {
     pdt_model_t m;
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     shape_of(c, c->best, &m);
     if (m.kind == PDT_MODEL_FOPDT) {
         m.p.fopdt.K = c->best_gain;
@@ -1217,7 +1217,7 @@ static void finish(pdt_ident_t *c)
     c->model = m;
     c->y0 = c->cost.cfg.y0 + c->best_offset;
     c->fit = PDT_R(0.0);
-    if (pdt_discretize(&m, c->cfg.Ts, &d) == PDT_OK &&
+    if (pdt_discrete_init(&m, c->cfg.Ts, &d) == PDT_OK &&
         pdt_cost_simulate(&c->cost, &d, c->scratch) == PDT_OK) {
         const pdt_real_t *y = c->data.y;
         const size_t n = c->data.n;

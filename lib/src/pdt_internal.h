@@ -65,4 +65,23 @@ static inline bool pdt_aligned(const void *p)
     return ((uintptr_t)p % sizeof(pdt_real_t)) == 0u;
 }
 
+/* A delay_max resolved against the record length n (PDT_DELAY_HALF,
+ * PDT_DELAY_QUARTER); other values pass through. */
+static inline size_t pdt_delay_bound(size_t n, size_t delay_max)
+{
+    if (delay_max == PDT_DELAY_HALF) {
+        return n / 2u;
+    }
+    if (delay_max == PDT_DELAY_QUARTER) {
+        return n / 4u;
+    }
+    return delay_max;
+}
+
+/* The one way an object records that its init ran: init stores
+ * PDT_MAGIC(...) of its module in the object's `magic` field, every later
+ * call compares, and a zeroed or never-initialised object fails. */
+#define PDT_MAGIC(a, b, c, d) \
+    (((uint32_t)(a) << 24) | ((uint32_t)(b) << 16) | ((uint32_t)(c) << 8) | (uint32_t)(d))
+
 #endif /* PDT_INTERNAL_H */

@@ -20,7 +20,7 @@
 
 #include "pdt_internal.h"
 
-#define LS_MAGIC 0x70646c73u
+#define LS_MAGIC PDT_MAGIC('P', 'D', 'L', 'S')
 
 /* Samples per partial sum (as in pdt_cost.c): float sums over long records
  * then lose (BLOCK + n / BLOCK) eps instead of n eps. */
@@ -473,7 +473,7 @@ void pdt_ls_config_default(pdt_ls_config_t *cfg)
     cfg->method = PDT_LS_ELMS;
     cfg->Ts = PDT_R(0.0);
     cfg->delay_min = 0u;
-    cfg->delay_max = PDT_LS_DELAY_AUTO;
+    cfg->delay_max = PDT_DELAY_QUARTER;
     cfg->whole_record = false;
     cfg->costs = NULL;
 }
@@ -494,7 +494,7 @@ pdt_status_t pdt_ls_init(pdt_ls_t *ctx, const pdt_ls_config_t *cfg, const pdt_re
         return PDT_ERR_ARG;
     }
     const size_t order = (cfg->model == PDT_MODEL_SOPDT) ? 2u : 1u;
-    const size_t dmax = (cfg->delay_max == PDT_LS_DELAY_AUTO) ? n / 4u : cfg->delay_max;
+    const size_t dmax = pdt_delay_bound(n, cfg->delay_max);
     if (dmax >= n) {
         return PDT_ERR_TOO_SHORT;
     }

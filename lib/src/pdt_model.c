@@ -11,13 +11,13 @@
 
 /* ---- validity checks ---------------------------------------------------- */
 
-static bool fopdt_valid(const pdt_fopdt_t *p)
+static bool fopdt_valid(const pdt_model_fopdt_t *p)
 {
     return pdt_finite(p->K) && pdt_finite(p->tau) && pdt_finite(p->Td) && p->tau > PDT_R(0.0) &&
            p->Td >= PDT_R(0.0);
 }
 
-static bool sopdt_valid(const pdt_sopdt_t *p)
+static bool sopdt_valid(const pdt_model_sopdt_t *p)
 {
     return pdt_finite(p->k) && pdt_finite(p->a) && pdt_finite(p->b) && pdt_finite(p->Td) &&
            p->a > PDT_R(0.0) && p->b >= PDT_R(0.0) && p->Td >= PDT_R(0.0);
@@ -55,7 +55,7 @@ pdt_real_t pdt_model_dead_time(const pdt_model_t *m)
 
 /* ---- conversions -------------------------------------------------------- */
 
-pdt_status_t pdt_sopdt_from_natural(const pdt_sopdt_natural_t *in, pdt_sopdt_t *out)
+pdt_status_t pdt_model_sopdt_from_natural(const pdt_model_natural_t *in, pdt_model_sopdt_t *out)
 {
     if (in == NULL || out == NULL) {
         return PDT_ERR_ARG;
@@ -65,7 +65,7 @@ pdt_status_t pdt_sopdt_from_natural(const pdt_sopdt_natural_t *in, pdt_sopdt_t *
           in->Td >= PDT_R(0.0))) {
         return PDT_ERR_ARG;
     }
-    pdt_sopdt_t r;
+    pdt_model_sopdt_t r;
     r.b = in->wn * in->wn;
     r.a = PDT_R(2.0) * in->zeta * in->wn;
     r.k = in->K * r.b;
@@ -77,7 +77,7 @@ pdt_status_t pdt_sopdt_from_natural(const pdt_sopdt_natural_t *in, pdt_sopdt_t *
     return PDT_OK;
 }
 
-pdt_status_t pdt_sopdt_to_natural(const pdt_sopdt_t *in, pdt_sopdt_natural_t *out)
+pdt_status_t pdt_model_sopdt_to_natural(const pdt_model_sopdt_t *in, pdt_model_natural_t *out)
 {
     if (in == NULL || out == NULL || !sopdt_valid(in)) {
         return PDT_ERR_ARG;
@@ -85,7 +85,7 @@ pdt_status_t pdt_sopdt_to_natural(const pdt_sopdt_t *in, pdt_sopdt_natural_t *ou
     if (in->b == PDT_R(0.0)) {
         return PDT_ERR_NO_FORM;
     }
-    pdt_sopdt_natural_t r;
+    pdt_model_natural_t r;
     r.wn = pdt_sqrt(in->b);
     r.zeta = in->a / (PDT_R(2.0) * r.wn);
     r.K = in->k / in->b;
@@ -97,7 +97,7 @@ pdt_status_t pdt_sopdt_to_natural(const pdt_sopdt_t *in, pdt_sopdt_natural_t *ou
     return PDT_OK;
 }
 
-pdt_status_t pdt_sopdt_from_tc(const pdt_sopdt_tc_t *in, pdt_sopdt_t *out)
+pdt_status_t pdt_model_sopdt_from_tc(const pdt_model_tc_t *in, pdt_model_sopdt_t *out)
 {
     if (in == NULL || out == NULL) {
         return PDT_ERR_ARG;
@@ -107,7 +107,7 @@ pdt_status_t pdt_sopdt_from_tc(const pdt_sopdt_tc_t *in, pdt_sopdt_t *out)
           in->Td >= PDT_R(0.0))) {
         return PDT_ERR_ARG;
     }
-    pdt_sopdt_t r;
+    pdt_model_sopdt_t r;
     if (in->complex) {
         /* (re^2 + im^2) s^2 + 2 re s + 1, scaled to a monic s^2 */
         pdt_real_t p = in->T1 * in->T1 + in->T2 * in->T2;
@@ -126,7 +126,7 @@ pdt_status_t pdt_sopdt_from_tc(const pdt_sopdt_tc_t *in, pdt_sopdt_t *out)
     return PDT_OK;
 }
 
-pdt_status_t pdt_sopdt_to_tc(const pdt_sopdt_t *in, pdt_sopdt_tc_t *out)
+pdt_status_t pdt_model_sopdt_to_tc(const pdt_model_sopdt_t *in, pdt_model_tc_t *out)
 {
     if (in == NULL || out == NULL || !sopdt_valid(in)) {
         return PDT_ERR_ARG;
@@ -134,7 +134,7 @@ pdt_status_t pdt_sopdt_to_tc(const pdt_sopdt_t *in, pdt_sopdt_tc_t *out)
     if (in->b == PDT_R(0.0)) {
         return PDT_ERR_NO_FORM;
     }
-    pdt_sopdt_tc_t r;
+    pdt_model_tc_t r;
     pdt_real_t sigma = PDT_R(0.5) * in->a;
     pdt_real_t d = sigma * sigma - in->b;
     if (d >= PDT_R(0.0)) {
@@ -158,7 +158,7 @@ pdt_status_t pdt_sopdt_to_tc(const pdt_sopdt_t *in, pdt_sopdt_tc_t *out)
     return PDT_OK;
 }
 
-pdt_status_t pdt_sopdt_from_integ(const pdt_sopdt_integ_t *in, pdt_sopdt_t *out)
+pdt_status_t pdt_model_sopdt_from_integ(const pdt_model_integ_t *in, pdt_model_sopdt_t *out)
 {
     if (in == NULL || out == NULL) {
         return PDT_ERR_ARG;
@@ -167,7 +167,7 @@ pdt_status_t pdt_sopdt_from_integ(const pdt_sopdt_integ_t *in, pdt_sopdt_t *out)
           in->Td >= PDT_R(0.0))) {
         return PDT_ERR_ARG;
     }
-    pdt_sopdt_t r;
+    pdt_model_sopdt_t r;
     r.a = PDT_R(1.0) / in->T;
     r.k = in->Ki / in->T;
     r.b = PDT_R(0.0);
@@ -179,7 +179,7 @@ pdt_status_t pdt_sopdt_from_integ(const pdt_sopdt_integ_t *in, pdt_sopdt_t *out)
     return PDT_OK;
 }
 
-pdt_status_t pdt_sopdt_to_integ(const pdt_sopdt_t *in, pdt_sopdt_integ_t *out)
+pdt_status_t pdt_model_sopdt_to_integ(const pdt_model_sopdt_t *in, pdt_model_integ_t *out)
 {
     if (in == NULL || out == NULL || !sopdt_valid(in)) {
         return PDT_ERR_ARG;
@@ -187,7 +187,7 @@ pdt_status_t pdt_sopdt_to_integ(const pdt_sopdt_t *in, pdt_sopdt_integ_t *out)
     if (in->b != PDT_R(0.0)) {
         return PDT_ERR_NO_FORM;
     }
-    pdt_sopdt_integ_t r;
+    pdt_model_integ_t r;
     r.Ki = in->k / in->a;
     r.T = PDT_R(1.0) / in->a;
     r.Td = in->Td;
@@ -353,7 +353,7 @@ static pdt_real_t sopdt_unit_step(pdt_real_t a, pdt_real_t b, pdt_real_t t)
     return sum / b;
 }
 
-static pdt_real_t fopdt_step1(const pdt_fopdt_t *p, pdt_real_t t)
+static pdt_real_t fopdt_step1(const pdt_model_fopdt_t *p, pdt_real_t t)
 {
     pdt_real_t s = t - p->Td;
     if (!(s > PDT_R(0.0))) {
@@ -378,7 +378,7 @@ pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n,
             y[i] = fopdt_step1(&m->p.fopdt, t[i]);
         }
     } else {
-        const pdt_sopdt_t *p = &m->p.sopdt;
+        const pdt_model_sopdt_t *p = &m->p.sopdt;
         for (size_t i = 0; i < n; i++) {
             y[i] = p->k * sopdt_unit_step(p->a, p->b, t[i] - p->Td);
         }
@@ -409,12 +409,12 @@ pdt_status_t pdt_model_freq(const pdt_model_t *m, const pdt_real_t *w, size_t n,
         pdt_real_t mg;
         pdt_real_t ph;
         if (m->kind == PDT_MODEL_FOPDT) {
-            const pdt_fopdt_t *p = &m->p.fopdt;
+            const pdt_model_fopdt_t *p = &m->p.fopdt;
             pdt_real_t wt = wi * p->tau;
             mg = pdt_fabs(p->K) / pdt_hypot(PDT_R(1.0), wt);
             ph = -pdt_atan(wt) - wi * p->Td - (p->K < PDT_R(0.0) ? PDT_PI : PDT_R(0.0));
         } else {
-            const pdt_sopdt_t *p = &m->p.sopdt;
+            const pdt_model_sopdt_t *p = &m->p.sopdt;
             if (p->b == PDT_R(0.0)) {
                 /* k / (jw (jw + a)): the pole at 0 gives -pi/2, also at w = 0 */
                 pdt_real_t den = wi * pdt_hypot(wi, p->a);

@@ -6,7 +6,7 @@
 
 #include "pdt_internal.h"
 
-#define RECORD_MAGIC 0x52454344u /* "RECD" */
+#define RECORD_MAGIC PDT_MAGIC('P', 'D', 'R', 'C')
 
 void pdt_record_config_default(pdt_record_config_t *cfg)
 {

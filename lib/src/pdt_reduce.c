@@ -291,14 +291,14 @@ pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant,
         m.p.fopdt.tau = t[0];
         m.p.fopdt.Td = theta;
     } else {
-        pdt_sopdt_tc_t tc;
+        pdt_model_tc_t tc;
         tc.K = gain;
         tc.T1 = t[0];
         tc.T2 = t[1];
         tc.complex = false;
         tc.Td = theta;
         m.kind = PDT_MODEL_SOPDT;
-        if (pdt_sopdt_from_tc(&tc, &m.p.sopdt) != PDT_OK) {
+        if (pdt_model_sopdt_from_tc(&tc, &m.p.sopdt) != PDT_OK) {
             return PDT_ERR_ARG;
         }
     }
@@ -505,14 +505,14 @@ pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_c
             if (z2 > PDT_R(0.0)) {
                 pdt_real_t v = pdt_sqrt(v2);
                 pdt_real_t zeta = pdt_sqrt(z2);
-                pdt_sopdt_natural_t nat;
+                pdt_model_natural_t nat;
                 nat.K = plant->k;
                 nat.wn = w_u / v;
                 nat.zeta = zeta;
                 nat.Td = (PDT_PI - pdt_atan2(PDT_R(2.0) * zeta * v, PDT_R(1.0) - v2)) / w_u;
                 pdt_model_t s;
                 s.kind = PDT_MODEL_SOPDT;
-                if (pdt_sopdt_from_natural(&nat, &s.p.sopdt) == PDT_OK) {
+                if (pdt_model_sopdt_from_natural(&nat, &s.p.sopdt) == PDT_OK) {
                     m = s;
                     fallback = false;
                 }

@@ -1,4 +1,4 @@
-#include "pdt/pdt_common.h"
+#include "pdt/pdt_status.h"
 
 const char *pdt_status_str(pdt_status_t status)
 {

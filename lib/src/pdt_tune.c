@@ -616,13 +616,13 @@ static void view_of(const pdt_model_t *m, tune_view_t *v)
         v->Td = v->theta = m->p.fopdt.Td;
         return;
     }
-    const pdt_sopdt_t *p = &m->p.sopdt;
+    const pdt_model_sopdt_t *p = &m->p.sopdt;
     v->a = p->a;
     v->b = p->b;
     v->k = p->k;
     v->Td = p->Td;
-    pdt_sopdt_tc_t tc;
-    if (p->b == PDT_R(0.0) || pdt_sopdt_to_tc(p, &tc) != PDT_OK) {
+    pdt_model_tc_t tc;
+    if (p->b == PDT_R(0.0) || pdt_model_sopdt_to_tc(p, &tc) != PDT_OK) {
         v->shape = SHAPE_INTEG;
         v->K = p->k / p->a;
         v->T2 = PDT_R(1.0) / p->a;
@@ -794,7 +794,7 @@ static pdt_real_t model_phase(const pdt_model_t *m, pdt_real_t w)
     if (m->kind == PDT_MODEL_FOPDT) {
         return -pdt_atan(w * m->p.fopdt.tau) - w * m->p.fopdt.Td;
     }
-    const pdt_sopdt_t *p = &m->p.sopdt;
+    const pdt_model_sopdt_t *p = &m->p.sopdt;
     return -pdt_atan2(p->a * w, p->b - w * w) - w * p->Td;
 }
 
@@ -824,7 +824,7 @@ static pdt_status_t rule_zn(const pdt_model_t *m, const pdt_tune_config_t *cfg, 
         pdt_real_t x = wu * m->p.fopdt.tau;
         mag = m->p.fopdt.K / pdt_sqrt(PDT_R(1.0) + x * x);
     } else {
-        const pdt_sopdt_t *p = &m->p.sopdt;
+        const pdt_model_sopdt_t *p = &m->p.sopdt;
         mag = p->k / pdt_hypot(p->b - wu * wu, p->a * wu);
     }
     pdt_real_t Ku = PDT_R(1.0) / mag;

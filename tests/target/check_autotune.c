@@ -28,9 +28,9 @@ static pdt_real_t g_at_work[PDT_IDENT_WORKSPACE_SIZE(AT_CAPACITY, PDT_IDENT_POPU
                             2u * AT_CAPACITY + 1u];
 static pdt_autotune_t g_at;
 
-/* The plant: the d[] form of pdt_dmodel_t in double, from rest. */
+/* The plant: the d[] form of pdt_discrete_t in double, from rest. */
 typedef struct at_plant {
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     double u0, y0;
     double uh[AT_HIST];
     double y1, y2;
@@ -212,7 +212,7 @@ static int check_fopdt(void)
     p.noise_sd = 0.05;
     p.seed = 23u;
     at_run_t r;
-    bool ok = pdt_discretize(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) &&
+    bool ok = pdt_discrete_init(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) &&
               r.st == PDT_OK && r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_FOPDT;
     tline_t l;
     tl_init(&l);
@@ -221,7 +221,7 @@ static int check_fopdt(void)
         tl_str(&l, pdt_status_str(r.st));
         return t_verdict(false, &l);
     }
-    const pdt_fopdt_t *g = &r.res.ident.model.p.fopdt;
+    const pdt_model_fopdt_t *g = &r.res.ident.model.p.fopdt;
     double eK = t_rel_err((double)g->K, 2.0);
     double etau = t_rel_err((double)g->tau, 10.0);
     double eTd = fabs((double)g->Td - 3.0) / 10.0;
@@ -246,7 +246,7 @@ static int check_sopdt(void)
 {
     pdt_autotune_config_t c;
     at_config(&c, 0.5, PDT_MODEL_SOPDT, 4u, 3.0);
-    pdt_sopdt_tc_t tc = {(pdt_real_t)1.5, (pdt_real_t)8.0, (pdt_real_t)3.0, false,
+    pdt_model_tc_t tc = {(pdt_real_t)1.5, (pdt_real_t)8.0, (pdt_real_t)3.0, false,
                          (pdt_real_t)2.0};
     pdt_model_t m;
     memset(&m, 0, sizeof m);
@@ -258,11 +258,11 @@ static int check_sopdt(void)
     p.noise_sd = 0.03;
     p.seed = 5u;
     at_run_t r;
-    pdt_sopdt_tc_t gtc;
-    bool ok = pdt_sopdt_from_tc(&tc, &m.p.sopdt) == PDT_OK &&
-              pdt_discretize(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) &&
+    pdt_model_tc_t gtc;
+    bool ok = pdt_model_sopdt_from_tc(&tc, &m.p.sopdt) == PDT_OK &&
+              pdt_discrete_init(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) &&
               r.st == PDT_OK && r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_SOPDT &&
-              pdt_sopdt_to_tc(&r.res.ident.model.p.sopdt, &gtc) == PDT_OK;
+              pdt_model_sopdt_to_tc(&r.res.ident.model.p.sopdt, &gtc) == PDT_OK;
     tline_t l;
     tl_init(&l);
     tl_str(&l, "autotune SOPDT K=1.5 T1=8 T2=3 Td=2, PRBS, capacity 600: ");

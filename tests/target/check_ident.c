@@ -1,6 +1,6 @@
 /*
  * Identification on the target: records of a FOPDT and a SOPDT plant are
- * simulated here with pdt_dmodel_simulate, given deterministic noise, and
+ * simulated here with pdt_discrete_simulate, given deterministic noise, and
  * identified with pdt_identify; the models must land within the host
  * tests' tolerances (tests/test_ident.c uses the same plants, inputs and
  * noise). Also measures the work of one cost evaluation at N = 2000 and of
@@ -75,9 +75,9 @@ typedef struct record {
 /* g_u = u0 + g_dev, g_y = y0 + the model's response + noise at snr_db. */
 static bool make_record(record_t *r)
 {
-    pdt_dmodel_t d;
-    if (pdt_discretize(&r->m, (pdt_real_t)r->Ts, &d) != PDT_OK ||
-        pdt_dmodel_simulate(&d, g_dev, r->n, g_sim) != PDT_OK) {
+    pdt_discrete_t d;
+    if (pdt_discrete_init(&r->m, (pdt_real_t)r->Ts, &d) != PDT_OK ||
+        pdt_discrete_simulate(&d, g_dev, r->n, g_sim) != PDT_OK) {
         return false;
     }
     double mean = 0.0;
@@ -113,11 +113,11 @@ static pdt_model_t fopdt(double K, double tau, double Td)
 
 static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
 {
-    pdt_sopdt_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
+    pdt_model_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
     pdt_model_t m;
     memset(&m, 0, sizeof m);
     m.kind = PDT_MODEL_SOPDT;
-    (void)pdt_sopdt_from_tc(&tc, &m.p.sopdt);
+    (void)pdt_model_sopdt_from_tc(&tc, &m.p.sopdt);
     return m;
 }
 
@@ -168,7 +168,7 @@ static int check_fopdt(void)
     ok = ok && st == PDT_OK && res.model.kind == PDT_MODEL_FOPDT;
     double eK = 1.0, etau = 1.0, eTd = 1.0, ey0 = 1.0;
     if (ok) {
-        const pdt_fopdt_t *g = &res.model.p.fopdt;
+        const pdt_model_fopdt_t *g = &res.model.p.fopdt;
         eK = t_rel_err((double)g->K, 2.0);
         etau = t_rel_err((double)g->tau, 12.0);
         eTd = fabs((double)g->Td - 4.37) / 12.0;
@@ -221,16 +221,16 @@ static int check_sopdt(void)
 {
     record_t r = {sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, 1000u, 10.0, 50.0, 30.0, 5u, 0.0};
     pdt_ident_result_t res;
-    pdt_sopdt_natural_t g, w;
-    pdt_sopdt_tc_t gtc;
+    pdt_model_natural_t g, w;
+    pdt_model_tc_t gtc;
     uint64_t ticks = 0;
     size_t stack = 0;
     make_prbs(r.n, 10u, 12u, 11u, 2.0);
-    bool ok = make_record(&r) && pdt_sopdt_to_natural(&r.m.p.sopdt, &w) == PDT_OK;
+    bool ok = make_record(&r) && pdt_model_sopdt_to_natural(&r.m.p.sopdt, &w) == PDT_OK;
     pdt_status_t st = ok ? identify(PDT_MODEL_SOPDT, &r, &res, &ticks, &stack) : PDT_ERR_ARG;
     ok = ok && st == PDT_OK && res.model.kind == PDT_MODEL_SOPDT &&
-         pdt_sopdt_to_natural(&res.model.p.sopdt, &g) == PDT_OK &&
-         pdt_sopdt_to_tc(&res.model.p.sopdt, &gtc) == PDT_OK && !gtc.complex;
+         pdt_model_sopdt_to_natural(&res.model.p.sopdt, &g) == PDT_OK &&
+         pdt_model_sopdt_to_tc(&res.model.p.sopdt, &gtc) == PDT_OK && !gtc.complex;
     double eK = 1.0, ewn = 1.0, ez = 1.0, eTd = 1.0, eT1 = 1.0, eT2 = 1.0;
     if (ok) {
         eK = t_rel_err((double)g.K, (double)w.K);

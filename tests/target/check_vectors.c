@@ -98,13 +98,13 @@ int target_check_fft(void)
     for (size_t c = 0; c < sizeof fft_cases / sizeof fft_cases[0]; c++) {
         const fft_case_t *tc = &fft_cases[c];
         const size_t n = tc->n;
-        const size_t ws = pdt_rfft_workspace_size(n);
-        pdt_rfft_t f;
-        bool ok = ws == PDT_RFFT_WORKSPACE_SIZE(n);
+        const size_t ws = pdt_fft_workspace_size(n);
+        pdt_fft_t f;
+        bool ok = ws == PDT_FFT_WORKSPACE_SIZE(n);
         double snr_f = 0.0, snr_i = 0.0, snr_m = 0.0, ep_f = 0.0, ep_i = 0.0, ep_m = 0.0;
 
         canary_fill(g_fft_work + ws / sizeof(pdt_real_t));
-        ok = ok && pdt_rfft_init(&f, n, g_fft_work, ws) == PDT_OK;
+        ok = ok && pdt_fft_init(&f, n, g_fft_work, ws) == PDT_OK;
         ok = ok && canary_ok(g_fft_work + ws / sizeof(pdt_real_t));
         if (ok) {
             for (size_t j = 0; j < n; j++) {
@@ -112,18 +112,18 @@ int target_check_fft(void)
                 g_fft_ref[j] = (double)tc->q[j] / (double)FFT_VEC_DENOM;
             }
             canary_fill(g_fft_buf + n);
-            ok = pdt_rfft_forward(&f, g_fft_buf) == PDT_OK && canary_ok(g_fft_buf + n);
+            ok = pdt_fft_forward(&f, g_fft_buf) == PDT_OK && canary_ok(g_fft_buf + n);
             ok = fft_compare(g_fft_buf, tc->spec, n, &snr_f, &ep_f) && ok;
 
             canary_fill(g_fft_mag + n / 2u + 1u);
-            ok = pdt_rfft_magnitude(&f, g_fft_buf, g_fft_mag) == PDT_OK && ok;
+            ok = pdt_fft_magnitude(&f, g_fft_buf, g_fft_mag) == PDT_OK && ok;
             ok = canary_ok(g_fft_mag + n / 2u + 1u) && ok;
             ok = fft_compare(g_fft_mag, tc->mag, n / 2u + 1u, &snr_m, &ep_m) && ok;
 
             for (size_t j = 0; j < n; j++) {
                 g_fft_buf[j] = (pdt_real_t)tc->spec[j];
             }
-            ok = pdt_rfft_inverse(&f, g_fft_buf) == PDT_OK && canary_ok(g_fft_buf + n) && ok;
+            ok = pdt_fft_inverse(&f, g_fft_buf) == PDT_OK && canary_ok(g_fft_buf + n) && ok;
             ok = fft_compare(g_fft_buf, g_fft_ref, n, &snr_i, &ep_i) && ok;
         }
 
@@ -267,10 +267,10 @@ static int check_coefficients(void)
     for (int c = 0; c < DISC_VEC_COUNT; c++) {
         pdt_model_t m = vec_model(disc_model[c], disc_par[3 * c + 1]);
         pdt_real_t Ts = (pdt_real_t)disc_par[3 * c];
-        pdt_dmodel_t d;
-        pdt_dmodel_t di;
-        if (pdt_discretize(&m, Ts, &d) != PDT_OK ||
-            pdt_discretize_int(&m, Ts, (size_t)disc_delay[c], &di) != PDT_OK) {
+        pdt_discrete_t d;
+        pdt_discrete_t di;
+        if (pdt_discrete_init(&m, Ts, &d) != PDT_OK ||
+            pdt_discrete_init_int(&m, Ts, (size_t)disc_delay[c], &di) != PDT_OK) {
             ok = false;
             continue;
         }
@@ -324,7 +324,7 @@ static int check_simulation(void)
     int failed = 0;
     for (int s = 0; s < DISC_SIM_CASES; s++) {
         int c = disc_sim_case[s];
-        pdt_dmodel_t d;
+        pdt_discrete_t d;
         memset(&d, 0, sizeof d);
         d.delay = (size_t)disc_delay[c];
         d.order = model_kind[disc_model[c]] == 1 ? 1u : 2u;
@@ -348,8 +348,8 @@ static int check_simulation(void)
         }
         canary_fill(g_sy + DISC_SIM_N);
         canary_fill(g_syh + DISC_SIM_N);
-        bool ok = pdt_dmodel_simulate(&d, g_su, DISC_SIM_N, g_sy) == PDT_OK;
-        ok = pdt_dmodel_predict(&d, g_su, g_sym, DISC_SIM_N, g_syh) == PDT_OK && ok;
+        bool ok = pdt_discrete_simulate(&d, g_su, DISC_SIM_N, g_sy) == PDT_OK;
+        ok = pdt_discrete_predict(&d, g_su, g_sym, DISC_SIM_N, g_syh) == PDT_OK && ok;
         ok = canary_ok(g_sy + DISC_SIM_N) && canary_ok(g_syh + DISC_SIM_N) && ok;
         double snr_s = t_snr_db(g_sy, &disc_ysim[DISC_SIM_N * s], DISC_SIM_N);
         double snr_p = t_snr_db(g_syh, &disc_yhat[DISC_SIM_N * s], DISC_SIM_N);
@@ -396,7 +396,7 @@ static void cost_config(const cost_vec_set_t *s, pdt_cost_config_t *cfg)
     cfg->u0 = (pdt_real_t)s->u0;
     cfg->y0 = (pdt_real_t)s->y0;
     cfg->delay_min = s->delay_min;
-    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_AUTO : s->delay_max;
+    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_HALF : s->delay_max;
     cfg->f_lo = (pdt_real_t)s->f_lo;
     cfg->f_hi = (pdt_real_t)s->f_hi;
     cfg->weights = g_cw;
@@ -415,9 +415,9 @@ static bool cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
            canary_ok(g_cwork + reals);
 }
 
-static pdt_dmodel_t dmodel_of(int order, int delay, const double *coef)
+static pdt_discrete_t dmodel_of(int order, int delay, const double *coef)
 {
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     memset(&d, 0, sizeof d);
     d.order = (uint8_t)order;
     d.delay = (size_t)delay;
@@ -475,8 +475,8 @@ static bool cost_set_time(const cost_vec_set_t *s, double *worst)
             return false;
         }
         for (size_t i = 0; i < s->ncand; i++) {
-            pdt_dmodel_t df = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
-            pdt_dmodel_t di = dmodel_of(s->kind[i], s->delay_int[i], s->coef_int + 7u * i);
+            pdt_discrete_t df = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
+            pdt_discrete_t di = dmodel_of(s->kind[i], s->delay_int[i], s->coef_int + 7u * i);
             const double *want = s->cost + COST_NCOL * i;
             pdt_real_t v = 0;
             pdt_status_t st = pdt_cost_prediction(&c, &df, &v);

@@ -26,7 +26,7 @@
 
 /* One record and its candidates. param: FOPDT K, tau, Td, 0 or SOPDT
  * k, a, b, Td. coef: a0 a1 b0 b1 b2 d0 d1 of the discrete model (see
- * pdt_discrete.h). delay_max_auto: the config used PDT_DELAY_AUTO and
+ * pdt_discrete.h). delay_max_auto: the config used PDT_DELAY_HALF and
  * delay_max is the resolved value. */
 typedef struct cost_vec_set {
     const char *name;

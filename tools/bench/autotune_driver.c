@@ -344,10 +344,10 @@ static int run_model(void)
     pdt_model_t m;
     if (kind == 1) {
         m.kind = PDT_MODEL_FOPDT;
-        m.p.fopdt = (pdt_fopdt_t){(pdt_real_t)v[0], (pdt_real_t)v[1], (pdt_real_t)v[2]};
+        m.p.fopdt = (pdt_model_fopdt_t){(pdt_real_t)v[0], (pdt_real_t)v[1], (pdt_real_t)v[2]};
     } else {
         m.kind = PDT_MODEL_SOPDT;
-        m.p.sopdt = (pdt_sopdt_t){(pdt_real_t)v[0], (pdt_real_t)v[1], (pdt_real_t)v[2],
+        m.p.sopdt = (pdt_model_sopdt_t){(pdt_real_t)v[0], (pdt_real_t)v[1], (pdt_real_t)v[2],
                                   (pdt_real_t)v[3]};
     }
     print_model("model", &m);

@@ -522,7 +522,7 @@ static void json_key(const char *key, double v)
 static void print_model_object(const pdt_model_t *model, const pdt_ident_result_t *r)
 {
     if (model->kind == PDT_MODEL_FOPDT) {
-        const pdt_fopdt_t *m = &model->p.fopdt;
+        const pdt_model_fopdt_t *m = &model->p.fopdt;
         fputs("{\"model\":\"fopdt\"", stdout);
         json_key("K", (double)m->K);
         json_key("tau", (double)m->tau);
@@ -532,14 +532,14 @@ static void print_model_object(const pdt_model_t *model, const pdt_ident_result_
             json_key("u0", (double)r->u0);
         }
     } else {
-        const pdt_sopdt_t *m = &model->p.sopdt;
-        pdt_sopdt_natural_t nat;
-        pdt_sopdt_tc_t tc;
-        pdt_sopdt_integ_t integ;
+        const pdt_model_sopdt_t *m = &model->p.sopdt;
+        pdt_model_natural_t nat;
+        pdt_model_tc_t tc;
+        pdt_model_integ_t integ;
         fputs("{\"model\":\"sopdt\"", stdout);
-        if (pdt_sopdt_to_natural(m, &nat) == PDT_OK) {
+        if (pdt_model_sopdt_to_natural(m, &nat) == PDT_OK) {
             double tau1 = (double)NAN, tau2 = (double)NAN;
-            if (pdt_sopdt_to_tc(m, &tc) == PDT_OK && !tc.complex) {
+            if (pdt_model_sopdt_to_tc(m, &tc) == PDT_OK && !tc.complex) {
                 tau1 = (double)tc.T1;
                 tau2 = (double)tc.T2;
             }
@@ -553,7 +553,7 @@ static void print_model_object(const pdt_model_t *model, const pdt_ident_result_
             }
             json_key("tau1", tau1);
             json_key("tau2", tau2);
-        } else if (pdt_sopdt_to_integ(m, &integ) == PDT_OK) {
+        } else if (pdt_model_sopdt_to_integ(m, &integ) == PDT_OK) {
             json_key("K", (double)NAN);
             json_key("Ki", (double)integ.Ki);
             json_key("wn", 0.0);
@@ -638,12 +638,12 @@ static double model_fit(const pdt_model_t *m, double Ts, const pdt_real_t *u, co
     cc.use_frequency = false;
     cc.kind = PDT_COST_SIMULATION;
     pdt_cost_t cost;
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     pdt_real_t *ysim = malloc(n * sizeof *ysim);
     if (!ysim) fail(EXIT_REFUSED, "out of memory");
     double fit = (double)NAN;
     if (pdt_cost_init(&cost, &cc, u, y, n, NULL, 0) == PDT_OK &&
-        pdt_discretize(m, (pdt_real_t)Ts, &d) == PDT_OK &&
+        pdt_discrete_init(m, (pdt_real_t)Ts, &d) == PDT_OK &&
         pdt_cost_simulate(&cost, &d, ysim) == PDT_OK) {
         double mean = 0.0, e2 = 0.0, v2 = 0.0;
         for (size_t k = 0; k < n; k++) mean += (double)y[k];
@@ -1233,14 +1233,14 @@ static int cmd_tune(int argc, char **argv)
             st = pdt_model_check(&m);
         } else if (have[P_WN]) {
             m.kind = PDT_MODEL_SOPDT;
-            const pdt_sopdt_natural_t nat = {(pdt_real_t)par[P_K], (pdt_real_t)par[P_WN],
+            const pdt_model_natural_t nat = {(pdt_real_t)par[P_K], (pdt_real_t)par[P_WN],
                                              (pdt_real_t)par[P_ZETA], (pdt_real_t)par[P_TD]};
-            st = pdt_sopdt_from_natural(&nat, &m.p.sopdt);
+            st = pdt_model_sopdt_from_natural(&nat, &m.p.sopdt);
         } else {
             m.kind = PDT_MODEL_SOPDT;
-            const pdt_sopdt_tc_t tc = {(pdt_real_t)par[P_K], (pdt_real_t)par[P_TAU1],
+            const pdt_model_tc_t tc = {(pdt_real_t)par[P_K], (pdt_real_t)par[P_TAU1],
                                        (pdt_real_t)par[P_TAU2], false, (pdt_real_t)par[P_TD]};
-            st = pdt_sopdt_from_tc(&tc, &m.p.sopdt);
+            st = pdt_model_sopdt_from_tc(&tc, &m.p.sopdt);
         }
         if (st == PDT_OK) st = pdt_model_check(&m);
         if (st != PDT_OK)

@@ -133,10 +133,10 @@ static pdt_model_t fopdt(double K, double tau, double Td)
 
 static pdt_model_t sopdt(double K, double T1, double T2, double Td)
 {
-    pdt_sopdt_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
+    pdt_model_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
     pdt_model_t m;
     m.kind = PDT_MODEL_SOPDT;
-    if (pdt_sopdt_from_tc(&tc, &m.p.sopdt) != PDT_OK) exit(1);
+    if (pdt_model_sopdt_from_tc(&tc, &m.p.sopdt) != PDT_OK) exit(1);
     return m;
 }
 
@@ -148,11 +148,11 @@ static void print_model(const char *who, const pdt_model_t *m, const char *note)
                (double)m->p.fopdt.tau, "", (double)m->p.fopdt.Td, q.iae, q.maxdev, q.ferr, note);
         return;
     }
-    pdt_sopdt_tc_t tc;
-    if (pdt_sopdt_to_tc(&m->p.sopdt, &tc) == PDT_OK && !tc.complex) {
+    pdt_model_tc_t tc;
+    if (pdt_model_sopdt_to_tc(&m->p.sopdt, &tc) == PDT_OK && !tc.complex) {
         printf("  %-38s %6.2f %6.2f %6.2f %6.2f   %6.3f %6.3f %6.3f  %s\n", who, (double)tc.K,
                (double)tc.T1, (double)tc.T2, (double)tc.Td, q.iae, q.maxdev, q.ferr, note);
-    } else if (pdt_sopdt_to_tc(&m->p.sopdt, &tc) == PDT_OK) {
+    } else if (pdt_model_sopdt_to_tc(&m->p.sopdt, &tc) == PDT_OK) {
         printf("  %-38s %6.2f %4.2f%+.2fj %6.2f   %6.3f %6.3f %6.3f  %s (complex pair)\n", who,
                (double)tc.K, (double)tc.T1, (double)tc.T2, (double)tc.Td, q.iae, q.maxdev, q.ferr,
                note);

@@ -16,7 +16,7 @@ Conventions:
 - A continuous model is any object with ``K``, ``tau`` (FOPDT) or ``k``,
   ``a``, ``b`` (SOPDT, form (2)) attributes, as pdtref.models' Fopdt and
   Sopdt.
-- delay_max None means n // 2 (the C PDT_DELAY_AUTO).
+- delay_max None means n // 2 (the C PDT_DELAY_HALF).
 - whole_record True scores the time costs on the whole record instead of
   k = l_u + order .. n-1: k = order .. n-1 for the prediction (it needs past
   outputs), k = 0 .. n-1 for the simulation (its output from rest is known

@@ -226,7 +226,7 @@ def generate():
     body.append(
         "/* One record and its candidates. param: FOPDT K, tau, Td, 0 or SOPDT\n"
         " * k, a, b, Td. coef: a0 a1 b0 b1 b2 d0 d1 of the discrete model (see\n"
-        " * pdt_discrete.h). delay_max_auto: the config used PDT_DELAY_AUTO and\n"
+        " * pdt_discrete.h). delay_max_auto: the config used PDT_DELAY_HALF and\n"
         " * delay_max is the resolved value. */\n"
         "typedef struct cost_vec_set {\n"
         "    const char *name;\n    size_t n;\n    double Ts, u0, y0;\n"

@@ -13,7 +13,7 @@ The header stores, per case i (DISC_VEC_COUNT of them):
 - ``disc_a[2 i ..]``, ``disc_b[3 i ..]``, ``disc_d[2 i ..]``: a, b and the delta
   form d (pdt_discrete.h) of the reference;
 - ``disc_int_b[3 i ..]``: b of the integer-delay model with delay l
-  (pdt_discretize_int), whose a and d equal the above.
+  (pdt_discrete_init_int), whose a and d equal the above.
 
 And for simulation and prediction, DISC_SIM_CASES cases (``disc_sim_case``
 indexes the cases above) over DISC_SIM_N samples: ``disc_u`` (pseudo-random

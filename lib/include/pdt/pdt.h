@@ -17,6 +17,7 @@
 #include "pdt/pdt_model.h"
 #include "pdt/pdt_record.h"
 #include "pdt/pdt_reduce.h"
+#include "pdt/pdt_status.h"
 #include "pdt/pdt_tune.h"
 
 #endif /* PDT_H */

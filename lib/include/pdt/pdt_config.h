@@ -43,6 +43,15 @@
 #error "PDT_MIN_SAMPLES must be at least 4"
 #endif
 
+/* Most lags pdt_reduce_half_rule accepts: it sorts a copy of them on the
+ * stack (PDT_REDUCE_MAX_LAGS reals and flags, per lag). */
+#ifndef PDT_REDUCE_MAX_LAGS
+#define PDT_REDUCE_MAX_LAGS 32u
+#endif
+#if (PDT_REDUCE_MAX_LAGS < 1) || (PDT_REDUCE_MAX_LAGS > 1024)
+#error "PDT_REDUCE_MAX_LAGS must be between 1 and 1024"
+#endif
+
 /* Checks of programmer errors that cost time on every call. By default they
  * compile to nothing; define PDT_ASSERT(x) to your handler to enable them.
  * Argument checks that return a status are always on and do not use this. */

@@ -12,7 +12,7 @@
  * arrays are the caller's; the cost object keeps pointers to them, so they
  * must stay valid and unchanged while it is used.
  *
- * Delay bounds: l_u = delay_max (PDT_DELAY_AUTO means n / 2, rounded down)
+ * Delay bounds: l_u = delay_max (PDT_DELAY_HALF means n / 2, rounded down)
  * and l_l = delay_min, in samples. A discrete model's order is 1 (FOPDT) or
  * 2 (SOPDT).
  *
@@ -94,7 +94,7 @@ typedef struct pdt_cost_config {
     pdt_real_t u0;          /* input operating point. Default 0 */
     pdt_real_t y0;          /* output operating point. Default 0 */
     size_t delay_min;       /* l_l, samples. Default 0 */
-    size_t delay_max;       /* l_u, samples; < n. Default PDT_DELAY_AUTO */
+    size_t delay_max;       /* l_u, samples; < n. Default PDT_DELAY_HALF */
     pdt_cost_kind_t kind;   /* what pdt_cost_eval computes. Default COMBINED */
     pdt_cost_kind_t time_kind; /* time part of COMBINED: PREDICTION or
                                 * SIMULATION. Default SIMULATION (the paper
@@ -125,9 +125,6 @@ typedef struct pdt_cost_config {
                                 * not used afterwards. Default NULL */
 } pdt_cost_config_t;
 
-/* delay_max value meaning "n / 2". */
-#define PDT_DELAY_AUTO ((size_t)-1)
-
 /* The prepared cost. Fields are private; fill it with pdt_cost_init. */
 typedef struct pdt_cost {
     pdt_cost_config_t cfg;   /* copy of the config, delay_max resolved */
@@ -147,14 +144,14 @@ typedef struct pdt_cost {
  * Does nothing for NULL. */
 void pdt_cost_config_default(pdt_cost_config_t *cfg);
 
-/* N_f for a record of n samples and delay bound delay_max (PDT_DELAY_AUTO
+/* N_f for a record of n samples and delay bound delay_max (PDT_DELAY_HALF
  * resolved to n / 2 as in pdt_cost_init), or 0 if unsupported: n = 0,
  * delay_max >= n, or N_f beyond 2^PDT_FFT_MAX_LOG2. */
 size_t pdt_cost_fft_size(size_t n, size_t delay_max);
 
 /* Workspace bytes pdt_cost_init needs for this config and record length,
  * exactly: 3 N_f/2 reals (|U|, |Y| and the weight per bin, kept for the life
- * of the cost) plus pdt_rfft_workspace_size(N_f) bytes for the FFT's
+ * of the cost) plus pdt_fft_workspace_size(N_f) bytes for the FFT's
  * twiddle table, used only during init. The FFT buffer (N_f reals) needed
  * during init lies over the |Y| and weight arrays before they are filled,
  * so it costs nothing extra. With the current FFT that is 2 N_f reals.
@@ -194,7 +191,7 @@ size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
  * array fails to compile instead of failing at run time. */
 #define PDT_COST_WORKSPACE_SIZE(n) \
     (3u * (PDT_COST_FFT_SIZE_MAX(n) / 2u) * sizeof(pdt_real_t) \
-     + PDT_RFFT_WORKSPACE_SIZE(PDT_COST_FFT_SIZE_MAX(n)))
+     + PDT_FFT_WORKSPACE_SIZE(PDT_COST_FFT_SIZE_MAX(n)))
 
 /* Prepares c for the record u, y of n samples: checks the config and the
  * data and, with use_frequency, computes the DFT magnitudes and weights
@@ -233,8 +230,8 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
  * pdt_cost_init, an order other than 1 or 2, a non-finite coefficient, or a
  * delay outside [delay_min, delay_max]; *cost is then untouched.
  * O(n) time, O(1) memory. */
-pdt_status_t pdt_cost_prediction(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *cost);
-pdt_status_t pdt_cost_simulation(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *cost);
+pdt_status_t pdt_cost_prediction(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *cost);
+pdt_status_t pdt_cost_simulation(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *cost);
 
 /* Frequency cost Cf of a continuous model (its dead time does not enter)
  * into *cost. Returns PDT_ERR_ARG for NULL, an invalid model
@@ -243,9 +240,9 @@ pdt_status_t pdt_cost_simulation(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt
 pdt_status_t pdt_cost_frequency(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *cost);
 
 /* The cost cfg.kind of model m into *cost. For the time part, m is first
- * discretised with period Ts: FRACTIONAL by pdt_discretize (delay
+ * discretised with period Ts: FRACTIONAL by pdt_discrete_init (delay
  * l = floor(Td / Ts), so Td must be < (delay_max + 1) Ts), INTEGER by
- * pdt_discretize_int with l = round(Td / Ts) (halves round up).
+ * pdt_discrete_init_int with l = round(Td / Ts) (halves round up).
  * Returns PDT_ERR_ARG for NULL, a c not prepared, an invalid model, a
  * delay l outside [delay_min, delay_max] (not checked for FREQUENCY, where
  * Td does not matter), or FREQUENCY / COMBINED on a c prepared without
@@ -293,7 +290,7 @@ pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt
  * response of d, from rest, to u - u0, for k = 0 .. n-1 (n reals). d may
  * have any delay. Returns PDT_ERR_ARG for NULL, c not prepared, an order
  * other than 1 or 2, or a non-finite coefficient. O(n). */
-pdt_status_t pdt_cost_simulate(const pdt_cost_t *c, const pdt_dmodel_t *d, pdt_real_t *ysim);
+pdt_status_t pdt_cost_simulate(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *ysim);
 
 #ifdef __cplusplus
 }

@@ -28,7 +28,7 @@
 extern "C" {
 #endif
 
-typedef struct pdt_dmodel {
+typedef struct pdt_discrete {
     size_t delay;       /* l: whole samples of dead time */
     uint8_t order;      /* 1 (FOPDT) or 2 (SOPDT): number of used a[] */
     pdt_real_t a[2];    /* A(q) = 1 + a[0] q + a[1] q^2 */
@@ -40,30 +40,30 @@ typedef struct pdt_dmodel {
      * so d[1] = 1 + a[0] + a[1] (order 2), d[0] = 1 + a[0] (order 1).
      * The simulation and prediction use d[]; a[] is for the caller. */
     pdt_real_t d[2];
-} pdt_dmodel_t;
+} pdt_discrete_t;
 
 /* Exact ZOH discretisation of m at sampling period Ts (s, > 0), with the
  * fractional part of the dead time carried by the third numerator term.
  * Returns PDT_ERR_ARG for NULL, an invalid model, or Ts not finite and > 0.
  * Dead times beyond SIZE_MAX samples are also PDT_ERR_ARG. */
-pdt_status_t pdt_discretize(const pdt_model_t *m, pdt_real_t Ts, pdt_dmodel_t *out);
+pdt_status_t pdt_discrete_init(const pdt_model_t *m, pdt_real_t Ts, pdt_discrete_t *out);
 
 /* The paper's integer-delay prediction model (3) / (5): the ZOH
  * discretisation of m with its dead time replaced by exactly l Ts. m's own
- * Td is ignored. Same errors as pdt_discretize. */
-pdt_status_t pdt_discretize_int(const pdt_model_t *m, pdt_real_t Ts, size_t l,
-                                pdt_dmodel_t *out);
+ * Td is ignored. Same errors as pdt_discrete_init. */
+pdt_status_t pdt_discrete_init_int(const pdt_model_t *m, pdt_real_t Ts, size_t l,
+                                pdt_discrete_t *out);
 
 /* Simulation (output error): y[k] for k = 0..n-1 from u[0..n-1], the model
  * fed its own past outputs, from rest. y must not overlap u.
  * Returns PDT_ERR_ARG for NULL or an order other than 1 or 2. */
-pdt_status_t pdt_dmodel_simulate(const pdt_dmodel_t *d, const pdt_real_t *u, size_t n,
+pdt_status_t pdt_discrete_simulate(const pdt_discrete_t *d, const pdt_real_t *u, size_t n,
                                  pdt_real_t *y);
 
 /* One-step prediction (equation error): yhat[k] from the measured y[k-1],
  * y[k-2] and u, for k = 0..n-1, with y and u taken as 0 before sample 0.
- * yhat must not overlap u or y. Same errors as pdt_dmodel_simulate. */
-pdt_status_t pdt_dmodel_predict(const pdt_dmodel_t *d, const pdt_real_t *u,
+ * yhat must not overlap u or y. Same errors as pdt_discrete_simulate. */
+pdt_status_t pdt_discrete_predict(const pdt_discrete_t *d, const pdt_real_t *u,
                                 const pdt_real_t *y, size_t n, pdt_real_t *yhat);
 
 #ifdef __cplusplus

@@ -46,16 +46,13 @@ typedef enum pdt_ls_method {
     PDT_LS_EIV = 1   /* instrumental variables per delay (E-IV-LMS) */
 } pdt_ls_method_t;
 
-/* delay_max value meaning "n / 4, rounded down". */
-#define PDT_LS_DELAY_AUTO ((size_t)-1)
-
 typedef struct pdt_ls_config {
     pdt_model_kind_t model;  /* FOPDT or SOPDT. Default FOPDT */
     pdt_ls_method_t method;  /* Default ELMS */
     pdt_real_t Ts;           /* sampling period, s; finite and > 0. Default 0
                               * (must be set) */
     size_t delay_min;        /* l_l, samples. Default 0 */
-    size_t delay_max;        /* l_u, samples. Default PDT_LS_DELAY_AUTO: n / 4
+    size_t delay_max;        /* l_u, samples. Default PDT_DELAY_QUARTER: n / 4
                               * (the paper's window loses the first l_u
                               * samples; a quarter keeps three quarters) */
     bool whole_record;       /* score on k = order .. n-1 instead of the
@@ -73,10 +70,10 @@ typedef struct pdt_ls_config {
 
 typedef struct pdt_ls_result {
     pdt_model_t model;    /* continuous model, Td = delay Ts */
-    pdt_dmodel_t dmodel;  /* the estimate as a discrete model of the
+    pdt_discrete_t dmodel;  /* the estimate as a discrete model of the
                            * deviations from (u0, y0), pdt_discrete.h
                            * convention (b[2] = 0); usable with
-                           * pdt_dmodel_simulate and pdt_cost_* */
+                           * pdt_discrete_simulate and pdt_cost_* */
     pdt_real_t u0;        /* input operating point: u[0] */
     pdt_real_t y0;        /* output operating point: the estimate's steady
                            * output at u = u0, c / (1 + a1 + a2) (FOPDT

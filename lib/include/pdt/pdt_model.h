@@ -21,51 +21,51 @@ extern "C" {
 
 /* FOPDT, paper (1): G(s) = K e^{-Td s} / (tau s + 1). Valid when K, tau and
  * Td are finite, tau > 0 and Td >= 0. */
-typedef struct pdt_fopdt {
+typedef struct pdt_model_fopdt {
     pdt_real_t K;   /* DC gain, output units per input unit */
     pdt_real_t tau; /* time constant, s */
     pdt_real_t Td;  /* dead time, s */
-} pdt_fopdt_t;
+} pdt_model_fopdt_t;
 
 /* SOPDT, paper (2): G(s) = k e^{-Td s} / (s^2 + a s + b). Valid when all are
  * finite, a > 0, b >= 0 and Td >= 0. The DC gain is k / b; b = 0 is the
  * integrator with a lag, (k / a) e^{-Td s} / (s (s / a + 1)). */
-typedef struct pdt_sopdt {
+typedef struct pdt_model_sopdt {
     pdt_real_t k;  /* numerator gain, output units per input unit per s^2 */
     pdt_real_t a;  /* 1/s */
     pdt_real_t b;  /* 1/s^2 */
     pdt_real_t Td; /* dead time, s */
-} pdt_sopdt_t;
+} pdt_model_sopdt_t;
 
 /* SOPDT by DC gain, natural frequency and damping:
  * K wn^2 e^{-Td s} / (s^2 + 2 zeta wn s + wn^2). Valid for wn > 0, zeta > 0.
  * Does not exist for the integrating case (b = 0). */
-typedef struct pdt_sopdt_natural {
+typedef struct pdt_model_natural {
     pdt_real_t K;    /* DC gain */
     pdt_real_t wn;   /* natural frequency, rad/s */
     pdt_real_t zeta; /* damping ratio, dimensionless */
     pdt_real_t Td;   /* dead time, s */
-} pdt_sopdt_natural_t;
+} pdt_model_natural_t;
 
 /* SOPDT in time-constant form, paper (13): K e^{-Td s} / ((T1 s + 1)(T2 s + 1)).
  * For a real pair, T1 >= T2 > 0 are the time constants. For a complex-
  * conjugate pair (complex = true) the time constants are re +/- j im, with
  * re > 0 and im > 0, so the denominator is (re^2 + im^2) s^2 + 2 re s + 1. */
-typedef struct pdt_sopdt_tc {
+typedef struct pdt_model_tc {
     pdt_real_t K;  /* DC gain */
     pdt_real_t T1; /* real pair: larger time constant, s; complex: re, s */
     pdt_real_t T2; /* real pair: smaller time constant, s; complex: im, s */
     bool complex;  /* true for a complex-conjugate pair */
     pdt_real_t Td; /* dead time, s */
-} pdt_sopdt_tc_t;
+} pdt_model_tc_t;
 
 /* Integrator with a lag: Ki e^{-Td s} / (s (T s + 1)), Ki any finite value
  * (either sign), T > 0, Td >= 0. This is form (2) with b = 0. */
-typedef struct pdt_sopdt_integ {
+typedef struct pdt_model_integ {
     pdt_real_t Ki; /* integrating gain, output units per input unit per s */
     pdt_real_t T;  /* lag, s */
     pdt_real_t Td; /* dead time, s */
-} pdt_sopdt_integ_t;
+} pdt_model_integ_t;
 
 typedef enum pdt_model_kind {
     PDT_MODEL_FOPDT = 1,
@@ -76,8 +76,8 @@ typedef enum pdt_model_kind {
 typedef struct pdt_model {
     pdt_model_kind_t kind;
     union {
-        pdt_fopdt_t fopdt;
-        pdt_sopdt_t sopdt;
+        pdt_model_fopdt_t fopdt;
+        pdt_model_sopdt_t sopdt;
     } p;
 } pdt_model_t;
 
@@ -92,18 +92,18 @@ pdt_real_t pdt_model_dead_time(const pdt_model_t *m);
 /* Conversions between SOPDT forms. Each checks its input and returns
  * PDT_ERR_ARG for NULL or an invalid input, PDT_ERR_NO_FORM when the target
  * form does not exist for this model; *out is written only on PDT_OK. */
-pdt_status_t pdt_sopdt_from_natural(const pdt_sopdt_natural_t *in, pdt_sopdt_t *out);
+pdt_status_t pdt_model_sopdt_from_natural(const pdt_model_natural_t *in, pdt_model_sopdt_t *out);
 /* PDT_ERR_NO_FORM when b = 0 (no DC gain). */
-pdt_status_t pdt_sopdt_to_natural(const pdt_sopdt_t *in, pdt_sopdt_natural_t *out);
+pdt_status_t pdt_model_sopdt_to_natural(const pdt_model_sopdt_t *in, pdt_model_natural_t *out);
 /* A real pair is accepted in either order (T1, T2 > 0); a complex pair needs
  * re = T1 > 0 and im = T2 > 0. */
-pdt_status_t pdt_sopdt_from_tc(const pdt_sopdt_tc_t *in, pdt_sopdt_t *out);
+pdt_status_t pdt_model_sopdt_from_tc(const pdt_model_tc_t *in, pdt_model_sopdt_t *out);
 /* Real pair when a^2 >= 4b (zeta >= 1), else complex pair. PDT_ERR_NO_FORM
  * when b = 0. */
-pdt_status_t pdt_sopdt_to_tc(const pdt_sopdt_t *in, pdt_sopdt_tc_t *out);
-pdt_status_t pdt_sopdt_from_integ(const pdt_sopdt_integ_t *in, pdt_sopdt_t *out);
+pdt_status_t pdt_model_sopdt_to_tc(const pdt_model_sopdt_t *in, pdt_model_tc_t *out);
+pdt_status_t pdt_model_sopdt_from_integ(const pdt_model_integ_t *in, pdt_model_sopdt_t *out);
 /* PDT_ERR_NO_FORM unless b = 0. */
-pdt_status_t pdt_sopdt_to_integ(const pdt_sopdt_t *in, pdt_sopdt_integ_t *out);
+pdt_status_t pdt_model_sopdt_to_integ(const pdt_model_sopdt_t *in, pdt_model_integ_t *out);
 
 /* DC gain of a model. PDT_ERR_NO_FORM for an integrating SOPDT (b = 0). */
 pdt_status_t pdt_model_dc_gain(const pdt_model_t *m, pdt_real_t *gain);

@@ -26,14 +26,6 @@
 extern "C" {
 #endif
 
-/* Most lags pdt_reduce_half_rule accepts: it sorts a copy of them on the
- * stack (PDT_REDUCE_MAX_LAGS reals and flags). pdt_reduce_sung has no limit.
- * Override by defining it before including this header, in the library's
- * build and the caller's alike. */
-#ifndef PDT_REDUCE_MAX_LAGS
-#define PDT_REDUCE_MAX_LAGS 32u
-#endif
-
 /* Passes of the half rule's fixed-point iteration on the effective delay
  * (the left-half-plane zero rules depend on it; see docs/reduce.md). */
 #define PDT_REDUCE_MAX_PASSES 48u
@@ -107,7 +99,7 @@ void pdt_reduce_config_default(pdt_reduce_config_t *cfg);
  *          Td = theta0 + l3 / 2 + sum_{i>=4} l_i + sum |T_rhp| + h / 2,
  * l1 >= l2 >= ... the lags left after the cancellations. The gain is k times
  * the gains of the rules. A SOPDT is returned in form (2) (from its two time
- * constants by pdt_sopdt_from_tc).
+ * constants by pdt_model_sopdt_from_tc).
  *
  * plant: the detailed model; cfg: model kind and h (NULL: defaults);
  * out: the reduced model (caller's); info: diagnostics, may be NULL.
