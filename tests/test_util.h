@@ -100,9 +100,9 @@ static inline pdt_model_t vector_model(int kind, const double *p)
 
 /* The discrete model a vector row describes: coef holds a[0], a[1], b[0],
  * b[1], b[2], d[0], d[1]. */
-static inline pdt_dmodel_t vector_dmodel(int order, int delay, const double *coef)
+static inline pdt_discrete_t vector_dmodel(int order, int delay, const double *coef)
 {
-    pdt_dmodel_t d;
+    pdt_discrete_t d;
     memset(&d, 0, sizeof d);
     d.order = (uint8_t)order;
     d.delay = (size_t)delay;

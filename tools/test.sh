@@ -7,7 +7,9 @@
 #   4. the Cortex-M4F build of lib/ (float and double) under -Werror, a check
 #      that it references no allocator, stdio or (float build) double-precision
 #      symbol, and its size per module;
-#   5. the target test program on the Cortex-M4F (float build) under QEMU
+#   5. pdtfit consumed as a subproject, as a moved install (CMake package,
+#      pkg-config) and in Cortex-M0+/M7 firmware builds;
+#   6. the target test program on the Cortex-M4F (float build) under QEMU
 #      (mps2-an386), ctest label "target".
 # Build trees go to build/test-*; nothing outside the checkout is written
 # except by the package installers.
@@ -30,6 +32,7 @@ have python3 || apt_missing+=(python3 python3-pip)
 have arm-none-eabi-gcc || apt_missing+=(gcc-arm-none-eabi)
 [ -e /usr/include/newlib/math.h ] || apt_missing+=(libnewlib-arm-none-eabi)
 have qemu-system-arm || apt_missing+=(qemu-system-arm)
+have pkg-config || apt_missing+=(pkg-config)
 if ((${#apt_missing[@]})); then
     if [ "$(id -u)" = 0 ] && have apt-get; then
         apt-get update -q
@@ -70,6 +73,9 @@ step "Cortex-M4F build of lib/ (float and double), symbols, size per module"
 python3 tools/size_report.py --check
 tools/check_symbols.sh "$out/size-cm4-float/lib/libpdtfit.a" --float
 tools/check_symbols.sh "$out/size-cm4-double/lib/libpdtfit.a"
+
+step "consumers: add_subdirectory, moved install, find_package, pkg-config, Cortex-M0+/M7"
+bash tools/check_consumers.sh
 
 step "Cortex-M4F target tests under QEMU"
 cmake -S "$root" -B "$out/test-target" -G Ninja \
