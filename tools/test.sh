@@ -8,7 +8,8 @@
 #      that it references no allocator, stdio or (float build) double-precision
 #      symbol, and its size per module;
 #   5. pdtfit consumed as a subproject, as a moved install (CMake package,
-#      pkg-config) and in Cortex-M0+/M7 firmware builds;
+#      pkg-config) and in Cortex-M0+/M7 firmware builds; the PlatformIO,
+#      Arduino, ESP-IDF and Zephyr manifests, and the Arduino example built;
 #   6. the target test program on the Cortex-M4F (float build) under QEMU
 #      (mps2-an386), ctest label "target".
 # Build trees go to build/test-*; nothing outside the checkout is written
@@ -74,8 +75,9 @@ python3 tools/size_report.py --check
 tools/check_symbols.sh "$out/size-cm4-float/lib/libpdtfit.a" --float
 tools/check_symbols.sh "$out/size-cm4-double/lib/libpdtfit.a"
 
-step "consumers: add_subdirectory, moved install, find_package, pkg-config, Cortex-M0+/M7"
+step "consumers (add_subdirectory, moved install, find_package, pkg-config, Cortex-M0+/M7) and package manifests"
 bash tools/check_consumers.sh
+python3 tools/check_packages.py
 
 step "Cortex-M4F target tests under QEMU"
 cmake -S "$root" -B "$out/test-target" -G Ninja \

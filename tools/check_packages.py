@@ -1,0 +1,227 @@
+#!/usr/bin/env python3
+"""Checks pdtfit's package manifests as far as this machine allows.
+
+- PlatformIO library.json: required keys, the version of pdt_common.h, the
+  source, include and exported paths exist.
+- ESP-IDF idf_component.yml: keys, version, every file pattern matches, the
+  ESP_PLATFORM branch of CMakeLists.txt registers the component.
+- Zephyr zephyr/module.yml and zephyr/Kconfig: the paths exist, and every
+  Kconfig option mirrors the pdt_config.h setting of the same name (default
+  and range).
+- Arduino: generates the library (tools/make_arduino_library.py), checks
+  library.properties, and compiles the example sketch the way the Arduino
+  builder does (library sources as C, the sketch as C++ with Arduino.h
+  first) with arm-none-eabi-gcc/g++ for a Cortex-M4F and a Cortex-M0+, and
+  links it.
+
+    python3 tools/check_packages.py [--no-compile]
+"""
+import json
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parent.parent
+errors = []
+
+
+def fail(msg):
+    errors.append(msg)
+    print("FAIL:", msg)
+
+
+def version():
+    text = (ROOT / "lib/include/pdt/pdt_common.h").read_text()
+    return ".".join(re.search(r"#define PDT_VERSION_%s (\d+)" % p, text).group(1)
+                    for p in ("MAJOR", "MINOR", "PATCH"))
+
+
+def check_platformio(ver):
+    m = json.loads((ROOT / "library.json").read_text())
+    for key in ("name", "version", "description", "license", "frameworks", "platforms", "build"):
+        if key not in m:
+            fail("library.json: no %r" % key)
+    if m.get("version") != ver:
+        fail("library.json: version %s, pdt_common.h %s" % (m.get("version"), ver))
+    b = m.get("build", {})
+    for key in ("srcDir", "includeDir"):
+        if not (ROOT / b.get(key, "?")).is_dir():
+            fail("library.json: build.%s %r is not a folder" % (key, b.get(key)))
+    for flag in b.get("flags", []):
+        if flag.startswith("-I"):
+            if not (ROOT / flag[2:].strip()).is_dir():
+                fail("library.json: include flag %r names no folder" % flag)
+    for h in m.get("headers", []):
+        if not (ROOT / b.get("includeDir", "") / h).is_file():
+            fail("library.json: header %r not in includeDir" % h)
+    for p in m.get("export", {}).get("include", []):
+        if not (ROOT / p).exists():
+            fail("library.json: exported %r does not exist" % p)
+    print("library.json: ok")
+
+
+def check_idf(ver):
+    m = yaml.safe_load((ROOT / "idf_component.yml").read_text())
+    if str(m.get("version")) != ver:
+        fail("idf_component.yml: version %s, pdt_common.h %s" % (m.get("version"), ver))
+    for key in ("description", "license", "dependencies"):
+        if key not in m:
+            fail("idf_component.yml: no %r" % key)
+    for pat in m.get("files", {}).get("include", []):
+        if not list(ROOT.glob(pat)):
+            fail("idf_component.yml: %r matches no file" % pat)
+    cm = (ROOT / "CMakeLists.txt").read_text()
+    branch = re.search(r"if\(ESP_PLATFORM\)(.*?)return\(\)", cm, re.S)
+    if not branch or "idf_component_register" not in branch.group(1):
+        fail("CMakeLists.txt: no ESP_PLATFORM branch registering the component")
+    elif cm.index("if(ESP_PLATFORM)") > cm.index("project("):
+        fail("CMakeLists.txt: the ESP_PLATFORM branch must come before project()")
+    print("idf_component.yml: ok")
+
+
+def config_settings():
+    """{name: (default, lo, hi)} of pdt_config.h's integer settings."""
+    text = (ROOT / "lib/include/pdt/pdt_config.h").read_text()
+    out = {}
+    for name, val in re.findall(r"#ifndef (PDT_\w+)\n#define \1 (\d+)u?\n", text):
+        rng = re.search(r"#if \(?%s < (\d+)\)?(?: \|\| \(%s > (\d+)\))?" % (name, name), text)
+        lo = int(rng.group(1)) if rng else None
+        hi = int(rng.group(2)) if rng and rng.group(2) else None
+        out[name] = (int(val), lo, hi)
+    return out
+
+
+def check_zephyr():
+    m = yaml.safe_load((ROOT / "zephyr/module.yml").read_text())
+    build = m.get("build", {})
+    if not (ROOT / build.get("cmake", "?") / "CMakeLists.txt").is_file():
+        fail("zephyr/module.yml: build.cmake has no CMakeLists.txt")
+    kconfig = ROOT / build.get("kconfig", "?")
+    if not kconfig.is_file():
+        fail("zephyr/module.yml: build.kconfig is not a file")
+        return
+    text = kconfig.read_text()
+    settings = config_settings()
+    opts = re.findall(r"^config (PDTFIT_\w+)\n(.*?)(?=^config |^endif|\Z)", text, re.S | re.M)
+    seen = set()
+    for name, body in opts:
+        if name == "PDTFIT":
+            continue
+        c_name = "PDT_" + name[len("PDTFIT_"):]
+        seen.add(c_name)
+        if "\tbool" in body:
+            if c_name not in settings:
+                fail("zephyr/Kconfig: %s mirrors no pdt_config.h setting" % name)
+            continue
+        if c_name not in settings:
+            fail("zephyr/Kconfig: %s mirrors no pdt_config.h setting" % name)
+            continue
+        default, lo, hi = settings[c_name]
+        d = re.search(r"default (\d+)", body)
+        r = re.search(r"range (\d+) (\d+)", body)
+        if not d or int(d.group(1)) != default:
+            fail("zephyr/Kconfig: %s default differs from pdt_config.h (%d)" % (name, default))
+        if lo is not None and (not r or int(r.group(1)) != lo or
+                               (hi is not None and int(r.group(2)) != hi)):
+            fail("zephyr/Kconfig: %s range differs from pdt_config.h" % name)
+    for c_name in settings:
+        if c_name not in seen and c_name != "PDT_REAL_DOUBLE":
+            fail("zephyr/Kconfig: no option for %s" % c_name)
+    zc = (ROOT / "zephyr/CMakeLists.txt").read_text()
+    for name, _ in opts:
+        if name != "PDTFIT" and "CONFIG_" + name not in zc:
+            fail("zephyr/CMakeLists.txt: CONFIG_%s is not used" % name)
+    print("zephyr module: ok")
+
+
+CPUS = {
+    "cortex-m4f": ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"],
+    "cortex-m0plus": ["-mcpu=cortex-m0plus", "-mthumb", "-mfloat-abi=soft"],
+}
+
+
+def run(cmd):
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        fail("%s\n%s%s" % (" ".join(map(str, cmd)), r.stdout, r.stderr))
+        return False
+    return True
+
+
+def check_arduino(ver, compile_it):
+    out = ROOT / "build" / "arduino"
+    gen = subprocess.run([sys.executable, str(ROOT / "tools/make_arduino_library.py"), str(out)],
+                         capture_output=True, text=True, check=True)
+    lib = Path(gen.stdout.strip())
+    props = dict(line.split("=", 1) for line in (lib / "library.properties").read_text().splitlines()
+                 if "=" in line)
+    for key in ("name", "version", "author", "maintainer", "sentence", "paragraph", "category",
+                "architectures", "includes"):
+        if key not in props:
+            fail("library.properties: no %r" % key)
+    if props.get("version") != ver:
+        fail("library.properties: version %s, pdt_common.h %s" % (props.get("version"), ver))
+    for inc in props.get("includes", "").split(","):
+        if not (lib / "src" / inc.strip()).is_file():
+            fail("library.properties: includes %r is not in src/" % inc)
+    sketches = sorted(lib.glob("examples/*/*.ino"))
+    if not sketches:
+        fail("arduino: no example sketch")
+    for s in sketches:
+        if s.stem != s.parent.name:
+            fail("arduino: sketch %s is not in a folder of its name" % s)
+    print("library.properties: ok")
+    if not compile_it:
+        return
+    if not shutil.which("arm-none-eabi-g++"):
+        fail("arm-none-eabi-g++ not found (apt-get install gcc-arm-none-eabi)")
+        return
+    core = ROOT / "packaging/arduino/ci-core"
+    for cpu, flags in CPUS.items():
+        obj = out / ("obj-" + cpu)
+        obj.mkdir(parents=True, exist_ok=True)
+        objs = []
+        for c in sorted((lib / "src").glob("*.c")):
+            o = obj / (c.stem + ".o")
+            if not run(["arm-none-eabi-gcc", *flags, "-Os", "-std=gnu11", "-Wall", "-Werror",
+                        "-ffunction-sections", "-fdata-sections", "-I", str(lib / "src"),
+                        "-c", str(c), "-o", str(o)]):
+                return
+            objs.append(o)
+        for s in sketches:
+            cpp = obj / (s.name + ".cpp")
+            cpp.write_text('#include <Arduino.h>\n#line 1 "%s"\n%s' % (s.name, s.read_text()))
+            sources = [cpp, core / "main.cpp"]
+            for src in sources:
+                o = obj / (Path(src).name + ".o")
+                if not run(["arm-none-eabi-g++", *flags, "-Os", "-std=gnu++11", "-fno-exceptions",
+                            "-fno-rtti", "-Wall", "-Werror", "-I", str(lib / "src"), "-I", str(core),
+                            "-c", str(src), "-o", str(o)]):
+                    return
+                objs.append(o)
+            elf = obj / (s.stem + ".elf")
+            if not run(["arm-none-eabi-g++", *flags, "-Wl,--gc-sections", "--specs=nano.specs",
+                        "--specs=nosys.specs", *map(str, objs), "-lm", "-o", str(elf)]):
+                return
+            print("arduino: %s compiled and linked for %s" % (s.stem, cpu))
+
+
+def main():
+    ver = version()
+    check_platformio(ver)
+    check_idf(ver)
+    check_zephyr()
+    check_arduino(ver, "--no-compile" not in sys.argv)
+    if errors:
+        print("%d package check(s) failed" % len(errors))
+        return 1
+    print("package manifests: all checks passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

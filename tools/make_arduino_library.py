@@ -1,0 +1,51 @@
+#!/usr/bin/env python3
+"""Writes pdtfit as an Arduino library (Arduino's 1.5 library layout).
+
+    python3 tools/make_arduino_library.py OUT_DIR
+
+OUT_DIR/pdtfit/ then holds library.properties, src/ (the library's sources
+and private headers, the public headers under src/pdt/, and pdtfit.h),
+examples/ and LICENSE: zip it for the Library Manager's "Add .ZIP Library",
+or copy it into the sketchbook's libraries/ folder. The tree itself cannot
+be used as is, because the builder compiles src/ recursively with only
+src/ on the include path.
+"""
+import re
+import shutil
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+PKG = ROOT / "packaging" / "arduino"
+
+
+def version():
+    text = (ROOT / "lib/include/pdt/pdt_common.h").read_text()
+    parts = [re.search(r"#define PDT_VERSION_%s (\d+)" % p, text).group(1)
+             for p in ("MAJOR", "MINOR", "PATCH")]
+    return ".".join(parts)
+
+
+def make(out_dir):
+    lib = Path(out_dir) / "pdtfit"
+    if lib.exists():
+        shutil.rmtree(lib)
+    src = lib / "src"
+    (src / "pdt").mkdir(parents=True)
+    for f in sorted((ROOT / "lib/src").iterdir()):
+        if f.suffix in (".c", ".h"):
+            shutil.copy2(f, src / f.name)
+    for f in sorted((ROOT / "lib/include/pdt").glob("*.h")):
+        shutil.copy2(f, src / "pdt" / f.name)
+    shutil.copy2(PKG / "pdtfit.h", src / "pdtfit.h")
+    shutil.copytree(PKG / "examples", lib / "examples")
+    shutil.copy2(ROOT / "LICENSE", lib / "LICENSE")
+    props = (PKG / "library.properties.in").read_text().replace("@VERSION@", version())
+    (lib / "library.properties").write_text(props)
+    return lib
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit("usage: make_arduino_library.py OUT_DIR")
+    print(make(sys.argv[1]))
