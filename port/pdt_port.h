@@ -3,7 +3,7 @@
  * demo, benchmarks, target test runners) need from a platform.
  *
  * lib/ never calls these, with one opt-in exception: a build that maps
- * PDT_ASSERT to pdt_port_assert_failed (see pdt_config.h). A firmware that
+ * PDT_ASSERT to pdt_port_assert_failed (pdt_config.h shows how). A firmware that
  * only links the library needs no port at all.
  *
  * To support a new target, copy template/pdt_port_template.c into a folder

@@ -57,6 +57,9 @@ if ! python3 tools/check_requirements.py tools/requirements.txt; then
 fi
 echo "all dependencies present"
 
+step "documents: every path and symbol they name exists"
+python3 tools/check_docs.py
+
 build_and_test() { # name, extra cmake args...
     local name=$1
     shift

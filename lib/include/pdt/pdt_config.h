@@ -53,7 +53,11 @@
 #endif
 
 /* Checks of programmer errors that cost time on every call. By default they
- * compile to nothing; define PDT_ASSERT(x) to your handler to enable them.
+ * compile to nothing; define PDT_ASSERT(x) to your handler to enable them,
+ * for example to the port's handler (port/pdt_port.h), in a user config
+ * header:
+ *   void pdt_port_assert_failed(const char *expr, const char *file, int line);
+ *   #define PDT_ASSERT(x) ((x) ? (void)0 : pdt_port_assert_failed(#x, __FILE__, __LINE__))
  * Argument checks that return a status are always on and do not use this. */
 #ifndef PDT_ASSERT
 #define PDT_ASSERT(x) ((void)0)
