@@ -83,7 +83,7 @@ static size_t record(enum excitation e)
     static double ud[NMAX], yd[NMAX];
     size_t n = (size_t)(exc_len[e] * FS);
     for (size_t k = 0; k < n; k++) ud[k] = excite(e, (double)k * TS);
-    plant17_simulate(ud, n, TS, 20, yd);
+    plant17_simulate(ud, n, TS, yd);
     for (size_t k = 0; k < n; k++) {
         u[k] = (pdt_real_t)(U0 + ud[k]);
         y[k] = (pdt_real_t)(Y0 + yd[k] + NOISE_STD * gauss());
@@ -223,7 +223,7 @@ int main(void)
            "the library's default: a FOPDT on the band up to half the phase crossover of its\n"
            "time-domain model (printed), a SOPDT uniformly. Seed %u.\n", SEED);
 
-    plant17_step_grid(IAE_DT, IAE_N, 10, true_step);
+    plant17_step_grid(IAE_DT, IAE_N, true_step);
 
     size_t n = record(CHIRP);
     header("Table 1: FOPDT from the chirp record", false);

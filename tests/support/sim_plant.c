@@ -1,0 +1,284 @@
+#include "sim_plant.h"
+
+#include <math.h>
+#include <string.h>
+
+#define NMAX SIM_PLANT_MAX_STATES
+#define MMAX (SIM_PLANT_MAX_STATES + 1u)
+
+/* The series realisation under construction: the signal between sections
+ * is v = vx . x + vu u, starting as K u. */
+typedef struct build {
+    size_t n;
+    double A[NMAX * NMAX];
+    double B[NMAX];
+    double vx[NMAX];
+    double vu;
+} build_t;
+
+/* Appends a section x_s' = As x_s + Bs v, v' = Cs x_s + Ds v with ns states. */
+static int add_section(build_t *b, size_t ns, const double *As, const double *Bs, const double *Cs,
+                       double Ds)
+{
+    if (b->n + ns > NMAX) {
+        return -1;
+    }
+    const size_t n0 = b->n;
+    for (size_t i = 0; i < ns; i++) {
+        for (size_t j = 0; j < n0; j++) {
+            b->A[(n0 + i) * NMAX + j] = Bs[i] * b->vx[j];
+        }
+        for (size_t j = 0; j < ns; j++) {
+            b->A[(n0 + i) * NMAX + n0 + j] = As[i * ns + j];
+        }
+        b->B[n0 + i] = Bs[i] * b->vu;
+    }
+    for (size_t j = 0; j < n0; j++) {
+        b->vx[j] *= Ds;
+    }
+    for (size_t j = 0; j < ns; j++) {
+        b->vx[n0 + j] = Cs[j];
+    }
+    b->vu *= Ds;
+    b->n += ns;
+    return 0;
+}
+
+/* exp(M) of an m x m matrix (row-major, stride MMAX) into E. */
+static void expm(const double *M, size_t m, double *E)
+{
+    double term[MMAX * MMAX], next[MMAX * MMAX];
+    double norm = 0.0;
+    for (size_t j = 0; j < m; j++) {
+        double col = 0.0;
+        for (size_t i = 0; i < m; i++) {
+            col += fabs(M[i * MMAX + j]);
+        }
+        norm = col > norm ? col : norm;
+    }
+    int s = 0;
+    while (norm > 0.25 && s < 1000) {
+        norm *= 0.5;
+        s++;
+    }
+    const double scale = ldexp(1.0, -s);
+    /* ||M / 2^s||_1 <= 1/4: 24 Taylor terms leave less than 1e-30. */
+    for (size_t i = 0; i < m; i++) {
+        for (size_t j = 0; j < m; j++) {
+            E[i * MMAX + j] = (i == j) ? 1.0 : 0.0;
+            term[i * MMAX + j] = E[i * MMAX + j];
+        }
+    }
+    for (int k = 1; k <= 24; k++) {
+        for (size_t i = 0; i < m; i++) {
+            for (size_t j = 0; j < m; j++) {
+                double acc = 0.0;
+                for (size_t q = 0; q < m; q++) {
+                    acc += term[i * MMAX + q] * M[q * MMAX + j];
+                }
+                next[i * MMAX + j] = acc * scale / (double)k;
+            }
+        }
+        for (size_t i = 0; i < m; i++) {
+            for (size_t j = 0; j < m; j++) {
+                term[i * MMAX + j] = next[i * MMAX + j];
+                E[i * MMAX + j] += next[i * MMAX + j];
+            }
+        }
+    }
+    for (int r = 0; r < s; r++) {
+        for (size_t i = 0; i < m; i++) {
+            for (size_t j = 0; j < m; j++) {
+                double acc = 0.0;
+                for (size_t q = 0; q < m; q++) {
+                    acc += E[i * MMAX + q] * E[q * MMAX + j];
+                }
+                next[i * MMAX + j] = acc;
+            }
+        }
+        memcpy(E, next, sizeof next);
+    }
+}
+
+/* Phi = e^{A h}, Gam = int_0^h e^{A s} ds B, from exp of [[A h, B h], [0, 0]]. */
+static void discretize(const build_t *b, double h, double *Phi, double *Gam)
+{
+    double M[MMAX * MMAX], E[MMAX * MMAX];
+    const size_t n = b->n;
+    memset(M, 0, sizeof M);
+    for (size_t i = 0; i < n; i++) {
+        for (size_t j = 0; j < n; j++) {
+            M[i * MMAX + j] = b->A[i * NMAX + j] * h;
+        }
+        M[i * MMAX + n] = b->B[i] * h;
+    }
+    expm(M, n + 1u, E);
+    for (size_t i = 0; i < n; i++) {
+        for (size_t j = 0; j < n; j++) {
+            Phi[i * n + j] = E[i * MMAX + j];
+        }
+        Gam[i] = E[i * MMAX + n];
+    }
+}
+
+static bool desc_ok(const sim_plant_desc_t *d)
+{
+    size_t poles = d->n_lags + (d->wn > 0.0 ? 2u : 0u) + (d->integrating ? 1u : 0u);
+    if (!isfinite(d->K) || !(d->delay >= 0.0) || !isfinite(d->delay) || poles == 0u ||
+        d->n_zeros > poles || poles > NMAX || (d->n_lags > 0u && d->lags == NULL) ||
+        (d->n_zeros > 0u && d->zeros == NULL) || !(d->wn >= 0.0) || !isfinite(d->wn) ||
+        (d->wn > 0.0 && !(d->zeta > 0.0 && isfinite(d->zeta)))) {
+        return false;
+    }
+    for (size_t i = 0; i < d->n_lags; i++) {
+        if (!(d->lags[i] > 0.0) || !isfinite(d->lags[i])) {
+            return false;
+        }
+    }
+    for (size_t i = 0; i < d->n_zeros; i++) {
+        if (d->zeros[i] == 0.0 || !isfinite(d->zeros[i])) {
+            return false;
+        }
+    }
+    return true;
+}
+
+static int realise(const sim_plant_desc_t *d, build_t *b)
+{
+    size_t z = 0;
+    memset(b, 0, sizeof *b);
+    b->vu = d->K;
+    for (size_t i = 0; i < d->n_lags; i++) {
+        /* (Z s + 1) / (T s + 1) = Z / T + (1 - Z / T) / (T s + 1) */
+        const double T = d->lags[i];
+        const double c = (z < d->n_zeros) ? d->zeros[z++] / T : 0.0;
+        const double As = -1.0 / T, Bs = 1.0 / T, Cs = 1.0 - c;
+        if (add_section(b, 1u, &As, &Bs, &Cs, c) != 0) {
+            return -1;
+        }
+    }
+    if (d->integrating) {
+        /* (Z s + 1) / s = Z + 1 / s */
+        const double c = (z < d->n_zeros) ? d->zeros[z++] : 0.0;
+        const double As = 0.0, Bs = 1.0, Cs = 1.0;
+        if (add_section(b, 1u, &As, &Bs, &Cs, c) != 0) {
+            return -1;
+        }
+    }
+    if (d->wn > 0.0) {
+        /* wn^2 (z1 s + 1)(z2 s + 1) / (s^2 + 2 zeta wn s + wn^2) with
+         * x1' = x2, x2' = -wn^2 x1 - 2 zeta wn x2 + v. */
+        const double w2 = d->wn * d->wn, a1 = 2.0 * d->zeta * d->wn;
+        const double z1 = (z < d->n_zeros) ? d->zeros[z++] : 0.0;
+        const double z2 = (z < d->n_zeros) ? d->zeros[z++] : 0.0;
+        const double As[4] = {0.0, 1.0, -w2, -a1};
+        const double Bs[2] = {0.0, 1.0};
+        const double Cs[2] = {w2 * (1.0 - z1 * z2 * w2), w2 * ((z1 + z2) - a1 * z1 * z2)};
+        if (add_section(b, 2u, As, Bs, Cs, w2 * z1 * z2) != 0) {
+            return -1;
+        }
+    }
+    return (z == d->n_zeros) ? 0 : -1;
+}
+
+int sim_plant_init(sim_plant_t *p, const sim_plant_desc_t *d, double Ts, double u0, double y0,
+                   double *hist, size_t hist_len)
+{
+    build_t b;
+    if (p == NULL || d == NULL || hist == NULL || !(Ts > 0.0) || !isfinite(Ts) || !desc_ok(d) ||
+        realise(d, &b) != 0) {
+        return -1;
+    }
+    double l = floor(d->delay / Ts + 1e-9);
+    double f = d->delay / Ts - l;
+    if (f < 1e-9) {
+        f = 0.0;
+    }
+    if (f > 1.0 - 1e-9) {
+        l += 1.0;
+        f = 0.0;
+    }
+    if (l + 2.0 > (double)hist_len) {
+        return -1;
+    }
+    memset(p, 0, sizeof *p);
+    p->n = b.n;
+    p->l = (size_t)l;
+    p->f = f;
+    p->u0 = u0;
+    p->y0 = y0;
+    p->hist = hist;
+    p->hist_len = p->l + 2u;
+    for (size_t i = 0; i < p->hist_len; i++) {
+        hist[i] = 0.0;
+    }
+    memcpy(p->C, b.vx, b.n * sizeof b.vx[0]);
+    p->D = b.vu;
+    if (f > 0.0) {
+        discretize(&b, f * Ts, p->Phi1, p->Gam1);
+        discretize(&b, (1.0 - f) * Ts, p->Phi2, p->Gam2);
+    } else {
+        discretize(&b, Ts, p->Phi1, p->Gam1);
+    }
+    return 0;
+}
+
+/* The input deviation applied `back` scans before the newest. */
+static double past(const sim_plant_t *p, size_t back)
+{
+    return p->hist[(p->head + p->hist_len - back) % p->hist_len];
+}
+
+/* The output deviation at the start of the scan: the state's, plus the
+ * feedthrough of the delayed input that acts now. */
+static double output_dev(const sim_plant_t *p)
+{
+    double y = 0.0;
+    for (size_t i = 0; i < p->n; i++) {
+        y += p->C[i] * p->x[i];
+    }
+    /* Read just before this scan's switch of the delayed input: the plant
+     * still sees u(k - l - 1), `l` back from the newest applied u(k - 1). */
+    y += p->D * past(p, p->l);
+    return y;
+}
+
+double sim_plant_output(const sim_plant_t *p)
+{
+    return p->y0 + output_dev(p);
+}
+
+static void piece(sim_plant_t *p, const double *Phi, const double *Gam, double v)
+{
+    double xn[NMAX];
+    const size_t n = p->n;
+    for (size_t i = 0; i < n; i++) {
+        double acc = Gam[i] * v;
+        for (size_t j = 0; j < n; j++) {
+            acc += Phi[i * n + j] * p->x[j];
+        }
+        xn[i] = acc;
+    }
+    memcpy(p->x, xn, n * sizeof xn[0]);
+}
+
+void sim_plant_apply(sim_plant_t *p, double u)
+{
+    p->head = (p->head + 1u) % p->hist_len;
+    p->hist[p->head] = u - p->u0;
+    /* Over this scan the plant sees u(k - l - 1) for f Ts, then u(k - l). */
+    if (p->f > 0.0) {
+        piece(p, p->Phi1, p->Gam1, past(p, p->l + 1u));
+        piece(p, p->Phi2, p->Gam2, past(p, p->l));
+    } else {
+        piece(p, p->Phi1, p->Gam1, past(p, p->l));
+    }
+}
+
+void sim_plant_run(sim_plant_t *p, const double *u, size_t n, double *y)
+{
+    for (size_t k = 0; k < n; k++) {
+        y[k] = sim_plant_output(p);
+        sim_plant_apply(p, u[k]);
+    }
+}

@@ -1,0 +1,157 @@
+/*
+ * Tests of the test-support simulator (tests/support/sim_plant.c) against
+ * closed forms: the exact sampled FOPDT with a fractional dead time
+ * (docs/equations.md), step responses of a lag with a zero on either side,
+ * of a complex pair, of an integrator, and the refusals.
+ */
+#include "test_util.h"
+
+#include "sim_plant.h"
+#include "sim_rng.h"
+
+static double g_hist[4096];
+
+static sim_plant_desc_t desc(double K, const double *lags, size_t n_lags, double delay)
+{
+    sim_plant_desc_t d;
+    memset(&d, 0, sizeof d);
+    d.K = K;
+    d.lags = lags;
+    d.n_lags = n_lags;
+    d.delay = delay;
+    return d;
+}
+
+/* y(k) = a y(k-1) + b1 u(k-1-l) + b2 u(k-2-l), the exact ZOH FOPDT. */
+static void test_fopdt_exact(void **state)
+{
+    (void)state;
+    const double K = 1.7, T = 2.3, Ts = 0.1, Td = 0.73;
+    const double lags[1] = {T};
+    sim_plant_desc_t d = desc(K, lags, 1u, Td);
+    sim_plant_t p;
+    assert_int_equal(sim_plant_init(&p, &d, Ts, 5.0, 20.0, g_hist, 4096u), 0);
+    const double a = exp(-Ts / T);
+    const size_t l = 7u;
+    const double m = 1.0 - (Td / Ts - (double)l);
+    const double b1 = K * (1.0 - pow(a, m)), b2 = K * (pow(a, m) - a);
+    double u[400], yr = 0.0;
+    sim_rng_t r = sim_rng_seed(3u);
+    for (size_t k = 0; k < 400u; k++) {
+        u[k] = 5.0 + (sim_rng_coin(&r) ? 1.0 : -1.0);
+    }
+    for (size_t k = 0; k < 400u; k++) {
+        double uk1 = (k >= l + 1u) ? u[k - l - 1u] - 5.0 : 0.0;
+        double uk2 = (k >= l + 2u) ? u[k - l - 2u] - 5.0 : 0.0;
+        if (k > 0u) {
+            yr = a * yr + b1 * uk1 + b2 * uk2;
+        }
+        assert_close(sim_plant_output(&p), 20.0 + yr, 1e-12, 1e-12);
+        sim_plant_apply(&p, u[k]);
+    }
+}
+
+/* Step of K (Z s + 1) / (T s + 1) e^{-D s}: K (1 - (1 - Z/T) e^{-(t-D)/T}). */
+static void test_lag_with_zero(void **state)
+{
+    (void)state;
+    const double lags[1] = {1.5};
+    for (int sgn = -1; sgn <= 1; sgn += 2) {
+        const double zeros[1] = {0.6 * sgn};
+        sim_plant_desc_t d = desc(2.0, lags, 1u, 0.25);
+        d.zeros = zeros;
+        d.n_zeros = 1u;
+        sim_plant_t p;
+        assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, 4096u), 0);
+        for (size_t k = 0; k < 100u; k++) {
+            double t = 0.1 * (double)k;
+            /* read before the switch: the step (applied at 0) acts from D */
+            double want = (t > 0.25 + 1e-9)
+                              ? 2.0 * (1.0 - (1.0 - zeros[0] / 1.5) * exp(-(t - 0.25) / 1.5))
+                              : 0.0;
+            assert_close(sim_plant_output(&p), want, 1e-10, 1e-10);
+            sim_plant_apply(&p, 1.0);
+        }
+    }
+}
+
+/* Step of a complex pair: 1 - e^{-s t}(cos wd t + s/wd sin wd t). */
+static void test_complex_pair(void **state)
+{
+    (void)state;
+    sim_plant_desc_t d = desc(1.3, NULL, 0u, 0.0);
+    d.wn = 0.8;
+    d.zeta = 0.3;
+    sim_plant_t p;
+    assert_int_equal(sim_plant_init(&p, &d, 0.05, 0.0, 0.0, g_hist, 4096u), 0);
+    const double sg = 0.24, wd = 0.8 * sqrt(1.0 - 0.09);
+    for (size_t k = 0; k < 600u; k++) {
+        double t = 0.05 * (double)k;
+        double want = 1.3 * (1.0 - exp(-sg * t) * (cos(wd * t) + sg / wd * sin(wd * t)));
+        assert_close(sim_plant_output(&p), want, 1e-10, 1e-10);
+        sim_plant_apply(&p, 1.0);
+    }
+}
+
+/* Step of Ki / (s (T s + 1)): Ki (t - T (1 - e^{-t/T})). */
+static void test_integrator(void **state)
+{
+    (void)state;
+    const double lags[1] = {0.7};
+    sim_plant_desc_t d = desc(0.4, lags, 1u, 0.0);
+    d.integrating = true;
+    sim_plant_t p;
+    assert_int_equal(sim_plant_init(&p, &d, 0.2, 1.0, 3.0, g_hist, 4096u), 0);
+    for (size_t k = 0; k < 200u; k++) {
+        double t = 0.2 * (double)k;
+        double want = 3.0 + 0.4 * (t - 0.7 * (1.0 - exp(-t / 0.7)));
+        assert_close(sim_plant_output(&p), want, 1e-10, 1e-10);
+        sim_plant_apply(&p, 2.0);
+    }
+}
+
+/* Equal numerator and denominator degrees: the feedthrough shows at once. */
+static void test_biproper(void **state)
+{
+    (void)state;
+    const double lags[1] = {1.0};
+    const double zeros[1] = {3.0};
+    sim_plant_desc_t d = desc(1.0, lags, 1u, 0.0);
+    d.zeros = zeros;
+    d.n_zeros = 1u;
+    sim_plant_t p;
+    assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, 4096u), 0);
+    sim_plant_apply(&p, 1.0);
+    /* one scan after the step: 1 - (1 - 3) e^{-0.1} */
+    assert_close(sim_plant_output(&p), 1.0 + 2.0 * exp(-0.1), 1e-12, 1e-12);
+}
+
+static void test_refusals(void **state)
+{
+    (void)state;
+    const double lags[2] = {1.0, -1.0};
+    const double zeros[2] = {1.0, 2.0};
+    sim_plant_t p;
+    sim_plant_desc_t d = desc(1.0, lags, 1u, 0.0);
+    assert_int_equal(sim_plant_init(NULL, &d, 0.1, 0.0, 0.0, g_hist, 4096u), -1);
+    assert_int_equal(sim_plant_init(&p, &d, 0.0, 0.0, 0.0, g_hist, 4096u), -1);
+    d.zeros = zeros;
+    d.n_zeros = 2u; /* improper */
+    assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, 4096u), -1);
+    d = desc(1.0, lags, 2u, 0.0); /* a negative lag */
+    assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, 4096u), -1);
+    d = desc(1.0, lags, 1u, 10.0); /* 100 scans of delay, 10 of history */
+    assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, 10u), -1);
+    assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, SIM_PLANT_HIST_LEN(10.0, 0.1)),
+                     0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fopdt_exact),  cmocka_unit_test(test_lag_with_zero),
+        cmocka_unit_test(test_complex_pair), cmocka_unit_test(test_integrator),
+        cmocka_unit_test(test_biproper),     cmocka_unit_test(test_refusals),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
