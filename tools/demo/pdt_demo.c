@@ -21,6 +21,7 @@
 #include "pdt/pdt.h"
 #include "pdt/pdt_ident.h"
 #include "plant17.h"
+#include "sim_rng.h"
 
 #define FS 20.0
 #define TS (1.0 / FS)
@@ -44,17 +45,11 @@ static double true_step[1501];
 static pdt_ident_t ident;
 static pdt_real_t work[PDT_IDENT_WORKSPACE_SIZE(NMAX, 64) / sizeof(pdt_real_t) + 1];
 
-/* Deterministic Gaussian noise: a 64-bit LCG feeding Box-Muller. */
-static unsigned long long lcg = 0x2545F4914F6CDD1DULL;
-static double uniform01(void)
-{
-    lcg = lcg * 6364136223846793005ULL + 1442695040888963407ULL;
-    return ((double)(lcg >> 11) + 0.5) / 9007199254740992.0;
-}
+/* The sensor noise: the shared generator (tests/support/sim_rng.h). */
+static sim_rng_t rng = {0x2545F491u};
 static double gauss(void)
 {
-    double a = uniform01(), b = uniform01();
-    return sqrt(-2.0 * log(a)) * cos(6.283185307179586 * b);
+    return sim_rng_normal(&rng);
 }
 
 enum excitation { CHIRP, PULSE1, PULSE2 };
