@@ -58,7 +58,7 @@ static size_t load_record(int idx)
     return r->n;
 }
 
-static void case_config(const ls_vec_case_t *c, pdt_ls_config_t *cfg, pdt_real_t *costs)
+static void case_config(const ls_vec_case_t *c, pdt_ls_config_t *cfg)
 {
     pdt_ls_config_default(cfg);
     cfg->model = c->order == 1 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
@@ -67,7 +67,6 @@ static void case_config(const ls_vec_case_t *c, pdt_ls_config_t *cfg, pdt_real_t
     cfg->delay_min = c->delay_min;
     cfg->delay_max = c->delay_max;
     cfg->whole_record = c->whole_record != 0;
-    cfg->costs = costs;
 }
 
 static double rel_err(double got, double want)
@@ -99,9 +98,10 @@ static void run_case(const ls_vec_case_t *c, size_t chunk, pdt_ls_result_t *res,
     size_t calls = 0;
     pdt_status_t st;
     assert_true(nd <= LS_DMAX + 1u);
-    case_config(c, &cfg, costs);
+    case_config(c, &cfg);
     canary_fill(costs, nd + CANARY_COUNT);
     assert_int_equal(pdt_ls_init(&ctx, &cfg, g_u, g_y, n), PDT_OK);
+    assert_int_equal(pdt_ls_scores(&ctx, costs, nd), PDT_OK);
     canary_check(costs, nd + CANARY_COUNT); /* init writes no cost */
     do {
         st = pdt_ls_step(&ctx, chunk);
@@ -299,10 +299,16 @@ static void test_step_equals_blocking(void **state)
         pdt_ls_t ctx;
         pdt_ls_result_t blk;
         size_t n = load_record(c->record);
-        case_config(c, &cfg, g_costs2);
+        case_config(c, &cfg);
         canary_fill(g_costs2, nd + CANARY_COUNT);
-        assert_int_equal(pdt_ls_identify(&ctx, &cfg, g_u, g_y, n, &blk), PDT_OK);
+        assert_int_equal(pdt_ls_init(&ctx, &cfg, g_u, g_y, n), PDT_OK);
+        assert_int_equal(pdt_ls_scores(&ctx, g_costs2, nd), PDT_OK);
+        assert_int_equal(pdt_ls_step(&ctx, (size_t)-1), PDT_OK);
+        assert_int_equal(pdt_ls_result(&ctx, &blk), PDT_OK);
         canary_check(g_costs2 + nd, CANARY_COUNT);
+        pdt_ls_result_t blk2;
+        assert_int_equal(pdt_ls_identify(&ctx, &cfg, g_u, g_y, n, &blk2), PDT_OK);
+        assert_same_result(&blk2, &blk);
         for (size_t j = 0; j < sizeof chunks / sizeof chunks[0]; j++) {
             pdt_ls_result_t st;
             run_case(c, chunks[j], &st, g_costs);
@@ -370,12 +376,21 @@ static void test_auto_bound(void **state)
     assert_int_equal(cfg.delay_min, 0u);
     assert_true(cfg.delay_max == PDT_DELAY_QUARTER);
     assert_false(cfg.whole_record);
-    assert_null(cfg.costs);
     pdt_ls_config_default(NULL);
     cfg.Ts = (pdt_real_t)r->Ts;
-    cfg.costs = costs;
     canary_fill(costs, sizeof costs / sizeof costs[0]);
-    assert_int_equal(pdt_ls_identify(&ctx, &cfg, g_u, g_y, n, &res), PDT_OK);
+    assert_int_equal(pdt_ls_init(&ctx, &cfg, g_u, g_y, n), PDT_OK);
+    /* n / 4 = 25: 26 delays, so 25 reals are too few */
+    pdt_ls_t copy = ctx;
+    assert_int_equal(pdt_ls_scores(&ctx, costs, 25u), PDT_ERR_LENGTH);
+    assert_int_equal(pdt_ls_scores(&ctx, NULL, 26u), PDT_ERR_ARG);
+    assert_int_equal(pdt_ls_scores(NULL, costs, 26u), PDT_ERR_ARG);
+    assert_memory_equal(&ctx, &copy, sizeof ctx);
+    assert_int_equal(pdt_ls_scores(&ctx, costs, 26u), PDT_OK);
+    assert_int_equal(pdt_ls_step(&ctx, 1u), PDT_RUNNING);
+    assert_int_equal(pdt_ls_scores(&ctx, costs, 26u), PDT_ERR_STATE); /* begun */
+    assert_int_equal(pdt_ls_step(&ctx, (size_t)-1), PDT_OK);
+    assert_int_equal(pdt_ls_result(&ctx, &res), PDT_OK);
     canary_check(costs + 26, CANARY_COUNT);
     assert_int_equal(res.delay, r->true_delay);
     for (size_t j = 0; j < 26u; j++) {
@@ -395,17 +410,11 @@ static void check_init_fails(const pdt_ls_config_t *cfg, const pdt_real_t *u, co
     memcpy(&copy, &ctx, sizeof ctx);
     memset(&res, 0x5A, sizeof res);
     memcpy(&rcopy, &res, sizeof res);
-    if (cfg != NULL && cfg->costs != NULL) {
-        canary_fill(cfg->costs, 4u);
-    }
     assert_int_equal(pdt_ls_init(&ctx, cfg, u, y, n), want);
     assert_memory_equal(&ctx, &copy, sizeof ctx);
     assert_int_equal(pdt_ls_identify(&ctx, cfg, u, y, n, &res), want);
     assert_memory_equal(&ctx, &copy, sizeof ctx);
     assert_memory_equal(&res, &rcopy, sizeof res);
-    if (cfg != NULL && cfg->costs != NULL) {
-        canary_check(cfg->costs, 4u);
-    }
 }
 
 static void test_bad_init(void **state)
@@ -420,7 +429,6 @@ static void test_bad_init(void **state)
     pdt_ls_config_default(&good);
     good.Ts = (pdt_real_t)1;
     good.delay_max = 10u;
-    good.costs = g_costs;
 
     assert_int_equal(pdt_ls_init(NULL, &good, g_u, g_y, n), PDT_ERR_ARG);
     assert_int_equal(pdt_ls_identify(NULL, &good, g_u, g_y, n, &res), PDT_ERR_ARG);
@@ -529,15 +537,16 @@ static void check_scan_fails(const pdt_ls_config_t *cfg, size_t n, pdt_status_t 
     size_t nd = cfg->delay_max - cfg->delay_min + 1u;
     memset(&res, 0x5A, sizeof res);
     memcpy(&copy, &res, sizeof res);
-    canary_fill(cfg->costs, nd + CANARY_COUNT);
+    canary_fill(g_costs, nd + CANARY_COUNT);
     assert_int_equal(pdt_ls_init(&ctx, cfg, g_u, g_y, n), PDT_OK);
+    assert_int_equal(pdt_ls_scores(&ctx, g_costs, nd), PDT_OK);
     assert_int_equal(pdt_ls_step(&ctx, 1000u), PDT_OK);
     assert_int_equal(pdt_ls_result(&ctx, &res), want);
     assert_memory_equal(&res, &copy, sizeof res);
     for (size_t j = 0; j < nd; j++) {
-        assert_true(isinf(cfg->costs[j]) && cfg->costs[j] > (pdt_real_t)0);
+        assert_true(isinf(g_costs[j]) && g_costs[j] > (pdt_real_t)0);
     }
-    canary_check(cfg->costs + nd, CANARY_COUNT);
+    canary_check(g_costs + nd, CANARY_COUNT);
     assert_int_equal(pdt_ls_identify(&ctx, cfg, g_u, g_y, n, &res), want);
     assert_memory_equal(&res, &copy, sizeof res);
 }
@@ -551,7 +560,6 @@ static void test_no_model(void **state)
     pdt_ls_config_default(&cfg);
     cfg.Ts = (pdt_real_t)1;
     cfg.delay_max = 8u;
-    cfg.costs = g_costs;
 
     /* Unstable process y(k) = 1.02 y(k-1) + u(k-3): alpha > 1 at every
      * delay for FOPDT; for SOPDT a real pole above 1. */

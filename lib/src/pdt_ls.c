@@ -475,7 +475,6 @@ void pdt_ls_config_default(pdt_ls_config_t *cfg)
     cfg->delay_min = 0u;
     cfg->delay_max = PDT_DELAY_QUARTER;
     cfg->whole_record = false;
-    cfg->costs = NULL;
 }
 
 pdt_status_t pdt_ls_init(pdt_ls_t *ctx, const pdt_ls_config_t *cfg, const pdt_real_t *u,
@@ -531,6 +530,7 @@ pdt_status_t pdt_ls_init(pdt_ls_t *ctx, const pdt_ls_config_t *cfg, const pdt_re
     c.noform = 0u;
     c.found = false;
     c.best.cost = PDT_R(0.0);
+    c.scores = NULL;
     *ctx = c;
     return PDT_OK;
 }
@@ -562,8 +562,8 @@ pdt_status_t pdt_ls_step(pdt_ls_t *ctx, size_t max_delays)
             ctx->noform++;
             break;
         }
-        if (ctx->cfg.costs != NULL) {
-            ctx->cfg.costs[l - ctx->cfg.delay_min] = score;
+        if (ctx->scores != NULL) {
+            ctx->scores[l - ctx->cfg.delay_min] = score;
         }
         if (l == ctx->cfg.delay_max) {
             ctx->done = true;
@@ -572,6 +572,21 @@ pdt_status_t pdt_ls_step(pdt_ls_t *ctx, size_t max_delays)
         }
     }
     return ctx->done ? PDT_OK : PDT_RUNNING;
+}
+
+pdt_status_t pdt_ls_scores(pdt_ls_t *ctx, pdt_real_t *scores, size_t len)
+{
+    if (ctx == NULL || scores == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (ctx->magic != LS_MAGIC || ctx->done || ctx->next != ctx->cfg.delay_min) {
+        return PDT_ERR_STATE;
+    }
+    if (len < ctx->cfg.delay_max - ctx->cfg.delay_min + 1u) {
+        return PDT_ERR_LENGTH;
+    }
+    ctx->scores = scores;
+    return PDT_OK;
 }
 
 pdt_status_t pdt_ls_result(const pdt_ls_t *ctx, pdt_ls_result_t *out)

@@ -60,12 +60,6 @@ typedef struct pdt_ls_config {
                               * the input at rest (u0) before sample 0; for
                               * records that start with a step at steady
                               * state. Default false (the paper) */
-    pdt_real_t *costs;       /* optional: receives the score of every delay,
-                              * costs[l - delay_min] for l = delay_min ..
-                              * delay_max (delay_max resolved), +infinity for
-                              * a skipped delay. Caller memory, written
-                              * during pdt_ls_step, must not overlap the
-                              * data. Default NULL (not wanted) */
 } pdt_ls_config_t;
 
 typedef struct pdt_ls_result {
@@ -98,6 +92,7 @@ typedef struct pdt_ls {
     size_t noform;        /* delays skipped: no continuous form */
     bool found;
     pdt_ls_result_t best;
+    pdt_real_t *scores;   /* pdt_ls_scores: caller memory, or NULL */
 } pdt_ls_t;
 
 /* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */
@@ -105,8 +100,8 @@ void pdt_ls_config_default(pdt_ls_config_t *cfg);
 
 /* Prepares ctx for a scan of the record u[0..n-1], y[0..n-1] (engineering
  * units, sampled every cfg->Ts s, at steady state at sample 0). ctx keeps
- * pointers to u, y and cfg->costs: they must stay valid, and u and y
- * unchanged, until the scan is done. No delay is fitted here; O(n) checks.
+ * pointers to u and y: they must stay valid and unchanged until the scan is
+ * done. No delay is fitted here; O(n) checks.
  * Returns, checked in this order:
  *  PDT_ERR_ARG           NULL ctx, cfg, u or y; Ts not finite and > 0; an
  *                        unknown model or method;
@@ -122,10 +117,21 @@ pdt_status_t pdt_ls_init(pdt_ls_t *ctx, const pdt_ls_config_t *cfg, const pdt_re
 
 /* Fits at most max_delays more delays (each O(n): three passes over the
  * record for ELMS, five for EIV, and one or two 2x2 or 4x4 solves),
- * writing their scores into cfg.costs. Returns PDT_RUNNING while delays remain, PDT_OK
+ * writing their scores where pdt_ls_scores asked. Returns PDT_RUNNING while
+ * delays remain, PDT_OK
  * once all are done (also on every later call), PDT_ERR_ARG for NULL or
  * max_delays = 0, PDT_ERR_STATE if ctx was not initialised. */
 pdt_status_t pdt_ls_step(pdt_ls_t *ctx, size_t max_delays);
+
+/* Asks the scan to write the score of every delay it fits into
+ * scores[l - delay_min], l = delay_min .. delay_max (resolved): the
+ * score, or +infinity for a delay without a model. Call after pdt_ls_init
+ * and before the first pdt_ls_step. scores is caller memory of at least
+ * delay_max - delay_min + 1 reals, written only by pdt_ls_step, and must
+ * not overlap the data. Returns PDT_OK, PDT_ERR_ARG for NULL,
+ * PDT_ERR_STATE when ctx is not initialised or the scan has begun,
+ * PDT_ERR_LENGTH when len is too small; ctx is untouched on error. */
+pdt_status_t pdt_ls_scores(pdt_ls_t *ctx, pdt_real_t *scores, size_t len);
 
 /* The best delay's model once pdt_ls_step has returned PDT_OK. Returns
  * PDT_OK, PDT_ERR_ARG for NULL, PDT_ERR_STATE before the scan is done,
