@@ -84,11 +84,6 @@ static pdt_model_t model_of(const cost_vec_set_t *s, size_t i)
     return vector_model(s->kind[i], s->param + 4u * i);
 }
 
-static double rel_err(double got, double want)
-{
-    return fabs(got - want) / fmax(fabs(want), 1e-300);
-}
-
 static void check_cost(pdt_real_t got, double want, double rtol, double *worst, const char *set,
                        size_t cand, const char *what)
 {

@@ -116,11 +116,6 @@ static pdt_model_t with_gain(pdt_model_t m, pdt_real_t g)
     return m;
 }
 
-static double rel_err(double got, double want)
-{
-    return fabs(got - want) / fmax(fabs(want), 1e-300);
-}
-
 /* |got - want| <= rtol (|want| + floor); tracks the worst error relative
  * to |want| + floor. */
 static void check_val(double got, double want, double rtol, double floor, double *worst,

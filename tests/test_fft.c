@@ -67,24 +67,6 @@ static void load_input_ref(const fft_case_t *c, double *ref)
     }
 }
 
-static double peak_abs(const double *v, size_t n)
-{
-    double p = 0.0;
-    for (size_t i = 0; i < n; i++) {
-        p = fmax(p, fabs(v[i]));
-    }
-    return p;
-}
-
-static double max_abs_err(const pdt_real_t *got, const double *ref, size_t n)
-{
-    double e = 0.0;
-    for (size_t i = 0; i < n; i++) {
-        e = fmax(e, fabs((double)got[i] - ref[i]));
-    }
-    return e;
-}
-
 /* SNR at least FFT_MIN_SNR_DB and every element within FFT_PEAK_RTOL of the
  * reference's peak. */
 static void check_against(const char *what, size_t n, const pdt_real_t *got, const double *ref,

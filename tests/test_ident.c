@@ -218,11 +218,6 @@ static void identify(const pdt_ident_config_t *cfg, size_t n, pdt_ident_result_t
     assert_true(isfinite((double)res->fit) && res->fit <= (pdt_real_t)100.0);
 }
 
-static double rel_err(double got, double want)
-{
-    return fabs(got - want) / fabs(want);
-}
-
 /* Errors of a FOPDT result: gain and tau relative, Td in units of tau (a
  * relative error would be meaningless for short dead times). */
 typedef struct fopdt_err {

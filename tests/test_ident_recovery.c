@@ -83,11 +83,6 @@ static void identify(const pdt_ident_config_t *cfg, size_t n, pdt_ident_result_t
     }
 }
 
-static double rel_err(double got, double want)
-{
-    return fabs(got - want) / fabs(want);
-}
-
 /* FOPDT: tau from 3 to 30 samples, Td / tau from 0.05 to 3 (plus a
  * fractional 0.37 s), gain 1.3, 800 samples. The dead-time bound is set to
  * 100 s (an eighth of the record): see the note in the report of the

@@ -69,11 +69,6 @@ static void case_config(const ls_vec_case_t *c, pdt_ls_config_t *cfg)
     cfg->whole_record = c->whole_record != 0;
 }
 
-static double rel_err(double got, double want)
-{
-    return fabs(got - want) / fmax(fabs(want), 1e-300);
-}
-
 static void model_params(const pdt_model_t *m, double p[3])
 {
     if (m->kind == PDT_MODEL_FOPDT) {

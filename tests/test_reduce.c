@@ -76,7 +76,7 @@ typedef struct guarded_info {
     pdt_real_t guard[CANARY_COUNT];
 } guarded_info_t;
 
-static double rel_err(double got, double want, double atol)
+static double rel_err_atol(double got, double want, double atol)
 {
     double d = fabs(got - want);
     return d / (fabs(want) + atol);
@@ -94,19 +94,19 @@ static double check_model(const pdt_model_t *m, int kind, const double *want, do
         assert_close(m->p.fopdt.K, want[0], rtol, 0.0);
         assert_close(m->p.fopdt.tau, want[1], rtol, 0.0);
         assert_close(m->p.fopdt.Td, want[2], rtol, rtol * span);
-        worst = fmax(worst, rel_err(m->p.fopdt.K, want[0], 0.0));
-        worst = fmax(worst, rel_err(m->p.fopdt.tau, want[1], 0.0));
-        worst = fmax(worst, rel_err(m->p.fopdt.Td, want[2], span));
+        worst = fmax(worst, rel_err_atol(m->p.fopdt.K, want[0], 0.0));
+        worst = fmax(worst, rel_err_atol(m->p.fopdt.tau, want[1], 0.0));
+        worst = fmax(worst, rel_err_atol(m->p.fopdt.Td, want[2], span));
     } else {
         assert_int_equal(m->kind, PDT_MODEL_SOPDT);
         assert_close(m->p.sopdt.k, want[0], rtol, 0.0);
         assert_close(m->p.sopdt.a, want[1], rtol, 0.0);
         assert_close(m->p.sopdt.b, want[2], rtol, 0.0);
         assert_close(m->p.sopdt.Td, want[3], rtol, rtol * span);
-        worst = fmax(worst, rel_err(m->p.sopdt.k, want[0], 0.0));
-        worst = fmax(worst, rel_err(m->p.sopdt.a, want[1], 0.0));
-        worst = fmax(worst, rel_err(m->p.sopdt.b, want[2], 0.0));
-        worst = fmax(worst, rel_err(m->p.sopdt.Td, want[3], span));
+        worst = fmax(worst, rel_err_atol(m->p.sopdt.k, want[0], 0.0));
+        worst = fmax(worst, rel_err_atol(m->p.sopdt.a, want[1], 0.0));
+        worst = fmax(worst, rel_err_atol(m->p.sopdt.b, want[2], 0.0));
+        worst = fmax(worst, rel_err_atol(m->p.sopdt.Td, want[3], span));
     }
     return worst;
 }
@@ -195,7 +195,7 @@ static void test_ultimate_vectors(void **state)
             continue;
         }
         assert_close(w[0], red_wu[i], WU_RTOL, 0.0);
-        worst = fmax(worst, rel_err(w[0], red_wu[i], 0.0));
+        worst = fmax(worst, rel_err_atol(w[0], red_wu[i], 0.0));
     }
     print_message("ultimate frequency: worst relative error %.3g\n", worst);
 }

@@ -1,6 +1,6 @@
 /*
- * Shared helpers for the CMocka tests: tolerances per real type, canaries
- * after output buffers, SNR against reference vectors.
+ * Helpers of the CMocka tests: tolerances per real type and the asserting
+ * forms of the shared measures (tests/support/test_measure.h).
  */
 #ifndef PDT_TEST_UTIL_H
 #define PDT_TEST_UTIL_H
@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "pdt/pdt.h"
+#include "test_measure.h"
 
 /* Relative tolerance a routine of the library is expected to meet against
  * the double-precision reference, for the build's real type. */
@@ -24,17 +25,6 @@
 #else
 #define TEST_RTOL 2e-4
 #endif
-
-/* Number of guard elements written after each output buffer. */
-#define CANARY_COUNT 8
-#define CANARY_VALUE ((pdt_real_t)-31415.9265)
-
-static inline void canary_fill(pdt_real_t *p, size_t n)
-{
-    for (size_t i = 0; i < n; i++) {
-        p[i] = CANARY_VALUE;
-    }
-}
 
 /* Asserts that p[0..n-1] still hold the canary: nothing was written there. */
 static inline void canary_check(const pdt_real_t *p, size_t n)
@@ -58,62 +48,6 @@ static inline void assert_close_at(double got, double want, double rtol, double 
         fail_msg("%s:%d: %s = %.17g, want %.17g (err %.3g, rtol %.3g, atol %.3g)", file,
                  line, what, got, want, err, rtol, atol);
     }
-}
-
-/* Signal-to-noise ratio of got against ref in dB: 10 log10(sum ref^2 /
- * sum (got - ref)^2); 400 dB for an exact match. */
-static inline double snr_db(const pdt_real_t *got, const double *ref, size_t n)
-{
-    double sig = 0.0;
-    double err = 0.0;
-    for (size_t i = 0; i < n; i++) {
-        double e = (double)got[i] - ref[i];
-        sig += ref[i] * ref[i];
-        err += e * e;
-    }
-    if (err == 0.0) {
-        return 400.0;
-    }
-    return 10.0 * log10(sig / err);
-}
-
-/* The model a vector row describes: kind 1 is a FOPDT (p: K, tau, Td),
- * kind 2 a SOPDT in form (2) (p: k, a, b, Td). */
-static inline pdt_model_t vector_model(int kind, const double *p)
-{
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    if (kind == 1) {
-        m.kind = PDT_MODEL_FOPDT;
-        m.p.fopdt.K = (pdt_real_t)p[0];
-        m.p.fopdt.tau = (pdt_real_t)p[1];
-        m.p.fopdt.Td = (pdt_real_t)p[2];
-    } else {
-        m.kind = PDT_MODEL_SOPDT;
-        m.p.sopdt.k = (pdt_real_t)p[0];
-        m.p.sopdt.a = (pdt_real_t)p[1];
-        m.p.sopdt.b = (pdt_real_t)p[2];
-        m.p.sopdt.Td = (pdt_real_t)p[3];
-    }
-    return m;
-}
-
-/* The discrete model a vector row describes: coef holds a[0], a[1], b[0],
- * b[1], b[2], d[0], d[1]. */
-static inline pdt_discrete_t vector_dmodel(int order, int delay, const double *coef)
-{
-    pdt_discrete_t d;
-    memset(&d, 0, sizeof d);
-    d.order = (uint8_t)order;
-    d.delay = (size_t)delay;
-    d.a[0] = (pdt_real_t)coef[0];
-    d.a[1] = (pdt_real_t)coef[1];
-    for (int j = 0; j < 3; j++) {
-        d.b[j] = (pdt_real_t)coef[2 + j];
-    }
-    d.d[0] = (pdt_real_t)coef[5];
-    d.d[1] = (pdt_real_t)coef[6];
-    return d;
 }
 
 #endif /* PDT_TEST_UTIL_H */

@@ -35,27 +35,6 @@
 #define COST_RTOL 1e-4
 #endif
 
-/* Guard words after each output buffer: nothing may be written there. */
-#define CANARY_COUNT 8u
-#define CANARY_VALUE ((pdt_real_t)-31415.9265)
-
-static void canary_fill(pdt_real_t *p)
-{
-    for (size_t i = 0; i < CANARY_COUNT; i++) {
-        p[i] = CANARY_VALUE;
-    }
-}
-
-static bool canary_ok(const pdt_real_t *p)
-{
-    for (size_t i = 0; i < CANARY_COUNT; i++) {
-        if (p[i] != CANARY_VALUE) {
-            return false;
-        }
-    }
-    return true;
-}
-
 /* ---- FFT --------------------------------------------------------------- */
 
 #define FFT_NMAX 8192u
@@ -87,8 +66,8 @@ static double g_fft_ref[FFT_NMAX];
 static bool fft_compare(const pdt_real_t *got, const double *ref, size_t len, double *snr,
                         double *err_peak)
 {
-    *snr = t_snr_db(got, ref, len);
-    *err_peak = t_max_abs_err(got, ref, len) / t_peak_abs(ref, len);
+    *snr = snr_db(got, ref, len);
+    *err_peak = max_abs_err(got, ref, len) / peak_abs(ref, len);
     return *snr >= FFT_MIN_SNR_DB && *err_peak <= FFT_PEAK_RTOL;
 }
 
@@ -103,27 +82,27 @@ int target_check_fft(void)
         bool ok = ws == PDT_FFT_WORKSPACE_SIZE(n);
         double snr_f = 0.0, snr_i = 0.0, snr_m = 0.0, ep_f = 0.0, ep_i = 0.0, ep_m = 0.0;
 
-        canary_fill(g_fft_work + ws / sizeof(pdt_real_t));
+        canary_fill(g_fft_work + ws / sizeof(pdt_real_t), CANARY_COUNT);
         ok = ok && pdt_fft_init(&f, n, g_fft_work, ws) == PDT_OK;
-        ok = ok && canary_ok(g_fft_work + ws / sizeof(pdt_real_t));
+        ok = ok && canary_intact(g_fft_work + ws / sizeof(pdt_real_t), CANARY_COUNT);
         if (ok) {
             for (size_t j = 0; j < n; j++) {
                 g_fft_buf[j] = (pdt_real_t)tc->q[j] / (pdt_real_t)FFT_VEC_DENOM;
                 g_fft_ref[j] = (double)tc->q[j] / (double)FFT_VEC_DENOM;
             }
-            canary_fill(g_fft_buf + n);
-            ok = pdt_fft_forward(&f, g_fft_buf) == PDT_OK && canary_ok(g_fft_buf + n);
+            canary_fill(g_fft_buf + n, CANARY_COUNT);
+            ok = pdt_fft_forward(&f, g_fft_buf) == PDT_OK && canary_intact(g_fft_buf + n, CANARY_COUNT);
             ok = fft_compare(g_fft_buf, tc->spec, n, &snr_f, &ep_f) && ok;
 
-            canary_fill(g_fft_mag + n / 2u + 1u);
+            canary_fill(g_fft_mag + n / 2u + 1u, CANARY_COUNT);
             ok = pdt_fft_magnitude(&f, g_fft_buf, g_fft_mag) == PDT_OK && ok;
-            ok = canary_ok(g_fft_mag + n / 2u + 1u) && ok;
+            ok = canary_intact(g_fft_mag + n / 2u + 1u, CANARY_COUNT) && ok;
             ok = fft_compare(g_fft_mag, tc->mag, n / 2u + 1u, &snr_m, &ep_m) && ok;
 
             for (size_t j = 0; j < n; j++) {
                 g_fft_buf[j] = (pdt_real_t)tc->spec[j];
             }
-            ok = pdt_fft_inverse(&f, g_fft_buf) == PDT_OK && canary_ok(g_fft_buf + n) && ok;
+            ok = pdt_fft_inverse(&f, g_fft_buf) == PDT_OK && canary_intact(g_fft_buf + n, CANARY_COUNT) && ok;
             ok = fft_compare(g_fft_buf, g_fft_ref, n, &snr_i, &ep_i) && ok;
         }
 
@@ -151,21 +130,13 @@ int target_check_fft(void)
 
 /* ---- Models ------------------------------------------------------------ */
 
+/* Model i of the vectors with the dead time Td. */
 static pdt_model_t vec_model(int i, double Td)
 {
-    pdt_model_t m;
-    const double *p = &model_par[4 * i];
-    memset(&m, 0, sizeof m);
-    if (model_kind[i] == 1) {
-        m.kind = PDT_MODEL_FOPDT;
-        m.p.fopdt.K = (pdt_real_t)p[0];
-        m.p.fopdt.tau = (pdt_real_t)p[1];
+    pdt_model_t m = vector_model(model_kind[i], &model_par[4 * i]);
+    if (m.kind == PDT_MODEL_FOPDT) {
         m.p.fopdt.Td = (pdt_real_t)Td;
     } else {
-        m.kind = PDT_MODEL_SOPDT;
-        m.p.sopdt.k = (pdt_real_t)p[0];
-        m.p.sopdt.a = (pdt_real_t)p[1];
-        m.p.sopdt.b = (pdt_real_t)p[2];
         m.p.sopdt.Td = (pdt_real_t)Td;
     }
     return m;
@@ -186,16 +157,16 @@ int target_check_model(void)
         for (int j = 0; j < MODEL_VEC_NT; j++) {
             g_t[j] = (pdt_real_t)model_t[MODEL_VEC_NT * i + j];
         }
-        canary_fill(g_y + MODEL_VEC_NT);
+        canary_fill(g_y + MODEL_VEC_NT, CANARY_COUNT);
         ok_step = pdt_model_step(&m, g_t, MODEL_VEC_NT, g_y) == PDT_OK && ok_step;
-        ok_step = canary_ok(g_y + MODEL_VEC_NT) && ok_step;
+        ok_step = canary_intact(g_y + MODEL_VEC_NT, CANARY_COUNT) && ok_step;
         for (int j = 0; j < MODEL_VEC_NT; j++) {
             double want = model_step[MODEL_VEC_NT * i + j];
             if (want == 0.0) {
                 ok_step = g_y[j] == (pdt_real_t)0.0 && ok_step;
                 continue;
             }
-            double e = t_rel_err((double)g_y[j], want);
+            double e = rel_err((double)g_y[j], want);
             worst_step = fmax(worst_step, e);
             ok_step = e <= STEP_RTOL && ok_step;
         }
@@ -203,10 +174,10 @@ int target_check_model(void)
         for (int j = 0; j < MODEL_VEC_NW; j++) {
             g_w[j] = (pdt_real_t)model_w[MODEL_VEC_NW * i + j];
         }
-        canary_fill(g_mag + MODEL_VEC_NW);
-        canary_fill(g_ph + MODEL_VEC_NW);
+        canary_fill(g_mag + MODEL_VEC_NW, CANARY_COUNT);
+        canary_fill(g_ph + MODEL_VEC_NW, CANARY_COUNT);
         ok_freq = pdt_model_freq(&m, g_w, MODEL_VEC_NW, g_mag, g_ph) == PDT_OK && ok_freq;
-        ok_freq = canary_ok(g_mag + MODEL_VEC_NW) && canary_ok(g_ph + MODEL_VEC_NW) && ok_freq;
+        ok_freq = canary_intact(g_mag + MODEL_VEC_NW, CANARY_COUNT) && canary_intact(g_ph + MODEL_VEC_NW, CANARY_COUNT) && ok_freq;
         bool integ = m.kind == PDT_MODEL_SOPDT && m.p.sopdt.b == (pdt_real_t)0.0;
         for (int j = 0; j < MODEL_VEC_NW; j++) {
             double wm = model_mag[MODEL_VEC_NW * i + j];
@@ -214,7 +185,7 @@ int target_check_model(void)
             if (integ && g_w[j] == (pdt_real_t)0.0) {
                 ok_freq = isinf(g_mag[j]) && g_mag[j] > (pdt_real_t)0.0 && ok_freq;
             } else {
-                double e = t_rel_err((double)g_mag[j], wm);
+                double e = rel_err((double)g_mag[j], wm);
                 worst_mag = fmax(worst_mag, e);
                 ok_freq = e <= FREQ_RTOL && ok_freq;
             }
@@ -288,7 +259,7 @@ static int check_coefficients(void)
         }
         for (int j = 0; j < order; j++) {
             double ea = fabs((double)d.a[j] - disc_a[2 * c + j]) / sa;
-            double ed = t_rel_err((double)d.d[j], disc_d[2 * c + j]);
+            double ed = rel_err((double)d.d[j], disc_d[2 * c + j]);
             worst_a = fmax(worst_a, ea);
             worst_d = fmax(worst_d, ed);
             ok = ok && ea <= COEF_RTOL && ed <= COEF_RTOL;
@@ -346,13 +317,13 @@ static int check_simulation(void)
             g_su[i] = (pdt_real_t)disc_u[DISC_SIM_N * s + i];
             g_sym[i] = (pdt_real_t)disc_ymeas[DISC_SIM_N * s + i];
         }
-        canary_fill(g_sy + DISC_SIM_N);
-        canary_fill(g_syh + DISC_SIM_N);
+        canary_fill(g_sy + DISC_SIM_N, CANARY_COUNT);
+        canary_fill(g_syh + DISC_SIM_N, CANARY_COUNT);
         bool ok = pdt_discrete_simulate(&d, g_su, DISC_SIM_N, g_sy) == PDT_OK;
         ok = pdt_discrete_predict(&d, g_su, g_sym, DISC_SIM_N, g_syh) == PDT_OK && ok;
-        ok = canary_ok(g_sy + DISC_SIM_N) && canary_ok(g_syh + DISC_SIM_N) && ok;
-        double snr_s = t_snr_db(g_sy, &disc_ysim[DISC_SIM_N * s], DISC_SIM_N);
-        double snr_p = t_snr_db(g_syh, &disc_yhat[DISC_SIM_N * s], DISC_SIM_N);
+        ok = canary_intact(g_sy + DISC_SIM_N, CANARY_COUNT) && canary_intact(g_syh + DISC_SIM_N, CANARY_COUNT) && ok;
+        double snr_s = snr_db(g_sy, &disc_ysim[DISC_SIM_N * s], DISC_SIM_N);
+        double snr_p = snr_db(g_syh, &disc_yhat[DISC_SIM_N * s], DISC_SIM_N);
         ok = ok && snr_s >= SIM_SNR_DB && snr_p >= SIM_SNR_DB;
         tline_t l;
         tl_init(&l);
@@ -409,26 +380,10 @@ static bool cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
     if (ws > sizeof g_cwork - CANARY_COUNT * sizeof(pdt_real_t)) {
         return false;
     }
-    canary_fill(g_cwork + reals);
+    canary_fill(g_cwork + reals, CANARY_COUNT);
     return pdt_cost_init(c, cfg, g_cu, g_cy, n, cfg->use_frequency ? g_cwork : NULL, ws) ==
                PDT_OK &&
-           canary_ok(g_cwork + reals);
-}
-
-static pdt_discrete_t dmodel_of(int order, int delay, const double *coef)
-{
-    pdt_discrete_t d;
-    memset(&d, 0, sizeof d);
-    d.order = (uint8_t)order;
-    d.delay = (size_t)delay;
-    d.a[0] = (pdt_real_t)coef[0];
-    d.a[1] = (pdt_real_t)coef[1];
-    for (int j = 0; j < 3; j++) {
-        d.b[j] = (pdt_real_t)coef[2 + j];
-    }
-    d.d[0] = (pdt_real_t)coef[5];
-    d.d[1] = (pdt_real_t)coef[6];
-    return d;
+           canary_intact(g_cwork + reals, CANARY_COUNT);
 }
 
 static pdt_model_t cost_model(const cost_vec_set_t *s, size_t i)
@@ -455,7 +410,7 @@ static pdt_model_t cost_model(const cost_vec_set_t *s, size_t i)
  * when the call failed or the value is out of tolerance. */
 static bool cost_ok(pdt_status_t st, pdt_real_t got, double want, double *worst)
 {
-    double e = t_rel_err((double)got, want);
+    double e = rel_err((double)got, want);
     *worst = fmax(*worst, e);
     return st == PDT_OK && e <= COST_RTOL;
 }
@@ -475,8 +430,8 @@ static bool cost_set_time(const cost_vec_set_t *s, double *worst)
             return false;
         }
         for (size_t i = 0; i < s->ncand; i++) {
-            pdt_discrete_t df = dmodel_of(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
-            pdt_discrete_t di = dmodel_of(s->kind[i], s->delay_int[i], s->coef_int + 7u * i);
+            pdt_discrete_t df = vector_dmodel(s->kind[i], s->delay_frac[i], s->coef_frac + 7u * i);
+            pdt_discrete_t di = vector_dmodel(s->kind[i], s->delay_int[i], s->coef_int + 7u * i);
             const double *want = s->cost + COST_NCOL * i;
             pdt_real_t v = 0;
             pdt_status_t st = pdt_cost_prediction(&c, &df, &v);

@@ -168,45 +168,6 @@ void t_info(tline_t *detail)
     tl_emit(&out);
 }
 
-double t_snr_db(const pdt_real_t *got, const double *ref, size_t n)
-{
-    double sig = 0.0;
-    double err = 0.0;
-    for (size_t i = 0; i < n; i++) {
-        double e = (double)got[i] - ref[i];
-        sig += ref[i] * ref[i];
-        err += e * e;
-    }
-    if (err == 0.0) {
-        return 400.0;
-    }
-    return 10.0 * log10(sig / err);
-}
-
-double t_max_abs_err(const pdt_real_t *got, const double *ref, size_t n)
-{
-    double e = 0.0;
-    for (size_t i = 0; i < n; i++) {
-        e = fmax(e, fabs((double)got[i] - ref[i]));
-    }
-    return e;
-}
-
-double t_peak_abs(const double *ref, size_t n)
-{
-    double p = 0.0;
-    for (size_t i = 0; i < n; i++) {
-        p = fmax(p, fabs(ref[i]));
-    }
-    return p;
-}
-
-double t_rel_err(double got, double want)
-{
-    double e = fabs(got - want);
-    return want == 0.0 ? e : e / fabs(want);
-}
-
 uint64_t t_ticks_to_instructions(uint64_t ticks)
 {
     uint64_t hz = pdt_port_ticks_per_second();

@@ -1,7 +1,8 @@
 /*
  * Helpers of the target test program: a line of text built without stdio
- * (newlib's printf would pull in its allocator and system calls), the
- * verdict of one check, and the SNR and error measures the host tests use.
+ * (newlib's printf would pull in its allocator and system calls) and the
+ * verdict of one check. The measures are the host tests' own
+ * (tests/support/test_measure.h).
  */
 #ifndef PDT_TARGET_UTIL_H
 #define PDT_TARGET_UTIL_H
@@ -11,6 +12,7 @@
 #include <stdint.h>
 
 #include "pdt/pdt.h"
+#include "test_measure.h"
 
 /* One line of output, truncated (not overflowed) past its buffer. */
 typedef struct tline {
@@ -33,16 +35,6 @@ int t_verdict(bool ok, tline_t *detail);
 
 /* Prints an informational line, "info <detail>". */
 void t_info(tline_t *detail);
-
-/* 10 log10(sum ref^2 / sum (got - ref)^2) in dB; 400 for an exact match. */
-double t_snr_db(const pdt_real_t *got, const double *ref, size_t n);
-
-/* Largest |got - ref| and largest |ref|. */
-double t_max_abs_err(const pdt_real_t *got, const double *ref, size_t n);
-double t_peak_abs(const double *ref, size_t n);
-
-/* |got - want| / |want| (|got - want| when want is 0). */
-double t_rel_err(double got, double want);
 
 /* Ticks of the port counter converted to instructions: with QEMU's
  * -icount shift=0, one instruction is one nanosecond of the emulated clock,
