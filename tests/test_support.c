@@ -146,12 +146,45 @@ static void test_refusals(void **state)
                      0);
 }
 
+/* The frequency response against the closed form of a lag, a zero, a
+ * complex pair and an integrator in series, and the ultimate frequency of
+ * K e^{-s} / (s + 1), where atan(w) + w = pi. */
+static void test_frequency(void **state)
+{
+    (void)state;
+    const double lags[1] = {2.0};
+    const double zeros[1] = {-0.5};
+    sim_plant_desc_t d = desc(-1.5, lags, 1u, 0.3);
+    d.zeros = zeros;
+    d.n_zeros = 1u;
+    d.wn = 3.0;
+    d.zeta = 0.4;
+    d.integrating = true;
+    const double w = 0.7;
+    double mag, ph;
+    sim_plant_freq(&d, w, &mag, &ph);
+    const double re = 1.0 - (w / 3.0) * (w / 3.0), im = 0.8 * w / 3.0;
+    assert_close(mag, 1.5 * hypot(1.0, 0.5 * w) / hypot(1.0, 2.0 * w) / hypot(re, im) / w, 1e-14,
+                 0.0);
+    assert_close(ph, -M_PI - 0.3 * w - atan(2.0 * w) + atan(-0.5 * w) - atan2(im, re) - M_PI / 2,
+                 1e-14, 0.0);
+    const double one[1] = {1.0};
+    sim_plant_desc_t f = desc(2.0, one, 1u, 1.0);
+    const double wu = sim_plant_ultimate_w(&f, 1.0);
+    assert_close(atan(wu) + wu, M_PI, 1e-12, 0.0);
+    f.K = -2.0; /* the sign of the gain does not move the crossover */
+    assert_close(sim_plant_ultimate_w(&f, 1.0), wu, 1e-12, 0.0);
+    f.delay = 0.0; /* a lag alone never reaches -pi */
+    assert_true(sim_plant_ultimate_w(&f, 1.0) == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fopdt_exact),  cmocka_unit_test(test_lag_with_zero),
         cmocka_unit_test(test_complex_pair), cmocka_unit_test(test_integrator),
         cmocka_unit_test(test_biproper),     cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_frequency),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

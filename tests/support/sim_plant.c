@@ -275,6 +275,63 @@ void sim_plant_apply(sim_plant_t *p, double u)
     }
 }
 
+void sim_plant_freq(const sim_plant_desc_t *d, double w, double *mag, double *phase)
+{
+    double m = fabs(d->K), p = (d->K < 0.0) ? -3.14159265358979323846 : 0.0;
+    size_t i;
+    p -= w * d->delay;
+    for (i = 0; i < d->n_lags; i++) {
+        m /= hypot(1.0, d->lags[i] * w);
+        p -= atan(d->lags[i] * w);
+    }
+    for (i = 0; i < d->n_zeros; i++) {
+        m *= hypot(1.0, d->zeros[i] * w);
+        p += atan(d->zeros[i] * w);
+    }
+    if (d->wn > 0.0) {
+        const double re = 1.0 - (w / d->wn) * (w / d->wn), im = 2.0 * d->zeta * w / d->wn;
+        m /= hypot(re, im);
+        p -= atan2(im, re);
+    }
+    if (d->integrating) {
+        m = (w > 0.0) ? m / w : (double)INFINITY;
+        p -= 1.57079632679489662;
+    }
+    *mag = m;
+    *phase = p;
+}
+
+/* The phase without the sign of K: what decides the crossover. */
+static double shape_phase(const sim_plant_desc_t *d, double w)
+{
+    double mag, ph;
+    sim_plant_freq(d, w, &mag, &ph);
+    return (d->K < 0.0) ? ph + 3.14159265358979323846 : ph;
+}
+
+double sim_plant_ultimate_w(const sim_plant_desc_t *d, double t_scale)
+{
+    const double pi = 3.14159265358979323846;
+    double prev = 0.0;
+    for (int k = 0; k <= 800; k++) {
+        const double w = 1e-4 / t_scale * pow(10.0, (double)k / 100.0);
+        if (shape_phase(d, w) <= -pi) {
+            double lo = prev, hi = w;
+            for (int it = 0; it < 60; it++) {
+                const double mid = 0.5 * (lo + hi);
+                if (shape_phase(d, mid) <= -pi) {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            return 0.5 * (lo + hi);
+        }
+        prev = w;
+    }
+    return 0.0;
+}
+
 void sim_plant_run(sim_plant_t *p, const double *u, size_t n, double *y)
 {
     for (size_t k = 0; k < n; k++) {

@@ -84,4 +84,15 @@ void sim_plant_apply(sim_plant_t *p, double u);
  * from rest. */
 void sim_plant_run(sim_plant_t *p, const double *u, size_t n, double *y);
 
+/* Frequency response of the described process at w rad/s: magnitude and
+ * phase in radians, continuous (not wrapped), -w D included, a negative K
+ * as a phase of -pi. */
+void sim_plant_freq(const sim_plant_desc_t *d, double w, double *mag, double *phase);
+
+/* The lowest frequency, rad/s, at which the phase reaches -pi (the
+ * ultimate frequency a relay test finds), searched up to 1e4 / t_scale
+ * with t_scale a typical time of the process (s); 0 when the phase never
+ * reaches -pi there. */
+double sim_plant_ultimate_w(const sim_plant_desc_t *d, double t_scale);
+
 #endif /* SIM_PLANT_H */

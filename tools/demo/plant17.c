@@ -38,15 +38,6 @@ void plant17_step_grid(double dt_out, size_t count, double *out)
 
 void plant17_freq(double w, double *mag, double *phase)
 {
-    double m = 1.0, p = 0.0;
-    for (size_t i = 0; i < 7u; i++) {
-        m /= sqrt(1.0 + (lags17[i] * w) * (lags17[i] * w));
-        p -= atan(lags17[i] * w);
-    }
-    for (size_t i = 0; i < 2u; i++) {
-        m *= sqrt(1.0 + (zeros17[i] * w) * (zeros17[i] * w));
-        p += atan(zeros17[i] * w);
-    }
-    *mag = m;
-    *phase = p;
+    sim_plant_desc_t d = {1.0, lags17, 7u, zeros17, 2u, 0.0, 0.0, false, 0.0};
+    sim_plant_freq(&d, w, mag, phase);
 }
