@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Every file path and pdtfit symbol the documents name must exist.
+"""Every file path and pdtfit symbol the documents name must exist, and
+docs/design.md's module table must state the dependencies the code has.
 
 Reads README.md, CHANGELOG.md's newest section and docs/*.md; in each
 `code span` finds
@@ -55,6 +56,67 @@ def newest_changelog(text):
     return parts[1] if len(parts) > 1 else text
 
 
+IGNORED_DEPS = {"common", "config", "status"}
+
+
+def strip_comments(text):
+    return re.sub(r"/\*.*?\*/", "", text, flags=re.S)
+
+
+def module_deps():
+    """{module: set of modules it uses} from lib/'s sources and headers: a
+    module uses another when it calls a function, names a type or a
+    constant that the other's header declares."""
+    heads = sorted((ROOT / "lib/include/pdt").glob("pdt_*.h")) + sorted((ROOT / "lib/src").glob("pdt_*.h"))
+    mods = {h.stem[len("pdt_"):] for h in heads} - {"internal"}
+
+    def module_of(stem):
+        name = stem[len("pdt_"):]
+        best = max((m for m in mods if name == m or name.startswith(m + "_")), key=len, default=name)
+        return best
+
+    decl = {}
+    for h in heads:
+        mod = module_of(h.stem)
+        if mod == "internal":
+            continue
+        t = strip_comments(h.read_text())
+        for n in re.findall(r"\b(pdt_\w+)\s*\(", t) + re.findall(r"\}\s*(pdt_\w+_t)\s*;", t) + \
+                re.findall(r"#define\s+(PDT_\w+)", t) + \
+                re.findall(r"^\s+(PDT_[A-Z0-9_]+)\s*=", t, flags=re.M):
+            decl.setdefault(n, mod)
+    deps = {}
+    for f in heads + sorted((ROOT / "lib/src").glob("pdt_*.c")):
+        mod = module_of(f.stem)
+        if mod == "internal":
+            continue
+        t = strip_comments(f.read_text())
+        used = deps.setdefault(mod, set())
+        for n in set(re.findall(r"\b(pdt_\w+|PDT_\w+)\b", t)):
+            m = decl.get(n)
+            if m and m != mod and m not in IGNORED_DEPS:
+                used.add(m)
+    return deps
+
+
+def check_design_table():
+    """docs/design.md's module table states each module's dependencies."""
+    text = (ROOT / "docs/design.md").read_text()
+    rows = re.findall(r"^\| `pdt_(\w+)`(?: \(private\))? \| ([^|]*)\|", text, flags=re.M)
+    actual = module_deps()
+    bad = []
+    documented = set()
+    for mod, deps in rows:
+        documented.add(mod)
+        said = {d.strip() for d in deps.replace("—", "").split(",") if d.strip()} - IGNORED_DEPS
+        if mod in actual and said != actual[mod]:
+            bad.append("docs/design.md: `pdt_%s` depends on %s, the table says %s" %
+                       (mod, ", ".join(sorted(actual[mod])) or "nothing", ", ".join(sorted(said)) or "nothing"))
+    for mod in sorted(set(actual) - documented - IGNORED_DEPS):
+        bad.append("docs/design.md: module `pdt_%s` is not in the table" % mod)
+    return bad
+
+
 def main():
     files = tracked()
     names = symbols(files)
@@ -102,8 +164,12 @@ def main():
                 missing.append((doc, word))
     for doc, word in missing:
         print("%s: `%s` names nothing in the tree" % (doc.relative_to(ROOT), word))
-    if missing:
-        print("%d dangling name(s) in the documents" % len(missing))
+    table = check_design_table()
+    for line in table:
+        print(line)
+    if missing or table:
+        print("%d dangling name(s) in the documents, %d wrong module dependencies" %
+              (len(missing), len(table)))
         return 1
     print("documents: every path and symbol they name exists")
     return 0
