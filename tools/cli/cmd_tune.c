@@ -37,19 +37,35 @@ static void parse(tune_args_t *a, int argc, char **argv)
     cli_parse(&p, argc, argv);
 }
 
-/* The number after "key": in [b, e), NAN when absent or null. */
+/* The value of "key" in [b, e) (blanks allowed around the colon), or NULL. */
+static const char *json_value(const char *b, const char *e, const char *key)
+{
+    const size_t len = strlen(key);
+    for (const char *p = b; p + len + 2 < e; p++) {
+        if (*p != '"' || memcmp(p + 1, key, len) != 0 || p[len + 1] != '"') continue;
+        const char *q = p + len + 2;
+        while (q < e && (*q == ' ' || *q == '\t' || *q == '\r' || *q == '\n')) q++;
+        if (q >= e || *q != ':') continue;
+        for (q++; q < e && (*q == ' ' || *q == '\t' || *q == '\r' || *q == '\n');) q++;
+        return q;
+    }
+    return NULL;
+}
+
+/* The number of "key" in [b, e), NAN when absent or null. */
 static double json_number(const char *b, const char *e, const char *key)
 {
-    char pat[32];
-    snprintf(pat, sizeof pat, "\"%s\":", key);
-    const size_t len = strlen(pat);
-    for (const char *p = b; p + len <= e; p++) {
-        if (memcmp(p, pat, len) != 0) continue;
-        char *stop;
-        double v = strtod(p + len, &stop);
-        return stop == p + len ? (double)NAN : v;
-    }
-    return (double)NAN;
+    const char *v = json_value(b, e, key);
+    char *stop;
+    double x = v ? strtod(v, &stop) : (double)NAN;
+    return v && stop != v ? x : (double)NAN;
+}
+
+static int json_is(const char *b, const char *e, const char *key, const char *text)
+{
+    const char *v = json_value(b, e, key);
+    const size_t len = strlen(text);
+    return v && v + len + 2 <= e && *v == '"' && memcmp(v + 1, text, len) == 0 && v[len + 1] == '"';
 }
 
 static char *slurp(const char *path)
@@ -80,11 +96,10 @@ static void model_from_json(const char *path, pdt_model_t *m, double *fit)
     const char *name = strcmp(path, "-") == 0 ? "stdin" : path;
     char *text = slurp(path);
     if (!text) cli_fail(EXIT_USAGE, "tune: cannot read %s", name);
-    const char *b = strstr(text, "\"ident\":{"), *e;
-    b = b ? b + 8 : text;
+    const char *b = json_value(text, text + strlen(text), "ident"), *e;
+    b = b && *b == '{' ? b : text;
     e = strchr(b, '}') ? strchr(b, '}') : b + strlen(b);
-    const int fopdt = strstr(b, "\"model\":\"fopdt\"") && strstr(b, "\"model\":\"fopdt\"") < e;
-    const int sopdt = strstr(b, "\"model\":\"sopdt\"") && strstr(b, "\"model\":\"sopdt\"") < e;
+    const int fopdt = json_is(b, e, "model", "fopdt"), sopdt = json_is(b, e, "model", "sopdt");
     if (!fopdt && !sopdt)
         cli_fail(EXIT_USAGE, "tune: %s holds no model (expected the JSON of pdtfit identify)", name);
     const double K = json_number(b, e, "K"), Td = json_number(b, e, "Td");

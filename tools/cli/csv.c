@@ -515,11 +515,11 @@ static int check_intervals(reader_t *r, double Ts)
             irregular = 1;
         } else if (off > PDTCLI_CSV_JITTER * Ts && r->o->resample) {
             irregular = 1;
-        } else if (off > PDTCLI_CSV_JITTER * Ts && d > Ts) {
+        } else if (d > 1.5 * Ts) {
             const double missing = floor(d / Ts + 0.5) - 1.0;
             return set_err(r, "%s:%zu: t is not uniformly sampled: a gap of %.9g s after line %zu "
                            "(Ts = %.9g s), %.0f row%s missing; --resample fills %s by zero-order hold",
-                           r->name, r->line[k], d, r->line[k - 1], Ts, missing < 1 ? 1 : missing,
+                           r->name, r->line[k], d, r->line[k - 1], Ts, missing,
                            missing > 1 ? "s" : "", missing > 1 ? "them" : "it");
         } else if (off > PDTCLI_CSV_JITTER * Ts) {
             return set_err(r, "%s:%zu: t is not uniformly sampled: %.9g s after line %zu, Ts = %.9g "
