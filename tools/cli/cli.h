@@ -17,8 +17,9 @@
 
 /* Exit statuses (docs/cli.md). */
 #define EXIT_REFUSED 1 /* the library refused, or the host failed */
-#define EXIT_USAGE 2   /* bad usage, an unreadable or malformed file */
-#define EXIT_SUSPECT 3 /* a model printed, but with a warning that it is
+#define EXIT_USAGE   2 /* bad usage, an unreadable or malformed file */
+#define EXIT_SUSPECT                                                                               \
+    3 /* a model printed, but with a warning that it is
                         * probably wrong (negative fit, on a bound) */
 
 #define CLI_MAX_LIST 64
@@ -26,8 +27,8 @@
 
 #if defined(__GNUC__)
 #define CLI_NORETURN_PRINTF(f, a) __attribute__((noreturn, format(printf, f, a)))
-#define CLI_PRINTF(f, a) __attribute__((format(printf, f, a)))
-#define CLI_NORETURN __attribute__((noreturn))
+#define CLI_PRINTF(f, a)          __attribute__((format(printf, f, a)))
+#define CLI_NORETURN              __attribute__((noreturn))
 #else
 #define CLI_NORETURN_PRINTF(f, a)
 #define CLI_PRINTF(f, a)
@@ -60,9 +61,9 @@ typedef enum cli_check {
 } cli_check_t;
 
 /* flags */
-#define CLI_EVEN 1u      /* OPT_UINT: even */
+#define CLI_EVEN      1u /* OPT_UINT: even */
 #define CLI_REAL_FITS 2u /* OPT_REAL: finite as pdt_real_t too */
-#define CLI_GA_ONLY 4u   /* identify: an option of --method ga only */
+#define CLI_GA_ONLY   4u /* identify: an option of --method ga only */
 
 typedef struct cli_list {
     double v[CLI_MAX_LIST];
@@ -70,7 +71,7 @@ typedef struct cli_list {
 } cli_list_t;
 
 typedef struct cli_opt {
-    const char *name;           /* "--model" */
+    const char *name; /* "--model" */
     cli_kind_t kind;
     void *dest;                 /* see cli_kind_t */
     int *given;                 /* set to 1 when given; may be NULL */
@@ -91,7 +92,7 @@ typedef struct cli_parser {
     cli_cmd_t help;       /* the help -h prints */
     const cli_opt_t *opt; /* the table */
     size_t n_opt;
-    const char **file;    /* the one positional argument, or NULL: none */
+    const char **file; /* the one positional argument, or NULL: none */
     int seen[CLI_MAX_OPTS];
 } cli_parser_t;
 
@@ -113,9 +114,9 @@ void cli_help(cli_cmd_t which) CLI_NORETURN;
 extern const char cli_usage[];
 
 /* Names, in the enum orders of the library. */
-extern const char *const cli_model_names[];    /* fopdt, sopdt */
-extern const char *const cli_rule_names[];     /* simc, imc, amigo, zn */
-extern const char *const cli_form_names[];     /* pi, pid */
+extern const char *const cli_model_names[]; /* fopdt, sopdt */
+extern const char *const cli_rule_names[];  /* simc, imc, amigo, zn */
+extern const char *const cli_form_names[];  /* pi, pid */
 /* "fopdt" or "sopdt" of a pdt_model_kind_t. */
 const char *cli_model_str(int kind);
 

@@ -65,7 +65,7 @@ static void parse(at_args_t *a, int argc, char **argv)
     const size_t n = sizeof rows / sizeof rows[0];
     memcpy(tab, rows, sizeof rows);
     cli_parser_t p = {"autotune-sim", CMD_AUTOTUNE, tab, n + tune_opts_table(&a->t, tab + n, 1),
-                      NULL, {0}};
+                      NULL,           {0}};
     cli_parse(&p, argc, argv);
 }
 
@@ -391,17 +391,19 @@ static void fail_run(const at_run_t *run)
     const char *where = fi >= 0 && fi <= 4 ? failed_names[fi] : "?";
     const pdt_autotune_result_t *res = &run->res;
     if (st == PDT_ERR_POOR_FIT && res->has_model && res->ident.fit < run->cfg.tune.fit_min)
-        cli_fail(EXIT_REFUSED, "autotune-sim: %s (in %s): fit %.4g%% below %.4g%%: too much noise "
-                 "or too little excitation", pdt_status_str(st), where, (double)res->ident.fit,
-                 (double)run->cfg.tune.fit_min);
+        cli_fail(EXIT_REFUSED,
+                 "autotune-sim: %s (in %s): fit %.4g%% below %.4g%%: too much noise "
+                 "or too little excitation",
+                 pdt_status_str(st), where, (double)res->ident.fit, (double)run->cfg.tune.fit_min);
     if (st == PDT_ERR_POOR_FIT && res->has_model) {
         pdt_tune_config_t open = run->cfg.tune;
         open.ms_max = 0;
         pdt_tune_result_t tr;
         if (pdt_tune_compute(&res->ident.model, res->ident.fit, &open, &tr) == PDT_OK)
-            cli_fail(EXIT_REFUSED, "autotune-sim: %s (in %s): Ms %.4g exceeds the limit %.4g "
-                     "(--ms-max, a slower knob or another rule)", pdt_status_str(st), where,
-                     (double)tr.fig.Ms, (double)run->cfg.tune.ms_max);
+            cli_fail(EXIT_REFUSED,
+                     "autotune-sim: %s (in %s): Ms %.4g exceeds the limit %.4g "
+                     "(--ms-max, a slower knob or another rule)",
+                     pdt_status_str(st), where, (double)tr.fig.Ms, (double)run->cfg.tune.ms_max);
     }
     cli_fail(EXIT_REFUSED, "autotune-sim: %s (in %s)", pdt_status_str(st), where);
 }

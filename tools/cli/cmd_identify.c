@@ -36,8 +36,8 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--population", OPT_UINT, &a->population, &a->have_population, 0, 4,
          PDT_IDENT_MAX_POPULATION, NULL, "an even number from 4 to the library's maximum",
          GA | CLI_EVEN},
-        {"--fs", OPT_REAL, &a->fs, &a->have_fs, CHK_GT0, 0, 0, NULL,
-         "a sampling frequency > 0 Hz", 0},
+        {"--fs", OPT_REAL, &a->fs, &a->have_fs, CHK_GT0, 0, 0, NULL, "a sampling frequency > 0 Hz",
+         0},
         {"--integer-delay", OPT_FLAG, &a->integer_delay, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--t", OPT_TEXT, &a->t_col, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--u", OPT_TEXT, &a->u_col, NULL, 0, 0, 0, NULL, NULL, 0},
@@ -53,7 +53,8 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--tune", OPT_TEXT, &a->tune, NULL, 0, 0, 0, NULL, NULL, 0},
     };
     memcpy(tab, rows, sizeof rows);
-    return sizeof rows / sizeof rows[0] + tune_opts_table(&a->t, tab + sizeof rows / sizeof rows[0], 0);
+    return sizeof rows / sizeof rows[0] +
+           tune_opts_table(&a->t, tab + sizeof rows / sizeof rows[0], 0);
 }
 
 #undef GA
@@ -104,7 +105,8 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
                      a->t.have_u_span || a->t.have_y_span))
         cli_fail(EXIT_USAGE, "identify: the tuning options go with --tune RULE[:FORM]");
     tune_opts_check("identify", &a->t);
-    if (a->plot_script && !a->plot) cli_fail(EXIT_USAGE, "identify: --plot-script goes with --plot");
+    if (a->plot_script && !a->plot)
+        cli_fail(EXIT_USAGE, "identify: --plot-script goes with --plot");
     if (!a->file) cli_fail(EXIT_USAGE, "identify: missing FILE (a CSV file, or - for stdin)");
 }
 
@@ -233,9 +235,10 @@ static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_
     if (st == PDT_ERR_ARG && a->have_evaluations) {
         const uint32_t least = least_evaluations(cfg, n);
         if (least > cfg.max_evaluations)
-            cli_fail(EXIT_REFUSED, "cannot identify: --evaluations %lu is below the minimum %lu "
-                     "for this model, population and criterion", (unsigned long)a->evaluations,
-                     (unsigned long)least);
+            cli_fail(EXIT_REFUSED,
+                     "cannot identify: --evaluations %lu is below the minimum %lu "
+                     "for this model, population and criterion",
+                     (unsigned long)a->evaluations, (unsigned long)least);
     }
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
@@ -295,26 +298,28 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
     int warned = 0;
     if (!((double)r->fit >= 0.0)) {
         cli_warn("identify: fit %.4g%% is negative: the model follows the data worse than their "
-                 "mean; it is probably wrong", (double)r->fit);
+                 "mean; it is probably wrong",
+                 (double)r->fit);
         warned = 1;
     }
     const double td_hi = a->method != METHOD_GA ? (double)delay_max * Ts
-                         : a->have_td_max        ? a->td_max
-                                                 : T / 3.0;
+                         : a->have_td_max       ? a->td_max
+                                                : T / 3.0;
     if (Td > 0.0 && on_bound(Td, td_hi)) {
         cli_warn("identify: the dead time %.4g s sits on the search's bound %.4g s (--td-max): it "
-                 "is probably wrong", Td, td_hi);
+                 "is probably wrong",
+                 Td, td_hi);
         warned = 1;
     }
     if (a->method == METHOD_GA) {
         const double lo = Ts / 4.0, hi = 2.0 * T;
-        const double tau = m->kind == PDT_MODEL_FOPDT ? (double)m->p.fopdt.tau
-                                                      : 1.0 / (double)m->p.sopdt.a;
+        const double tau =
+            m->kind == PDT_MODEL_FOPDT ? (double)m->p.fopdt.tau : 1.0 / (double)m->p.sopdt.a;
         const double tlo = m->kind == PDT_MODEL_FOPDT ? lo : lo / 2.0;
         if (on_bound(tau, tlo) || on_bound(tau, hi)) {
             cli_warn("identify: the time constant %.4g s sits on the search's bound %.4g s: the "
-                     "record is too short or too coarse for it", tau,
-                     on_bound(tau, hi) ? hi : tlo);
+                     "record is too short or too coarse for it",
+                     tau, on_bound(tau, hi) ? hi : tlo);
             warned = 1;
         }
     }

@@ -16,8 +16,8 @@ typedef struct reduce_args {
 static void parse(reduce_args_t *a, int argc, char **argv)
 {
     const cli_opt_t tab[] = {
-        {"--method", OPT_CHOICE, &a->method, &a->have_method, CHK_ANY, 0, 0, method_names,
-         "method", 0},
+        {"--method", OPT_CHOICE, &a->method, &a->have_method, CHK_ANY, 0, 0, method_names, "method",
+         0},
         {"--model", OPT_CHOICE, &a->model, &a->have_model, CHK_ANY, PDT_MODEL_FOPDT, 0,
          cli_model_names, "model", 0},
         {"--gain", OPT_REAL, &a->gain, &a->have_gain, CHK_ANY, 0, 0, NULL, "a finite number", 0},
@@ -58,9 +58,9 @@ int cmd_reduce(int argc, char **argv)
     pdt_real_t lags[CLI_MAX_LIST], zeros[CLI_MAX_LIST];
     for (int k = 0; k < a.lags.n; k++) lags[k] = (pdt_real_t)a.lags.v[k];
     for (int k = 0; k < a.zeros.n; k++) zeros[k] = (pdt_real_t)a.zeros.v[k];
-    const pdt_reduce_plant_t plant = {(pdt_real_t)a.gain, lags, (size_t)a.lags.n,
-                                      a.zeros.n > 0 ? zeros : NULL, (size_t)a.zeros.n,
-                                      (pdt_real_t)a.delay};
+    const pdt_reduce_plant_t plant = {(pdt_real_t)a.gain, lags,
+                                      (size_t)a.lags.n,   a.zeros.n > 0 ? zeros : NULL,
+                                      (size_t)a.zeros.n,  (pdt_real_t)a.delay};
     pdt_reduce_config_t cfg;
     pdt_reduce_config_default(&cfg);
     cfg.model = (pdt_model_kind_t)a.model;
@@ -69,7 +69,8 @@ int cmd_reduce(int argc, char **argv)
     pdt_status_t st = a.method == 0 ? pdt_reduce_half_rule(&plant, &cfg, &out, NULL)
                                     : pdt_reduce_sung(&plant, &cfg, &out, NULL);
     if (st != PDT_OK)
-        cli_fail(EXIT_REFUSED, "cannot reduce: %s%s", pdt_status_str(st), reduce_hint(st, a.method));
+        cli_fail(EXIT_REFUSED, "cannot reduce: %s%s", pdt_status_str(st),
+                 reduce_hint(st, a.method));
     char buf[1024];
     if (pdtcli_model_json(&out, buf, sizeof buf) < 0) cli_fail(EXIT_REFUSED, "result too long");
     puts(buf);

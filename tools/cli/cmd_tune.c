@@ -8,7 +8,7 @@
 #include "tune_opts.h"
 
 enum { P_K, P_TAU, P_TD, P_WN, P_ZETA, P_TAU1, P_TAU2, P_KU, P_PU, P_COUNT };
-static const char *const pname[P_COUNT] = {"--K",   "--tau",  "--Td",  "--wn", "--zeta",
+static const char *const pname[P_COUNT] = {"--K",    "--tau",  "--Td", "--wn", "--zeta",
                                            "--tau1", "--tau2", "--Ku", "--Pu"};
 
 typedef struct tune_args {
@@ -23,14 +23,14 @@ static void parse(tune_args_t *a, int argc, char **argv)
 {
     cli_opt_t tab[CLI_MAX_OPTS];
     size_t n = tune_opts_table(&a->t, tab, 1);
-    const cli_opt_t model = {"--model", OPT_CHOICE, &a->model, NULL, CHK_ANY, PDT_MODEL_FOPDT, 0,
-                             cli_model_names, "model", 0};
+    const cli_opt_t model = {"--model",       OPT_CHOICE, &a->model,       NULL,    CHK_ANY,
+                             PDT_MODEL_FOPDT, 0,          cli_model_names, "model", 0};
     const cli_opt_t from = {"--from", OPT_TEXT, &a->from, NULL, CHK_ANY, 0, 0, NULL, NULL, 0};
     tab[n++] = model;
     tab[n++] = from;
     for (int k = 0; k < P_COUNT; k++) {
-        const cli_opt_t p = {pname[k], OPT_REAL, &a->par[k], &a->have[k], CHK_ANY, 0, 0, NULL,
-                             NULL, 0};
+        const cli_opt_t p = {pname[k], OPT_REAL, &a->par[k], &a->have[k], CHK_ANY,
+                             0,        0,        NULL,       NULL,        0};
         tab[n++] = p;
     }
     cli_parser_t p = {"tune", CMD_TUNE, tab, n, NULL, {0}};
@@ -101,7 +101,8 @@ static void model_from_json(const char *path, pdt_model_t *m, double *fit)
     e = strchr(b, '}') ? strchr(b, '}') : b + strlen(b);
     const int fopdt = json_is(b, e, "model", "fopdt"), sopdt = json_is(b, e, "model", "sopdt");
     if (!fopdt && !sopdt)
-        cli_fail(EXIT_USAGE, "tune: %s holds no model (expected the JSON of pdtfit identify)", name);
+        cli_fail(EXIT_USAGE, "tune: %s holds no model (expected the JSON of pdtfit identify)",
+                 name);
     const double K = json_number(b, e, "K"), Td = json_number(b, e, "Td");
     *fit = json_number(b, e, "fit");
     memset(m, 0, sizeof *m);
@@ -136,7 +137,8 @@ static void check_params(const tune_args_t *a)
         allowed[P_TAU] = 1;
     } else {
         if (natural && tc)
-            cli_fail(EXIT_USAGE, "tune: give the sopdt as --wn --zeta or as --tau1 --tau2, not both");
+            cli_fail(EXIT_USAGE,
+                     "tune: give the sopdt as --wn --zeta or as --tau1 --tau2, not both");
         allowed[P_WN] = allowed[P_ZETA] = !tc;
         allowed[P_TAU1] = allowed[P_TAU2] = !natural;
     }
@@ -193,12 +195,12 @@ static void check_args(const tune_args_t *a)
     if (a->have[P_KU] || a->have[P_PU]) {
         if (a->t.rule != PDT_TUNE_ZN)
             cli_fail(EXIT_USAGE, "tune: --Ku and --Pu are inputs of --rule zn only");
-        if (!a->have[P_KU] || !a->have[P_PU]) cli_fail(EXIT_USAGE, "tune: --Ku and --Pu go together");
+        if (!a->have[P_KU] || !a->have[P_PU])
+            cli_fail(EXIT_USAGE, "tune: --Ku and --Pu go together");
         if (a->par[P_KU] == 0.0) cli_fail(EXIT_USAGE, "tune: --Ku must not be 0");
         if (!(a->par[P_PU] > 0.0)) cli_fail(EXIT_USAGE, "tune: --Pu needs a period > 0 s");
     }
-    if (a->from && a->model)
-        cli_fail(EXIT_USAGE, "tune: --from reads the model; give no --model");
+    if (a->from && a->model) cli_fail(EXIT_USAGE, "tune: --from reads the model; give no --model");
     if (!a->model || a->from)
         for (int k = 0; k < P_KU; k++)
             if (a->have[k])
@@ -206,7 +208,7 @@ static void check_args(const tune_args_t *a)
                          a->from ? " (and no --from)" : "");
     if (!a->model && !a->from && !a->have[P_KU])
         cli_fail(EXIT_USAGE, "tune: --model fopdt|sopdt is required (or --from FILE.json, or --Ku "
-                 "and --Pu with --rule zn)");
+                             "and --Pu with --rule zn)");
 }
 
 /* Classic Ziegler-Nichols from an ultimate gain and period; with a model,
@@ -228,8 +230,10 @@ static void tune_relay(const tune_args_t *a, const pdt_model_t *m, pdt_tune_resu
         cli_fail(EXIT_REFUSED, "tune: cannot tune: %s%s", pdt_status_str(st),
                  tune_hint(st, a->t.rule, m));
     if (cfg.ms_max > 0 && r->fig.Ms > cfg.ms_max)
-        cli_fail(EXIT_REFUSED, "tune: gains refused: Ms %.4g exceeds the limit %.4g (--ms-max 0 "
-                 "prints them)", (double)r->fig.Ms, (double)cfg.ms_max);
+        cli_fail(EXIT_REFUSED,
+                 "tune: gains refused: Ms %.4g exceeds the limit %.4g (--ms-max 0 "
+                 "prints them)",
+                 (double)r->fig.Ms, (double)cfg.ms_max);
 }
 
 int cmd_tune(int argc, char **argv)

@@ -246,8 +246,7 @@ static int whole_number(const char *s, unsigned long *v)
 static long find_column(const reader_t *r, int c, const char *spec)
 {
     unsigned long idx;
-    if (spec && whole_number(spec, &idx))
-        return idx >= 1 && idx <= r->ncols ? (long)idx - 1 : -1;
+    if (spec && whole_number(spec, &idx)) return idx >= 1 && idx <= r->ncols ? (long)idx - 1 : -1;
     long found = -1;
     for (size_t i = 0; i < r->ncols; i++) {
         span_t s = strip_unit(r->fields[i]);
@@ -298,8 +297,10 @@ static int read_header(reader_t *r)
                 return set_err(r, "%s:%zu: %s and %s name the same column", r->name, r->lineno,
                                col_names[c], col_names[d]);
     if (r->col[COL_T] < 0 && !(o->fs > 0.0))
-        return set_err(r, "%s: no t column: give the sampling frequency with --fs, or name the "
-                       "time column with --t", r->name);
+        return set_err(r,
+                       "%s: no t column: give the sampling frequency with --fs, or name the "
+                       "time column with --t",
+                       r->name);
     return 0;
 }
 
@@ -328,7 +329,8 @@ static int cell_error(reader_t *r, int c, span_t s, const char *why)
 static int parse_number(reader_t *r, int c, span_t s, double *out)
 {
     char text[128];
-    if (s.b == s.e) return set_err(r, "%s:%zu: column %s is empty", r->name, r->lineno, col_names[c]);
+    if (s.b == s.e)
+        return set_err(r, "%s:%zu: column %s is empty", r->name, r->lineno, col_names[c]);
     if (cell_text(r, s, text, sizeof text) != 0) return cell_error(r, c, s, "is not a number");
     char *stop;
     double v = strtod(text, &stop);
@@ -517,12 +519,15 @@ static int check_intervals(reader_t *r, double Ts)
             irregular = 1;
         } else if (d > 1.5 * Ts) {
             const double missing = floor(d / Ts + 0.5) - 1.0;
-            return set_err(r, "%s:%zu: t is not uniformly sampled: a gap of %.9g s after line %zu "
-                           "(Ts = %.9g s), %.0f row%s missing; --resample fills %s by zero-order hold",
-                           r->name, r->line[k], d, r->line[k - 1], Ts, missing,
-                           missing > 1 ? "s" : "", missing > 1 ? "them" : "it");
+            return set_err(
+                r,
+                "%s:%zu: t is not uniformly sampled: a gap of %.9g s after line %zu "
+                "(Ts = %.9g s), %.0f row%s missing; --resample fills %s by zero-order hold",
+                r->name, r->line[k], d, r->line[k - 1], Ts, missing, missing > 1 ? "s" : "",
+                missing > 1 ? "them" : "it");
         } else if (off > PDTCLI_CSV_JITTER * Ts) {
-            return set_err(r, "%s:%zu: t is not uniformly sampled: %.9g s after line %zu, Ts = %.9g "
+            return set_err(r,
+                           "%s:%zu: t is not uniformly sampled: %.9g s after line %zu, Ts = %.9g "
                            "s (tolerance %g%% of Ts; --resample puts the rows on the grid)",
                            r->name, r->line[k], d, r->line[k - 1], Ts, 100.0 * PDTCLI_CSV_JITTER);
         }
@@ -580,7 +585,8 @@ static int sample(reader_t *r, pdtcli_series_t *out)
     /* Either figure of the stamps will do: the mean is the better one for
      * jittered stamps, the median for a record with gaps. */
     if (fabs(Ts_fs - med) > 0.01 * med && fabs(Ts_fs - mean) > 0.01 * mean)
-        return set_err(r, "%s: --fs %.9g Hz (Ts = %.9g s) disagrees with the t column (Ts = %.9g s)",
+        return set_err(r,
+                       "%s: --fs %.9g Hz (Ts = %.9g s) disagrees with the t column (Ts = %.9g s)",
                        r->name, fs, Ts_fs, med);
     const int irregular = check_intervals(r, Ts_fs);
     if (irregular < 0) return -1;

@@ -56,7 +56,7 @@ typedef struct pdtcli_csv_opts {
 } pdtcli_csv_opts_t;
 
 typedef struct pdtcli_series {
-    double *u, *y;        /* n values each (malloc'ed) */
+    double *u, *y; /* n values each (malloc'ed) */
     size_t n;
     double Ts;            /* s */
     unsigned jitter_warn; /* stamps more than 1 % of Ts off the grid */

@@ -57,7 +57,8 @@ void ident_write_sim(const char *path, const ident_data_t *d, const pdt_ident_re
         fprintf(f, "%.9g,%.9g,%.9g,%.9g,%.9g\n", (double)k * d->s.Ts, (double)d->u[k],
                 (double)d->y[k], ysim[k], (double)d->y[k] - ysim[k]);
     free(ysim);
-    if (fflush(f) != 0 || ferror(f) || fclose(f) != 0) cli_fail(EXIT_REFUSED, "cannot write %s", path);
+    if (fflush(f) != 0 || ferror(f) || fclose(f) != 0)
+        cli_fail(EXIT_REFUSED, "cannot write %s", path);
 }
 
 /* s in single quotes for the shell, into buf. */
@@ -125,8 +126,10 @@ void ident_plot(const ident_args_t *a, const ident_data_t *d, const pdt_ident_re
 {
     char script[1024], csv[1100], title[160], q[4][1200], cmd[5200];
     if (!find_script(a, script, sizeof script))
-        cli_fail(EXIT_USAGE, "--plot: plot script not found (%s; give --plot-script or set "
-                 "PDTFIT_PLOT_SCRIPT)", script);
+        cli_fail(EXIT_USAGE,
+                 "--plot: plot script not found (%s; give --plot-script or set "
+                 "PDTFIT_PLOT_SCRIPT)",
+                 script);
     snprintf(csv, sizeof csv, "%s", a->out_sim ? a->out_sim : a->plot);
     if (!a->out_sim) {
         snprintf(csv, sizeof csv, "%s.sim.csv", a->plot);

@@ -31,7 +31,7 @@ int main(int argc, char **argv)
     if (argc > 0 && argv[0]) cli_argv0 = argv[0];
     if (argc < 2)
         cli_fail(EXIT_USAGE, "missing command (usage: pdtfit identify --model fopdt|sopdt "
-                 "FILE.csv; see pdtfit --help)");
+                             "FILE.csv; see pdtfit --help)");
     const char *cmd = argv[1];
     if (strcmp(cmd, "-h") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "help") == 0)
         cli_help(CMD_ALL);

@@ -86,12 +86,18 @@ int cli_choice(const char *s, const char *const *list)
 static int check_real(cli_check_t check, double v)
 {
     switch (check) {
-    case CHK_GE0: return v >= 0.0;
-    case CHK_GT0: return v > 0.0;
-    case CHK_NONZERO: return v != 0.0;
-    case CHK_LIMIT: return v == 0.0 || v > 1.0;
-    case CHK_FILTER: return v == 0.0 || v >= 1.0;
-    default: return 1;
+    case CHK_GE0:
+        return v >= 0.0;
+    case CHK_GT0:
+        return v > 0.0;
+    case CHK_NONZERO:
+        return v != 0.0;
+    case CHK_LIMIT:
+        return v == 0.0 || v > 1.0;
+    case CHK_FILTER:
+        return v == 0.0 || v >= 1.0;
+    default:
+        return 1;
     }
 }
 
@@ -101,7 +107,10 @@ static void list_choices(const char *const *list, char *buf, size_t len)
     size_t j = 0;
     buf[0] = '\0';
     for (int k = 0; list[k] && j < len; k++)
-        j += (size_t)snprintf(buf + j, len - j, "%s%s", k == 0 ? "" : list[k + 1] ? ", " : " or ",
+        j += (size_t)snprintf(buf + j, len - j, "%s%s",
+                              k == 0        ? ""
+                              : list[k + 1] ? ", "
+                                            : " or ",
                               list[k]);
 }
 
@@ -179,15 +188,15 @@ static void store(const cli_parser_t *p, const cli_opt_t *o, const char *value)
 static int find_opt(const cli_parser_t *p, const char *name, size_t len)
 {
     for (size_t k = 0; k < p->n_opt; k++)
-        if (strlen(p->opt[k].name) == len && strncmp(p->opt[k].name, name, len) == 0)
-            return (int)k;
+        if (strlen(p->opt[k].name) == len && strncmp(p->opt[k].name, name, len) == 0) return (int)k;
     return -1;
 }
 
 static void positional(cli_parser_t *p, const char *arg)
 {
     if (!p->file)
-        cli_fail(EXIT_USAGE, "%s: unexpected argument '%s' (%s reads no file)", p->cmd, arg, p->cmd);
+        cli_fail(EXIT_USAGE, "%s: unexpected argument '%s' (%s reads no file)", p->cmd, arg,
+                 p->cmd);
     if (*p->file)
         cli_fail(EXIT_USAGE, "%s: one FILE only, got '%s' after '%s'", p->cmd, arg, *p->file);
     *p->file = arg;
@@ -207,7 +216,8 @@ static void take(cli_parser_t *p, int argc, char **argv, int *i)
     if (p->seen[k]) cli_fail(EXIT_USAGE, "%s: %s given twice", p->cmd, o->name);
     p->seen[k] = 1;
     const char *value = eq ? eq + 1 : NULL;
-    if (o->kind == OPT_FLAG && value) cli_fail(EXIT_USAGE, "%s: %s takes no value", p->cmd, o->name);
+    if (o->kind == OPT_FLAG && value)
+        cli_fail(EXIT_USAGE, "%s: %s takes no value", p->cmd, o->name);
     if (o->kind != OPT_FLAG && !value) {
         if (*i + 1 >= argc) cli_fail(EXIT_USAGE, "%s: %s needs a value", p->cmd, o->name);
         value = argv[++*i];

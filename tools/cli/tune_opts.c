@@ -37,8 +37,10 @@ void tune_opts_spec(const char *cmd, const char *spec, tune_opts_t *t)
     t->rule = cli_choice(rule, cli_rule_names);
     t->form = colon ? cli_choice(colon + 1, cli_form_names) : 0;
     if (t->rule < 0 || t->form < 0)
-        cli_fail(EXIT_USAGE, "%s: --tune needs RULE[:FORM], RULE simc, imc, amigo or zn, FORM pi "
-                 "or pid, got '%s'", cmd, spec);
+        cli_fail(EXIT_USAGE,
+                 "%s: --tune needs RULE[:FORM], RULE simc, imc, amigo or zn, FORM pi "
+                 "or pid, got '%s'",
+                 cmd, spec);
     t->have_rule = 1;
 }
 
@@ -95,8 +97,10 @@ static void fail_poor_fit(const char *cmd, const pdt_model_t *m, double fit,
         cli_fail(EXIT_REFUSED, "%s: gains refused: fit %.4g%% below %.4g%%", cmd, fit,
                  (double)cfg->fit_min);
     if (pdt_tune_compute(m, (pdt_real_t)fit, &open, &r) == PDT_OK)
-        cli_fail(EXIT_REFUSED, "%s: gains refused: Ms %.4g exceeds the limit %.4g (--ms-max 0 "
-                 "prints them)", cmd, (double)r.fig.Ms, (double)cfg->ms_max);
+        cli_fail(EXIT_REFUSED,
+                 "%s: gains refused: Ms %.4g exceeds the limit %.4g (--ms-max 0 "
+                 "prints them)",
+                 cmd, (double)r.fig.Ms, (double)cfg->ms_max);
     cli_fail(EXIT_REFUSED, "%s: gains refused: %s", cmd, pdt_status_str(PDT_ERR_POOR_FIT));
 }
 
