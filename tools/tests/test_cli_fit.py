@@ -34,6 +34,16 @@ def sopdt_csv(tmp_path_factory):
     return write_csv(path, {"t": np.arange(N) * TS, "u": u, "y": y})
 
 
+def same(a, b, rel=1e-7):
+    """Equal JSON, numbers to about the seventh digit: a model read back
+    from its 9 printed digits is not the one in memory (double build)."""
+    if isinstance(a, dict):
+        return list(a) == list(b) and all(same(a[k], b[k], rel) for k in a)
+    if isinstance(a, float) or isinstance(b, float):
+        return a == pytest.approx(b, rel=rel, abs=1e-12)
+    return a == b
+
+
 def pipe(first, second):
     a = run(first)
     assert a.returncode == 0, a.stderr
@@ -51,8 +61,7 @@ def test_identify_pipe_tune(rec_csv):
     # SIMC PI on a FOPDT: Kc = tau / (K (tau_c + Td)), tauI = min(tau, 4 (tau_c + Td)).
     assert out["Kc"] == pytest.approx(m["tau"] / (m["K"] * 2 * m["Td"]), rel=1e-5)
     assert out["tauI"] == pytest.approx(min(m["tau"], 8 * m["Td"]), rel=1e-5)
-    same = tune_known(m)
-    assert out == same
+    assert same(out, tune_known(m))
 
 
 def tune_known(m, *extra):
@@ -67,8 +76,8 @@ def test_tune_from_file_and_identify_tune(tmp_path, rec_csv):
     tuning = both.pop("tune")
     path = tmp_path / "m.json"
     path.write_text(json.dumps(both) + "\n")
-    assert parse_output(run(["tune", "--rule", "simc", "--from", path])) == tuning
-    assert tuning == tune_known(both)
+    assert same(parse_output(run(["tune", "--rule", "simc", "--from", path])), tuning)
+    assert same(tuning, tune_known(both))
 
 
 def test_identify_tune_sopdt_pid(sopdt_csv):
