@@ -241,8 +241,8 @@ static int whole_number(const char *s, unsigned long *v)
     return *stop == '\0' && errno == 0;
 }
 
-/* The column chosen by spec (a name or a 1-based index), else the
- * default names; -1 when absent. */
+/* The column chosen by spec (a name or a 1-based index: the first match),
+ * else by the default names (-2 when two match); -1 when absent. */
 static long find_column(const reader_t *r, int c, const char *spec)
 {
     unsigned long idx;
@@ -251,7 +251,7 @@ static long find_column(const reader_t *r, int c, const char *spec)
     for (size_t i = 0; i < r->ncols; i++) {
         span_t s = strip_unit(r->fields[i]);
         if (spec ? span_is(s, spec) : span_is(s, col_names[c]) || (c == COL_Y && span_is(s, "pv")))
-            found = found < 0 ? (long)i : -2;
+            found = found < 0 ? (long)i : spec ? found : -2;
     }
     return found;
 }

@@ -83,6 +83,11 @@ def test_columns_by_index(tmp_path, rec):
                        "--u 9: no such column", "columns found")
     assert_usage_error(run([*MODEL, "--t", "2", "--u", "2", "--y", "1", path]),
                        "same column")
+    # A name chosen with an option takes the first match; a default one
+    # that matches twice is refused.
+    path = write(tmp_path / "twice.csv", "y,t,u,U [%]", cells(y, t, u, np.zeros(N)))
+    fopdt(ok(run([*MODEL, "--u", "u", path])))
+    assert_usage_error(run([*MODEL, path]), "column u appears twice", "--u")
 
 
 def test_units_in_the_header(tmp_path, rec):
