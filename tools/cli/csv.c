@@ -634,24 +634,32 @@ static int check_opts(reader_t *r)
     return 0;
 }
 
-int pdtcli_csv_read_series(const char *path, const pdtcli_csv_opts_t *o, pdtcli_series_t *out,
-                           char *err, size_t errlen)
+/* One read, from the file at path or (path NULL) from text. */
+static int read_series(const char *path, const char *text, size_t len, const pdtcli_csv_opts_t *o,
+                       pdtcli_series_t *out, char *err, size_t errlen)
 {
     pdtcli_csv_opts_t def;
     pdtcli_csv_opts_default(&def);
-    reader_t *r = calloc(1, sizeof *r);
-    if (!out || !path) return -1;
+    if (!out || (!path && !text)) return -1;
     memset(out, 0, sizeof *out);
+    reader_t *r = calloc(1, sizeof *r);
     if (!r) {
         if (err && errlen) snprintf(err, errlen, "out of memory");
         return -1;
     }
     r->o = o ? o : &def;
-    r->name = r->o->name ? r->o->name : strcmp(path, "-") == 0 ? "stdin" : path;
+    r->name = r->o->name ? r->o->name : !path ? "text" : strcmp(path, "-") == 0 ? "stdin" : path;
     r->err = err;
     r->errlen = errlen;
     int rc = check_opts(r);
-    if (rc == 0) rc = load(r, path);
+    if (rc == 0 && path) rc = load(r, path);
+    if (rc == 0 && !path) {
+        r->buf = malloc(len + 1);
+        if (!r->buf) rc = set_err(r, "%s: out of memory", r->name);
+        if (r->buf) memcpy(r->buf, text, len);
+        r->p = r->buf;
+        r->end = r->buf + len;
+    }
     if (rc == 0) rc = read_header(r);
     if (rc == 0) rc = read_rows(r);
     if (rc == 0) rc = sample(r, out);
@@ -663,4 +671,16 @@ int pdtcli_csv_read_series(const char *path, const pdtcli_csv_opts_t *o, pdtcli_
     free(r->line);
     free(r);
     return rc != 0;
+}
+
+int pdtcli_csv_read_series(const char *path, const pdtcli_csv_opts_t *o, pdtcli_series_t *out,
+                           char *err, size_t errlen)
+{
+    return read_series(path, NULL, 0, o, out, err, errlen);
+}
+
+int pdtcli_csv_parse_series(const char *text, size_t len, const pdtcli_csv_opts_t *o,
+                            pdtcli_series_t *out, char *err, size_t errlen)
+{
+    return read_series(NULL, text ? text : "", text ? len : 0, o, out, err, errlen);
 }

@@ -75,6 +75,11 @@ void pdtcli_csv_opts_default(pdtcli_csv_opts_t *o);
 int pdtcli_csv_read_series(const char *path, const pdtcli_csv_opts_t *o, pdtcli_series_t *out,
                            char *err, size_t errlen);
 
+/* The same from len bytes of text in memory (a fuzzer's input, a string);
+ * messages name the file "text" unless o->name is set. */
+int pdtcli_csv_parse_series(const char *text, size_t len, const pdtcli_csv_opts_t *o,
+                            pdtcli_series_t *out, char *err, size_t errlen);
+
 /* Frees the series and empties it. Safe on an empty series. */
 void pdtcli_series_free(pdtcli_series_t *s);
 
