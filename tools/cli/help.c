@@ -245,8 +245,8 @@ void cli_help(cli_cmd_t which)
     if (which == CMD_ALL || which == CMD_REDUCE) SECTION(reduce_text);
     if (which == CMD_ALL || which == CMD_TUNE) SECTION(tune_text);
     if (which == CMD_ALL || which == CMD_AUTOTUNE) SECTION(autotune_text);
-    fputs("  Options take their value as the next argument or after '=', once\n"
-          "  each; choices are case-insensitive.\n",
+    fputs("\nOptions take their value as the next argument or after '=', once each;\n"
+          "choices are case-insensitive.\n",
           stdout);
     fputs(exit_text, stdout);
     exit(fflush(stdout) == 0 && !ferror(stdout) ? 0 : EXIT_REFUSED);
