@@ -87,8 +87,8 @@ static double g_fft_ref[FFT_NMAX];
 static bool fft_compare(const pdt_real_t *got, const double *ref, size_t len, double *snr,
                         double *err_peak)
 {
-    *snr = t_snr_db(got, ref, len);
-    *err_peak = t_max_abs_err(got, ref, len) / t_peak_abs(ref, len);
+    *snr = snr_db(got, ref, len);
+    *err_peak = max_abs_err(got, ref, len) / peak_abs(ref, len);
     return *snr >= FFT_MIN_SNR_DB && *err_peak <= FFT_PEAK_RTOL;
 }
 
@@ -195,7 +195,7 @@ int target_check_model(void)
                 ok_step = g_y[j] == (pdt_real_t)0.0 && ok_step;
                 continue;
             }
-            double e = t_rel_err((double)g_y[j], want);
+            double e = rel_err((double)g_y[j], want);
             worst_step = fmax(worst_step, e);
             ok_step = e <= STEP_RTOL && ok_step;
         }
@@ -214,7 +214,7 @@ int target_check_model(void)
             if (integ && g_w[j] == (pdt_real_t)0.0) {
                 ok_freq = isinf(g_mag[j]) && g_mag[j] > (pdt_real_t)0.0 && ok_freq;
             } else {
-                double e = t_rel_err((double)g_mag[j], wm);
+                double e = rel_err((double)g_mag[j], wm);
                 worst_mag = fmax(worst_mag, e);
                 ok_freq = e <= FREQ_RTOL && ok_freq;
             }
@@ -288,7 +288,7 @@ static int check_coefficients(void)
         }
         for (int j = 0; j < order; j++) {
             double ea = fabs((double)d.a[j] - disc_a[2 * c + j]) / sa;
-            double ed = t_rel_err((double)d.d[j], disc_d[2 * c + j]);
+            double ed = rel_err((double)d.d[j], disc_d[2 * c + j]);
             worst_a = fmax(worst_a, ea);
             worst_d = fmax(worst_d, ed);
             ok = ok && ea <= COEF_RTOL && ed <= COEF_RTOL;
@@ -351,8 +351,8 @@ static int check_simulation(void)
         bool ok = pdt_discrete_simulate(&d, g_su, DISC_SIM_N, g_sy) == PDT_OK;
         ok = pdt_discrete_predict(&d, g_su, g_sym, DISC_SIM_N, g_syh) == PDT_OK && ok;
         ok = canary_ok(g_sy + DISC_SIM_N) && canary_ok(g_syh + DISC_SIM_N) && ok;
-        double snr_s = t_snr_db(g_sy, &disc_ysim[DISC_SIM_N * s], DISC_SIM_N);
-        double snr_p = t_snr_db(g_syh, &disc_yhat[DISC_SIM_N * s], DISC_SIM_N);
+        double snr_s = snr_db(g_sy, &disc_ysim[DISC_SIM_N * s], DISC_SIM_N);
+        double snr_p = snr_db(g_syh, &disc_yhat[DISC_SIM_N * s], DISC_SIM_N);
         ok = ok && snr_s >= SIM_SNR_DB && snr_p >= SIM_SNR_DB;
         tline_t l;
         tl_init(&l);
@@ -455,7 +455,7 @@ static pdt_model_t cost_model(const cost_vec_set_t *s, size_t i)
  * when the call failed or the value is out of tolerance. */
 static bool cost_ok(pdt_status_t st, pdt_real_t got, double want, double *worst)
 {
-    double e = t_rel_err((double)got, want);
+    double e = rel_err((double)got, want);
     *worst = fmax(*worst, e);
     return st == PDT_OK && e <= COST_RTOL;
 }

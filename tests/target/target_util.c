@@ -168,7 +168,7 @@ void t_info(tline_t *detail)
     tl_emit(&out);
 }
 
-double t_snr_db(const pdt_real_t *got, const double *ref, size_t n)
+double snr_db(const pdt_real_t *got, const double *ref, size_t n)
 {
     double sig = 0.0;
     double err = 0.0;
@@ -183,7 +183,7 @@ double t_snr_db(const pdt_real_t *got, const double *ref, size_t n)
     return 10.0 * log10(sig / err);
 }
 
-double t_max_abs_err(const pdt_real_t *got, const double *ref, size_t n)
+double max_abs_err(const pdt_real_t *got, const double *ref, size_t n)
 {
     double e = 0.0;
     for (size_t i = 0; i < n; i++) {
@@ -192,7 +192,7 @@ double t_max_abs_err(const pdt_real_t *got, const double *ref, size_t n)
     return e;
 }
 
-double t_peak_abs(const double *ref, size_t n)
+double peak_abs(const double *ref, size_t n)
 {
     double p = 0.0;
     for (size_t i = 0; i < n; i++) {
@@ -201,7 +201,7 @@ double t_peak_abs(const double *ref, size_t n)
     return p;
 }
 
-double t_rel_err(double got, double want)
+double rel_err(double got, double want)
 {
     double e = fabs(got - want);
     return want == 0.0 ? e : e / fabs(want);

@@ -35,14 +35,14 @@ int t_verdict(bool ok, tline_t *detail);
 void t_info(tline_t *detail);
 
 /* 10 log10(sum ref^2 / sum (got - ref)^2) in dB; 400 for an exact match. */
-double t_snr_db(const pdt_real_t *got, const double *ref, size_t n);
+double snr_db(const pdt_real_t *got, const double *ref, size_t n);
 
 /* Largest |got - ref| and largest |ref|. */
-double t_max_abs_err(const pdt_real_t *got, const double *ref, size_t n);
-double t_peak_abs(const double *ref, size_t n);
+double max_abs_err(const pdt_real_t *got, const double *ref, size_t n);
+double peak_abs(const double *ref, size_t n);
 
 /* |got - want| / |want| (|got - want| when want is 0). */
-double t_rel_err(double got, double want);
+double rel_err(double got, double want);
 
 /* Ticks of the port counter converted to instructions: with QEMU's
  * -icount shift=0, one instruction is one nanosecond of the emulated clock,
