@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Runs every pdtfit test:
 #   1. installs missing dependencies (apt, pip) where it can, else names them;
-#   2. the numpy reference's own tests and the vectors' reproducibility;
+#   2. the documents' paths and symbols, the layout of the formatted C files
+#      (clang-format) and the length of the tools' functions; the numpy
+#      reference's own tests and the vectors' reproducibility;
 #   3. the CMocka unit tests in the float build, the double build, and the
 #      float build under AddressSanitizer + UndefinedBehaviorSanitizer;
 #   4. the Cortex-M4F build of lib/ (float and double) under -Werror, a check
@@ -34,6 +36,7 @@ have arm-none-eabi-gcc || apt_missing+=(gcc-arm-none-eabi)
 [ -e /usr/include/newlib/math.h ] || apt_missing+=(libnewlib-arm-none-eabi)
 have qemu-system-arm || apt_missing+=(qemu-system-arm)
 have pkg-config || apt_missing+=(pkg-config)
+have clang-format || apt_missing+=(clang-format)
 if ((${#apt_missing[@]})); then
     if [ "$(id -u)" = 0 ] && have apt-get; then
         apt-get update -q
@@ -59,6 +62,13 @@ echo "all dependencies present"
 
 step "documents: every path and symbol they name exists"
 python3 tools/check_docs.py
+
+step "C layout (.clang-format) and function length in tools/"
+# The files already formatted; the rest of the C follows in one change.
+formatted=(tools/cli/*.c tools/cli/*.h)
+clang-format --dry-run --Werror "${formatted[@]}"
+echo "${#formatted[@]} files formatted as .clang-format says"
+python3 tools/check_function_length.py --max 80 tools
 
 build_and_test() { # name, extra cmake args...
     local name=$1

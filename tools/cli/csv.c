@@ -1,10 +1,14 @@
 #include "csv.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "pdt/pdt.h"
 
 /* A field or line as a range of the input buffer (not NUL-terminated). */
 typedef struct span {
@@ -14,13 +18,35 @@ typedef struct span {
 
 enum { COL_T, COL_U, COL_Y, COL_COUNT };
 static const char *const col_names[COL_COUNT] = {"t", "u", "y"};
+static const char *const col_opts[COL_COUNT] = {"--t", "--u", "--y"};
 
-static void set_err(char *err, size_t err_len, const char *fmt, ...)
+#define MAX_COLS 4096
+
+/* Everything one read needs, freed in one place. */
+typedef struct reader {
+    const pdtcli_csv_opts_t *o;
+    const char *name;
+    char *buf;
+    const char *p, *end;
+    size_t lineno; /* of the line last taken */
+    char sep;
+    span_t fields[MAX_COLS];
+    size_t ncols;
+    long col[COL_COUNT]; /* -1: absent */
+    double *t, *u, *y;
+    size_t *line; /* each row's line number */
+    size_t rows, cap;
+    char *err;
+    size_t errlen;
+} reader_t;
+
+static int set_err(reader_t *r, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(err, err_len, fmt, ap);
+    if (r->err && r->errlen) vsnprintf(r->err, r->errlen, fmt, ap);
     va_end(ap);
+    return -1;
 }
 
 static int is_blank(char c)
@@ -32,8 +58,6 @@ static span_t trim(span_t s)
 {
     while (s.b < s.e && is_blank(*s.b)) s.b++;
     while (s.e > s.b && is_blank(s.e[-1])) s.e--;
-    /* Spreadsheets sometimes quote every field; a quoted field may not
-     * contain a comma here, since fields are split on commas first. */
     if (s.e - s.b >= 2 && *s.b == '"' && s.e[-1] == '"') {
         s.b++;
         s.e--;
@@ -43,29 +67,42 @@ static span_t trim(span_t s)
     return s;
 }
 
-static int span_is_name(span_t s, const char *name)
+/* A header name without its unit: "y [degC]" and "y (degC)" are "y". */
+static span_t strip_unit(span_t s)
+{
+    s = trim(s);
+    if (s.e > s.b && (s.e[-1] == ']' || s.e[-1] == ')')) {
+        const char open = s.e[-1] == ']' ? '[' : '(';
+        const char *q = s.e - 1;
+        while (q > s.b && *q != open) q--;
+        if (q > s.b && *q == open) s.e = q;
+        s = trim(s);
+    }
+    return s;
+}
+
+static int span_is(span_t s, const char *name)
 {
     size_t len = strlen(name);
     if ((size_t)(s.e - s.b) != len) return 0;
     for (size_t i = 0; i < len; i++) {
-        char c = s.b[i];
-        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-        if (c != name[i]) return 0;
+        char a = s.b[i], b = name[i];
+        if (a >= 'A' && a <= 'Z') a = (char)(a - 'A' + 'a');
+        if (b >= 'A' && b <= 'Z') b = (char)(b - 'A' + 'a');
+        if (a != b) return 0;
     }
     return 1;
 }
 
-/* The cell as it may be printed in one line of a message: at most 24
- * characters, control and non-ASCII bytes shown as '?'. */
+/* The cell as it may be printed in one line of a message. */
 static void quote_cell(span_t s, char *buf, size_t buf_len)
 {
     size_t j = 0;
     for (const char *p = s.b; p < s.e && j + 4 < buf_len; p++) {
         unsigned char c = (unsigned char)*p;
         if (j >= 24) {
-            buf[j++] = '.';
-            buf[j++] = '.';
-            buf[j++] = '.';
+            memcpy(buf + j, "...", 3);
+            j += 3;
             break;
         }
         buf[j++] = (c >= 0x20 && c < 0x7f) ? (char)c : '?';
@@ -73,43 +110,59 @@ static void quote_cell(span_t s, char *buf, size_t buf_len)
     buf[j] = '\0';
 }
 
-/* Slurps the whole stream: records are small next to memory, and a buffer
- * lets the rows be counted before the columns are allocated. */
-static char *read_all(FILE *in, size_t *len)
+static char *read_stream(FILE *in, size_t *len)
 {
     size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap);
-    if (!buf) return NULL;
-    for (;;) {
+    char *buf = malloc(cap + 1);
+    while (buf) {
         if (n == cap) {
-            char *bigger = cap <= ((size_t)-1) / 2 ? realloc(buf, cap * 2) : NULL;
-            if (!bigger) {
-                free(buf);
-                return NULL;
-            }
+            char *bigger = cap <= ((size_t)-1) / 4 ? realloc(buf, cap * 2 + 1) : NULL;
+            if (!bigger) break;
             buf = bigger;
             cap *= 2;
         }
         size_t got = fread(buf + n, 1, cap - n, in);
         n += got;
-        if (got == 0) break;
+        if (got == 0) {
+            if (ferror(in)) break;
+            *len = n;
+            return buf;
+        }
     }
-    if (ferror(in)) {
-        int why = errno ? errno : EIO;
-        free(buf);
-        errno = why;
-        return NULL;
-    }
-    *len = n;
-    return buf;
+    free(buf);
+    return NULL;
 }
 
-/* Next line of [*p, end), without its '\n' (a trailing '\r' is a blank). */
-static span_t next_line(const char **p, const char *end)
+static int load(reader_t *r, const char *path)
 {
-    span_t line = {*p, *p};
-    while (line.e < end && *line.e != '\n') line.e++;
-    *p = line.e < end ? line.e + 1 : end;
+    const int from_stdin = strcmp(path, "-") == 0;
+    FILE *in = from_stdin ? stdin : fopen(path, "rb");
+    if (!in) return set_err(r, "cannot open %s: %s", path, strerror(errno));
+    size_t len = 0;
+    errno = 0;
+    r->buf = read_stream(in, &len);
+    int why = errno;
+    if (!from_stdin) fclose(in);
+    if (!r->buf)
+        return set_err(r, "%s: cannot read: %s", r->name, why ? strerror(why) : "out of memory");
+    r->p = r->buf;
+    r->end = r->buf + len;
+    /* A UTF-8 byte order mark, as some spreadsheets write it. */
+    if (len >= 3 && memcmp(r->buf, "\xEF\xBB\xBF", 3) == 0) r->p += 3;
+    return 0;
+}
+
+static int has_line(const reader_t *r)
+{
+    return r->p < r->end;
+}
+
+static span_t next_line(reader_t *r)
+{
+    span_t line = {r->p, r->p};
+    while (line.e < r->end && *line.e != '\n') line.e++;
+    r->p = line.e < r->end ? line.e + 1 : r->end;
+    r->lineno++;
     return line;
 }
 
@@ -120,13 +173,21 @@ static int line_is_blank(span_t line)
     return 1;
 }
 
-/* Splits a line at commas into at most max fields; returns the true count. */
-static size_t split(span_t line, span_t *fields, size_t max)
+static int line_is_comment(span_t line)
+{
+    span_t s = trim(line);
+    return s.b < s.e && *s.b == '#';
+}
+
+/* Splits at the separator outside double quotes; returns the true count. */
+static size_t split(span_t line, char sep, span_t *fields, size_t max)
 {
     size_t count = 0;
+    int quoted = 0;
     const char *start = line.b;
     for (const char *c = line.b;; c++) {
-        if (c == line.e || *c == ',') {
+        if (c < line.e && *c == '"') quoted = !quoted;
+        if (c == line.e || (*c == sep && !quoted)) {
             if (count < max) {
                 fields[count].b = start;
                 fields[count].e = c;
@@ -139,176 +200,487 @@ static size_t split(span_t line, span_t *fields, size_t max)
     return count;
 }
 
-static size_t count_fields(span_t line)
+/* The separator of the header: the most frequent of tab, semicolon and
+ * comma outside quotes (comma on a tie, and with a decimal comma never). */
+static char detect_sep(span_t header, char decimal)
 {
-    size_t count = 1;
-    for (const char *c = line.b; c < line.e; c++)
-        if (*c == ',') count++;
-    return count;
+    static const char cand[3] = {',', ';', '\t'};
+    size_t best = 0;
+    char sep = ',';
+    for (int k = 0; k < 3; k++) {
+        if (cand[k] == decimal) continue;
+        size_t n = split(header, cand[k], NULL, 0) - 1;
+        if (n > best) {
+            best = n;
+            sep = cand[k];
+        }
+    }
+    if (best == 0 && decimal == ',') sep = ';';
+    return sep;
 }
 
-static int parse_cell(span_t raw, const char *name, size_t lineno, const char *col,
-                      double max_abs, double *out, char *err, size_t err_len)
+/* "t, u, y" of the header as found, for messages. */
+static void list_columns(const reader_t *r, char *buf, size_t len)
 {
-    span_t s = trim(raw);
-    char text[128], shown[32];
-    if (s.b == s.e) {
-        set_err(err, err_len, "%s:%zu: column %s is empty", name, lineno, col);
-        return -1;
+    size_t j = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < r->ncols && i < 12 && j + 40 < len; i++) {
+        char cell[32];
+        quote_cell(trim(r->fields[i]), cell, sizeof cell);
+        j += (size_t)snprintf(buf + j, len - j, "%s%zu \"%s\"", i ? ", " : "", i + 1, cell);
     }
-    quote_cell(s, shown, sizeof shown);
-    size_t len = (size_t)(s.e - s.b);
-    if (len >= sizeof text) {
-        set_err(err, err_len, "%s:%zu: column %s: \"%s\" is not a number", name, lineno, col,
-                shown);
-        return -1;
-    }
-    memcpy(text, s.b, len);
-    text[len] = '\0';
+    if (r->ncols > 12 && j + 8 < len) snprintf(buf + j, len - j, ", ...");
+}
+
+static int whole_number(const char *s, unsigned long *v)
+{
     char *stop;
+    if (*s < '0' || *s > '9') return 0;
     errno = 0;
+    *v = strtoul(s, &stop, 10);
+    return *stop == '\0' && errno == 0;
+}
+
+/* The column chosen by spec (a name or a 1-based index: the first match),
+ * else by the default names (-2 when two match); -1 when absent. */
+static long find_column(const reader_t *r, int c, const char *spec)
+{
+    unsigned long idx;
+    if (spec && whole_number(spec, &idx)) return idx >= 1 && idx <= r->ncols ? (long)idx - 1 : -1;
+    long found = -1;
+    for (size_t i = 0; i < r->ncols; i++) {
+        span_t s = strip_unit(r->fields[i]);
+        if (spec ? span_is(s, spec) : span_is(s, col_names[c]) || (c == COL_Y && span_is(s, "pv")))
+            found = found < 0 ? (long)i : spec ? found : -2;
+    }
+    return found;
+}
+
+static int header_error(reader_t *r, int c, const char *spec)
+{
+    char found[400];
+    list_columns(r, found, sizeof found);
+    if (spec)
+        return set_err(r, "%s:%zu: %s %s: no such column (columns found: %s)", r->name, r->lineno,
+                       col_opts[c], spec, found);
+    return set_err(r, "%s:%zu: no column named %s%s (columns found: %s; choose one with %s)",
+                   r->name, r->lineno, col_names[c], c == COL_Y ? " or pv" : "", found,
+                   col_opts[c]);
+}
+
+static int read_header(reader_t *r)
+{
+    const pdtcli_csv_opts_t *o = r->o;
+    span_t header = {NULL, NULL};
+    for (unsigned k = 0; k < o->skip && has_line(r); k++) next_line(r);
+    while (has_line(r)) {
+        header = next_line(r);
+        if (!line_is_blank(header) && !line_is_comment(header)) break;
+        header.b = NULL;
+    }
+    if (!header.b) return set_err(r, "%s: no header row (expected column names t,u,y)", r->name);
+    r->sep = o->sep ? o->sep : detect_sep(header, o->decimal);
+    r->ncols = split(header, r->sep, r->fields, MAX_COLS);
+    if (r->ncols > MAX_COLS)
+        return set_err(r, "%s:%zu: more than %d columns", r->name, r->lineno, MAX_COLS);
+    const char *spec[COL_COUNT] = {o->t_col, o->u_col, o->y_col};
+    for (int c = 0; c < COL_COUNT; c++) {
+        r->col[c] = find_column(r, c, spec[c]);
+        if (r->col[c] == -2)
+            return set_err(r, "%s:%zu: column %s appears twice in the header (choose one with %s)",
+                           r->name, r->lineno, spec[c] ? spec[c] : col_names[c], col_opts[c]);
+        if (r->col[c] < 0 && (c != COL_T || spec[c])) return header_error(r, c, spec[c]);
+    }
+    for (int c = 0; c < COL_COUNT; c++)
+        for (int d = c + 1; d < COL_COUNT; d++)
+            if (r->col[c] >= 0 && r->col[c] == r->col[d])
+                return set_err(r, "%s:%zu: %s and %s name the same column", r->name, r->lineno,
+                               col_names[c], col_names[d]);
+    if (r->col[COL_T] < 0 && !(o->fs > 0.0))
+        return set_err(r,
+                       "%s: no t column: give the sampling frequency with --fs, or name the "
+                       "time column with --t",
+                       r->name);
+    return 0;
+}
+
+/* A cell as text, with a decimal comma made a point where it can only be
+ * one. Returns 0, or -1 when it is too long to be a number. */
+static int cell_text(const reader_t *r, span_t s, char *text, size_t len)
+{
+    size_t n = (size_t)(s.e - s.b);
+    if (n >= len) return -1;
+    memcpy(text, s.b, n);
+    text[n] = '\0';
+    const int comma = r->o->decimal == ',' || (r->sep != ',' && !memchr(text, '.', n));
+    char *c = comma ? strchr(text, ',') : NULL;
+    if (c && !strchr(c + 1, ',')) *c = '.';
+    return 0;
+}
+
+static int cell_error(reader_t *r, int c, span_t s, const char *why)
+{
+    char shown[32];
+    quote_cell(s, shown, sizeof shown);
+    return set_err(r, "%s:%zu: column %s: \"%s\" %s", r->name, r->lineno, col_names[c], shown, why);
+}
+
+/* A finite decimal number (what strtod takes, less nan, inf, hex). */
+static int parse_number(reader_t *r, int c, span_t s, double *out)
+{
+    char text[128];
+    if (s.b == s.e)
+        return set_err(r, "%s:%zu: column %s is empty", r->name, r->lineno, col_names[c]);
+    if (cell_text(r, s, text, sizeof text) != 0) return cell_error(r, c, s, "is not a number");
+    char *stop;
     double v = strtod(text, &stop);
-    if (stop == text || *stop != '\0' || memchr(text, '\0', len) != NULL) {
-        set_err(err, err_len, "%s:%zu: column %s: \"%s\" is not a number", name, lineno, col,
-                shown);
-        return -1;
-    }
-    /* strtod accepts "nan", "inf" and overflows to HUGE_VAL; none of them is
-     * a measurement. Underflow to zero is harmless and accepted. */
-    if (!isfinite(v)) {
-        set_err(err, err_len, "%s:%zu: column %s: \"%s\" is not finite", name, lineno, col, shown);
-        return -1;
-    }
-    if (fabs(v) > max_abs) {
-        set_err(err, err_len, "%s:%zu: column %s: \"%s\" is out of range (|value| > %g)", name,
-                lineno, col, shown, max_abs);
-        return -1;
+    if (stop == text || *stop != '\0' || strpbrk(text, "xX") != NULL)
+        return cell_error(r, c, s, "is not a number");
+    /* strtod takes "nan" and "inf" and overflows to HUGE_VAL; none is a
+     * measurement. Underflow to zero is harmless. */
+    if (!isfinite(v)) return cell_error(r, c, s, "is not finite");
+    if (c != COL_T && fabs(v) > r->o->max_abs) {
+        char why[64];
+        snprintf(why, sizeof why, "is out of range (|value| > %g)", r->o->max_abs);
+        return cell_error(r, c, s, why);
     }
     *out = v;
     return 0;
 }
 
-void csv_table_free(csv_table_t *table)
+/* Days from 1970-01-01 to y-m-d of the proleptic Gregorian calendar. */
+static double days_from_civil(long y, long m, long d)
 {
-    if (!table) return;
-    free(table->t);
-    free(table->u);
-    free(table->y);
-    table->t = table->u = table->y = NULL;
-    table->rows = 0;
+    y -= m <= 2;
+    const long era = (y >= 0 ? y : y - 399) / 400;
+    const long yoe = y - era * 400;
+    const long doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+    const long doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    return (double)era * 146097.0 + (double)doe - 719468.0;
 }
 
-int csv_read_tuy(FILE *in, const char *name, double max_abs, csv_table_t *out, char *err,
-                 size_t err_len)
+/* Reads n digits at *p into *v. */
+static int digits(const char **p, int n, long *v)
 {
-    csv_table_t tab = {0, NULL, NULL, NULL};
-    span_t *fields = NULL;
-    size_t len = 0;
-    int rc = -1;
-    out->rows = 0;
-    out->t = out->u = out->y = NULL;
+    *v = 0;
+    for (int k = 0; k < n; k++, (*p)++) {
+        if (**p < '0' || **p > '9') return 0;
+        *v = *v * 10 + (**p - '0');
+    }
+    return 1;
+}
 
-    errno = 0;
-    char *buf = read_all(in, &len);
-    if (!buf) {
-        set_err(err, err_len, "%s: cannot read: %s", name,
-                errno ? strerror(errno) : "out of memory");
+/* ISO 8601 "YYYY-MM-DD[T ]hh:mm[:ss[.f]][Z|+hh[:]mm|-hh[:]mm]", in s since
+ * the epoch (UTC when an offset is given, else the clock's own time). */
+static int parse_iso(const char *s, double *out)
+{
+    long Y, M, D, h, m, sec = 0, oh = 0, om = 0;
+    const char *p = s;
+    if (!digits(&p, 4, &Y) || *p++ != '-' || !digits(&p, 2, &M) || *p++ != '-' ||
+        !digits(&p, 2, &D) || (*p != 'T' && *p != ' '))
+        return 0;
+    p++;
+    if (!digits(&p, 2, &h) || *p++ != ':' || !digits(&p, 2, &m)) return 0;
+    if (*p == ':') {
+        p++;
+        if (!digits(&p, 2, &sec)) return 0;
+    }
+    double frac = 0.0;
+    if (*p == '.' || *p == ',') {
+        double scale = 0.1;
+        for (p++; *p >= '0' && *p <= '9'; p++, scale *= 0.1) frac += (*p - '0') * scale;
+    }
+    long sign = *p == '-' ? -1 : 1;
+    if (*p == 'Z') {
+        p++;
+    } else if (*p == '+' || *p == '-') {
+        p++;
+        if (!digits(&p, 2, &oh)) return 0;
+        if (*p == ':') p++;
+        if (*p && !digits(&p, 2, &om)) return 0;
+    }
+    if (*p != '\0' || M < 1 || M > 12 || D < 1 || D > 31 || h > 24 || m > 59 || sec > 60) return 0;
+    *out = days_from_civil(Y, M, D) * 86400.0 + (double)(h * 3600 + m * 60 + sec) + frac -
+           (double)(sign * (oh * 3600 + om * 60));
+    return 1;
+}
+
+static int parse_time(reader_t *r, span_t s, double *out)
+{
+    char text[64];
+    if ((size_t)(s.e - s.b) < sizeof text && s.e - s.b >= 16 && s.b[4] == '-') {
+        memcpy(text, s.b, (size_t)(s.e - s.b));
+        text[s.e - s.b] = '\0';
+        if (parse_iso(text, out)) return 0;
+        return cell_error(r, COL_T, s, "is not a number or an ISO 8601 date-time");
+    }
+    if (parse_number(r, COL_T, s, out) != 0) return -1;
+    static const double unit[3] = {1.0, 1e-3, 1e-6};
+    *out *= unit[r->o->time_unit];
+    return 0;
+}
+
+static int grow(reader_t *r)
+{
+    size_t cap = r->cap ? r->cap * 2 : 1024;
+    double *t = realloc(r->t, cap * sizeof *t);
+    if (t) r->t = t;
+    double *u = realloc(r->u, cap * sizeof *u);
+    if (u) r->u = u;
+    double *y = realloc(r->y, cap * sizeof *y);
+    if (y) r->y = y;
+    size_t *line = realloc(r->line, cap * sizeof *line);
+    if (line) r->line = line;
+    if (!t || !u || !y || !line) return set_err(r, "%s: out of memory", r->name);
+    r->cap = cap;
+    return 0;
+}
+
+static int read_row(reader_t *r, span_t line)
+{
+    size_t got = split(line, r->sep, r->fields, MAX_COLS);
+    if (got != r->ncols)
+        return set_err(r, "%s:%zu: %zu field%s, but the header has %zu", r->name, r->lineno, got,
+                       got == 1 ? "" : "s", r->ncols);
+    if (r->rows == r->cap && grow(r) != 0) return -1;
+    double *dest[COL_COUNT] = {&r->t[r->rows], &r->u[r->rows], &r->y[r->rows]};
+    for (int c = 0; c < COL_COUNT; c++) {
+        if (r->col[c] < 0) continue;
+        span_t s = trim(r->fields[r->col[c]]);
+        int rc = c == COL_T ? parse_time(r, s, dest[c]) : parse_number(r, c, s, dest[c]);
+        if (rc != 0) return -1;
+    }
+    r->line[r->rows++] = r->lineno;
+    return 0;
+}
+
+static int read_rows(reader_t *r)
+{
+    size_t blank_at = 0;
+    while (has_line(r)) {
+        span_t line = next_line(r);
+        if (line_is_comment(line)) continue;
+        if (line_is_blank(line)) {
+            if (!blank_at) blank_at = r->lineno;
+            continue;
+        }
+        if (blank_at)
+            return set_err(r, "%s:%zu: empty row (blank lines may only end the file)", r->name,
+                           blank_at);
+        if (read_row(r, line) != 0) return -1;
+    }
+    return 0;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median interval between rows; refuses a step back, and a duplicate
+ * time unless resampling. */
+static int median_interval(reader_t *r, double *med)
+{
+    const size_t n = r->rows;
+    for (size_t k = 1; k < n; k++) {
+        const double d = r->t[k] - r->t[k - 1];
+        if (d < 0.0 || (d == 0.0 && !r->o->resample))
+            return set_err(r, "%s:%zu: t does not increase: %s (%.9g after %.9g on line %zu)%s",
+                           r->name, r->line[k], d < 0.0 ? "it steps back" : "a duplicate time",
+                           r->t[k], r->t[k - 1], r->line[k - 1],
+                           d == 0.0 ? "; --resample keeps the last row" : "");
+    }
+    double *d = malloc((n - 1) * sizeof *d);
+    if (!d) return set_err(r, "%s: out of memory", r->name);
+    size_t m = 0;
+    for (size_t k = 1; k < n; k++)
+        if (r->t[k] > r->t[k - 1]) d[m++] = r->t[k] - r->t[k - 1];
+    if (m == 0) {
+        free(d);
+        return set_err(r, "%s: t does not increase", r->name);
+    }
+    qsort(d, m, sizeof *d, cmp_double);
+    *med = m % 2 ? d[m / 2] : 0.5 * (d[m / 2 - 1] + d[m / 2]);
+    free(d);
+    return 0;
+}
+
+/* Checks every interval against Ts. Returns 1 when one is off by more
+ * than the tolerance and resample is set (or a time repeats). */
+static int check_intervals(reader_t *r, double Ts)
+{
+    int irregular = 0;
+    for (size_t k = 1; k < r->rows; k++) {
+        const double d = r->t[k] - r->t[k - 1], off = fabs(d - Ts);
+        if (d == 0.0) {
+            irregular = 1;
+        } else if (off > PDTCLI_CSV_JITTER * Ts && r->o->resample) {
+            irregular = 1;
+        } else if (d > 1.5 * Ts) {
+            const double missing = floor(d / Ts + 0.5) - 1.0;
+            return set_err(
+                r,
+                "%s:%zu: t is not uniformly sampled: a gap of %.9g s after line %zu "
+                "(Ts = %.9g s), %.0f row%s missing; --resample fills %s by zero-order hold",
+                r->name, r->line[k], d, r->line[k - 1], Ts, missing, missing > 1 ? "s" : "",
+                missing > 1 ? "them" : "it");
+        } else if (off > PDTCLI_CSV_JITTER * Ts) {
+            return set_err(r,
+                           "%s:%zu: t is not uniformly sampled: %.9g s after line %zu, Ts = %.9g "
+                           "s (tolerance %g%% of Ts; --resample puts the rows on the grid)",
+                           r->name, r->line[k], d, r->line[k - 1], Ts, 100.0 * PDTCLI_CSV_JITTER);
+        }
+    }
+    return irregular;
+}
+
+/* The rows held onto the grid t0 + k Ts: each grid point takes the last
+ * row at or before it (within half a period), or repeats the one before. */
+static int resample(reader_t *r, double Ts, pdtcli_series_t *out)
+{
+    const double span = r->t[r->rows - 1] - r->t[0];
+    const double ng = floor(span / Ts + 0.5) + 1.0;
+    if (!(ng <= 1e8)) return set_err(r, "%s: resampling would give %.0f rows", r->name, ng);
+    const size_t n = (size_t)ng;
+    out->u = malloc(n * sizeof *out->u);
+    out->y = malloc(n * sizeof *out->y);
+    if (!out->u || !out->y) return set_err(r, "%s: out of memory", r->name);
+    size_t j = 0;
+    for (size_t g = 0; g < n; g++) {
+        const double tg = r->t[0] + (double)g * Ts;
+        int own = g == 0;
+        while (j + 1 < r->rows && r->t[j + 1] <= tg + 0.5 * Ts) {
+            j++;
+            own = 1;
+        }
+        out->filled += own ? 0u : 1u;
+        out->u[g] = r->u[j];
+        out->y[g] = r->y[j];
+    }
+    out->n = n;
+    return 0;
+}
+
+static int take_columns(reader_t *r, pdtcli_series_t *out)
+{
+    out->u = r->u;
+    out->y = r->y;
+    out->n = r->rows;
+    r->u = r->y = NULL;
+    return 0;
+}
+
+static int sample(reader_t *r, pdtcli_series_t *out)
+{
+    const double fs = r->o->fs;
+    if (r->col[COL_T] < 0 || r->rows < 2) {
+        out->Ts = fs > 0.0 ? 1.0 / fs : 0.0;
+        return take_columns(r, out);
+    }
+    double med = 0.0;
+    if (median_interval(r, &med) != 0) return -1;
+    const double mean = (r->t[r->rows - 1] - r->t[0]) / (double)(r->rows - 1);
+    const double Ts_fs = fs > 0.0 ? 1.0 / fs : med;
+    /* Either figure of the stamps will do: the mean is the better one for
+     * jittered stamps, the median for a record with gaps. */
+    if (fabs(Ts_fs - med) > 0.01 * med && fabs(Ts_fs - mean) > 0.01 * mean)
+        return set_err(r,
+                       "%s: --fs %.9g Hz (Ts = %.9g s) disagrees with the t column (Ts = %.9g s)",
+                       r->name, fs, Ts_fs, med);
+    const int irregular = check_intervals(r, Ts_fs);
+    if (irregular < 0) return -1;
+    /* Jitter: stamps more than 1 % of Ts off the uniform grid. */
+    unsigned jitter = 0;
+    for (size_t k = 0; !irregular && k < r->rows; k++)
+        jitter += fabs(r->t[k] - (r->t[0] + (double)k * mean)) > 0.01 * mean;
+    out->jitter_warn = jitter;
+    out->has_t = 1;
+    out->t0 = r->t[0];
+    /* A nominal rate given is exact; jittered stamps get the median, which
+     * one late stamp does not move; clean ones the mean, the most precise. */
+    out->Ts = fs > 0.0 ? Ts_fs : (jitter || irregular) ? med : mean;
+    if (!(out->Ts > 0.0) || !isfinite(out->Ts))
+        return set_err(r, "%s: t does not give a usable sampling period", r->name);
+    return irregular ? resample(r, out->Ts, out) : take_columns(r, out);
+}
+
+void pdtcli_csv_opts_default(pdtcli_csv_opts_t *o)
+{
+    if (!o) return;
+    memset(o, 0, sizeof *o);
+    o->max_abs = sizeof(pdt_real_t) == sizeof(float) ? (double)FLT_MAX : DBL_MAX;
+}
+
+void pdtcli_series_free(pdtcli_series_t *s)
+{
+    if (!s) return;
+    free(s->u);
+    free(s->y);
+    memset(s, 0, sizeof *s);
+}
+
+static int check_opts(reader_t *r)
+{
+    const pdtcli_csv_opts_t *o = r->o;
+    if (o->sep && o->sep != ',' && o->sep != ';' && o->sep != '\t' && o->sep != ' ')
+        return set_err(r, "the separator must be a comma, semicolon, tab or blank");
+    if (o->decimal && o->decimal != '.' && o->decimal != ',')
+        return set_err(r, "the decimal mark must be '.' or ','");
+    if (o->sep && o->sep == o->decimal)
+        return set_err(r, "the separator and the decimal mark must differ");
+    if (o->time_unit < 0 || o->time_unit > 2) return set_err(r, "unknown time unit");
+    if (!(o->fs >= 0.0) || !isfinite(o->fs)) return set_err(r, "fs must be >= 0 Hz");
+    return 0;
+}
+
+/* One read, from the file at path or (path NULL) from text. */
+static int read_series(const char *path, const char *text, size_t len, const pdtcli_csv_opts_t *o,
+                       pdtcli_series_t *out, char *err, size_t errlen)
+{
+    pdtcli_csv_opts_t def;
+    pdtcli_csv_opts_default(&def);
+    if (!out || (!path && !text)) return -1;
+    memset(out, 0, sizeof *out);
+    reader_t *r = calloc(1, sizeof *r);
+    if (!r) {
+        if (err && errlen) snprintf(err, errlen, "out of memory");
         return -1;
     }
-    const char *p = buf, *end = buf + len;
-    /* A UTF-8 byte order mark, as some spreadsheets write it. */
-    if (len >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0) p += 3;
+    r->o = o ? o : &def;
+    r->name = r->o->name ? r->o->name : !path ? "text" : strcmp(path, "-") == 0 ? "stdin" : path;
+    r->err = err;
+    r->errlen = errlen;
+    int rc = check_opts(r);
+    if (rc == 0 && path) rc = load(r, path);
+    if (rc == 0 && !path) {
+        r->buf = malloc(len + 1);
+        if (!r->buf) rc = set_err(r, "%s: out of memory", r->name);
+        if (r->buf) memcpy(r->buf, text, len);
+        r->p = r->buf;
+        r->end = r->buf + len;
+    }
+    if (rc == 0) rc = read_header(r);
+    if (rc == 0) rc = read_rows(r);
+    if (rc == 0) rc = sample(r, out);
+    if (rc != 0) pdtcli_series_free(out);
+    free(r->buf);
+    free(r->t);
+    free(r->u);
+    free(r->y);
+    free(r->line);
+    free(r);
+    return rc != 0;
+}
 
-    span_t header = next_line(&p, end);
-    if (line_is_blank(header)) {
-        set_err(err, err_len, "%s: no header row (expected column names t,u,y or u,y)", name);
-        goto done;
-    }
-    size_t ncols = count_fields(header);
-    fields = malloc(ncols * sizeof *fields);
-    if (!fields) {
-        set_err(err, err_len, "%s: out of memory", name);
-        goto done;
-    }
-    split(header, fields, ncols);
-    size_t where[COL_COUNT] = {0, 0, 0};
-    int found[COL_COUNT] = {0, 0, 0};
-    for (size_t i = 0; i < ncols; i++) {
-        span_t s = trim(fields[i]);
-        for (int c = 0; c < COL_COUNT; c++) {
-            if (!span_is_name(s, col_names[c])) continue;
-            if (found[c]) {
-                set_err(err, err_len, "%s:1: column %s appears twice in the header", name,
-                        col_names[c]);
-                goto done;
-            }
-            found[c] = 1;
-            where[c] = i;
-        }
-    }
-    for (int c = COL_U; c <= COL_Y; c++) {
-        if (!found[c]) {
-            set_err(err, err_len, "%s:1: no column named %s in the header%s", name, col_names[c],
-                    ncols == 1 ? " (the separator must be a comma)" : "");
-            goto done;
-        }
-    }
+int pdtcli_csv_read_series(const char *path, const pdtcli_csv_opts_t *o, pdtcli_series_t *out,
+                           char *err, size_t errlen)
+{
+    return read_series(path, NULL, 0, o, out, err, errlen);
+}
 
-    /* Count the rows and find where the trailing blank lines start. */
-    size_t rows = 0;
-    const char *data = p, *data_end = p;
-    size_t lineno = 1;
-    for (const char *q = p; q < end;) {
-        span_t line = next_line(&q, end);
-        lineno++;
-        if (line_is_blank(line)) continue;
-        rows++;
-        data_end = q;
-    }
-    /* A blank line before data_end sits between rows: that is an error,
-     * reported in the pass below. */
-    size_t alloc = rows ? rows : 1;
-    tab.u = malloc(alloc * sizeof *tab.u);
-    tab.y = malloc(alloc * sizeof *tab.y);
-    tab.t = found[COL_T] ? malloc(alloc * sizeof *tab.t) : NULL;
-    if (!tab.u || !tab.y || (found[COL_T] && !tab.t)) {
-        set_err(err, err_len, "%s: out of memory", name);
-        goto done;
-    }
-
-    lineno = 1;
-    size_t row = 0;
-    for (const char *q = data; q < data_end;) {
-        span_t line = next_line(&q, data_end);
-        lineno++;
-        if (line_is_blank(line)) {
-            set_err(err, err_len, "%s:%zu: empty row (blank lines may only end the file)", name,
-                    lineno);
-            goto done;
-        }
-        size_t got = split(line, fields, ncols);
-        if (got != ncols) {
-            set_err(err, err_len, "%s:%zu: %zu field%s, but the header has %zu", name, lineno,
-                    got, got == 1 ? "" : "s", ncols);
-            goto done;
-        }
-        double *dest[COL_COUNT] = {tab.t, tab.u, tab.y};
-        for (int c = 0; c < COL_COUNT; c++) {
-            if (!found[c]) continue;
-            if (parse_cell(fields[where[c]], name, lineno, col_names[c], max_abs, &dest[c][row],
-                           err, err_len) != 0)
-                goto done;
-        }
-        row++;
-    }
-    tab.rows = row;
-    *out = tab;
-    tab.t = tab.u = tab.y = NULL;
-    rc = 0;
-
-done:
-    csv_table_free(&tab);
-    free(fields);
-    free(buf);
-    return rc;
+int pdtcli_csv_parse_series(const char *text, size_t len, const pdtcli_csv_opts_t *o,
+                            pdtcli_series_t *out, char *err, size_t errlen)
+{
+    return read_series(NULL, text ? text : "", text ? len : 0, o, out, err, errlen);
 }

@@ -1,40 +1,90 @@
 /*
- * The CSV reader of the pdtfit command line: a header row naming the
- * columns, then one row of numbers per sample. Only the columns t, u and y
- * are read (names compared case-insensitively, surrounding blanks and one
- * pair of double quotes removed); every other column is carried along
- * unread, so it may hold anything without a comma.
+ * The record reader of the pdtfit command line, callable on its own (the
+ * Python binding loads it from a shared library): one CSV file of a logged
+ * test, as PLCs, loggers and spreadsheets export it, into an input and an
+ * output series sampled every Ts seconds.
+ *
+ * The file: optional lines before the header (--skip), comment lines
+ * starting with '#' anywhere, a header row naming the columns, then one row
+ * per sample. The separator (comma, semicolon or tab) is found in the
+ * header unless given; with a semicolon or tab separator a decimal comma is
+ * read as a decimal point. Columns are chosen by name (case-insensitive,
+ * blanks, double quotes and a trailing unit in brackets, "y [degC]",
+ * ignored) or by 1-based index. Time is seconds, an ISO 8601 date-time
+ * ("2024-03-01T08:00:00.250", a space for the T, optional Z or +hh:mm), or
+ * an epoch count in s, ms or us.
+ *
+ * Sampling: every interval between rows within PDTCLI_CSV_JITTER of the
+ * median interval is accepted. Stamps more than 1 % of Ts off the uniform
+ * grid are counted in jitter_warn and Ts is then the median interval;
+ * otherwise Ts is the mean interval. A longer interval (a gap, a dropped row) is refused with
+ * the line number, or with resample filled by repeating the last row on the
+ * grid (zero-order hold; filled counts the rows added). A duplicate or a
+ * step back in time is refused with its line number; with resample a
+ * duplicate time replaces the row before it.
  *
  * Host code: it allocates and uses stdio, unlike the library.
  */
-#ifndef PDTFIT_CLI_CSV_H
-#define PDTFIT_CLI_CSV_H
+#ifndef PDTCLI_CSV_H
+#define PDTCLI_CSV_H
 
 #include <stddef.h>
-#include <stdio.h>
 
-/* The columns of one record, each `rows` values long (malloc'ed; free with
- * csv_table_free). t is NULL when the file has no t column. */
-typedef struct csv_table {
-    size_t rows;
-    double *t;
-    double *u;
-    double *y;
-} csv_table_t;
+#ifdef __cplusplus
+extern "C" {
+#endif
 
-/*
- * Reads all of `in` into *out. `name` is the file's name in messages.
- * Every cell of t, u and y must be a finite decimal number of magnitude at
- * most max_abs (the largest value the caller can store). Rows must have as
- * many fields as the header; blank lines may follow the last row only.
- * Returns 0 on success. On failure returns -1, leaves *out empty and
- * writes one line (no newline) into err, naming the line and column:
- * "data.csv:7: column y: \"abc\" is not a number".
- */
-int csv_read_tuy(FILE *in, const char *name, double max_abs, csv_table_t *out, char *err,
-                 size_t err_len);
+/* Largest accepted deviation of an interval from the median, a fraction of
+ * it. */
+#define PDTCLI_CSV_JITTER 0.25
 
-/* Frees the columns and empties *table. Safe on an empty table. */
-void csv_table_free(csv_table_t *table);
+typedef struct pdtcli_csv_opts {
+    const char *t_col, *u_col, *y_col; /* name or 1-based index as text;
+                                        * NULL: t, u, y (or pv) */
+    char sep;                          /* 0 = detect from the header */
+    char decimal;                      /* 0 = '.' */
+    unsigned skip;                     /* lines before the header */
+    int time_unit;                     /* numbers in t: 0 s, 1 ms, 2 us */
+    int resample;                      /* fill gaps by zero-order hold */
+    double fs;                         /* Hz; 0 = from the time column.
+                                        * With a t column it must agree
+                                        * within 1 % and is the Ts used */
+    double max_abs;                    /* largest |cell| of u, y accepted;
+                                        * default: what pdt_real_t holds */
+    const char *name;                  /* the file in messages; NULL: path
+                                        * ("stdin" for "-") */
+} pdtcli_csv_opts_t;
 
-#endif /* PDTFIT_CLI_CSV_H */
+typedef struct pdtcli_series {
+    double *u, *y; /* n values each (malloc'ed) */
+    size_t n;
+    double Ts;            /* s */
+    unsigned jitter_warn; /* stamps more than 1 % of Ts off the grid */
+    unsigned filled;      /* rows added by resample */
+    double t0;            /* time of the first row, s (epoch s for dates) */
+    int has_t;            /* the file had a time column */
+} pdtcli_series_t;
+
+/* Fills o with the defaults above. */
+void pdtcli_csv_opts_default(pdtcli_csv_opts_t *o);
+
+/* Reads the file at path ("-": standard input) into *out (o NULL: the
+ * defaults). Returns 0 on success. On failure returns nonzero, leaves *out
+ * empty and writes one line into err naming the file, the line and the
+ * cause, e.g. "log.csv:7: column y: \"abc\" is not a number". */
+int pdtcli_csv_read_series(const char *path, const pdtcli_csv_opts_t *o, pdtcli_series_t *out,
+                           char *err, size_t errlen);
+
+/* The same from len bytes of text in memory (a fuzzer's input, a string);
+ * messages name the file "text" unless o->name is set. */
+int pdtcli_csv_parse_series(const char *text, size_t len, const pdtcli_csv_opts_t *o,
+                            pdtcli_series_t *out, char *err, size_t errlen);
+
+/* Frees the series and empties it. Safe on an empty series. */
+void pdtcli_series_free(pdtcli_series_t *s);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PDTCLI_CSV_H */

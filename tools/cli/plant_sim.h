@@ -28,21 +28,21 @@
 #include <string.h>
 
 typedef struct plant_sim {
-    size_t n;        /* states (lags) */
-    double *Phi1;    /* n x n and n: the exact step over the first piece */
+    size_t n;     /* states (lags) */
+    double *Phi1; /* n x n and n: the exact step over the first piece */
     double *Gam1;
-    double *Phi2;    /* ... and over the second (f > 0 only) */
+    double *Phi2; /* ... and over the second (f > 0 only) */
     double *Gam2;
-    double *C;       /* output row */
-    double Dff;      /* direct feedthrough (as many zeros as lags) */
-    double *x;       /* state, deviation from rest */
+    double *C;  /* output row */
+    double Dff; /* direct feedthrough (as many zeros as lags) */
+    double *x;  /* state, deviation from rest */
     double *tmp;
-    size_t l;        /* whole scans of dead time */
-    double f;        /* fraction of a scan, 0 <= f < 1 */
-    double *hist;    /* outputs applied, ring of l + 2 deviations */
+    size_t l;     /* whole scans of dead time */
+    double f;     /* fraction of a scan, 0 <= f < 1 */
+    double *hist; /* outputs applied, ring of l + 2 deviations */
     size_t hist_len;
-    uint64_t scans;  /* scans advanced */
-    double u0, y0;   /* operating point */
+    uint64_t scans; /* scans advanced */
+    double u0, y0;  /* operating point */
 } plant_sim_t;
 
 /* exp(M) of an m x m matrix (row-major), into E; W is 3 m^2 scratch. */

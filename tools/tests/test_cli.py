@@ -42,9 +42,11 @@ pytestmark = pytest.mark.skipif(
 
 slow = pytest.mark.slow  # registered in conftest.py
 
-FOPDT_KEYS = ["model", "K", "tau", "Td", "y0", "u0", "cost", "fit", "evaluations"]
+FOPDT_KEYS = ["model", "K", "tau", "Td", "y0", "u0", "cost", "fit", "evaluations", "Ts", "n"]
 SOPDT_KEYS = ["model", "K", "wn", "zeta", "Td", "y0", "u0", "tau1", "tau2", "a", "b",
-              "cost", "fit", "evaluations"]
+              "cost", "fit", "evaluations", "Ts", "n"]
+# The keys of a model inside autotune-sim's JSON: no Ts, n.
+MODEL_KEYS = {"fopdt": FOPDT_KEYS[:-2], "sopdt": SOPDT_KEYS[:-2]}
 
 
 def run(args, stdin=None):
@@ -195,7 +197,18 @@ def test_help_and_version():
     (["identify", "--model", "fopdt", "--integer-delay=yes", "X"], "--integer-delay"),
     (["identify", "--model", "fopdt", "X", "Y"], "one FILE"),
     (["identify", "--model", "fopdt", "--weight", "heavy", "X"], "unknown weight 'heavy'"),
-    (["identify", "--model", "fopdt", "--weight", "Control", "X"], "unknown weight"),
+    (["identify", "--model", "fopdt", "--weight", "Kontrol", "X"], "unknown weight"),
+    (["identify", "--model", "fopdt", "--model", "sopdt", "X"], "--model given twice"),
+    (["identify", "--model", "fopdt", "--seed=1", "--seed", "2", "X"], "--seed given twice"),
+    (["identify", "--model", "fopdt", "--tune", "pid", "X"], "--tune needs RULE[:FORM]"),
+    (["identify", "--model", "fopdt", "--tune", "simc:pd", "X"], "--tune needs RULE[:FORM]"),
+    (["identify", "--model", "fopdt", "--ms-max", "3", "X"], "go with --tune"),
+    (["identify", "--model", "fopdt", "--tune", "simc", "--u-span", "100", "X"], "go together"),
+    (["identify", "--model", "fopdt", "--time-unit", "min", "X"], "unknown time unit"),
+    (["identify", "--model", "fopdt", "--sep", "|", "X"], "--sep"),
+    (["identify", "--model", "fopdt", "--decimal", ";", "X"], "--decimal"),
+    (["identify", "--model", "fopdt", "--skip", "-1", "X"], "--skip"),
+    (["identify", "--model", "fopdt", "--plot-script", "p.py", "X"], "goes with --plot"),
     (["identify", "--model", "fopdt", "--weight", "band", "X"], "--weight band needs --band"),
     (["identify", "--model", "fopdt", "--band", "0:1", "X"], "--band goes with --weight band"),
     (["identify", "--model", "fopdt", "--weight", "control", "--band", "0:1", "X"],
@@ -252,8 +265,8 @@ CSV_ERRORS = [
     ("empty", "", [], ["header"]),
     ("no_u", csv_text(good_lines(), "t,v,y"), [], ["column named u"]),
     ("no_y", csv_text(good_lines(), "t,u,x"), [], ["column named y"]),
-    ("semicolons", csv_text([r.replace(",", ";") for r in good_lines()], "t;u;y"), [],
-     ["column named u", "comma"]),
+    ("preamble_text", "logged by X\n" + csv_text(good_lines()), [],
+     [":1:", "column named u", "columns found", "--u"]),
     ("twice", csv_text([r + ",1" for r in good_lines()], "t,u,y,U"), [], ["twice"]),
     ("no_t_no_fs", csv_text([r.split(",", 1)[1] for r in good_lines()], "u,y"), [], ["--fs"]),
     ("text_cell", csv_text(rows_with(3, "1.5,50,abc")), [], [":5:", "column y", "abc"]),
@@ -504,7 +517,7 @@ def test_weight_control_reports_band(at_rest_csv):
     """The band's edge is half the phase crossover of the model the time
     cost finds first: the truth's within 1 % on this record."""
     out = parse_output(identify_rest(at_rest_csv, "--weight", "control"))
-    assert list(out) == FOPDT_KEYS + ["f_band"]
+    assert list(out) == FOPDT_KEYS[:-2] + ["f_band", "Ts", "n"]
     assert out["f_band"] == pytest.approx(half_crossover_hz(5.0, 1.3), rel=0.01)
     assert out["f_band"] <= 0.5 / TS
     assert out["K"] == pytest.approx(2.0, rel=0.02)

@@ -18,17 +18,19 @@ abort on a process-value limit. The whole file runs in a few seconds.
 import json
 import math
 
+import subprocess
+
 import numpy as np
 import pytest
 import scipy.signal as ss
 
-from test_cli import BIN, FOPDT_KEYS, SOPDT_KEYS, assert_usage_error, parse_output, run
+from test_cli import BIN, MODEL_KEYS, assert_usage_error, parse_output, run
 
 pytestmark = pytest.mark.skipif(BIN is None or not BIN.is_file(),
                                 reason="pdtfit binary not found (see test_cli.py)")
 
 TUNE_KEYS = ["rule", "form", "Kc", "tauI", "tauD", "Tf", "Ms", "gain_margin",
-             "phase_margin_deg", "w_ms", "w_pc", "w_gc", "series", "stated_in"]
+             "phase_margin_deg", "w_ms", "w_pc", "w_gc", "series", "parallel", "stated_in"]
 GAIN_KEYS = ["Kc", "tauI", "tauD", "Tf"]
 FOPDT17 = ["--model", "fopdt", "--K", "1", "--tau", "2.5", "--Td", "1.47"]
 SOPDT17 = ["--model", "sopdt", "--K", "1", "--tau1", "2", "--tau2", "1.2", "--Td", "0.77"]
@@ -131,8 +133,16 @@ def test_every_rule_and_form(rule, form, model):
         # the quadratic apply (ZN needs just the ultimate point).
         assert_usage_error(res, "cannot tune", "no such form", status=1)
         return
+    if form == "pid" and rule == "simc" and model == "fopdt":
+        # SIMC gives a FOPDT no derivative action: said on stderr.
+        assert "no derivative action" in res.stderr and res.stderr.count("\n") == 1
+        res = subprocess.CompletedProcess(res.args, res.returncode, res.stdout, "")
     out = parse_output(res)
     check_tune_keys(out, {"simc": "tau_c", "imc": "lambda"}.get(rule))
+    p = out["parallel"]
+    assert p["Kp"] == out["Kc"] and p["Tf"] == out["Tf"]
+    assert p["Ki"] == pytest.approx(out["Kc"] / out["tauI"], rel=1e-6)
+    assert p["Kd"] == pytest.approx(out["Kc"] * out["tauD"], rel=1e-6, abs=1e-12)
     assert out["rule"] == rule and out["form"] == form
     for k in ("Kc", "tauI", "tauD", "Tf", "Ms", "phase_margin_deg", "w_ms", "w_gc"):
         assert out[k] is not None and math.isfinite(out[k]), k
@@ -235,6 +245,12 @@ def test_ms_limit_zero_shows_the_refused_gains():
     (["--rule", "simc", "--frobnicate", "1"], "unknown option '--frobnicate'"),
     (["--rule"], "needs a value"),
     (["--rule", "simc", "model.csv"], "unexpected argument"),
+    (["--rule", "simc", "--rule", "imc", *FOPDT17], "--rule given twice"),
+    (["--rule", "simc", "--from", "x.json", *FOPDT17], "give no --model"),
+    (["--rule", "simc", "--from", "x.json", "--K", "1"], "--K needs --model"),
+    (["--rule", "simc", "--u-span", "100", *FOPDT17], "go together"),
+    (["--rule", "simc", "--y-span", "0", *FOPDT17], "--y-span"),
+    (["--rule", "simc", "--from", "/nonexistent/x.json"], "cannot read"),
 ])
 def test_tune_usage_errors(args, frag):
     assert_usage_error(run(["tune", *args]), frag)
@@ -243,13 +259,24 @@ def test_tune_usage_errors(args, frag):
 def test_help_mentions_the_commands():
     res = run(["tune", "--help"])
     assert res.returncode == 0
-    for word in ["tune --rule", "autotune-sim", "--plant-lags", "--ms-max", "--trace",
-                 "--experiment", "failed_in"]:
+    for word in ["tune --rule", "--from", "--ms-max", "--u-span", "parallel", "Exit status"]:
         assert word in res.stdout, word
+    # Each subcommand's help is its own section.
+    section = res.stdout.split("\ntune: ")[1]
+    assert "--plant-lags" not in section and "--cost KIND" not in section
+    res = run(["autotune-sim", "--help"])
+    for word in ["autotune-sim", "--plant-lags", "--trace", "--experiment", "failed_in"]:
+        assert word in res.stdout, word
+    assert "--lags T1" not in res.stdout.split("\nautotune-sim: ")[1]
+    full = run(["--help"]).stdout
+    for cmd in ("identify", "reduce", "tune", "autotune-sim"):
+        assert f"\n{cmd}: " in full, cmd
 
 
 # ---------------------------------------------------------- autotune-sim
 
+# pdt_status_t values (lib/include/pdt/pdt_status.h).
+PV_LIMIT, OUTPUT_LIMIT, POOR_FIT = -10, -11, -14
 AT_KEYS = ["status", "reason", "scan_period", "decimation", "capacity", "samples", "scans",
            "experiment", "phases", "ident", "tune"]
 FOPDT_PLANT = ["--plant-gain", "2", "--plant-lags", "5", "--plant-delay", "1.3"]
@@ -267,7 +294,7 @@ def autotune(*args, status=0):
 
 
 def check_run(out, kind):
-    assert out["status"] == "OK" and out["reason"] == "ok"
+    assert out["status"] == 0 and out["reason"] == "ok"
     keys = AT_KEYS + (["relay"] if kind == "relay" else [])
     assert list(out) == keys
     assert out["experiment"]["kind"] == kind
@@ -294,7 +321,7 @@ def test_autotune_fopdt_prbs():
     # Chips of whole identification samples, about the lag long.
     assert out["experiment"]["hold"] == pytest.approx(5.0, rel=0.05)
     m = out["ident"]
-    assert list(m) == FOPDT_KEYS
+    assert list(m) == MODEL_KEYS["fopdt"]
     assert m["K"] == pytest.approx(2.0, rel=0.02)
     assert m["tau"] == pytest.approx(5.0, rel=0.02)
     assert m["Td"] == pytest.approx(1.3, rel=0.03)
@@ -322,7 +349,7 @@ def test_autotune_sopdt():
                    "--model", "sopdt", "--form", "pid", "--noise", "0.005", "--seed", "3")
     check_run(out, "prbs")
     m = out["ident"]
-    assert list(m) == SOPDT_KEYS
+    assert list(m) == MODEL_KEYS["sopdt"]
     assert m["K"] == pytest.approx(1.5, rel=0.03)
     assert m["tau1"] == pytest.approx(3.0, rel=0.05)
     assert m["tau2"] == pytest.approx(1.5, rel=0.08)
@@ -381,28 +408,28 @@ def test_autotune_reverse_acting_relay():
 
 def test_autotune_refuses_a_poor_fit():
     out, line = autotune(*FOPDT_PLANT, "--noise", "1.5", status=1)
-    assert out["status"] == "POOR_FIT" and out["failed_in"] == "tune"
+    assert out["status"] == POOR_FIT and out["failed_in"] == "tune"
     assert out["ident"]["fit"] < 80 and out["tune"] is None
-    assert "POOR_FIT" in line and "fit" in line
+    assert "fits too poorly (in tune)" in line and "fit" in line
 
 
 def test_autotune_refuses_ms_over_limit():
     out, line = autotune(*FOPDT_PLANT, "--rule", "zn", "--form", "pid", status=1)
-    assert out["status"] == "POOR_FIT" and out["ident"]["fit"] > 95
+    assert out["status"] == POOR_FIT and out["ident"]["fit"] > 95
     assert "Ms" in line
 
 
 def test_autotune_aborts_on_pv_limit():
     out, line = autotune(*FOPDT_PLANT, "--pv-min", "-0.5", "--pv-max", "0.5", status=1)
-    assert out["status"] == "PV_LIMIT" and out["failed_in"] == "excite"
+    assert out["status"] == PV_LIMIT and out["failed_in"] == "excite"
     assert out["ident"] is None and out["tune"] is None
     assert out["phases"]["identify"] == 0
-    assert "PV_LIMIT" in line
+    assert "process value left its limits (in excite)" in line
 
 
 def test_autotune_init_refusal():
     out, line = autotune(*FOPDT_PLANT, "--u-min", "-0.5", "--u-max", "0.5", status=1)
-    assert out["status"] == "OUTPUT_LIMIT" and out["failed_in"] == "init"
+    assert out["status"] == OUTPUT_LIMIT and out["failed_in"] == "init"
     assert out["scans"] == 0
 
 

@@ -1,0 +1,429 @@
+/* pdtfit autotune-sim: the on-device autotune run scan by scan against a
+ * simulated plant (plant_sim.h). */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "plant_sim.h"
+#include "tune_opts.h"
+
+#define PI_VALUE 3.14159265358979323846
+
+static const char *const kind_names[] = {"step", "pulse", "chirp", "prbs", "relay", NULL};
+static const char *const phase_names[] = {"settle", "excite", "identify", "tune"};
+static const char *const failed_names[] = {"init", "settle", "excite", "identify",
+                                           "tune", "done",   "failed"};
+
+typedef struct at_args {
+    tune_opts_t t;
+    cli_list_t lags, zeros;
+    int have_gain, have_lags, have_ts, have_sp, model, kind;
+    double gain, delay, amplitude, Ts, noise, u0, y0, sp;
+    int have_lim[4];
+    double lim[4]; /* pv_min, pv_max, u_min, u_max */
+    uint64_t seed, decimation, capacity, evaluations;
+    const char *trace;
+} at_args_t;
+
+static void parse(at_args_t *a, int argc, char **argv)
+{
+    const cli_opt_t rows[] = {
+        {"--plant-gain", OPT_REAL, &a->gain, &a->have_gain, CHK_NONZERO, 0, 0, NULL,
+         "a gain other than 0", 0},
+        {"--plant-lags", OPT_LIST, &a->lags, &a->have_lags, CHK_GT0, 0, 0, NULL,
+         "every time constant must be > 0", 0},
+        {"--plant-zeros", OPT_LIST, &a->zeros, NULL, CHK_NONZERO, 0, 0, NULL,
+         "a zero time constant cannot be 0", 0},
+        {"--plant-delay", OPT_REAL, &a->delay, NULL, CHK_GE0, 0, 0, NULL, "a dead time >= 0 s", 0},
+        {"--experiment", OPT_CHOICE, &a->kind, NULL, 0, PDT_EXCITE_STEP, 0, kind_names,
+         "experiment", 0},
+        {"--amplitude", OPT_REAL, &a->amplitude, NULL, CHK_NONZERO, 0, 0, NULL,
+         "an amplitude other than 0", 0},
+        {"--scan-period", OPT_REAL, &a->Ts, &a->have_ts, CHK_GT0, 0, 0, NULL, "a period > 0 s", 0},
+        {"--decimation", OPT_UINT, &a->decimation, NULL, 0, 1, 1000000, NULL,
+         "a whole number 1 .. 1000000", 0},
+        {"--capacity", OPT_UINT, &a->capacity, NULL, 0, 1, 100000000, NULL,
+         "a whole number 1 .. 100000000", 0},
+        {"--model", OPT_CHOICE, &a->model, NULL, 0, PDT_MODEL_FOPDT, 0, cli_model_names, "model",
+         0},
+        {"--evaluations", OPT_UINT, &a->evaluations, NULL, 0, 1, UINT32_MAX, NULL,
+         "a whole number >= 1", 0},
+        {"--noise", OPT_REAL, &a->noise, NULL, CHK_GE0, 0, 0, NULL, "a standard deviation >= 0", 0},
+        {"--seed", OPT_UINT, &a->seed, NULL, 0, 0, UINT64_MAX, NULL, "a whole number >= 0", 0},
+        {"--u0", OPT_REAL, &a->u0, NULL, CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--y0", OPT_REAL, &a->y0, NULL, CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--setpoint", OPT_REAL, &a->sp, &a->have_sp, CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--pv-min", OPT_REAL, &a->lim[0], &a->have_lim[0], CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--pv-max", OPT_REAL, &a->lim[1], &a->have_lim[1], CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--u-min", OPT_REAL, &a->lim[2], &a->have_lim[2], CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--u-max", OPT_REAL, &a->lim[3], &a->have_lim[3], CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--trace", OPT_TEXT, &a->trace, NULL, 0, 0, 0, NULL, NULL, 0},
+    };
+    cli_opt_t tab[CLI_MAX_OPTS];
+    const size_t n = sizeof rows / sizeof rows[0];
+    memcpy(tab, rows, sizeof rows);
+    cli_parser_t p = {"autotune-sim", CMD_AUTOTUNE, tab, n + tune_opts_table(&a->t, tab + n, 1),
+                      NULL,           {0}};
+    cli_parse(&p, argc, argv);
+}
+
+static void check_args(const at_args_t *a)
+{
+    const char *cmd = "autotune-sim";
+    if (!a->have_gain) cli_fail(EXIT_USAGE, "%s: --plant-gain K is required", cmd);
+    if (!a->have_lags) cli_fail(EXIT_USAGE, "%s: --plant-lags T1,T2,... is required", cmd);
+    if (a->zeros.n > a->lags.n)
+        cli_fail(EXIT_USAGE, "%s: more zeros (%d) than lags (%d): the plant is improper", cmd,
+                 a->zeros.n, a->lags.n);
+    if (a->have_sp && a->kind != PDT_EXCITE_RELAY)
+        cli_fail(EXIT_USAGE, "%s: --setpoint is an option of --experiment relay only", cmd);
+    if ((a->have_lim[0] && a->have_lim[1] && a->lim[0] > a->lim[1]) ||
+        (a->have_lim[2] && a->have_lim[3] && a->lim[2] > a->lim[3]))
+        cli_fail(EXIT_USAGE, "%s: a lower limit lies above its upper limit", cmd);
+    tune_opts_check(cmd, &a->t);
+}
+
+/* First frequency (rad/s) where the plant's phase, its gain's sign aside,
+ * reaches -180 degrees; 0 if it never does on 1e-4 .. 1e4 / T. */
+static double plant_phase(const at_args_t *a, double w)
+{
+    double ph = -a->delay * w;
+    for (int i = 0; i < a->lags.n; i++) ph -= atan(a->lags.v[i] * w);
+    for (int j = 0; j < a->zeros.n; j++) ph += atan(a->zeros.v[j] * w);
+    return ph;
+}
+
+static double plant_ultimate_w(const at_args_t *a, double T)
+{
+    double prev_w = 0.0;
+    for (int k = 0; k <= 800; k++) {
+        double w = 1e-4 / T * pow(10.0, (double)k / 100.0);
+        if (plant_phase(a, w) <= -PI_VALUE) {
+            double lo = prev_w, hi = w;
+            for (int it = 0; it < 60; it++) {
+                double mid = 0.5 * (lo + hi);
+                if (plant_phase(a, mid) <= -PI_VALUE)
+                    hi = mid;
+                else
+                    lo = mid;
+            }
+            return 0.5 * (lo + hi);
+        }
+        prev_w = w;
+    }
+    return 0.0;
+}
+
+/* The experiment's settings from the plant's time scales; returns the
+ * experiment's time after the settle window, s. */
+static double experiment_config(const at_args_t *a, double Ts_id, pdt_excite_config_t *ec)
+{
+    double sum = 0.0, T1 = 0.0;
+    for (int k = 0; k < a->lags.n; k++) {
+        sum += a->lags.v[k];
+        if (a->lags.v[k] > T1) T1 = a->lags.v[k];
+    }
+    const double T_scale = sum + a->delay, T_settle = 4.0 * sum + a->delay;
+    const double wu = plant_ultimate_w(a, T_scale);
+    const double amp = fabs(a->amplitude);
+    pdt_excite_config_default(ec, (pdt_excite_kind_t)a->kind);
+    switch (a->kind) {
+    case PDT_EXCITE_STEP:
+        ec->amplitude = (pdt_real_t)a->amplitude;
+        ec->duration = 0;
+        return 2.0 * T_settle;
+    case PDT_EXCITE_PULSE: {
+        /* Whole identification samples, as the PRBS chips. */
+        const double on = floor(0.5 * T_settle / Ts_id + 0.5);
+        ec->amplitude = (pdt_real_t)a->amplitude;
+        ec->t_on = (pdt_real_t)((on < 1.0 ? 1.0 : on) * Ts_id);
+        ec->t_off = (pdt_real_t)(floor(T_settle / Ts_id + 0.5) * Ts_id);
+        ec->count = 1;
+        return 2.0 * T_settle;
+    }
+    case PDT_EXCITE_CHIRP: {
+        double f1 = (wu > 0.0 ? 1.5 * wu : 3.0 / T1) / (2.0 * PI_VALUE);
+        if (f1 > 0.25 / a->Ts) f1 = 0.25 / a->Ts;
+        ec->amplitude = (pdt_real_t)amp;
+        ec->f0 = 0;
+        ec->f1 = (pdt_real_t)f1;
+        ec->duration = (pdt_real_t)(5.0 * T_settle);
+        return 6.0 * T_settle;
+    }
+    case PDT_EXCITE_PRBS: {
+        /* Chips of whole identification samples: the recorder averages
+         * each sample, so a change inside one would be smeared. */
+        const double chips = floor(T1 / Ts_id + 0.5);
+        const double hold = (chips < 1.0 ? 1.0 : chips) * (double)a->decimation;
+        ec->amplitude = (pdt_real_t)amp;
+        ec->prbs_bits = 6;
+        ec->prbs_hold = hold > 1e8 ? 100000000u : (uint32_t)hold;
+        ec->periods = 1;
+        return 63.0 * (double)ec->prbs_hold * a->Ts + T_settle;
+    }
+    default: {
+        const double Pu = wu > 0.0 ? 2.0 * PI_VALUE / wu : 2.0 * T_scale;
+        ec->d = (pdt_real_t)amp;
+        ec->setpoint = (pdt_real_t)(a->have_sp ? a->sp : a->y0);
+        ec->eps = (pdt_real_t)(3.0 * a->noise);
+        ec->action = a->gain > 0.0 ? PDT_EXCITE_REVERSE : PDT_EXCITE_DIRECT;
+        return 8.0 * Pu + T_settle;
+    }
+    }
+}
+
+static void autotune_config(at_args_t *a, pdt_autotune_config_t *cfg)
+{
+    double sum = 0.0;
+    for (int k = 0; k < a->lags.n; k++) sum += a->lags.v[k];
+    if (!a->have_ts) a->Ts = (sum + a->delay) / 200.0;
+    if (!a->decimation) a->decimation = 4u;
+    const uint32_t settle = 20;
+    pdt_autotune_config_default(cfg);
+    const double window = experiment_config(a, a->Ts * (double)a->decimation, &cfg->excite);
+    if (!a->capacity) {
+        const double c = (double)settle + ceil(window / (a->Ts * (double)a->decimation));
+        a->capacity = c > 1e8 ? 100000000u : (uint64_t)c;
+    }
+    cfg->Ts = (pdt_real_t)a->Ts;
+    cfg->decimation = (uint32_t)a->decimation;
+    cfg->capacity = (size_t)a->capacity;
+    cfg->settle = settle;
+    if (a->have_lim[0]) cfg->pv_min = (pdt_real_t)a->lim[0];
+    if (a->have_lim[1]) cfg->pv_max = (pdt_real_t)a->lim[1];
+    if (a->have_lim[2]) cfg->u_min = (pdt_real_t)a->lim[2];
+    if (a->have_lim[3]) cfg->u_max = (pdt_real_t)a->lim[3];
+    cfg->ident.model = (pdt_model_kind_t)a->model;
+    cfg->ident.seed = a->seed;
+    if (a->evaluations) cfg->ident.max_evaluations = (uint32_t)a->evaluations;
+    tune_opts_config(&a->t, &cfg->tune);
+}
+
+/* Deterministic Gaussian noise: xorshift64* and Box-Muller. */
+typedef struct noise_gen {
+    uint64_t s;
+    int have_spare;
+    double spare;
+} noise_gen_t;
+
+static double noise_uniform(noise_gen_t *g)
+{
+    g->s ^= g->s >> 12;
+    g->s ^= g->s << 25;
+    g->s ^= g->s >> 27;
+    uint64_t v = g->s * 2685821657736338717ull;
+    return ((double)(v >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+static double noise_gauss(noise_gen_t *g)
+{
+    if (g->have_spare) {
+        g->have_spare = 0;
+        return g->spare;
+    }
+    double r = sqrt(-2.0 * log(noise_uniform(g)));
+    double w = 6.283185307179586 * noise_uniform(g);
+    g->spare = r * sin(w);
+    g->have_spare = 1;
+    return r * cos(w);
+}
+
+/* One run: the autotune's state, the plant and what the loop counted. */
+typedef struct at_run {
+    pdt_autotune_config_t cfg;
+    pdt_autotune_result_t res;
+    pdt_status_t st;
+    int initialised;
+    uint32_t phase_scans[4];
+    uint64_t scans;
+} at_run_t;
+
+static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, plant_sim_t *plant,
+                     FILE *tf)
+{
+    noise_gen_t ng = {a->seed * 0x9E3779B97F4A7C15ull + 0x2545F4914F6CDD1Dull, 0, 0.0};
+    if (ng.s == 0) ng.s = 1;
+    /* Scans can only end the experiment (capacity, relay) and the search
+     * (its evaluations); this bound only guards the host against a bug. */
+    const uint64_t guard = 4ull * a->capacity * a->decimation + 10000000ull;
+    for (;;) {
+        double pv = plant_output(plant);
+        if (a->noise > 0.0) pv += a->noise * noise_gauss(&ng);
+        pdt_autotune_phase_t ph = pdt_autotune_phase(at);
+        if (ph >= PDT_AUTOTUNE_SETTLE && ph <= PDT_AUTOTUNE_TUNE) run->phase_scans[ph - 1]++;
+        pdt_real_t u;
+        pdt_status_t ss = pdt_autotune_scan(at, (pdt_real_t)pv, &u);
+        if (tf) fprintf(tf, "%.9g,%.9g,%.9g\n", (double)run->scans * a->Ts, (double)u, pv);
+        plant_advance(plant, (double)u);
+        run->scans++;
+        if (ss == PDT_RUNNING && run->scans < guard) continue;
+        if (ss == PDT_RUNNING) (void)pdt_autotune_abort(at, &u);
+        break;
+    }
+}
+
+static void simulate(const at_args_t *a, at_run_t *run)
+{
+    plant_sim_t plant;
+    if (plant_init(&plant, a->gain, a->lags.v, (size_t)a->lags.n, a->zeros.v, (size_t)a->zeros.n,
+                   a->delay, a->Ts, a->u0, a->y0) != 0)
+        cli_fail(EXIT_REFUSED, "out of memory");
+    FILE *tf = NULL;
+    if (a->trace) {
+        tf = fopen(a->trace, "w");
+        if (!tf) cli_fail(EXIT_USAGE, "cannot open %s: %s", a->trace, strerror(errno));
+        fputs("t,u,pv\n", tf);
+    }
+    pdt_autotune_t *at = malloc(sizeof *at);
+    const size_t work_len = pdt_autotune_workspace_size(&run->cfg);
+    void *work = work_len ? malloc(work_len) : NULL;
+    if (!at || (work_len && !work))
+        cli_fail(EXIT_REFUSED, "out of memory (%zu bytes of workspace)", work_len);
+    memset(&run->res, 0, sizeof run->res);
+    run->st = pdt_autotune_init(at, &run->cfg, (pdt_real_t)a->u0, work, work_len);
+    run->initialised = run->st == PDT_OK;
+    if (run->initialised) {
+        run_loop(a, run, at, &plant, tf);
+        (void)pdt_autotune_result(at, &run->res);
+        run->st = run->res.status;
+    }
+    if (tf && (fflush(tf) != 0 || ferror(tf) || fclose(tf) != 0))
+        cli_fail(EXIT_REFUSED, "cannot write %s", a->trace);
+    free(work);
+    free(at);
+    plant_free(&plant);
+}
+
+static void experiment_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *run)
+{
+    const pdt_excite_config_t *ec = &run->cfg.excite;
+    pdtcli_jb_raw(jb, ",\"experiment\":{\"kind\":\"");
+    pdtcli_jb_raw(jb, kind_names[a->kind - PDT_EXCITE_STEP]);
+    pdtcli_jb_raw(jb, "\"");
+    pdtcli_jb_key(jb, "duration", (double)run->res.scans_experiment * a->Ts);
+    pdtcli_jb_uint(jb, "scans", (unsigned long)run->res.scans_experiment);
+    if (a->kind != PDT_EXCITE_RELAY) pdtcli_jb_key(jb, "amplitude", (double)ec->amplitude);
+    if (a->kind == PDT_EXCITE_PULSE) {
+        pdtcli_jb_key(jb, "t_on", (double)ec->t_on);
+        pdtcli_jb_key(jb, "t_off", (double)ec->t_off);
+    } else if (a->kind == PDT_EXCITE_CHIRP) {
+        pdtcli_jb_key(jb, "f0", (double)ec->f0);
+        pdtcli_jb_key(jb, "f1", (double)ec->f1);
+        pdtcli_jb_key(jb, "sweep", (double)ec->duration);
+    } else if (a->kind == PDT_EXCITE_PRBS) {
+        pdtcli_jb_uint(jb, "bits", (unsigned long)ec->prbs_bits);
+        pdtcli_jb_key(jb, "hold", (double)ec->prbs_hold * a->Ts);
+    } else if (a->kind == PDT_EXCITE_RELAY) {
+        pdtcli_jb_key(jb, "d", (double)ec->d);
+        pdtcli_jb_key(jb, "eps", (double)ec->eps);
+        pdtcli_jb_key(jb, "setpoint", (double)ec->setpoint);
+        pdtcli_jb_str(jb, "action", ec->action == PDT_EXCITE_REVERSE ? "reverse" : "direct");
+    }
+    pdtcli_jb_raw(jb, "}");
+}
+
+static void results_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *run)
+{
+    const pdt_autotune_result_t *res = &run->res;
+    pdtcli_jb_raw(jb, ",\"phases\":{");
+    for (int k = 0; k < 4; k++)
+        pdtcli_jb_printf(jb, "%s\"%s\":%lu", k ? "," : "", phase_names[k],
+                         (unsigned long)run->phase_scans[k]);
+    pdtcli_jb_raw(jb, "},\"ident\":");
+    if (res->has_model) {
+        pdtcli_jb_model(jb, &res->ident.model, &res->ident);
+        pdtcli_jb_raw(jb, "}");
+    } else {
+        pdtcli_jb_raw(jb, "null");
+    }
+    pdtcli_jb_raw(jb, ",\"tune\":");
+    if (res->has_gains)
+        tune_json(jb, &a->t, &res->tune, &res->tune.fig, (double)NAN, (double)NAN);
+    else
+        pdtcli_jb_raw(jb, "null");
+    if (a->kind != PDT_EXCITE_RELAY) return;
+    pdtcli_jb_raw(jb, ",\"relay\":");
+    if (!res->has_relay) {
+        pdtcli_jb_raw(jb, "null");
+        return;
+    }
+    pdtcli_jb_printf(jb, "{\"Ku\":");
+    pdtcli_jb_num(jb, (double)res->relay.Ku);
+    pdtcli_jb_key(jb, "Pu", (double)res->relay.Pu);
+    pdtcli_jb_key(jb, "a", (double)res->relay.a);
+    pdtcli_jb_key(jb, "d", (double)res->relay.d);
+    pdtcli_jb_uint(jb, "cycles", (unsigned long)res->relay.cycles);
+    pdtcli_jb_raw(jb, "}");
+}
+
+static void print_run(const at_args_t *a, const at_run_t *run)
+{
+    static char buf[8192];
+    pdtcli_jbuf_t jb;
+    pdtcli_jb_init(&jb, buf, sizeof buf);
+    pdtcli_jb_printf(&jb, "{\"status\":%d", (int)run->st);
+    pdtcli_jb_str(&jb, "reason", pdt_status_str(run->st));
+    if (run->st != PDT_OK) {
+        const int fi = run->initialised ? (int)run->res.failed_in : 0;
+        pdtcli_jb_str(&jb, "failed_in", fi >= 0 && fi <= 6 ? failed_names[fi] : "unknown");
+    }
+    pdtcli_jb_key(&jb, "scan_period", a->Ts);
+    pdtcli_jb_uint(&jb, "decimation", (unsigned long)a->decimation);
+    pdtcli_jb_uint(&jb, "capacity", (unsigned long)a->capacity);
+    pdtcli_jb_uint(&jb, "samples", (unsigned long)run->res.samples);
+    pdtcli_jb_uint(&jb, "scans", (unsigned long)run->scans);
+    experiment_json(&jb, a, run);
+    results_json(&jb, a, run);
+    pdtcli_jb_raw(&jb, "}");
+    if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "autotune-sim: result too long");
+    puts(buf);
+    cli_flush();
+}
+
+/* The reason of a failed run on stderr, with the figure that decided a
+ * refusal of the gains. */
+static void fail_run(const at_run_t *run)
+{
+    const pdt_status_t st = run->st;
+    const int fi = run->initialised ? (int)run->res.failed_in : 0;
+    const char *where = fi >= 0 && fi <= 4 ? failed_names[fi] : "?";
+    const pdt_autotune_result_t *res = &run->res;
+    if (st == PDT_ERR_POOR_FIT && res->has_model && res->ident.fit < run->cfg.tune.fit_min)
+        cli_fail(EXIT_REFUSED,
+                 "autotune-sim: %s (in %s): fit %.4g%% below %.4g%%: too much noise "
+                 "or too little excitation",
+                 pdt_status_str(st), where, (double)res->ident.fit, (double)run->cfg.tune.fit_min);
+    if (st == PDT_ERR_POOR_FIT && res->has_model) {
+        pdt_tune_config_t open = run->cfg.tune;
+        open.ms_max = 0;
+        pdt_tune_result_t tr;
+        if (pdt_tune_compute(&res->ident.model, res->ident.fit, &open, &tr) == PDT_OK)
+            cli_fail(EXIT_REFUSED,
+                     "autotune-sim: %s (in %s): Ms %.4g exceeds the limit %.4g "
+                     "(--ms-max, a slower knob or another rule)",
+                     pdt_status_str(st), where, (double)tr.fig.Ms, (double)run->cfg.tune.ms_max);
+    }
+    cli_fail(EXIT_REFUSED, "autotune-sim: %s (in %s)", pdt_status_str(st), where);
+}
+
+int cmd_autotune_sim(int argc, char **argv)
+{
+    at_args_t a;
+    memset(&a, 0, sizeof a);
+    a.amplitude = 1.0;
+    a.seed = 1;
+    a.kind = PDT_EXCITE_PRBS;
+    a.model = PDT_MODEL_FOPDT;
+    parse(&a, argc, argv);
+    check_args(&a);
+    at_run_t *run = calloc(1, sizeof *run);
+    if (!run) cli_fail(EXIT_REFUSED, "out of memory");
+    autotune_config(&a, &run->cfg);
+    simulate(&a, run);
+    print_run(&a, run);
+    if (run->st != PDT_OK) fail_run(run);
+    free(run);
+    return 0;
+}

@@ -1,0 +1,373 @@
+/* pdtfit identify: a FOPDT or SOPDT from one recorded test. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "identify.h"
+
+static const char *const method_names[] = {"ga", "elms", "eiv", NULL};
+static const char *const cost_names[] = {"prediction", "simulation", "frequency", "combined", NULL};
+static const char *const weight_names[] = {"auto", "control", "uniform", "band", NULL};
+static const pdt_weight_kind_t weight_kinds[] = {PDT_WEIGHT_AUTO, PDT_WEIGHT_CONTROL,
+                                                 PDT_WEIGHT_UNIFORM, PDT_WEIGHT_BAND};
+static const char *const unit_names[] = {"s", "ms", "us", NULL};
+
+#define GA CLI_GA_ONLY
+
+static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
+{
+    const cli_opt_t rows[] = {
+        {"--model", OPT_CHOICE, &a->model, &a->have_model, 0, PDT_MODEL_FOPDT, 0, cli_model_names,
+         "model", 0},
+        {"--method", OPT_CHOICE, &a->method, NULL, 0, 0, 0, method_names, "method", 0},
+        {"--td-max", OPT_REAL, &a->td_max, &a->have_td_max, CHK_GE0, 0, 0, NULL,
+         "a dead time >= 0 s", 0},
+        {"--cost", OPT_CHOICE, &a->cost, NULL, 0, 0, 0, cost_names, "cost", GA},
+        {"--weight", OPT_CHOICE, &a->weight, &a->have_weight, 0, 0, 0, weight_names, "weight", GA},
+        {"--band", OPT_TEXT, &a->band, NULL, 0, 0, 0, NULL, NULL, GA},
+        {"--phi-t", OPT_REAL, &a->phi_t, &a->have_phi_t, CHK_GE0, 0, 0, NULL, "a weight >= 0",
+         GA | CLI_REAL_FITS},
+        {"--phi-f", OPT_REAL, &a->phi_f, &a->have_phi_f, CHK_GE0, 0, 0, NULL, "a weight >= 0",
+         GA | CLI_REAL_FITS},
+        {"--seed", OPT_UINT, &a->seed, NULL, 0, 0, UINT64_MAX, NULL, "a whole number >= 0", GA},
+        {"--evaluations", OPT_UINT, &a->evaluations, &a->have_evaluations, 0, 1, UINT32_MAX, NULL,
+         "a whole number >= 1", GA},
+        {"--population", OPT_UINT, &a->population, &a->have_population, 0, 4,
+         PDT_IDENT_MAX_POPULATION, NULL, "an even number from 4 to the library's maximum",
+         GA | CLI_EVEN},
+        {"--fs", OPT_REAL, &a->fs, &a->have_fs, CHK_GT0, 0, 0, NULL, "a sampling frequency > 0 Hz",
+         0},
+        {"--integer-delay", OPT_FLAG, &a->integer_delay, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--t", OPT_TEXT, &a->t_col, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--u", OPT_TEXT, &a->u_col, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--y", OPT_TEXT, &a->y_col, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--sep", OPT_TEXT, &a->sep, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--decimal", OPT_TEXT, &a->decimal, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--skip", OPT_UINT, &a->skip, NULL, 0, 0, 1000000, NULL, "a line count 0 .. 1000000", 0},
+        {"--time-unit", OPT_CHOICE, &a->time_unit, NULL, 0, 0, 0, unit_names, "time unit", 0},
+        {"--resample", OPT_FLAG, &a->resample, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--out-sim", OPT_TEXT, &a->out_sim, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--plot", OPT_TEXT, &a->plot, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--plot-script", OPT_TEXT, &a->plot_script, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--tune", OPT_TEXT, &a->tune, NULL, 0, 0, 0, NULL, NULL, 0},
+    };
+    memcpy(tab, rows, sizeof rows);
+    return sizeof rows / sizeof rows[0] +
+           tune_opts_table(&a->t, tab + sizeof rows / sizeof rows[0], 0);
+}
+
+#undef GA
+
+static void parse_band(ident_args_t *a)
+{
+    char lo[64];
+    const char *v = a->band, *colon = strchr(v, ':');
+    size_t len = colon ? (size_t)(colon - v) : 0;
+    if (!colon || len >= sizeof lo)
+        cli_fail(EXIT_USAGE, "identify: --band needs F_LO:F_HI in Hz, got '%s'", v);
+    memcpy(lo, v, len);
+    lo[len] = '\0';
+    if (cli_parse_real(lo, &a->f_lo) != 0 || cli_parse_real(colon + 1, &a->f_hi) != 0 ||
+        !(a->f_lo >= 0.0) || !(a->f_hi >= a->f_lo) || !isfinite((double)(pdt_real_t)a->f_hi))
+        cli_fail(EXIT_USAGE, "identify: --band needs F_LO:F_HI in Hz, 0 <= F_LO <= F_HI, got '%s'",
+                 v);
+}
+
+static char one_char(const char *opt, const char *v, const char *allowed)
+{
+    if (!v) return 0;
+    if (strcmp(v, "tab") == 0 || strcmp(v, "\\t") == 0) v = "\t";
+    if (strcmp(v, "semicolon") == 0) v = ";";
+    if (strcmp(v, "comma") == 0) v = ",";
+    if (strlen(v) != 1 || !strchr(allowed, v[0]))
+        cli_fail(EXIT_USAGE, "identify: %s needs one of %s, got '%s'", opt,
+                 strchr(allowed, '\t') ? "',', ';', tab" : "'.', ','", v);
+    return v[0];
+}
+
+static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
+{
+    if (!a->have_model) cli_fail(EXIT_USAGE, "identify: --model fopdt|sopdt is required");
+    const int band = a->have_weight && weight_kinds[a->weight] == PDT_WEIGHT_BAND;
+    if (band && !a->band) cli_fail(EXIT_USAGE, "identify: --weight band needs --band F_LO:F_HI");
+    if (a->band && !band) cli_fail(EXIT_USAGE, "identify: --band goes with --weight band");
+    if (a->band) parse_band(a);
+    if (a->have_phi_t && a->have_phi_f && a->phi_t == 0.0 && a->phi_f == 0.0)
+        cli_fail(EXIT_USAGE, "identify: --phi-t and --phi-f cannot both be 0");
+    for (size_t k = 0; a->method != METHOD_GA && k < p->n_opt; k++)
+        if ((p->opt[k].flags & CLI_GA_ONLY) && p->seen[k])
+            cli_fail(EXIT_USAGE, "identify: %s is an option of --method ga only", p->opt[k].name);
+    if (a->method == METHOD_GA && a->have_td_max && !(a->td_max > 0.0))
+        cli_fail(EXIT_USAGE, "identify: --td-max must be > 0 s with --method ga");
+    if (a->tune) tune_opts_spec("identify", a->tune, &a->t);
+    if (!a->tune && (a->t.have_tau_c || a->t.have_lambda || a->t.have_ms_max || a->t.have_filter ||
+                     a->t.have_u_span || a->t.have_y_span))
+        cli_fail(EXIT_USAGE, "identify: the tuning options go with --tune RULE[:FORM]");
+    tune_opts_check("identify", &a->t);
+    if (a->plot_script && !a->plot)
+        cli_fail(EXIT_USAGE, "identify: --plot-script goes with --plot");
+    if (!a->file) cli_fail(EXIT_USAGE, "identify: missing FILE (a CSV file, or - for stdin)");
+}
+
+static void parse(ident_args_t *a, int argc, char **argv)
+{
+    cli_opt_t tab[CLI_MAX_OPTS];
+    cli_parser_t p = {"identify", CMD_IDENTIFY, tab, 0, &a->file, {0}};
+    p.n_opt = ident_table(a, tab);
+    cli_parse(&p, argc, argv);
+    check_ident_args(&p, a);
+}
+
+static void read_data(const ident_args_t *a, ident_data_t *d)
+{
+    pdtcli_csv_opts_t o;
+    pdtcli_csv_opts_default(&o);
+    o.t_col = a->t_col;
+    o.u_col = a->u_col;
+    o.y_col = a->y_col;
+    o.sep = one_char("--sep", a->sep, ",;\t ");
+    o.decimal = one_char("--decimal", a->decimal, ".,");
+    o.skip = (unsigned)a->skip;
+    o.time_unit = a->time_unit;
+    o.resample = a->resample;
+    o.fs = a->have_fs ? a->fs : 0.0;
+    char err[600];
+    if (pdtcli_csv_read_series(a->file, &o, &d->s, err, sizeof err) != 0)
+        cli_fail(EXIT_USAGE, "%s", err);
+    const char *name = strcmp(a->file, "-") == 0 ? "stdin" : a->file;
+    const size_t n = d->s.n;
+    if (n < PDT_MIN_SAMPLES)
+        cli_fail(EXIT_USAGE, "%s: %zu data row%s, at least %u needed", name, n, n == 1 ? "" : "s",
+                 (unsigned)PDT_MIN_SAMPLES);
+    if (!((double)(pdt_real_t)d->s.Ts > 0.0) || !isfinite((double)(pdt_real_t)d->s.Ts))
+        cli_fail(EXIT_USAGE, "%s: sampling period %.9g s is out of range", name, d->s.Ts);
+    if (d->s.jitter_warn)
+        cli_warn("%s: %u time stamp%s more than 1%% of Ts off a uniform grid: Ts = %.9g s, the "
+                 "median interval",
+                 name, d->s.jitter_warn, d->s.jitter_warn == 1 ? "" : "s", d->s.Ts);
+    if (d->s.filled)
+        cli_warn("%s: --resample filled %u row%s by zero-order hold (Ts = %.9g s)", name,
+                 d->s.filled, d->s.filled == 1 ? "" : "s", d->s.Ts);
+    if (d->s.has_t && a->time_unit == 0 && d->s.t0 > 1e11)
+        cli_warn("%s: t starts at %.6g: epoch milliseconds or microseconds? (--time-unit ms|us)",
+                 name, d->s.t0);
+    d->u = malloc(n * sizeof *d->u);
+    d->y = malloc(n * sizeof *d->y);
+    if (!d->u || !d->y) cli_fail(EXIT_REFUSED, "out of memory");
+    for (size_t k = 0; k < n; k++) {
+        d->u[k] = (pdt_real_t)d->s.u[k];
+        d->y[k] = (pdt_real_t)d->s.y[k];
+    }
+}
+
+static const char *status_hint(pdt_status_t st)
+{
+    switch (st) {
+    case PDT_ERR_NO_EXCITATION:
+        return " (u or y does not move: record a step or other change of the input)";
+    case PDT_ERR_TOO_SHORT:
+        return " (the record is too short for the dead-time range: record longer)";
+    case PDT_ERR_LENGTH:
+        return " (the record is too long for the frequency cost: decimate it)";
+    case PDT_ERR_ARG:
+        return " (a setting is out of range, e.g. a --band outside 0 .. fs/2, or the sampling "
+               "period is unusable)";
+    case PDT_ERR_NO_FORM:
+        return " (no dead time in the scan gave a stable model of this order: try the other "
+               "model or --method ga)";
+    case PDT_ERR_NOT_AT_REST:
+        return " (the frequency and combined costs need u back at its start and y settled at "
+               "the end of the record: use --cost simulation)";
+    default:
+        return "";
+    }
+}
+
+/* The least --evaluations the library takes with this configuration: the
+ * size query refuses a budget below it. */
+static uint32_t least_evaluations(pdt_ident_config_t cfg, size_t n)
+{
+    uint32_t lo = 1, hi = UINT32_MAX / 2;
+    cfg.max_evaluations = hi;
+    if (pdt_ident_workspace_size(&cfg, n) == 0) return 0;
+    while (lo < hi) {
+        cfg.max_evaluations = lo + (hi - lo) / 2;
+        if (pdt_ident_workspace_size(&cfg, n) > 0)
+            hi = cfg.max_evaluations;
+        else
+            lo = cfg.max_evaluations + 1;
+    }
+    return lo;
+}
+
+static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
+{
+    pdt_ident_config_default(cfg);
+    cfg->model = (pdt_model_kind_t)a->model;
+    cfg->Ts = (pdt_real_t)Ts;
+    cfg->cost = (pdt_cost_kind_t)a->cost;
+    cfg->seed = a->seed;
+    if (a->integer_delay) cfg->delay_mode = PDT_DELAY_INTEGER;
+    if (a->have_evaluations) cfg->max_evaluations = (uint32_t)a->evaluations;
+    if (a->have_population) cfg->population = (uint32_t)a->population;
+    if (a->have_td_max) cfg->Td_max = (pdt_real_t)a->td_max;
+    if (a->have_weight) cfg->weight = weight_kinds[a->weight];
+    cfg->f_lo = (pdt_real_t)a->f_lo;
+    cfg->f_hi = (pdt_real_t)a->f_hi;
+    if (a->have_phi_t) cfg->phi_t = (pdt_real_t)a->phi_t;
+    if (a->have_phi_f) cfg->phi_f = (pdt_real_t)a->phi_f;
+}
+
+static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_result_t *res)
+{
+    pdt_ident_config_t cfg;
+    ga_config(a, d->s.Ts, &cfg);
+    const size_t n = d->s.n;
+    /* A size of 0 means the configuration is refused; pdt_identify then
+     * says why, so it is still called. */
+    size_t work_len = pdt_ident_workspace_size(&cfg, n);
+    void *work = work_len ? malloc(work_len) : NULL;
+    pdt_ident_t *ctx = malloc(sizeof *ctx);
+    if (!ctx || (work_len && !work)) cli_fail(EXIT_REFUSED, "out of memory");
+    const pdt_ident_data_t data = {d->u, d->y, n};
+    pdt_status_t st = pdt_identify(ctx, &cfg, &data, work, work_len, res);
+    if (st == PDT_ERR_ARG && a->have_evaluations) {
+        const uint32_t least = least_evaluations(cfg, n);
+        if (least > cfg.max_evaluations)
+            cli_fail(EXIT_REFUSED,
+                     "cannot identify: --evaluations %lu is below the minimum %lu "
+                     "for this model, population and criterion",
+                     (unsigned long)a->evaluations, (unsigned long)least);
+    }
+    if (st != PDT_OK)
+        cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
+    free(work);
+    free(ctx);
+}
+
+/* --method elms|eiv: the least-squares delay scan, as a GA result. */
+static void identify_ls(const ident_args_t *a, const ident_data_t *d, pdt_ident_result_t *res,
+                        size_t *delay_max)
+{
+    const double Ts = d->s.Ts;
+    const size_t n = d->s.n;
+    pdt_ls_config_t cfg;
+    pdt_ls_config_default(&cfg);
+    cfg.model = (pdt_model_kind_t)a->model;
+    cfg.method = a->method == METHOD_EIV ? PDT_LS_EIV : PDT_LS_ELMS;
+    cfg.Ts = (pdt_real_t)Ts;
+    if (a->have_td_max) {
+        /* A bound past the record's end is the library's to refuse (too
+         * short); the clamp only keeps the conversion defined. */
+        double l = floor(a->td_max / Ts + 1e-9);
+        cfg.delay_max = l < (double)n ? (size_t)l : n;
+    }
+    *delay_max = a->have_td_max ? cfg.delay_max : n / 4u;
+    pdt_ls_t *ctx = malloc(sizeof *ctx);
+    if (!ctx) cli_fail(EXIT_REFUSED, "out of memory");
+    pdt_ls_result_t r;
+    pdt_status_t st = pdt_ls_identify(ctx, &cfg, d->u, d->y, n, &r);
+    free(ctx);
+    if (st != PDT_OK)
+        cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
+    memset(res, 0, sizeof *res);
+    res->model = r.model;
+    res->u0 = r.u0;
+    res->y0 = r.y0;
+    res->cost = r.cost;
+    res->fit = (pdt_real_t)ident_simulate(&r.model, Ts, d, r.u0, r.y0, NULL);
+    res->evaluations = (uint32_t)(*delay_max - cfg.delay_min + 1u);
+}
+
+/* Whether v sits on the bound b of a search (within 0.1 %). */
+static int on_bound(double v, double b)
+{
+    return b > 0.0 && fabs(v - b) <= 1e-3 * b;
+}
+
+/* A model the search could not place: a time constant or the dead time on
+ * a bound of the search, or a fit below that of a constant. Returns 1 when
+ * warned. */
+static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
+                   size_t delay_max)
+{
+    const double Ts = d->s.Ts, T = (double)d->s.n * Ts;
+    const pdt_model_t *m = &r->model;
+    const double Td = m->kind == PDT_MODEL_FOPDT ? (double)m->p.fopdt.Td : (double)m->p.sopdt.Td;
+    int warned = 0;
+    if (!((double)r->fit >= 0.0)) {
+        cli_warn("identify: fit %.4g%% is negative: the model follows the data worse than their "
+                 "mean; it is probably wrong",
+                 (double)r->fit);
+        warned = 1;
+    }
+    const double td_hi = a->method != METHOD_GA ? (double)delay_max * Ts
+                         : a->have_td_max       ? a->td_max
+                                                : T / 3.0;
+    if (Td > 0.0 && on_bound(Td, td_hi)) {
+        cli_warn("identify: the dead time %.4g s sits on the search's bound %.4g s (--td-max): it "
+                 "is probably wrong",
+                 Td, td_hi);
+        warned = 1;
+    }
+    if (a->method == METHOD_GA) {
+        const double lo = Ts / 4.0, hi = 2.0 * T;
+        const double tau =
+            m->kind == PDT_MODEL_FOPDT ? (double)m->p.fopdt.tau : 1.0 / (double)m->p.sopdt.a;
+        const double tlo = m->kind == PDT_MODEL_FOPDT ? lo : lo / 2.0;
+        if (on_bound(tau, tlo) || on_bound(tau, hi)) {
+            cli_warn("identify: the time constant %.4g s sits on the search's bound %.4g s: the "
+                     "record is too short or too coarse for it",
+                     tau, on_bound(tau, hi) ? hi : tlo);
+            warned = 1;
+        }
+    }
+    return warned;
+}
+
+static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r)
+{
+    char buf[4096];
+    int len = pdtcli_ident_json(r, d->s.Ts, d->s.n, buf, sizeof buf);
+    if (len < 0) cli_fail(EXIT_REFUSED, "result too long");
+    if (a->tune) {
+        pdt_tune_result_t tr;
+        memset(&tr, 0, sizeof tr);
+        tune_model("identify", &r->model, (double)r->fit, &a->t, &tr);
+        pdtcli_jbuf_t jb;
+        pdtcli_jb_init(&jb, buf + len - 1, sizeof buf - (size_t)len + 1);
+        pdtcli_jb_raw(&jb, ",\"tune\":");
+        tune_json(&jb, &a->t, &tr, &tr.fig, (double)NAN, (double)NAN);
+        pdtcli_jb_raw(&jb, "}");
+        if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "result too long");
+    }
+    if (a->out_sim) ident_write_sim(a->out_sim, d, r);
+    if (a->plot) ident_plot(a, d, r);
+    puts(buf);
+    cli_flush();
+}
+
+int cmd_identify(int argc, char **argv)
+{
+    ident_args_t a;
+    memset(&a, 0, sizeof a);
+    a.cost = PDT_COST_SIMULATION;
+    a.seed = 1;
+    parse(&a, argc, argv);
+    ident_data_t d;
+    memset(&d, 0, sizeof d);
+    read_data(&a, &d);
+    pdt_ident_result_t res;
+    size_t delay_max = 0;
+    if (a.method == METHOD_GA)
+        identify_ga(&a, &d, &res);
+    else
+        identify_ls(&a, &d, &res, &delay_max);
+    const int warned = suspect(&a, &d, &res, delay_max);
+    print_result(&a, &d, &res);
+    free(d.u);
+    free(d.y);
+    pdtcli_series_free(&d.s);
+    return warned ? EXIT_SUSPECT : 0;
+}

@@ -1,0 +1,41 @@
+/*
+ * pdtfit identify, shared between its sources: the options, the record,
+ * the result, and the outputs beside the JSON (--out-sim, --plot).
+ */
+#ifndef PDTCLI_IDENTIFY_H
+#define PDTCLI_IDENTIFY_H
+
+#include "csv.h"
+#include "tune_opts.h"
+
+enum { METHOD_GA, METHOD_ELMS, METHOD_EIV };
+
+typedef struct ident_args {
+    int model, method, cost, weight, integer_delay, time_unit, resample;
+    double td_max, fs, phi_t, phi_f, f_lo, f_hi;
+    uint64_t seed, evaluations, population, skip;
+    const char *band, *t_col, *u_col, *y_col, *sep, *decimal, *file;
+    const char *out_sim, *plot, *plot_script, *tune;
+    int have_model, have_td_max, have_fs, have_evaluations, have_population, have_weight;
+    int have_phi_t, have_phi_f;
+    tune_opts_t t;
+} ident_args_t;
+
+/* The record in the library's real type. */
+typedef struct ident_data {
+    pdtcli_series_t s;
+    pdt_real_t *u, *y;
+} ident_data_t;
+
+/* The fit of a model as pdt_ident reports it, with its simulated output
+ * into ysim (n values; may be NULL): the model discretised exactly and run
+ * from rest on u - u0, plus y0. NaN when it cannot be simulated. */
+double ident_simulate(const pdt_model_t *m, double Ts, const ident_data_t *d, pdt_real_t u0,
+                      pdt_real_t y0, double *ysim);
+
+/* Writes t,u,y,ysim,residual of the record and the model to path. */
+void ident_write_sim(const char *path, const ident_data_t *d, const pdt_ident_result_t *r);
+/* Draws the record against the model into png with the Python script. */
+void ident_plot(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r);
+
+#endif /* PDTCLI_IDENTIFY_H */

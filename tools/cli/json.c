@@ -1,0 +1,151 @@
+#include "json.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+void pdtcli_jb_init(pdtcli_jbuf_t *jb, char *buf, size_t len)
+{
+    jb->buf = buf;
+    jb->len = len;
+    jb->used = 0;
+    jb->over = len == 0;
+    if (len) buf[0] = '\0';
+}
+
+void pdtcli_jb_printf(pdtcli_jbuf_t *jb, const char *fmt, ...)
+{
+    if (jb->over) return;
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(jb->buf + jb->used, jb->len - jb->used, fmt, ap);
+    va_end(ap);
+    if (n < 0 || (size_t)n >= jb->len - jb->used) {
+        jb->over = 1;
+        return;
+    }
+    jb->used += (size_t)n;
+}
+
+void pdtcli_jb_raw(pdtcli_jbuf_t *jb, const char *text)
+{
+    pdtcli_jb_printf(jb, "%s", text);
+}
+
+void pdtcli_jb_num(pdtcli_jbuf_t *jb, double v)
+{
+    if (isfinite(v))
+        pdtcli_jb_printf(jb, "%.9g", v);
+    else
+        pdtcli_jb_raw(jb, "null");
+}
+
+void pdtcli_jb_key(pdtcli_jbuf_t *jb, const char *key, double v)
+{
+    pdtcli_jb_printf(jb, ",\"%s\":", key);
+    pdtcli_jb_num(jb, v);
+}
+
+void pdtcli_jb_str(pdtcli_jbuf_t *jb, const char *key, const char *text)
+{
+    pdtcli_jb_printf(jb, ",\"%s\":\"%s\"", key, text);
+}
+
+void pdtcli_jb_uint(pdtcli_jbuf_t *jb, const char *key, unsigned long v)
+{
+    pdtcli_jb_printf(jb, ",\"%s\":%lu", key, v);
+}
+
+int pdtcli_jb_done(const pdtcli_jbuf_t *jb)
+{
+    return jb->over ? -1 : (int)jb->used;
+}
+
+static void operating_point(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
+{
+    if (!r) return;
+    pdtcli_jb_key(jb, "y0", (double)r->y0);
+    pdtcli_jb_key(jb, "u0", (double)r->u0);
+}
+
+static void fopdt_keys(pdtcli_jbuf_t *jb, const pdt_model_fopdt_t *m, const pdt_ident_result_t *r)
+{
+    pdtcli_jb_raw(jb, "{\"model\":\"fopdt\"");
+    pdtcli_jb_key(jb, "K", (double)m->K);
+    pdtcli_jb_key(jb, "tau", (double)m->tau);
+    pdtcli_jb_key(jb, "Td", (double)m->Td);
+    operating_point(jb, r);
+}
+
+/* K, wn, zeta, Td, [y0, u0], tau1, tau2 of a SOPDT in whichever form it
+ * has: natural, or integrating (K null, Ki after it, wn 0). */
+static void sopdt_keys(pdtcli_jbuf_t *jb, const pdt_model_sopdt_t *m, const pdt_ident_result_t *r)
+{
+    pdt_model_natural_t nat;
+    pdt_model_tc_t tc;
+    pdt_model_integ_t integ;
+    double K = NAN, Ki = NAN, wn = NAN, zeta = NAN, tau1 = NAN, tau2 = NAN;
+    int integrating = 0;
+    if (pdt_model_sopdt_to_natural(m, &nat) == PDT_OK) {
+        K = (double)nat.K;
+        wn = (double)nat.wn;
+        zeta = (double)nat.zeta;
+        if (pdt_model_sopdt_to_tc(m, &tc) == PDT_OK && !tc.complex) {
+            tau1 = (double)tc.T1;
+            tau2 = (double)tc.T2;
+        }
+    } else if (pdt_model_sopdt_to_integ(m, &integ) == PDT_OK) {
+        integrating = 1;
+        Ki = (double)integ.Ki;
+        wn = 0.0;
+        tau2 = (double)integ.T;
+    }
+    pdtcli_jb_raw(jb, "{\"model\":\"sopdt\"");
+    pdtcli_jb_key(jb, "K", K);
+    if (integrating) pdtcli_jb_key(jb, "Ki", Ki);
+    pdtcli_jb_key(jb, "wn", wn);
+    pdtcli_jb_key(jb, "zeta", zeta);
+    pdtcli_jb_key(jb, "Td", (double)m->Td);
+    operating_point(jb, r);
+    pdtcli_jb_key(jb, "tau1", tau1);
+    pdtcli_jb_key(jb, "tau2", tau2);
+    pdtcli_jb_key(jb, "a", (double)m->a);
+    pdtcli_jb_key(jb, "b", (double)m->b);
+}
+
+void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r)
+{
+    if (m->kind == PDT_MODEL_FOPDT)
+        fopdt_keys(jb, &m->p.fopdt, r);
+    else
+        sopdt_keys(jb, &m->p.sopdt, r);
+    if (r) {
+        pdtcli_jb_key(jb, "cost", (double)r->cost);
+        pdtcli_jb_key(jb, "fit", (double)r->fit);
+        pdtcli_jb_uint(jb, "evaluations", (unsigned long)r->evaluations);
+        if (r->f_band > (pdt_real_t)0) pdtcli_jb_key(jb, "f_band", (double)r->f_band);
+    }
+}
+
+int pdtcli_ident_json(const pdt_ident_result_t *r, double Ts, size_t n, char *buf, size_t len)
+{
+    pdtcli_jbuf_t jb;
+    if (!r || !buf) return -1;
+    pdtcli_jb_init(&jb, buf, len);
+    pdtcli_jb_model(&jb, &r->model, r);
+    pdtcli_jb_key(&jb, "Ts", Ts);
+    pdtcli_jb_uint(&jb, "n", (unsigned long)n);
+    pdtcli_jb_raw(&jb, "}");
+    return pdtcli_jb_done(&jb);
+}
+
+int pdtcli_model_json(const pdt_model_t *m, char *buf, size_t len)
+{
+    pdtcli_jbuf_t jb;
+    if (!m || !buf) return -1;
+    pdtcli_jb_init(&jb, buf, len);
+    pdtcli_jb_model(&jb, m, NULL);
+    pdtcli_jb_raw(&jb, "}");
+    return pdtcli_jb_done(&jb);
+}

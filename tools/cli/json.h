@@ -1,0 +1,59 @@
+/*
+ * The JSON of the pdtfit command line, written into caller buffers so that
+ * the Python binding (through a shared library) prints exactly what the
+ * program prints: numbers with 9 significant digits ("%.9g"), null where a
+ * value is not finite or does not exist.
+ */
+#ifndef PDTCLI_JSON_H
+#define PDTCLI_JSON_H
+
+#include <stddef.h>
+
+#include "pdt/pdt.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* An identification result as one JSON object, no line end:
+ * {"model":"fopdt","K",...,"evaluations"[,"f_band"],"Ts","n"}, the keys of
+ * docs/cli.md. Ts: the sampling period, s; n: the samples identified.
+ * Returns the characters written (without the NUL), or -1 when len is too
+ * small (buf then holds a truncated, NUL-terminated text). */
+int pdtcli_ident_json(const pdt_ident_result_t *r, double Ts, size_t n, char *buf, size_t len);
+
+/* A model alone ({"model",..} without operating point, cost, fit and
+ * evaluations), as `pdtfit reduce` prints it. Returns as above. */
+int pdtcli_model_json(const pdt_model_t *m, char *buf, size_t len);
+
+/* A writer into a fixed buffer: appends until full, then remembers the
+ * overflow. */
+typedef struct pdtcli_jbuf {
+    char *buf;
+    size_t len, used;
+    int over;
+} pdtcli_jbuf_t;
+
+void pdtcli_jb_init(pdtcli_jbuf_t *jb, char *buf, size_t len);
+void pdtcli_jb_raw(pdtcli_jbuf_t *jb, const char *text);
+void pdtcli_jb_printf(pdtcli_jbuf_t *jb, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+void pdtcli_jb_num(pdtcli_jbuf_t *jb, double v);
+/* ,"key":number */
+void pdtcli_jb_key(pdtcli_jbuf_t *jb, const char *key, double v);
+/* ,"key":"text" */
+void pdtcli_jb_str(pdtcli_jbuf_t *jb, const char *key, const char *text);
+/* ,"key":unsigned */
+void pdtcli_jb_uint(pdtcli_jbuf_t *jb, const char *key, unsigned long v);
+/* The model object; r NULL: the model's keys only. */
+void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r);
+int pdtcli_jb_done(const pdtcli_jbuf_t *jb);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PDTCLI_JSON_H */

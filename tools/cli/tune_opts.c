@@ -1,0 +1,187 @@
+#include "tune_opts.h"
+
+#include <math.h>
+#include <string.h>
+
+size_t tune_opts_table(tune_opts_t *t, cli_opt_t *tab, int rule_form)
+{
+    const cli_opt_t rows[] = {
+        {"--rule", OPT_CHOICE, &t->rule, &t->have_rule, CHK_ANY, 0, 0, cli_rule_names, "rule", 0},
+        {"--form", OPT_CHOICE, &t->form, NULL, CHK_ANY, 0, 0, cli_form_names, "form", 0},
+        {"--tau-c", OPT_REAL, &t->tau_c, &t->have_tau_c, CHK_GE0, 0, 0, NULL,
+         "a time >= 0 s (0: the dead time)", 0},
+        {"--lambda", OPT_REAL, &t->lambda, &t->have_lambda, CHK_GE0, 0, 0, NULL,
+         "a time >= 0 s (0: the rule's default)", 0},
+        {"--ms-max", OPT_REAL, &t->ms_max, &t->have_ms_max, CHK_LIMIT, 0, 0, NULL,
+         "a limit > 1 (or 0 for none)", 0},
+        {"--deriv-filter", OPT_REAL, &t->deriv_filter, &t->have_filter, CHK_FILTER, 0, 0, NULL,
+         "N >= 1 (or 0 for none)", 0},
+        {"--u-span", OPT_REAL, &t->u_span, &t->have_u_span, CHK_GT0, 0, 0, NULL,
+         "the span of u > 0 (its range in engineering units)", 0},
+        {"--y-span", OPT_REAL, &t->y_span, &t->have_y_span, CHK_GT0, 0, 0, NULL,
+         "the span of y > 0 (its range in engineering units)", 0},
+    };
+    const size_t skip = rule_form ? 0 : 2, n = sizeof rows / sizeof rows[0] - skip;
+    memcpy(tab, rows + skip, n * sizeof rows[0]);
+    return n;
+}
+
+void tune_opts_spec(const char *cmd, const char *spec, tune_opts_t *t)
+{
+    char rule[16];
+    const char *colon = strchr(spec, ':');
+    size_t len = colon ? (size_t)(colon - spec) : strlen(spec);
+    if (len >= sizeof rule) len = sizeof rule - 1;
+    memcpy(rule, spec, len);
+    rule[len] = '\0';
+    t->rule = cli_choice(rule, cli_rule_names);
+    t->form = colon ? cli_choice(colon + 1, cli_form_names) : 0;
+    if (t->rule < 0 || t->form < 0)
+        cli_fail(EXIT_USAGE,
+                 "%s: --tune needs RULE[:FORM], RULE simc, imc, amigo or zn, FORM pi "
+                 "or pid, got '%s'",
+                 cmd, spec);
+    t->have_rule = 1;
+}
+
+void tune_opts_check(const char *cmd, const tune_opts_t *t)
+{
+    if (t->have_tau_c && t->rule != PDT_TUNE_SIMC)
+        cli_fail(EXIT_USAGE, "%s: --tau-c is the knob of --rule simc only", cmd);
+    if (t->have_lambda && t->rule != PDT_TUNE_IMC)
+        cli_fail(EXIT_USAGE, "%s: --lambda is the knob of --rule imc only", cmd);
+    if (t->have_u_span != t->have_y_span)
+        cli_fail(EXIT_USAGE, "%s: --u-span and --y-span go together", cmd);
+}
+
+void tune_opts_config(const tune_opts_t *t, pdt_tune_config_t *cfg)
+{
+    cfg->rule = (pdt_tune_rule_t)t->rule;
+    cfg->form = (pdt_tune_form_t)t->form;
+    if (t->have_tau_c) cfg->tau_c = (pdt_real_t)t->tau_c;
+    if (t->have_lambda) cfg->lambda = (pdt_real_t)t->lambda;
+    if (t->have_ms_max) cfg->ms_max = (pdt_real_t)t->ms_max;
+    if (t->have_filter) cfg->deriv_filter = (pdt_real_t)t->deriv_filter;
+}
+
+const char *tune_hint(pdt_status_t st, int rule, const pdt_model_t *m)
+{
+    switch (st) {
+    case PDT_ERR_NO_FORM:
+        if (rule == PDT_TUNE_ZN)
+            return " (zn needs the model's ultimate point, and the phase of this model never "
+                   "reaches -180 degrees: it has no dead time; give --Ku and --Pu or use simc, "
+                   "imc or amigo)";
+        return m && m->kind == PDT_MODEL_SOPDT
+                   ? " (complex SOPDT poles: only simc and imc pid apply)"
+                   : "";
+    case PDT_ERR_UNSTABLE:
+        return " (the loop these gains make with the model is unstable)";
+    case PDT_ERR_ARG:
+        return " (the rule needs dead time: simc with tau_c + Td = 0, amigo with Td = 0; or a "
+               "value out of the real type's range)";
+    default:
+        return "";
+    }
+}
+
+/* A POOR_FIT: from the Ms limit (say the Ms the gains would have had) or
+ * from the fit. */
+static void fail_poor_fit(const char *cmd, const pdt_model_t *m, double fit,
+                          const pdt_tune_config_t *cfg)
+{
+    pdt_tune_config_t open = *cfg;
+    open.ms_max = 0;
+    pdt_tune_result_t r;
+    if (fit < (double)cfg->fit_min)
+        cli_fail(EXIT_REFUSED, "%s: gains refused: fit %.4g%% below %.4g%%", cmd, fit,
+                 (double)cfg->fit_min);
+    if (pdt_tune_compute(m, (pdt_real_t)fit, &open, &r) == PDT_OK)
+        cli_fail(EXIT_REFUSED,
+                 "%s: gains refused: Ms %.4g exceeds the limit %.4g (--ms-max 0 "
+                 "prints them)",
+                 cmd, (double)r.fig.Ms, (double)cfg->ms_max);
+    cli_fail(EXIT_REFUSED, "%s: gains refused: %s", cmd, pdt_status_str(PDT_ERR_POOR_FIT));
+}
+
+void tune_model(const char *cmd, const pdt_model_t *m, double fit, const tune_opts_t *t,
+                pdt_tune_result_t *r)
+{
+    pdt_tune_config_t cfg;
+    pdt_tune_config_default(&cfg);
+    tune_opts_config(t, &cfg);
+    pdt_status_t st = pdt_tune_compute(m, (pdt_real_t)fit, &cfg, r);
+    if (st == PDT_ERR_POOR_FIT) fail_poor_fit(cmd, m, fit, &cfg);
+    if (st != PDT_OK)
+        cli_fail(EXIT_REFUSED, "%s: cannot tune: %s%s", cmd, pdt_status_str(st),
+                 tune_hint(st, t->rule, m));
+    if (t->form == PDT_TUNE_PID && r->ideal.tauD == (pdt_real_t)0)
+        cli_warn("%s: %s gives this %s no derivative action (tauD = 0): the pid asked for is a pi",
+                 cmd, cli_rule_names[t->rule], cli_model_str(m->kind));
+}
+
+static void gains_json(pdtcli_jbuf_t *jb, const pdt_tune_gains_t *g)
+{
+    pdtcli_jb_raw(jb, "{\"Kc\":");
+    pdtcli_jb_num(jb, (double)g->Kc);
+    pdtcli_jb_key(jb, "tauI", (double)g->tauI);
+    pdtcli_jb_key(jb, "tauD", (double)g->tauD);
+    pdtcli_jb_key(jb, "Tf", (double)g->Tf);
+    pdtcli_jb_raw(jb, "}");
+}
+
+/* Kp + Ki / s + Kd s / (Tf s + 1): what most PID blocks and libraries
+ * take; scale converts to percent of span. */
+static void parallel_json(pdtcli_jbuf_t *jb, const pdt_tune_gains_t *g, double scale)
+{
+    const double Kc = (double)g->Kc * scale;
+    pdtcli_jb_raw(jb, "{\"Kp\":");
+    pdtcli_jb_num(jb, Kc);
+    pdtcli_jb_key(jb, "Ki", g->tauI > (pdt_real_t)0 ? Kc / (double)g->tauI : 0.0);
+    pdtcli_jb_key(jb, "Kd", Kc * (double)g->tauD);
+    pdtcli_jb_key(jb, "Tf", (double)g->Tf);
+    pdtcli_jb_raw(jb, "}");
+}
+
+static void figures_json(pdtcli_jbuf_t *jb, const pdt_tune_figures_t *fig)
+{
+    const double nan = (double)NAN;
+    pdtcli_jb_key(jb, "Ms", fig ? (double)fig->Ms : nan);
+    pdtcli_jb_key(jb, "gain_margin", fig ? (double)fig->gain_margin : nan);
+    pdtcli_jb_key(jb, "phase_margin_deg", fig ? (double)fig->phase_margin_deg : nan);
+    pdtcli_jb_key(jb, "w_ms", fig ? (double)fig->w_ms : nan);
+    pdtcli_jb_key(jb, "w_pc", fig && fig->w_pc > 0 ? (double)fig->w_pc : nan);
+    pdtcli_jb_key(jb, "w_gc", fig ? (double)fig->w_gc : nan);
+}
+
+void tune_json(pdtcli_jbuf_t *jb, const tune_opts_t *t, const pdt_tune_result_t *r,
+               const pdt_tune_figures_t *fig, double Ku, double Pu)
+{
+    pdtcli_jb_raw(jb, "{\"rule\":\"");
+    pdtcli_jb_raw(jb, cli_rule_names[t->rule]);
+    pdtcli_jb_raw(jb, "\"");
+    pdtcli_jb_str(jb, "form", cli_form_names[t->form]);
+    pdtcli_jb_key(jb, "Kc", (double)r->ideal.Kc);
+    pdtcli_jb_key(jb, "tauI", (double)r->ideal.tauI);
+    pdtcli_jb_key(jb, "tauD", (double)r->ideal.tauD);
+    pdtcli_jb_key(jb, "Tf", (double)r->ideal.Tf);
+    figures_json(jb, fig);
+    pdtcli_jb_raw(jb, ",\"series\":");
+    if (r->series_exists || r->series_rule)
+        gains_json(jb, &r->series);
+    else
+        pdtcli_jb_raw(jb, "null");
+    pdtcli_jb_raw(jb, ",\"parallel\":");
+    parallel_json(jb, &r->ideal, 1.0);
+    if (t->have_u_span && t->have_y_span) {
+        /* Output % per process-value %: Kc (y_span / 100) / (u_span / 100). */
+        pdtcli_jb_raw(jb, ",\"percent\":");
+        parallel_json(jb, &r->ideal, t->y_span / t->u_span);
+    }
+    pdtcli_jb_str(jb, "stated_in", r->series_rule ? "series" : "ideal");
+    if (t->rule == PDT_TUNE_SIMC) pdtcli_jb_key(jb, "tau_c", (double)r->knob);
+    if (t->rule == PDT_TUNE_IMC) pdtcli_jb_key(jb, "lambda", (double)r->knob);
+    if (isfinite(Ku)) pdtcli_jb_key(jb, "Ku", Ku);
+    if (isfinite(Pu)) pdtcli_jb_key(jb, "Pu", Pu);
+    pdtcli_jb_raw(jb, "}");
+}

@@ -1,0 +1,40 @@
+/*
+ * The tuning options shared by `tune`, `identify --tune` and
+ * `autotune-sim`, the tuning of a model with the library's refusals as
+ * messages, and the tuning's JSON.
+ */
+#ifndef PDTCLI_TUNE_OPTS_H
+#define PDTCLI_TUNE_OPTS_H
+
+#include "cli.h"
+#include "json.h"
+
+typedef struct tune_opts {
+    int rule, form; /* pdt_tune_rule_t, pdt_tune_form_t */
+    double tau_c, lambda, ms_max, deriv_filter, u_span, y_span;
+    int have_rule, have_tau_c, have_lambda, have_ms_max, have_filter, have_u_span, have_y_span;
+} tune_opts_t;
+
+/* Appends the table rows of the tuning options to tab (room for 8);
+ * without --rule and --form when rule_form is 0. Returns the rows added. */
+size_t tune_opts_table(tune_opts_t *t, cli_opt_t *tab, int rule_form);
+/* "RULE[:FORM]" of identify --tune. */
+void tune_opts_spec(const char *cmd, const char *spec, tune_opts_t *t);
+/* The checks between options (a knob of another rule, one span alone). */
+void tune_opts_check(const char *cmd, const tune_opts_t *t);
+void tune_opts_config(const tune_opts_t *t, pdt_tune_config_t *cfg);
+
+/* Gains of m (fit: the identification's, 100 for a known model) into *r;
+ * a refusal ends the program with its reason. A PID asked for that comes
+ * out without derivative action is said on stderr. */
+void tune_model(const char *cmd, const pdt_model_t *m, double fit, const tune_opts_t *t,
+                pdt_tune_result_t *r);
+/* Why the library refused (a hint after its status text). */
+const char *tune_hint(pdt_status_t st, int rule, const pdt_model_t *m);
+
+/* The tuning as one JSON object. fig NULL: no model, the figures are null;
+ * Ku, Pu echoed when finite. */
+void tune_json(pdtcli_jbuf_t *jb, const tune_opts_t *t, const pdt_tune_result_t *r,
+               const pdt_tune_figures_t *fig, double Ku, double Pu);
+
+#endif /* PDTCLI_TUNE_OPTS_H */
