@@ -45,3 +45,49 @@ const char *pdt_status_str(pdt_status_t status)
         return "unknown status";
     }
 }
+
+const char *pdt_status_name(pdt_status_t status)
+{
+    switch (status) {
+    case PDT_RUNNING:
+        return "PDT_RUNNING";
+    case PDT_OK:
+        return "PDT_OK";
+    case PDT_ERR_ARG:
+        return "PDT_ERR_ARG";
+    case PDT_ERR_LENGTH:
+        return "PDT_ERR_LENGTH";
+    case PDT_ERR_NOMEM:
+        return "PDT_ERR_NOMEM";
+    case PDT_ERR_NONFINITE:
+        return "PDT_ERR_NONFINITE";
+    case PDT_ERR_TOO_SHORT:
+        return "PDT_ERR_TOO_SHORT";
+    case PDT_ERR_BOUNDS:
+        return "PDT_ERR_BOUNDS";
+    case PDT_ERR_NO_FORM:
+        return "PDT_ERR_NO_FORM";
+    case PDT_ERR_NO_EXCITATION:
+        return "PDT_ERR_NO_EXCITATION";
+    case PDT_ERR_STATE:
+        return "PDT_ERR_STATE";
+    case PDT_ERR_PV_LIMIT:
+        return "PDT_ERR_PV_LIMIT";
+    case PDT_ERR_OUTPUT_LIMIT:
+        return "PDT_ERR_OUTPUT_LIMIT";
+    case PDT_ERR_TIMEOUT:
+        return "PDT_ERR_TIMEOUT";
+    case PDT_ERR_SETPOINT:
+        return "PDT_ERR_SETPOINT";
+    case PDT_ERR_POOR_FIT:
+        return "PDT_ERR_POOR_FIT";
+    case PDT_ERR_UNSTABLE:
+        return "PDT_ERR_UNSTABLE";
+    case PDT_ERR_ABORTED:
+        return "PDT_ERR_ABORTED";
+    case PDT_ERR_NOT_AT_REST:
+        return "PDT_ERR_NOT_AT_REST";
+    default:
+        return "PDT_STATUS_UNKNOWN";
+    }
+}

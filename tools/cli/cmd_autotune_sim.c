@@ -1,12 +1,13 @@
 /* pdtfit autotune-sim: the on-device autotune run scan by scan against a
- * simulated plant (plant_sim.h). */
+ * simulated plant (tests/support/sim_plant.h). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "plant_sim.h"
+#include "sim_plant.h"
+#include "sim_rng.h"
 #include "tune_opts.h"
 
 #define PI_VALUE 3.14159265358979323846
@@ -85,35 +86,18 @@ static void check_args(const at_args_t *a)
     tune_opts_check(cmd, &a->t);
 }
 
-/* First frequency (rad/s) where the plant's phase, its gain's sign aside,
- * reaches -180 degrees; 0 if it never does on 1e-4 .. 1e4 / T. */
-static double plant_phase(const at_args_t *a, double w)
+/* The simulated process as the shared simulator takes it. */
+static sim_plant_desc_t plant_desc(const at_args_t *a)
 {
-    double ph = -a->delay * w;
-    for (int i = 0; i < a->lags.n; i++) ph -= atan(a->lags.v[i] * w);
-    for (int j = 0; j < a->zeros.n; j++) ph += atan(a->zeros.v[j] * w);
-    return ph;
-}
-
-static double plant_ultimate_w(const at_args_t *a, double T)
-{
-    double prev_w = 0.0;
-    for (int k = 0; k <= 800; k++) {
-        double w = 1e-4 / T * pow(10.0, (double)k / 100.0);
-        if (plant_phase(a, w) <= -PI_VALUE) {
-            double lo = prev_w, hi = w;
-            for (int it = 0; it < 60; it++) {
-                double mid = 0.5 * (lo + hi);
-                if (plant_phase(a, mid) <= -PI_VALUE)
-                    hi = mid;
-                else
-                    lo = mid;
-            }
-            return 0.5 * (lo + hi);
-        }
-        prev_w = w;
-    }
-    return 0.0;
+    sim_plant_desc_t d;
+    memset(&d, 0, sizeof d);
+    d.K = a->gain;
+    d.lags = a->lags.v;
+    d.n_lags = (size_t)a->lags.n;
+    d.zeros = a->zeros.v;
+    d.n_zeros = (size_t)a->zeros.n;
+    d.delay = a->delay;
+    return d;
 }
 
 /* The experiment's settings from the plant's time scales; returns the
@@ -126,7 +110,8 @@ static double experiment_config(const at_args_t *a, double Ts_id, pdt_excite_con
         if (a->lags.v[k] > T1) T1 = a->lags.v[k];
     }
     const double T_scale = sum + a->delay, T_settle = 4.0 * sum + a->delay;
-    const double wu = plant_ultimate_w(a, T_scale);
+    const sim_plant_desc_t desc = plant_desc(a);
+    const double wu = sim_plant_ultimate_w(&desc, T_scale);
     const double amp = fabs(a->amplitude);
     pdt_excite_config_default(ec, (pdt_excite_kind_t)a->kind);
     switch (a->kind) {
@@ -201,35 +186,6 @@ static void autotune_config(at_args_t *a, pdt_autotune_config_t *cfg)
     tune_opts_config(&a->t, &cfg->tune);
 }
 
-/* Deterministic Gaussian noise: xorshift64* and Box-Muller. */
-typedef struct noise_gen {
-    uint64_t s;
-    int have_spare;
-    double spare;
-} noise_gen_t;
-
-static double noise_uniform(noise_gen_t *g)
-{
-    g->s ^= g->s >> 12;
-    g->s ^= g->s << 25;
-    g->s ^= g->s >> 27;
-    uint64_t v = g->s * 2685821657736338717ull;
-    return ((double)(v >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
-
-static double noise_gauss(noise_gen_t *g)
-{
-    if (g->have_spare) {
-        g->have_spare = 0;
-        return g->spare;
-    }
-    double r = sqrt(-2.0 * log(noise_uniform(g)));
-    double w = 6.283185307179586 * noise_uniform(g);
-    g->spare = r * sin(w);
-    g->have_spare = 1;
-    return r * cos(w);
-}
-
 /* One run: the autotune's state, the plant and what the loop counted. */
 typedef struct at_run {
     pdt_autotune_config_t cfg;
@@ -240,23 +196,23 @@ typedef struct at_run {
     uint64_t scans;
 } at_run_t;
 
-static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, plant_sim_t *plant,
+static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, sim_plant_t *plant,
                      FILE *tf)
 {
-    noise_gen_t ng = {a->seed * 0x9E3779B97F4A7C15ull + 0x2545F4914F6CDD1Dull, 0, 0.0};
-    if (ng.s == 0) ng.s = 1;
+    /* The sensor noise: the shared generator, its stream picked by --seed. */
+    sim_rng_t ng = sim_rng_seed((uint32_t)(a->seed ^ (a->seed >> 32)) * 2654435761u + 1u);
     /* Scans can only end the experiment (capacity, relay) and the search
      * (its evaluations); this bound only guards the host against a bug. */
     const uint64_t guard = 4ull * a->capacity * a->decimation + 10000000ull;
     for (;;) {
-        double pv = plant_output(plant);
-        if (a->noise > 0.0) pv += a->noise * noise_gauss(&ng);
+        double pv = sim_plant_output(plant);
+        if (a->noise > 0.0) pv += a->noise * sim_rng_normal(&ng);
         pdt_autotune_phase_t ph = pdt_autotune_phase(at);
         if (ph >= PDT_AUTOTUNE_SETTLE && ph <= PDT_AUTOTUNE_TUNE) run->phase_scans[ph - 1]++;
         pdt_real_t u;
         pdt_status_t ss = pdt_autotune_scan(at, (pdt_real_t)pv, &u);
         if (tf) fprintf(tf, "%.9g,%.9g,%.9g\n", (double)run->scans * a->Ts, (double)u, pv);
-        plant_advance(plant, (double)u);
+        sim_plant_apply(plant, (double)u);
         run->scans++;
         if (ss == PDT_RUNNING && run->scans < guard) continue;
         if (ss == PDT_RUNNING) (void)pdt_autotune_abort(at, &u);
@@ -266,10 +222,14 @@ static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, plan
 
 static void simulate(const at_args_t *a, at_run_t *run)
 {
-    plant_sim_t plant;
-    if (plant_init(&plant, a->gain, a->lags.v, (size_t)a->lags.n, a->zeros.v, (size_t)a->zeros.n,
-                   a->delay, a->Ts, a->u0, a->y0) != 0)
-        cli_fail(EXIT_REFUSED, "out of memory");
+    sim_plant_t plant;
+    const sim_plant_desc_t desc = plant_desc(a);
+    const size_t hist_len = SIM_PLANT_HIST_LEN(a->delay, a->Ts);
+    double *hist = malloc(hist_len * sizeof *hist);
+    if (!hist) cli_fail(EXIT_REFUSED, "out of memory (%zu scans of dead time)", hist_len);
+    if (sim_plant_init(&plant, &desc, a->Ts, a->u0, a->y0, hist, hist_len) != 0)
+        cli_fail(EXIT_USAGE, "%s: the plant cannot be simulated (at most %u lags)", "autotune-sim",
+                 SIM_PLANT_MAX_STATES);
     FILE *tf = NULL;
     if (a->trace) {
         tf = fopen(a->trace, "w");
@@ -293,7 +253,7 @@ static void simulate(const at_args_t *a, at_run_t *run)
         cli_fail(EXIT_REFUSED, "cannot write %s", a->trace);
     free(work);
     free(at);
-    plant_free(&plant);
+    free(hist);
 }
 
 static void experiment_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *run)
@@ -363,7 +323,7 @@ static void print_run(const at_args_t *a, const at_run_t *run)
     static char buf[8192];
     pdtcli_jbuf_t jb;
     pdtcli_jb_init(&jb, buf, sizeof buf);
-    pdtcli_jb_printf(&jb, "{\"status\":%d", (int)run->st);
+    pdtcli_jb_printf(&jb, "{\"status\":\"%s\"", pdt_status_name(run->st));
     pdtcli_jb_str(&jb, "reason", pdt_status_str(run->st));
     if (run->st != PDT_OK) {
         const int fi = run->initialised ? (int)run->res.failed_in : 0;

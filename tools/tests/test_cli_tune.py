@@ -276,7 +276,7 @@ def test_help_mentions_the_commands():
 # ---------------------------------------------------------- autotune-sim
 
 # pdt_status_t values (lib/include/pdt/pdt_status.h).
-PV_LIMIT, OUTPUT_LIMIT, POOR_FIT = -10, -11, -14
+PV_LIMIT, OUTPUT_LIMIT, POOR_FIT = "PDT_ERR_PV_LIMIT", "PDT_ERR_OUTPUT_LIMIT", "PDT_ERR_POOR_FIT"
 AT_KEYS = ["status", "reason", "scan_period", "decimation", "capacity", "samples", "scans",
            "experiment", "phases", "ident", "tune"]
 FOPDT_PLANT = ["--plant-gain", "2", "--plant-lags", "5", "--plant-delay", "1.3"]
@@ -294,7 +294,7 @@ def autotune(*args, status=0):
 
 
 def check_run(out, kind):
-    assert out["status"] == 0 and out["reason"] == "ok"
+    assert out["status"] == "PDT_OK" and out["reason"] == "ok"
     keys = AT_KEYS + (["relay"] if kind == "relay" else [])
     assert list(out) == keys
     assert out["experiment"]["kind"] == kind

@@ -71,6 +71,12 @@ typedef enum pdt_status {
  * returns NULL; unknown values give "unknown status". */
 const char *pdt_status_str(pdt_status_t status);
 
+/* The enumerator's own name ("PDT_ERR_POOR_FIT", ...), static: for logs and
+ * machine-read output that must not change with the wording of
+ * pdt_status_str. Never returns NULL; unknown values give
+ * "PDT_STATUS_UNKNOWN". */
+const char *pdt_status_name(pdt_status_t status);
+
 #ifdef __cplusplus
 }
 #endif
