@@ -41,7 +41,7 @@ def test_identify_equals_the_program(records, write_csv, name, model, cost, seed
     want = cli_json("identify", "--model", model, "--cost", cost, "--seed", seed, "--fs", fs,
                     path)
     r = pdtfit.identify(u, y, fs, model=model, cost=cost, seed=seed)
-    assert r.as_dict() == want
+    assert r.as_dict() == want and list(r.as_dict()) == list(want)
     for key, value in want.items():
         assert getattr(r, key) == value
 
