@@ -183,13 +183,19 @@ def _opt(v):
     return math.nan if v is None else float(v)
 
 
+_GA_ONLY = ("cost", "seed", "evaluations", "population", "weight", "band", "phi_t", "phi_f",
+            "integer_delay")
+
+
 def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None,
-             evaluations=None, population=None, td_max=None, weight=None, band=None,
-             phi_t=None, phi_f=None, integer_delay=False):
-    """Identifies a FOPDT or SOPDT model from a record (pdt_identify, the
-    options of `pdtfit identify --method ga`). Give the sampling rate as fs
-    (Hz) or Ts (s). Returns an IdentResult; raises PdtError when the
-    library refuses the data or the options."""
+             method="ga", evaluations=None, population=None, td_max=None, weight=None,
+             band=None, phi_t=None, phi_f=None, integer_delay=False):
+    """Identifies a FOPDT or SOPDT model from a record with the options of
+    `pdtfit identify`: the genetic-algorithm search (method "ga",
+    pdt_identify) or the least-squares delay scans "elms" and "eiv"
+    (pdt_ls_identify, which take model and td_max only). Give the sampling
+    rate as fs (Hz) or Ts (s). Returns an IdentResult; raises PdtError when
+    the library refuses the data or the options."""
     if (fs is None) == (Ts is None):
         raise ValueError("give the sampling rate as fs (Hz) or Ts (s), one of them")
     Ts = float(Ts) if Ts is not None else 1.0 / float(fs)
@@ -198,6 +204,14 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     if len(u) != len(y):
         raise ValueError(f"u has {len(u)} samples, y {len(y)}")
     o = _lib.IdentOpts()
+    o.method = _choice(_lib.METHODS, method, "method")
+    if o.method != _lib.METHODS["ga"]:
+        given = dict(cost=cost != "simulation", seed=seed != 1, evaluations=evaluations,
+                     population=population, weight=weight, band=band, phi_t=phi_t,
+                     phi_f=phi_f, integer_delay=integer_delay)
+        extra = [k for k in _GA_ONLY if given[k] not in (None, False)]
+        if extra:
+            raise ValueError(f"{', '.join(extra)}: options of method='ga' only")
     o.model = _choice(_lib.MODELS, model, "model")
     o.cost = _choice(_lib.COSTS, cost, "cost")
     o.weight = -1 if weight is None else _choice(_lib.WEIGHTS, weight, "weight")

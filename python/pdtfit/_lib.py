@@ -24,7 +24,8 @@ def _load():
 
 
 class IdentOpts(ctypes.Structure):
-    _fields_ = [("model", ctypes.c_int), ("cost", ctypes.c_int), ("weight", ctypes.c_int),
+    _fields_ = [("method", ctypes.c_int), ("model", ctypes.c_int), ("cost", ctypes.c_int),
+                ("weight", ctypes.c_int),
                 ("integer_delay", ctypes.c_int), ("seed", ctypes.c_uint64),
                 ("evaluations", ctypes.c_uint32), ("population", ctypes.c_uint32),
                 ("td_max", ctypes.c_double), ("f_lo", ctypes.c_double),
@@ -52,6 +53,7 @@ class Series(ctypes.Structure):
 
 NOMEM = -1000  # PDTPY_ERR_NOMEM
 SOPDT_NATURAL, SOPDT_TC, SOPDT_INTEG = 0, 1, 2  # PDTPY_SOPDT_*
+METHODS = {"ga": 0, "elms": 1, "eiv": 2}  # PDTPY_METHOD_*
 
 D = ctypes.POINTER(ctypes.c_double)
 lib = _load()

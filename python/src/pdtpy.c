@@ -27,6 +27,7 @@
 #include "csv.h"
 #include "pdt/pdt.h"
 #include "pdt/pdt_ident.h"
+#include "pdt/pdt_ls.h"
 #include "pdt/pdt_reduce.h"
 
 /* ------------------------------------------------------------ JSON text */
@@ -235,6 +236,82 @@ static pdt_real_t *to_real(const double *x, size_t n)
     return r;
 }
 
+/* The model run from rest on u - u0, plus y0, as pdt_ident computes its fit. */
+static pdt_status_t simulate_real(const pdt_model_t *m, double Ts, const pdt_real_t *u,
+                                  const pdt_real_t *y, size_t n, pdt_real_t u0, pdt_real_t y0,
+                                  pdt_real_t *ysim)
+{
+    pdt_cost_config_t cc;
+    pdt_cost_config_default(&cc);
+    cc.Ts = (pdt_real_t)Ts;
+    cc.u0 = (pdt_real_t)u0;
+    cc.y0 = (pdt_real_t)y0;
+    cc.delay_max = 0;
+    cc.whole_record = true;
+    cc.use_frequency = false;
+    cc.kind = PDT_COST_SIMULATION;
+    pdt_cost_t cost;
+    pdt_discrete_t d;
+    pdt_status_t st = pdt_cost_init(&cost, &cc, u, y, n, NULL, 0);
+    if (st == PDT_OK) st = pdt_discrete_init(m, (pdt_real_t)Ts, &d);
+    if (st == PDT_OK) st = pdt_cost_simulate(&cost, &d, ysim);
+    return st;
+}
+
+/* The fit pdt_ident reports, 100 (1 - |y - ysim| / |y - mean(y)|), for a
+ * model that did not come from it; NaN when it cannot be simulated. */
+static double model_fit(const pdt_model_t *m, double Ts, const pdt_real_t *u,
+                        const pdt_real_t *y, size_t n, pdt_real_t u0, pdt_real_t y0)
+{
+    pdt_real_t *ysim = malloc(n * sizeof *ysim);
+    double fit = (double)NAN;
+    if (ysim && simulate_real(m, Ts, u, y, n, u0, y0, ysim) == PDT_OK) {
+        double mean = 0.0, e2 = 0.0, v2 = 0.0;
+        for (size_t k = 0; k < n; k++) mean += (double)y[k];
+        mean /= (double)n;
+        for (size_t k = 0; k < n; k++) {
+            double e = (double)y[k] - (double)ysim[k], v = (double)y[k] - mean;
+            e2 += e * e;
+            v2 += v * v;
+        }
+        if (v2 > 0.0) fit = 100.0 * (1.0 - sqrt(e2 / v2));
+    }
+    free(ysim);
+    return fit;
+}
+
+/* method ELMS or E-IV-LMS: the least-squares delay scan, reported as
+ * `pdtfit identify --method elms|eiv` reports it. */
+static int identify_ls(const pdt_real_t *u, const pdt_real_t *y, size_t n, double Ts,
+                       const pdtpy_ident_opts_t *o, pdt_ident_result_t *res)
+{
+    pdt_ls_config_t cfg;
+    pdt_ls_config_default(&cfg);
+    cfg.model = (pdt_model_kind_t)o->model;
+    cfg.method = o->method == PDTPY_METHOD_EIV ? PDT_LS_EIV : PDT_LS_ELMS;
+    cfg.Ts = (pdt_real_t)Ts;
+    if (!isnan(o->td_max)) {
+        /* A bound at or past the record's end is the library's to refuse. */
+        double l = floor(o->td_max / Ts + 1e-9);
+        cfg.delay_max = l < (double)n ? (size_t)l : n;
+    }
+    size_t delay_max = isnan(o->td_max) ? n / 4u : cfg.delay_max;
+    pdt_ls_t *ctx = malloc(sizeof *ctx);
+    if (!ctx) return PDTPY_ERR_NOMEM;
+    pdt_ls_result_t r;
+    pdt_status_t st = pdt_ls_identify(ctx, &cfg, u, y, n, &r);
+    free(ctx);
+    if (st != PDT_OK) return st;
+    memset(res, 0, sizeof *res);
+    res->model = r.model;
+    res->u0 = r.u0;
+    res->y0 = r.y0;
+    res->cost = r.cost;
+    res->fit = (pdt_real_t)model_fit(&r.model, Ts, u, y, n, r.u0, r.y0);
+    res->evaluations = (uint32_t)(delay_max - cfg.delay_min + 1u);
+    return PDT_OK;
+}
+
 int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
                    const pdtpy_ident_opts_t *o, double *model, char *json, size_t json_len)
 {
@@ -255,6 +332,17 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
     if (!isnan(o->phi_f)) cfg.phi_f = (pdt_real_t)o->phi_f;
 
     pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n);
+    pdt_ident_result_t res;
+    if (o->method != PDTPY_METHOD_GA) {
+        int rc = ur && yr ? identify_ls(ur, yr, n, Ts, o, &res) : PDTPY_ERR_NOMEM;
+        if (rc == PDT_OK) {
+            model_out(&res.model, model);
+            if (pdtpy_ident_json(&res, Ts, n, json, json_len) < 0) rc = PDTPY_ERR_NOMEM;
+        }
+        free(yr);
+        free(ur);
+        return rc;
+    }
     pdt_ident_t *ctx = malloc(sizeof *ctx);
     /* A size of 0 means the configuration is refused; pdt_identify then
      * says why, so it is still called. */
@@ -263,7 +351,6 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
     int st = PDTPY_ERR_NOMEM;
     if (ur && yr && ctx && (work || !work_len)) {
         const pdt_ident_data_t data = {ur, yr, n};
-        pdt_ident_result_t res;
         st = pdt_identify(ctx, &cfg, &data, work, work_len, &res);
         if (st == PDT_OK) {
             model_out(&res.model, model);
@@ -283,23 +370,10 @@ int pdtpy_simulate(const double *model, double Ts, const double *u, const double
     pdt_model_t m;
     pdt_status_t st = model_in(model, &m);
     if (st != PDT_OK) return st;
-    pdt_cost_config_t cc;
-    pdt_cost_config_default(&cc);
-    cc.Ts = (pdt_real_t)Ts;
-    cc.u0 = (pdt_real_t)u0;
-    cc.y0 = (pdt_real_t)y0;
-    cc.delay_max = 0;
-    cc.whole_record = true;
-    cc.use_frequency = false;
-    cc.kind = PDT_COST_SIMULATION;
     pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n), *ys = to_real(y, n);
     st = PDTPY_ERR_NOMEM;
     if (ur && yr && ys) {
-        pdt_cost_t cost;
-        pdt_discrete_t d;
-        st = pdt_cost_init(&cost, &cc, ur, yr, n, NULL, 0);
-        if (st == PDT_OK) st = pdt_discrete_init(&m, (pdt_real_t)Ts, &d);
-        if (st == PDT_OK) st = pdt_cost_simulate(&cost, &d, ys);
+        st = simulate_real(&m, Ts, ur, yr, n, (pdt_real_t)u0, (pdt_real_t)y0, ys);
         if (st == PDT_OK)
             for (size_t k = 0; k < n; k++) ysim[k] = (double)ys[k];
     }

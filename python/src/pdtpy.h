@@ -24,8 +24,14 @@
 #define PDTPY_SOPDT_TC 1      /* tau1, tau2 */
 #define PDTPY_SOPDT_INTEG 2   /* Ki in K, T in x1 */
 
+/* pdtpy_ident_opts_t.method: `pdtfit identify --method`. */
+#define PDTPY_METHOD_GA 0
+#define PDTPY_METHOD_ELMS 1
+#define PDTPY_METHOD_EIV 2
+
 /* identify's options; NaN or a negative weight means the library default. */
 typedef struct pdtpy_ident_opts {
+    int method;   /* PDTPY_METHOD_*; ELMS and EIV read model and td_max only */
     int model;    /* pdt_model_kind_t */
     int cost;     /* pdt_cost_kind_t */
     int weight;   /* pdt_weight_kind_t, -1 default */

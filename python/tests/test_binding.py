@@ -58,6 +58,20 @@ def test_options_reach_the_library_as_on_the_command_line(records, write_csv):
 
 
 @cli_test
+@pytest.mark.parametrize("method,model,td_max", [("elms", "fopdt", None), ("eiv", "fopdt", 4.0),
+                                                 ("elms", "sopdt", None), ("eiv", "sopdt", None)])
+def test_least_squares_equals_the_program(records, write_csv, method, model, td_max):
+    u, y, fs = records[model]
+    path = write_csv("uy.csv", {"u": u, "y": y})
+    extra = ["--td-max", td_max] if td_max is not None else []
+    want = cli_json("identify", "--model", model, "--method", method, "--fs", fs, *extra, path)
+    r = pdtfit.identify(u, y, fs, model=model, method=method, td_max=td_max)
+    assert r.as_dict() == want and list(r.as_dict()) == list(want)
+    with pytest.raises(ValueError, match="seed"):
+        pdtfit.identify(u, y, fs, method=method, seed=2)
+
+
+@cli_test
 def test_read_csv_with_time_column_equals_the_program(records, write_csv):
     u, y, fs = records["fopdt"]
     path = write_csv("tuy.csv", {"t": np.arange(len(u)) / fs, "u": u, "y": y})
