@@ -162,10 +162,13 @@ class TuneResult(_Json):
 
 
 class Record:
-    """One record read by read_csv: u, y (numpy arrays), Ts (s), fs (Hz), n."""
+    """One record read by read_csv: u, y (numpy arrays), Ts (s), fs (Hz), n,
+    and what the reader did: jitter_warn (time stamps off the grid within
+    its tolerance), filled (samples filled by resampling)."""
 
-    def __init__(self, u, y, Ts):
+    def __init__(self, u, y, Ts, jitter_warn=0, filled=0):
         self.u, self.y, self.Ts = u, y, Ts
+        self.jitter_warn, self.filled = jitter_warn, filled
 
     @property
     def fs(self):
@@ -329,6 +332,6 @@ def read_csv(path, t=None, u=None, y=None, *, fs=None, sep=None, decimal=None, s
     try:
         u_a = np.ctypeslib.as_array(s.u, shape=(s.n,)).copy()
         y_a = np.ctypeslib.as_array(s.y, shape=(s.n,)).copy()
-        return Record(u_a, y_a, s.Ts)
+        return Record(u_a, y_a, s.Ts, s.jitter_warn, s.filled)
     finally:
         lib.pdtpy_series_free(ctypes.byref(s))

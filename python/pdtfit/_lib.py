@@ -48,7 +48,8 @@ class CsvOpts(ctypes.Structure):
 
 class Series(ctypes.Structure):
     _fields_ = [("u", ctypes.POINTER(ctypes.c_double)), ("y", ctypes.POINTER(ctypes.c_double)),
-                ("n", ctypes.c_size_t), ("Ts", ctypes.c_double)]
+                ("n", ctypes.c_size_t), ("Ts", ctypes.c_double),
+                ("jitter_warn", ctypes.c_uint), ("filled", ctypes.c_uint)]
 
 
 NOMEM = -1000  # PDTPY_ERR_NOMEM

@@ -57,10 +57,14 @@ typedef struct pdtpy_csv_opts {
     double fs; /* 0: from the time column */
 } pdtpy_csv_opts_t;
 
+/* The record read (pdtcli_series_t): u, y malloc'ed, free with
+ * pdtpy_series_free. */
 typedef struct pdtpy_series {
     double *u, *y;
     size_t n;
-    double Ts;
+    double Ts;             /* s */
+    unsigned jitter_warn;  /* time stamps off the grid within the tolerance */
+    unsigned filled;       /* samples filled by resampling */
 } pdtpy_series_t;
 
 /* The library's own name of a status (pdt_status_str). */
