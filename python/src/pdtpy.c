@@ -259,7 +259,10 @@ static pdt_status_t simulate_real(const pdt_model_t *m, double Ts, const pdt_rea
 }
 
 /* The fit pdt_ident reports, 100 (1 - |y - ysim| / |y - mean(y)|), for a
- * model that did not come from it; NaN when it cannot be simulated. */
+ * model that did not come from it; NaN when it cannot be simulated.
+ * GLUE: the command line computes the same in its model_fit
+ * (tools/cli/pdtfit.c, static); once its shared layer exports that, this
+ * function goes and identify_ls calls it. */
 static double model_fit(const pdt_model_t *m, double Ts, const pdt_real_t *u,
                         const pdt_real_t *y, size_t n, pdt_real_t u0, pdt_real_t y0)
 {
