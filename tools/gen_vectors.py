@@ -15,9 +15,8 @@ import sys
 
 TOOLS = pathlib.Path(__file__).resolve().parent
 ROOT = TOOLS.parent
-sys.path.insert(0, str(TOOLS))
 
-import vectorgen  # noqa: E402
+import vectorgen
 
 
 def all_files(only=None):

@@ -3,7 +3,8 @@
 #   1. installs missing dependencies (apt, pip) where it can, else names them;
 #   2. the documents' paths and symbols, the layout of the formatted C files
 #      (clang-format) and the length of the tools' functions; the numpy
-#      reference's own tests and the vectors' reproducibility;
+#      reference's own tests and the vectors' reproducibility, the Python
+#      package pdtfit (pip install .) against the pdtfit program;
 #   3. the CMocka unit tests in the float build, the double build, and the
 #      float build under AddressSanitizer + UndefinedBehaviorSanitizer;
 #   4. the Cortex-M4F build of lib/ (float and double) under -Werror, a check
@@ -18,6 +19,8 @@
 # except by the package installers.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Tests that need the pdtfit program fail here instead of skipping.
+export PDTFIT_REQUIRE_BIN=1
 root=$(pwd)
 out=$root/build
 jobs=$(nproc 2>/dev/null || echo 2)
@@ -60,8 +63,18 @@ if ! python3 tools/check_requirements.py tools/requirements.txt; then
 fi
 echo "all dependencies present"
 
+# The Python packages go into a virtual environment that sees the pinned
+# packages above: pdtfit (pip install . builds the library as a shared
+# object) and the tools' packages, editable (pdtref, vectorgen, pdtsupport,
+# pdtrepro, pdtbench), so that no script edits sys.path.
+step "Python packages: pdtfit and the tools"
+venv=$out/venv
+[ -x "$venv/bin/python" ] || python3 -m venv --system-site-packages --without-pip "$venv"
+py=$venv/bin/python
+"$py" -m pip install -q -e tools .
+
 step "documents: every path and symbol they name exists"
-python3 tools/check_docs.py
+"$py" tools/check_docs.py
 
 step "C layout (.clang-format) and function length in tools/"
 # The files already formatted; the rest of the C follows in one change.
@@ -79,7 +92,10 @@ build_and_test() { # name, extra cmake args...
     ctest --test-dir "$out/test-$name" --output-on-failure -j "$jobs"
 }
 
-build_and_test float -DPDT_PYTHON_TESTS=ON
+build_and_test float -DPDT_PYTHON_TESTS=ON -DPython3_EXECUTABLE="$py"
+
+step "Python package pdtfit against the float build's program"
+PDTFIT_BIN="$out/test-float/tools/pdtfit" "$py" -m pytest -q python/tests
 build_and_test double -DPDT_REAL_DOUBLE=ON
 build_and_test sanitize -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug
 

@@ -20,7 +20,6 @@ import math
 import os
 import pathlib
 import subprocess
-import sys
 import tempfile
 
 import numpy as np
@@ -28,39 +27,16 @@ import scipy.linalg as sla
 import scipy.optimize as so
 import scipy.signal as ss
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
+from pdtref import discrete, models
+from pdtsupport.rng import SplitMix64 as Rng  # noqa: F401 (pdtbench.benchlib.Rng)
 
-from pdtref import discrete, models  # noqa: E402
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 U0, Y0 = 40.0, 350.0   # operating point: 40 % valve, 350 degC
 AMP = 10.0             # input excursion, % (the relay's upper level)
 
 
-# ------------------------------------------------------------ random numbers
-
-class Rng:
-    """splitmix64: the same stream on every platform and numpy version."""
-
-    def __init__(self, seed):
-        self.s = (int(seed) * 0x9E3779B97F4A7C15 + 0x2545F4914F6CDD1D) % 2 ** 64
-
-    def next64(self):
-        self.s = (self.s + 0x9E3779B97F4A7C15) % 2 ** 64
-        z = self.s
-        z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) % 2 ** 64
-        z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) % 2 ** 64
-        return z ^ (z >> 31)
-
-    def uniform(self, n=None):
-        if n is None:
-            return (self.next64() >> 11) / 2.0 ** 53
-        return np.array([(self.next64() >> 11) / 2.0 ** 53 for _ in range(n)])
-
-    def normal(self, n):
-        u1 = 1.0 - self.uniform(n)      # (0, 1]
-        u2 = self.uniform(n)
-        return np.sqrt(-2.0 * np.log(u1)) * np.cos(2.0 * math.pi * u2)
+# Random numbers: Rng is pdtsupport.rng.SplitMix64 (imported above).
 
 
 # ------------------------------------------------------------ plants

@@ -40,9 +40,8 @@ import time
 import numpy as np
 import scipy
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-import benchlib as bl  # noqa: E402
-from benchlib import ROOT  # noqa: E402
+from pdtbench import benchlib as bl
+from pdtbench.benchlib import ROOT
 
 BUILD = ROOT / "build" / "bench"
 PDTFIT = BUILD / "tools" / "pdtfit"

@@ -13,9 +13,12 @@ import math
 
 import numpy as np
 
-# pdt_status_t values
-RUNNING, OK = 1, 0
-ERR_NONFINITE, ERR_PV_LIMIT, ERR_OUTPUT_LIMIT, ERR_TIMEOUT, ERR_SETPOINT = -4, -10, -11, -12, -13
+from pdtsupport.status import STATUS
+
+# pdt_status_t values, read from the C header
+RUNNING, OK = STATUS["RUNNING"], STATUS["OK"]
+ERR_NONFINITE, ERR_PV_LIMIT, ERR_OUTPUT_LIMIT, ERR_TIMEOUT, ERR_SETPOINT = (
+    STATUS[name] for name in ("NONFINITE", "PV_LIMIT", "OUTPUT_LIMIT", "TIMEOUT", "SETPOINT"))
 
 STEP, PULSE, CHIRP, PRBS, RELAY = 1, 2, 3, 4, 5
 REVERSE, DIRECT = 0, 1

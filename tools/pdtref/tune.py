@@ -11,8 +11,8 @@ stability from np.unwrap of arg(1 + L) (Nyquist criterion).
 Gain sets are dicts {"Kc", "tauI", "tauD", "Tf"} in the ideal (parallel) form
 Kc (1 + 1/(tauI s) + tauD s/(Tf s + 1)) unless said otherwise.
 
-Statuses mirror the C codes: OK 0, ARG -1, NO_FORM -7, POOR_FIT -14,
-UNSTABLE -15.
+Statuses are the C codes, read from pdt_status.h: OK, ARG, NO_FORM,
+POOR_FIT, UNSTABLE.
 """
 from __future__ import annotations
 
@@ -20,9 +20,12 @@ import math
 
 import numpy as np
 
+from pdtsupport.status import STATUS
+
 from .models import Fopdt, Sopdt
 
-OK, ARG, NO_FORM, POOR_FIT, UNSTABLE = 0, -1, -7, -14, -15
+OK, ARG, NO_FORM, POOR_FIT, UNSTABLE = (STATUS[name] for name in (
+    "OK", "ARG", "NO_FORM", "POOR_FIT", "UNSTABLE"))
 SIMC, IMC, AMIGO, ZN = 0, 1, 2, 3
 PI, PID = 0, 1
 

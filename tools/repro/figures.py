@@ -7,7 +7,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-import system17 as s17  # noqa: E402
+from pdtrepro import system17 as s17  # noqa: E402
 
 # Fixed metadata so that the PNG files are byte-for-byte repeatable.
 META = {"Software": None}

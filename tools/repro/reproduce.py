@@ -13,18 +13,16 @@ the document. Deterministic: the same checkout gives the same files.
 import json
 import pathlib
 import subprocess
-import sys
 import tempfile
 
 import numpy as np
 
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
-sys.path.insert(0, str(HERE))
 
-import bootstrap  # noqa: E402
-import system17 as s17  # noqa: E402
-from system17 import Model  # noqa: E402
+from pdtrepro import bootstrap
+from pdtrepro import system17 as s17
+from pdtrepro.system17 import Model
 
 BUILD = ROOT / "build" / "release"
 BIN = BUILD / "tools" / "pdtfit"
@@ -241,10 +239,10 @@ def main():
     build()
     with tempfile.TemporaryDirectory(prefix="pdtfit-repro-") as d:
         recs, t1, t2, t3, boot = run_all(pathlib.Path(d))
-    import figures
+    from pdtrepro import figures
     IMG.mkdir(parents=True, exist_ok=True)
     figs = figures.make_all(IMG, recs, t1, t2, t3, boot)[1:]
-    import document
+    from pdtrepro import document
     DOC.write_text(document.render(t1, t2, t3, boot, figs, table, merit_table))
     print(f"wrote {DOC.relative_to(ROOT)} and {len(figs)} figures in "
           f"{IMG.relative_to(ROOT)}/")

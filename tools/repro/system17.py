@@ -14,6 +14,8 @@ matrix exponential), which agrees with it far below the noise.
 import numpy as np
 import scipy.signal as ss
 
+from pdtsupport.rng import Lcg64
+
 FS = 20.0
 TS = 1.0 / FS
 NOISE_STD = 0.02
@@ -60,22 +62,6 @@ def step17(t):
     return y
 
 
-class Lcg:
-    """The demo's noise: 64-bit LCG (Knuth's MMIX constants), Box-Muller."""
-
-    def __init__(self, state=0x2545F4914F6CDD1D):
-        self.state = state
-
-    def uniform01(self):
-        self.state = (self.state * 6364136223846793005 + 1442695040888963407) % 2 ** 64
-        return ((self.state >> 11) + 0.5) / 9007199254740992.0
-
-    def gauss(self):
-        a = self.uniform01()
-        b = self.uniform01()
-        return np.sqrt(-2.0 * np.log(a)) * np.cos(6.283185307179586 * b)
-
-
 def excitation(name, t):
     t = np.asarray(t, dtype=float)
     if name == "chirp":  # linear sweep 0 -> 0.5 Hz over the record
@@ -103,7 +89,7 @@ def simulate17(ud):
 def records():
     """The demo's four records, in its order: {key: (t, u, y)} with keys
     'chirp' (Table 1), 'chirp-2' (Table 2), 'pulse-1', 'pulse-2'."""
-    rng = Lcg()
+    rng = Lcg64()  # the demo's noise: its seed, MMIX constants, Box-Muller
     out = {}
     for key, exc in (("chirp", "chirp"), ("chirp-2", "chirp"), ("pulse-1", "pulse-1"),
                      ("pulse-2", "pulse-2")):

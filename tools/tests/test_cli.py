@@ -1,7 +1,8 @@
 """End-to-end checks of the `pdtfit` command line (tools/cli/).
 
 The binary comes from $PDTFIT_BIN, else from the newest build/*/tools/pdtfit
-of the checkout; without either the tests are skipped. Test records are
+of the checkout (pdtsupport.cli); without either the tests are skipped, or
+fail when CI=true or PDTFIT_REQUIRE_BIN=1 (conftest.py). Test records are
 simulated with scipy.signal: the process driven by a zero-order-hold input,
 its dead time applied by shifting the input on a fine time grid on which the
 delayed switching instants fall, so the samples are exact up to lsim's
@@ -10,120 +11,21 @@ tenths of a second each); `-m "not slow"` leaves the error and format
 checks.
 """
 import json
-import os
-import pathlib
 import re
-import subprocess
 
 import numpy as np
 import pytest
-import scipy.signal as ss
 from scipy.optimize import brentq
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
+from pdtsupport.cli import FOPDT_KEYS, ROOT, SOPDT_KEYS, assert_usage_error, parse_output, \
+    run, write_csv
+from pdtsupport.records import N, TS, U0, Y0, check_fopdt, multistep_input, noise, simulate
 
-
-def _find_binary():
-    env = os.environ.get("PDTFIT_BIN")
-    if env:
-        return pathlib.Path(env)
-    # The most recently built one, so a stale tree does not shadow a fresh one.
-    found = [p for p in (ROOT / "build").glob("*/tools/pdtfit")
-             if p.is_file() and os.access(p, os.X_OK)]
-    return max(found, key=lambda p: p.stat().st_mtime) if found else None
-
-
-BIN = _find_binary()
-pytestmark = pytest.mark.skipif(
-    BIN is None or not BIN.is_file(),
-    reason="pdtfit binary not found: set PDTFIT_BIN or build into build/<dir>/ "
-    "(cmake -S . -B build/x && cmake --build build/x)",
-)
+pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 
 slow = pytest.mark.slow  # registered in conftest.py
 
-FOPDT_KEYS = ["model", "K", "tau", "Td", "y0", "u0", "cost", "fit", "evaluations", "Ts", "n"]
-SOPDT_KEYS = ["model", "K", "wn", "zeta", "Td", "y0", "u0", "tau1", "tau2", "a", "b",
-              "cost", "fit", "evaluations", "Ts", "n"]
-# The keys of a model inside autotune-sim's JSON: no Ts, n.
-MODEL_KEYS = {"fopdt": FOPDT_KEYS[:-2], "sopdt": SOPDT_KEYS[:-2]}
-
-
-def run(args, stdin=None):
-    return subprocess.run([str(BIN)] + [str(a) for a in args], input=stdin,
-                          capture_output=True, text=True, timeout=60)
-
-
-def assert_usage_error(res, *fragments, status=2):
-    """Exit status, nothing on stdout, exactly one 'pdtfit: ' line on stderr."""
-    assert res.returncode == status, (res.returncode, res.stderr)
-    assert res.stdout == ""
-    lines = res.stderr.splitlines()
-    assert len(lines) == 1 and res.stderr.endswith("\n"), res.stderr
-    assert lines[0].startswith("pdtfit: "), lines[0]
-    for frag in fragments:
-        assert frag in lines[0], (frag, lines[0])
-
-
-def parse_output(res):
-    assert res.returncode == 0, res.stderr
-    assert res.stderr == ""
-    assert res.stdout.endswith("\n") and res.stdout.count("\n") == 1
-    # Strict JSON: no NaN/Infinity literals.
-    return json.loads(res.stdout, parse_constant=lambda c: pytest.fail("non-JSON " + c))
-
-
 # ----------------------------------------------------------------- data
-
-def multistep_input(n, u0, amp, hold_min, hold_max, rest, seed):
-    """Steps between random levels around u0 after `rest` samples at u0;
-    a small LCG keeps the record the same on every numpy version."""
-    state = seed
-    def rnd():
-        nonlocal state
-        state = (state * 6364136223846793005 + 1442695040888963407) % 2 ** 64
-        return (state >> 11) / 2.0 ** 53
-    u = np.full(n, float(u0))
-    k, sign = rest, 1.0
-    while k < n:
-        hold = hold_min + int(rnd() * (hold_max - hold_min + 1))
-        u[k:k + hold] = u0 + sign * amp * (0.4 + 0.6 * rnd())
-        sign = -sign
-        k += hold
-    return u
-
-
-def simulate(num, den, Td, u, Ts, sub=20):
-    """Samples y(k Ts) of num/den e^{-Td s} for the ZOH input u (deviations),
-    from rest. Td must be a multiple of Ts / sub."""
-    h = Ts / sub
-    shift = round(Td / h)
-    assert abs(shift * h - Td) < 1e-9
-    uf = np.repeat(u, sub)
-    uf = np.concatenate([np.zeros(shift), uf])[: len(uf)]
-    t = np.arange(len(uf)) * h
-    _, yf, _ = ss.lsim((num, den), uf, t, interp=False)
-    return yf[::sub]
-
-
-def noise(n, std, seed):
-    return std * np.random.default_rng(seed).standard_normal(n)
-
-
-def write_csv(path, cols, fmt="%.10g", header=None, newline="\n"):
-    names = list(cols)
-    rows = [newline.join([",".join(header or names)])]
-    data = np.column_stack([cols[c] for c in names])
-    for r in data:
-        rows.append(",".join(fmt % v for v in r))
-    path.write_text(newline.join(rows) + newline)
-    return path
-
-
-TS = 0.1
-N = 600
-U0, Y0 = 50.0, 20.0
-
 
 @pytest.fixture(scope="module")
 def fopdt_record():
@@ -332,19 +234,6 @@ def test_library_refusal_too_short(tmp_path):
 
 
 # ----------------------------------------------------------------- identification
-
-def check_fopdt(out, K, tau, Td, rtol=0.02, td_tol=0.05):
-    assert list(out) == FOPDT_KEYS
-    assert out["model"] == "fopdt"
-    assert out["K"] == pytest.approx(K, rel=rtol)
-    assert out["tau"] == pytest.approx(tau, rel=rtol)
-    assert out["Td"] == pytest.approx(Td, abs=td_tol)
-    assert out["u0"] == pytest.approx(U0)
-    assert out["y0"] == pytest.approx(Y0, abs=0.05)
-    assert out["fit"] > 95.0
-    assert out["cost"] >= 0.0 and isinstance(out["evaluations"], int)
-    assert out["evaluations"] > 0
-
 
 @slow
 def test_fopdt_recovered(fopdt_csv):

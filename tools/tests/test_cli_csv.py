@@ -11,11 +11,10 @@ import json
 import numpy as np
 import pytest
 
-from test_cli import (BIN, FOPDT_KEYS, N, TS, U0, Y0, assert_usage_error, check_fopdt,
-                      multistep_input, noise, parse_output, run, simulate)
+from pdtsupport.cli import FOPDT_KEYS, assert_usage_error, run
+from pdtsupport.records import N, TS, U0, Y0, check_fopdt, multistep_input, noise, simulate
 
-pytestmark = pytest.mark.skipif(BIN is None or not BIN.is_file(),
-                                reason="pdtfit binary not found (see test_cli.py)")
+pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 
 MODEL = ["identify", "--model", "fopdt"]
 

@@ -4,18 +4,15 @@ cmd_tune.c, fit_out.c, tools/plot_fit.py)."""
 import csv
 import json
 import os
-import stat
 import subprocess
 
 import numpy as np
 import pytest
 
-from test_cli import (BIN, N, TS, U0, Y0, assert_usage_error, multistep_input, noise,
-                      parse_output, run, simulate, write_csv)
-from test_cli_tune import TUNE_KEYS
+from pdtsupport.cli import BIN, TUNE_KEYS, assert_usage_error, parse_output, run, write_csv
+from pdtsupport.records import N, TS, U0, Y0, multistep_input, noise, simulate
 
-pytestmark = pytest.mark.skipif(BIN is None or not BIN.is_file(),
-                                reason="pdtfit binary not found (see test_cli.py)")
+pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 
 
 @pytest.fixture(scope="module")

@@ -1,19 +1,14 @@
 """Checks of the cost reference (pdtref.cost) and of its vector generator
 against independent computations: scipy.signal.lfilter, a direct DFT,
 exact continuous-time simulation, and the other pdtref modules."""
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 from scipy import signal
 
-TOOLS = pathlib.Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(TOOLS))
-
-from pdtref import cost as ref  # noqa: E402
-from pdtref import discrete, models  # noqa: E402
-from vectorgen import cost as gen  # noqa: E402
+from pdtref import cost as ref
+from pdtref import discrete, models
+from vectorgen import cost as gen
 
 RECORDS = gen.records()
 

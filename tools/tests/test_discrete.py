@@ -1,16 +1,12 @@
 """Checks of pdtref.discrete against scipy.signal and closed forms."""
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 import scipy.signal as ss
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
-
-from pdtref import discrete as D  # noqa: E402
-from pdtref import models as M  # noqa: E402
+from pdtref import discrete as D
+from pdtref import models as M
 
 MODELS = [
     M.Fopdt(1.5, 2.0, 0.33),

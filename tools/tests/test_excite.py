@@ -1,16 +1,12 @@
 """Checks of pdtref.excite against its definitions, scipy and closed forms."""
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 import scipy.signal as ss
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
-
-from pdtref import excite as E  # noqa: E402
-from vectorgen import excite as V  # noqa: E402
+from pdtref import excite as E
+from vectorgen import excite as V
 
 
 def gf2_mulmod(a, b, p, n):

@@ -7,7 +7,6 @@ the densities with scipy, and by their statistical properties; sharing and
 tournament by their defining properties.
 """
 import pathlib
-import sys
 
 import numpy as np
 import pytest
@@ -15,11 +14,9 @@ from scipy import integrate
 
 TOOLS = pathlib.Path(__file__).resolve().parents[1]
 ROOT = TOOLS.parent
-if str(TOOLS) not in sys.path:
-    sys.path.insert(0, str(TOOLS))
 
-from pdtref import ga  # noqa: E402
-from vectorgen import ga as ga_vectors  # noqa: E402
+from pdtref import ga
+from vectorgen import ga as ga_vectors
 
 
 # --- PCG32 ---------------------------------------------------------------

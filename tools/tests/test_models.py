@@ -1,15 +1,11 @@
 """Checks of pdtref.models against closed forms and scipy.signal."""
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 import scipy.signal as ss
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
-
-from pdtref import models as M  # noqa: E402
+from pdtref import models as M
 
 SOPDTS = [
     M.sopdt_from_tc(1.0, 2.0, 1.2, 0.77),

@@ -3,17 +3,12 @@ left-half-plane zero rule on a hand-worked case, exact recovery of models
 already in the target form, and Sung's method against an implementation
 through scipy (analytic phase + brentq, scipy.signal.freqs, scipy lstsq)."""
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 from scipy import linalg, optimize, signal
 
-TOOLS = pathlib.Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(TOOLS))
-
-from pdtref import reduce as R  # noqa: E402
+from pdtref import reduce as R
 
 P17 = R.paper_plant()
 

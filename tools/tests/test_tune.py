@@ -3,16 +3,13 @@ closed forms of the figures, scipy's optimiser and closed-loop poles as
 independent routes, and the limits that tie the rules together."""
 import math
 import pathlib
-import sys
 
 import numpy as np
 import pytest
 from scipy import optimize
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
-
-from pdtref import models as M  # noqa: E402
-from pdtref import tune as T  # noqa: E402
+from pdtref import models as M
+from pdtref import tune as T
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 

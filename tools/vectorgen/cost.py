@@ -24,9 +24,9 @@ import numpy as np
 
 
 from pdtref import cost as ref
+from pdtsupport.rng import Lcg32 as Lcg
 
 from . import _emit
-from ._lcg import Lcg
 
 FILE = "cost_vectors.h"
 QUANTUM = 1.0 / 4096.0

@@ -27,6 +27,7 @@ import numpy as np
 
 from pdtref import discrete as D
 from pdtref import models as M
+from pdtsupport.rng import Lcg32
 
 from . import _emit
 from .model import sweep
@@ -43,12 +44,7 @@ def f32(x):
 
 def lcg(seed, count):
     """`count` integers in [-64, 63] from a 32-bit LCG, top bits of the state."""
-    state = seed & 0xFFFFFFFF
-    out = []
-    for _ in range(count):
-        state = (1664525 * state + 1013904223) & 0xFFFFFFFF
-        out.append((state >> 25) - 64)
-    return out
+    return Lcg32(seed).ints(count, 25, 64)
 
 
 def with_td(m, Td):

@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from pdtref import excite as E
+from pdtsupport.rng import Lcg32
 
 from . import _emit
 
@@ -46,12 +47,7 @@ BIG = 1e30  # stands for "no limit" in the vectors (finite, fits a float)
 
 def lcg(seed, count):
     """`count` integers in [0, 255] from a 32-bit LCG (top byte of the state)."""
-    state = seed & 0xFFFFFFFF
-    out = []
-    for _ in range(count):
-        state = (1664525 * state + 1013904223) & 0xFFFFFFFF
-        out.append(state >> 24)
-    return out
+    return Lcg32(seed).ints(count, 24)
 
 
 def grid(x):

@@ -16,6 +16,8 @@ sizes, 8192 included), so the C test needs no copy of the generator.
 """
 import numpy as np
 
+from pdtsupport.rng import Lcg32
+
 from . import _emit
 
 SIZES = (16, 32, 64, 128, 256, 1024, 8192)
@@ -27,12 +29,7 @@ def lcg(seed, count):
     """`count` integers in [-4096, 4095] from a 32-bit LCG (Numerical
     Recipes constants), taking the 13 top bits of each state. Plain Python
     integers, so the stream never depends on the numpy version."""
-    state = seed & 0xFFFFFFFF
-    out = []
-    for _ in range(count):
-        state = (1664525 * state + 1013904223) & 0xFFFFFFFF
-        out.append((state >> 19) - DENOM)
-    return out
+    return Lcg32(seed).ints(count, 19, DENOM)
 
 
 def seed_for(n):

@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from pdtref import reduce as R
+from pdtsupport.rng import Lcg32
 
 from . import _emit
 
@@ -47,10 +48,9 @@ def plant(k, lags, zeros=(), theta0=0.0):
 
 def lcg(seed):
     """Numerical Recipes 32-bit LCG: uniform floats in [0, 1)."""
-    state = seed & 0xFFFFFFFF
+    rng = Lcg32(seed)
     while True:
-        state = (1664525 * state + 1013904223) & 0xFFFFFFFF
-        yield state / 2.0 ** 32
+        yield rng.uniform()
 
 
 def random_cases(count, seed=12345):

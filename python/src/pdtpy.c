@@ -1,0 +1,570 @@
+/*
+ * The C side of the Python package pdtfit: flat entry points over the
+ * library for ctypes (doubles in, JSON text and doubles out), so that the
+ * Python code never mirrors a library struct and the library stays the
+ * only implementation of the numerics.
+ *
+ * A model crosses the boundary as five doubles: kind (1 FOPDT, 2 SOPDT)
+ * and the fields of pdt_model_fopdt_t (K, tau, Td) or pdt_model_sopdt_t
+ * (k, a, b, Td) in the real type's precision.
+ *
+ * Two functions stand in for the command line's shared layer until it is
+ * a library of its own: pdtpy_read_series (the CSV reader) and
+ * pdtpy_ident_json (the identify JSON). Each is the only place that would
+ * change to call pdtcli_csv_read_series / pdtcli_ident_json instead.
+ *
+ * Host code: it allocates and uses stdio, unlike the library.
+ */
+#include "pdtpy.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "csv.h"
+#include "pdt/pdt.h"
+#include "pdt/pdt_ident.h"
+#include "pdt/pdt_ls.h"
+#include "pdt/pdt_reduce.h"
+
+/* ------------------------------------------------------------ JSON text */
+
+/* An output buffer that remembers overflow instead of writing past it. */
+typedef struct jbuf {
+    char *p;
+    size_t len, used;
+    int overflow;
+} jbuf_t;
+
+static void jprintf(jbuf_t *b, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    size_t room = b->used < b->len ? b->len - b->used : 0;
+    int w = vsnprintf(room ? b->p + b->used : NULL, room, fmt, ap);
+    va_end(ap);
+    if (w < 0 || (size_t)w >= room) b->overflow = 1;
+    if (w > 0) b->used += (size_t)w;
+}
+
+/* Numbers as the command line prints them: 9 significant digits, null
+ * where the value does not exist. */
+static void jnum(jbuf_t *b, double v)
+{
+    if (isfinite(v))
+        jprintf(b, "%.9g", v);
+    else
+        jprintf(b, "null");
+}
+
+static void jkey(jbuf_t *b, const char *key, double v)
+{
+    jprintf(b, ",\"%s\":", key);
+    jnum(b, v);
+}
+
+static int jdone(const jbuf_t *b) { return b->overflow ? -1 : (int)b->used; }
+
+/* The model object of `pdtfit identify` (r set) and `pdtfit reduce` (r
+ * NULL), key for key. */
+static void json_model(jbuf_t *b, const pdt_model_t *model, const pdt_ident_result_t *r)
+{
+    const double nan = (double)NAN;
+    if (model->kind == PDT_MODEL_FOPDT) {
+        const pdt_model_fopdt_t *m = &model->p.fopdt;
+        jprintf(b, "{\"model\":\"fopdt\"");
+        jkey(b, "K", (double)m->K);
+        jkey(b, "tau", (double)m->tau);
+        jkey(b, "Td", (double)m->Td);
+        if (r) {
+            jkey(b, "y0", (double)r->y0);
+            jkey(b, "u0", (double)r->u0);
+        }
+    } else {
+        const pdt_model_sopdt_t *m = &model->p.sopdt;
+        pdt_model_natural_t nat;
+        pdt_model_tc_t tc;
+        pdt_model_integ_t integ;
+        double K = nan, Ki = nan, wn = nan, zeta = nan, tau1 = nan, tau2 = nan;
+        int integrating = 0;
+        if (pdt_model_sopdt_to_natural(m, &nat) == PDT_OK) {
+            K = (double)nat.K;
+            wn = (double)nat.wn;
+            zeta = (double)nat.zeta;
+            if (pdt_model_sopdt_to_tc(m, &tc) == PDT_OK && !tc.complex) {
+                tau1 = (double)tc.T1;
+                tau2 = (double)tc.T2;
+            }
+        } else if (pdt_model_sopdt_to_integ(m, &integ) == PDT_OK) {
+            integrating = 1;
+            Ki = (double)integ.Ki;
+            wn = 0.0;
+            tau2 = (double)integ.T;
+        }
+        jprintf(b, "{\"model\":\"sopdt\"");
+        jkey(b, "K", K);
+        if (integrating) jkey(b, "Ki", Ki);
+        jkey(b, "wn", wn);
+        jkey(b, "zeta", zeta);
+        jkey(b, "Td", (double)m->Td);
+        if (r) {
+            jkey(b, "y0", (double)r->y0);
+            jkey(b, "u0", (double)r->u0);
+        }
+        jkey(b, "tau1", tau1);
+        jkey(b, "tau2", tau2);
+        jkey(b, "a", (double)m->a);
+        jkey(b, "b", (double)m->b);
+    }
+    if (r) {
+        jkey(b, "cost", (double)r->cost);
+        jkey(b, "fit", (double)r->fit);
+        jprintf(b, ",\"evaluations\":%lu", (unsigned long)r->evaluations);
+        if (r->f_band > (pdt_real_t)0) jkey(b, "f_band", (double)r->f_band);
+    }
+    jprintf(b, "}");
+}
+
+/*
+ * GLUE: the identify JSON. When the command line's JSON module lands this
+ * body becomes `return pdtcli_ident_json(r, Ts, n, buf, len);` (which also
+ * prints "Ts" and "n").
+ */
+static int pdtpy_ident_json(const pdt_ident_result_t *r, double Ts, size_t n, char *buf,
+                            size_t len)
+{
+    (void)Ts;
+    (void)n;
+    jbuf_t b = {buf, len, 0, 0};
+    json_model(&b, &r->model, r);
+    return jdone(&b);
+}
+
+/* ------------------------------------------------------------ models */
+
+static void model_out(const pdt_model_t *m, double *out)
+{
+    out[0] = (double)m->kind;
+    if (m->kind == PDT_MODEL_FOPDT) {
+        out[1] = (double)m->p.fopdt.K;
+        out[2] = (double)m->p.fopdt.tau;
+        out[3] = (double)m->p.fopdt.Td;
+        out[4] = 0.0;
+    } else {
+        out[1] = (double)m->p.sopdt.k;
+        out[2] = (double)m->p.sopdt.a;
+        out[3] = (double)m->p.sopdt.b;
+        out[4] = (double)m->p.sopdt.Td;
+    }
+}
+
+static pdt_status_t model_in(const double *in, pdt_model_t *m)
+{
+    memset(m, 0, sizeof *m);
+    if (in[0] == (double)PDT_MODEL_FOPDT) {
+        m->kind = PDT_MODEL_FOPDT;
+        m->p.fopdt.K = (pdt_real_t)in[1];
+        m->p.fopdt.tau = (pdt_real_t)in[2];
+        m->p.fopdt.Td = (pdt_real_t)in[3];
+    } else if (in[0] == (double)PDT_MODEL_SOPDT) {
+        m->kind = PDT_MODEL_SOPDT;
+        m->p.sopdt.k = (pdt_real_t)in[1];
+        m->p.sopdt.a = (pdt_real_t)in[2];
+        m->p.sopdt.b = (pdt_real_t)in[3];
+        m->p.sopdt.Td = (pdt_real_t)in[4];
+    } else {
+        return PDT_ERR_ARG;
+    }
+    return pdt_model_check(m);
+}
+
+int pdtpy_model_make(int kind, int form, double K, double x1, double x2, double Td,
+                     double *out)
+{
+    pdt_model_t m;
+    memset(&m, 0, sizeof m);
+    pdt_status_t st;
+    if (kind == PDT_MODEL_FOPDT) {
+        m.kind = PDT_MODEL_FOPDT;
+        m.p.fopdt.K = (pdt_real_t)K;
+        m.p.fopdt.tau = (pdt_real_t)x1;
+        m.p.fopdt.Td = (pdt_real_t)Td;
+        st = PDT_OK;
+    } else if (kind == PDT_MODEL_SOPDT && form == PDTPY_SOPDT_NATURAL) {
+        m.kind = PDT_MODEL_SOPDT;
+        const pdt_model_natural_t nat = {(pdt_real_t)K, (pdt_real_t)x1, (pdt_real_t)x2,
+                                         (pdt_real_t)Td};
+        st = pdt_model_sopdt_from_natural(&nat, &m.p.sopdt);
+    } else if (kind == PDT_MODEL_SOPDT && form == PDTPY_SOPDT_TC) {
+        m.kind = PDT_MODEL_SOPDT;
+        const pdt_model_tc_t tc = {(pdt_real_t)K, (pdt_real_t)x1, (pdt_real_t)x2, false,
+                                   (pdt_real_t)Td};
+        st = pdt_model_sopdt_from_tc(&tc, &m.p.sopdt);
+    } else if (kind == PDT_MODEL_SOPDT && form == PDTPY_SOPDT_INTEG) {
+        m.kind = PDT_MODEL_SOPDT;
+        const pdt_model_integ_t in = {(pdt_real_t)K, (pdt_real_t)x1, (pdt_real_t)Td};
+        st = pdt_model_sopdt_from_integ(&in, &m.p.sopdt);
+    } else {
+        st = PDT_ERR_ARG;
+    }
+    if (st == PDT_OK) st = pdt_model_check(&m);
+    if (st == PDT_OK) model_out(&m, out);
+    return st;
+}
+
+int pdtpy_model_json(const double *model, char *buf, size_t len)
+{
+    pdt_model_t m;
+    if (model_in(model, &m) != PDT_OK) return -1;
+    jbuf_t b = {buf, len, 0, 0};
+    json_model(&b, &m, NULL);
+    return jdone(&b);
+}
+
+/* ------------------------------------------------------------ identify */
+
+int pdtpy_real_size(void) { return (int)sizeof(pdt_real_t); }
+
+static pdt_real_t *to_real(const double *x, size_t n)
+{
+    pdt_real_t *r = malloc((n ? n : 1) * sizeof *r);
+    if (r)
+        for (size_t k = 0; k < n; k++) r[k] = (pdt_real_t)x[k];
+    return r;
+}
+
+/* The model run from rest on u - u0, plus y0, as pdt_ident computes its fit. */
+static pdt_status_t simulate_real(const pdt_model_t *m, double Ts, const pdt_real_t *u,
+                                  const pdt_real_t *y, size_t n, pdt_real_t u0, pdt_real_t y0,
+                                  pdt_real_t *ysim)
+{
+    pdt_cost_config_t cc;
+    pdt_cost_config_default(&cc);
+    cc.Ts = (pdt_real_t)Ts;
+    cc.u0 = (pdt_real_t)u0;
+    cc.y0 = (pdt_real_t)y0;
+    cc.delay_max = 0;
+    cc.whole_record = true;
+    cc.use_frequency = false;
+    cc.kind = PDT_COST_SIMULATION;
+    pdt_cost_t cost;
+    pdt_discrete_t d;
+    pdt_status_t st = pdt_cost_init(&cost, &cc, u, y, n, NULL, 0);
+    if (st == PDT_OK) st = pdt_discrete_init(m, (pdt_real_t)Ts, &d);
+    if (st == PDT_OK) st = pdt_cost_simulate(&cost, &d, ysim);
+    return st;
+}
+
+/* The fit pdt_ident reports, 100 (1 - |y - ysim| / |y - mean(y)|), for a
+ * model that did not come from it; NaN when it cannot be simulated.
+ * GLUE: the command line computes the same in its model_fit
+ * (tools/cli/pdtfit.c, static); once its shared layer exports that, this
+ * function goes and identify_ls calls it. */
+static double model_fit(const pdt_model_t *m, double Ts, const pdt_real_t *u,
+                        const pdt_real_t *y, size_t n, pdt_real_t u0, pdt_real_t y0)
+{
+    pdt_real_t *ysim = malloc(n * sizeof *ysim);
+    double fit = (double)NAN;
+    if (ysim && simulate_real(m, Ts, u, y, n, u0, y0, ysim) == PDT_OK) {
+        double mean = 0.0, e2 = 0.0, v2 = 0.0;
+        for (size_t k = 0; k < n; k++) mean += (double)y[k];
+        mean /= (double)n;
+        for (size_t k = 0; k < n; k++) {
+            double e = (double)y[k] - (double)ysim[k], v = (double)y[k] - mean;
+            e2 += e * e;
+            v2 += v * v;
+        }
+        if (v2 > 0.0) fit = 100.0 * (1.0 - sqrt(e2 / v2));
+    }
+    free(ysim);
+    return fit;
+}
+
+/* method ELMS or E-IV-LMS: the least-squares delay scan, reported as
+ * `pdtfit identify --method elms|eiv` reports it. */
+static int identify_ls(const pdt_real_t *u, const pdt_real_t *y, size_t n, double Ts,
+                       const pdtpy_ident_opts_t *o, pdt_ident_result_t *res)
+{
+    pdt_ls_config_t cfg;
+    pdt_ls_config_default(&cfg);
+    cfg.model = (pdt_model_kind_t)o->model;
+    cfg.method = o->method == PDTPY_METHOD_EIV ? PDT_LS_EIV : PDT_LS_ELMS;
+    cfg.Ts = (pdt_real_t)Ts;
+    if (!isnan(o->td_max)) {
+        /* A bound at or past the record's end is the library's to refuse. */
+        double l = floor(o->td_max / Ts + 1e-9);
+        cfg.delay_max = l < (double)n ? (size_t)l : n;
+    }
+    size_t delay_max = isnan(o->td_max) ? n / 4u : cfg.delay_max;
+    pdt_ls_t *ctx = malloc(sizeof *ctx);
+    if (!ctx) return PDTPY_ERR_NOMEM;
+    pdt_ls_result_t r;
+    pdt_status_t st = pdt_ls_identify(ctx, &cfg, u, y, n, &r);
+    free(ctx);
+    if (st != PDT_OK) return st;
+    memset(res, 0, sizeof *res);
+    res->model = r.model;
+    res->u0 = r.u0;
+    res->y0 = r.y0;
+    res->cost = r.cost;
+    res->fit = (pdt_real_t)model_fit(&r.model, Ts, u, y, n, r.u0, r.y0);
+    res->evaluations = (uint32_t)(delay_max - cfg.delay_min + 1u);
+    return PDT_OK;
+}
+
+int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
+                   const pdtpy_ident_opts_t *o, double *model, char *json, size_t json_len)
+{
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.model = (pdt_model_kind_t)o->model;
+    cfg.Ts = (pdt_real_t)Ts;
+    cfg.cost = (pdt_cost_kind_t)o->cost;
+    cfg.seed = o->seed;
+    if (o->integer_delay) cfg.delay_mode = PDT_DELAY_INTEGER;
+    if (o->evaluations) cfg.max_evaluations = o->evaluations;
+    if (o->population) cfg.population = o->population;
+    if (!isnan(o->td_max)) cfg.Td_max = (pdt_real_t)o->td_max;
+    if (o->weight >= 0) cfg.weight = (pdt_weight_kind_t)o->weight;
+    cfg.f_lo = (pdt_real_t)o->f_lo;
+    cfg.f_hi = (pdt_real_t)o->f_hi;
+    if (!isnan(o->phi_t)) cfg.phi_t = (pdt_real_t)o->phi_t;
+    if (!isnan(o->phi_f)) cfg.phi_f = (pdt_real_t)o->phi_f;
+
+    pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n);
+    pdt_ident_result_t res;
+    if (o->method != PDTPY_METHOD_GA) {
+        int rc = ur && yr ? identify_ls(ur, yr, n, Ts, o, &res) : PDTPY_ERR_NOMEM;
+        if (rc == PDT_OK) {
+            model_out(&res.model, model);
+            if (pdtpy_ident_json(&res, Ts, n, json, json_len) < 0) rc = PDTPY_ERR_NOMEM;
+        }
+        free(yr);
+        free(ur);
+        return rc;
+    }
+    pdt_ident_t *ctx = malloc(sizeof *ctx);
+    /* A size of 0 means the configuration is refused; pdt_identify then
+     * says why, so it is still called. */
+    size_t work_len = pdt_ident_workspace_size(&cfg, n);
+    void *work = work_len ? malloc(work_len) : NULL;
+    int st = PDTPY_ERR_NOMEM;
+    if (ur && yr && ctx && (work || !work_len)) {
+        const pdt_ident_data_t data = {ur, yr, n};
+        st = pdt_identify(ctx, &cfg, &data, work, work_len, &res);
+        if (st == PDT_OK) {
+            model_out(&res.model, model);
+            if (pdtpy_ident_json(&res, Ts, n, json, json_len) < 0) st = PDTPY_ERR_NOMEM;
+        }
+    }
+    free(work);
+    free(ctx);
+    free(yr);
+    free(ur);
+    return st;
+}
+
+int pdtpy_simulate(const double *model, double Ts, const double *u, const double *y, size_t n,
+                   double u0, double y0, double *ysim)
+{
+    pdt_model_t m;
+    pdt_status_t st = model_in(model, &m);
+    if (st != PDT_OK) return st;
+    pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n), *ys = to_real(y, n);
+    st = PDTPY_ERR_NOMEM;
+    if (ur && yr && ys) {
+        st = simulate_real(&m, Ts, ur, yr, n, (pdt_real_t)u0, (pdt_real_t)y0, ys);
+        if (st == PDT_OK)
+            for (size_t k = 0; k < n; k++) ysim[k] = (double)ys[k];
+    }
+    free(ys);
+    free(yr);
+    free(ur);
+    return st;
+}
+
+/* ------------------------------------------------------------ tune */
+
+static const char *const rule_names[] = {"simc", "imc", "amigo", "zn"};
+static const char *const form_names[] = {"pi", "pid"};
+
+static void json_gains(jbuf_t *b, const pdt_tune_gains_t *g)
+{
+    jprintf(b, "\"Kc\":");
+    jnum(b, (double)g->Kc);
+    jkey(b, "tauI", (double)g->tauI);
+    jkey(b, "tauD", (double)g->tauD);
+    jkey(b, "Tf", (double)g->Tf);
+}
+
+/* The object `pdtfit tune` prints for a model, key for key. */
+static void json_tune(jbuf_t *b, const pdt_tune_config_t *cfg, const pdt_tune_result_t *r)
+{
+    const pdt_tune_figures_t *f = &r->fig;
+    jprintf(b, "{\"rule\":\"%s\",\"form\":\"%s\",", rule_names[cfg->rule], form_names[cfg->form]);
+    json_gains(b, &r->ideal);
+    jkey(b, "Ms", (double)f->Ms);
+    jkey(b, "gain_margin", (double)f->gain_margin);
+    jkey(b, "phase_margin_deg", (double)f->phase_margin_deg);
+    jkey(b, "w_ms", (double)f->w_ms);
+    jkey(b, "w_pc", f->w_pc > 0 ? (double)f->w_pc : (double)NAN);
+    jkey(b, "w_gc", (double)f->w_gc);
+    jprintf(b, ",\"series\":");
+    if (r->series_exists || r->series_rule) {
+        jprintf(b, "{");
+        json_gains(b, &r->series);
+        jprintf(b, "}");
+    } else {
+        jprintf(b, "null");
+    }
+    jprintf(b, ",\"stated_in\":\"%s\"", r->series_rule ? "series" : "ideal");
+    if (cfg->rule == PDT_TUNE_SIMC) jkey(b, "tau_c", (double)r->knob);
+    if (cfg->rule == PDT_TUNE_IMC) jkey(b, "lambda", (double)r->knob);
+    jprintf(b, "}");
+}
+
+int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refused,
+               char *json, size_t json_len)
+{
+    pdt_model_t m;
+    pdt_status_t st = model_in(model, &m);
+    if (st != PDT_OK) return st;
+    if (o->rule < 0 || o->rule > 3 || o->form < 0 || o->form > 1) return PDT_ERR_ARG;
+    pdt_tune_config_t cfg;
+    pdt_tune_config_default(&cfg);
+    cfg.rule = (pdt_tune_rule_t)o->rule;
+    cfg.form = (pdt_tune_form_t)o->form;
+    if (!isnan(o->tau_c)) cfg.tau_c = (pdt_real_t)o->tau_c;
+    if (!isnan(o->lambda)) cfg.lambda = (pdt_real_t)o->lambda;
+    if (!isnan(o->ms_max)) cfg.ms_max = (pdt_real_t)o->ms_max;
+    if (!isnan(o->deriv_filter)) cfg.deriv_filter = (pdt_real_t)o->deriv_filter;
+    pdt_tune_result_t r;
+    memset(&r, 0, sizeof r);
+    st = pdt_tune_compute(&m, 100, &cfg, &r);
+    if (st == PDT_ERR_POOR_FIT) {
+        /* The Ms the refused gains would have had, for the message. */
+        pdt_tune_config_t open = cfg;
+        open.ms_max = 0;
+        pdt_tune_result_t r2;
+        *ms_refused = pdt_tune_compute(&m, 100, &open, &r2) == PDT_OK ? (double)r2.fig.Ms
+                                                                       : (double)NAN;
+    }
+    if (st != PDT_OK) return st;
+    jbuf_t b = {json, json_len, 0, 0};
+    json_tune(&b, &cfg, &r);
+    return jdone(&b) < 0 ? PDTPY_ERR_NOMEM : PDT_OK;
+}
+
+/* ------------------------------------------------------------ reduce */
+
+int pdtpy_reduce(int method, int kind, double gain, const double *lags, size_t n_lags,
+                 const double *zeros, size_t n_zeros, double delay, double h, double *model,
+                 char *json, size_t json_len)
+{
+    pdt_real_t *l = to_real(lags, n_lags), *z = to_real(zeros, n_zeros);
+    pdt_status_t st = PDTPY_ERR_NOMEM;
+    if (l && z) {
+        const pdt_reduce_plant_t plant = {(pdt_real_t)gain, l, n_lags, n_zeros ? z : NULL,
+                                          n_zeros, (pdt_real_t)delay};
+        pdt_reduce_config_t cfg;
+        pdt_reduce_config_default(&cfg);
+        cfg.model = (pdt_model_kind_t)kind;
+        cfg.h = (pdt_real_t)h;
+        pdt_model_t out;
+        st = method == 0 ? pdt_reduce_half_rule(&plant, &cfg, &out, NULL)
+                         : pdt_reduce_sung(&plant, &cfg, &out, NULL);
+        if (st == PDT_OK) {
+            model_out(&out, model);
+            jbuf_t b = {json, json_len, 0, 0};
+            json_model(&b, &out, NULL);
+            if (jdone(&b) < 0) st = PDTPY_ERR_NOMEM;
+        }
+    }
+    free(z);
+    free(l);
+    return st;
+}
+
+/* ------------------------------------------------------------ CSV */
+
+/* The sampling period from a time column, uniform within 1 % as the
+ * command line requires; 0 when it is not. */
+static double uniform_ts(const double *t, size_t n, char *err, size_t errlen, const char *path)
+{
+    for (size_t k = 1; k < n; k++)
+        if (!(t[k] > t[k - 1])) {
+            snprintf(err, errlen, "%s:%zu: t does not increase (%.9g after %.9g)", path, k + 2,
+                     t[k], t[k - 1]);
+            return 0.0;
+        }
+    double Ts = (t[n - 1] - t[0]) / (double)(n - 1);
+    for (size_t k = 0; k < n && Ts > 0.0; k++)
+        if (fabs(t[k] - (t[0] + (double)k * Ts)) > 0.01 * Ts) {
+            snprintf(err, errlen, "%s:%zu: t is not uniformly sampled (Ts = %.9g s)", path,
+                     k + 2, Ts);
+            return 0.0;
+        }
+    return Ts;
+}
+
+/*
+ * GLUE: the CSV reader. When the command line's reader lands this body
+ * becomes a pdtcli_csv_opts_default + the options copied from *o +
+ * pdtcli_csv_read_series(path, &opts, &series, err, errlen), its u, y, n
+ * and Ts moved into *out. The present reader knows only the columns t, u
+ * and y, so other column names are refused here.
+ */
+int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o, pdtpy_series_t *out,
+                      char *err, size_t errlen)
+{
+    memset(out, 0, sizeof *out);
+    if ((o->t_col && strcmp(o->t_col, "t") != 0) || (o->u_col && strcmp(o->u_col, "u") != 0) ||
+        (o->y_col && strcmp(o->y_col, "y") != 0) || o->sep || (o->decimal && o->decimal != '.') ||
+        o->skip || o->time_unit || o->resample) {
+        snprintf(err, errlen, "%s: this reader takes the columns t, u, y only", path);
+        return -1;
+    }
+    FILE *in = fopen(path, "rb");
+    if (!in) {
+        snprintf(err, errlen, "cannot open %s", path);
+        return -1;
+    }
+    const double max_abs = sizeof(pdt_real_t) == sizeof(float) ? (double)FLT_MAX : DBL_MAX;
+    csv_table_t tab;
+    int rc = csv_read_tuy(in, path, max_abs, &tab, err, errlen);
+    fclose(in);
+    if (rc != 0) return -1;
+    double Ts = o->fs > 0.0 ? 1.0 / o->fs : 0.0;
+    if (tab.t && tab.rows >= 2) {
+        double Tt = uniform_ts(tab.t, tab.rows, err, errlen, path);
+        if (Tt <= 0.0) rc = -1;
+        if (Ts == 0.0) Ts = Tt;
+    }
+    if (rc == 0 && !(Ts > 0.0)) {
+        snprintf(err, errlen, "%s: no t column: give the sampling frequency fs", path);
+        rc = -1;
+    }
+    free(tab.t);
+    if (rc != 0) {
+        free(tab.u);
+        free(tab.y);
+        return -1;
+    }
+    out->u = tab.u;
+    out->y = tab.y;
+    out->n = tab.rows;
+    out->Ts = Ts;
+    return 0;
+}
+
+void pdtpy_series_free(pdtpy_series_t *s)
+{
+    free(s->u);
+    free(s->y);
+    memset(s, 0, sizeof *s);
+}
+
+const char *pdtpy_status_str(int status) { return pdt_status_str((pdt_status_t)status); }

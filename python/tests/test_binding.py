@@ -1,0 +1,189 @@
+"""The Python binding against the `pdtfit` program: the same record, options
+and seed must give the same JSON to the last printed digit (the binding and
+the program run the same C code in the same real type), and the binding's
+own surface (errors, read_csv, simulate, plot) must hold."""
+import math
+
+import numpy as np
+import pytest
+
+import pdtfit
+from pdtsupport import cli, status
+
+cli_test = pytest.mark.cli
+
+
+def cli_json(*args):
+    return cli.parse_output(cli.run([str(a) for a in args]))
+
+
+def test_float_build():
+    # The comparisons below are of the default (float) build, as .ci/run builds it.
+    assert pdtfit.REAL_BYTES == 4
+
+
+def test_status_names_are_the_headers():
+    assert pdtfit.STATUS_NAMES == status.NAMES
+    assert pdtfit.STATUS_NAMES[0] == "OK"
+
+
+@cli_test
+@pytest.mark.parametrize("name,model,cost,seed", [
+    ("fopdt", "fopdt", "simulation", 1),
+    ("fopdt", "fopdt", "prediction", 7),
+    ("fopdt", "sopdt", "simulation", 2),
+    ("sopdt", "sopdt", "simulation", 1),
+    ("sopdt", "fopdt", "simulation", 99),
+])
+def test_identify_equals_the_program(records, write_csv, name, model, cost, seed):
+    u, y, fs = records[name]
+    path = write_csv("uy.csv", {"u": u, "y": y})
+    want = cli_json("identify", "--model", model, "--cost", cost, "--seed", seed, "--fs", fs,
+                    path)
+    r = pdtfit.identify(u, y, fs, model=model, cost=cost, seed=seed)
+    assert r.as_dict() == want and list(r.as_dict()) == list(want)
+    for key, value in want.items():
+        assert getattr(r, key) == value
+
+
+@cli_test
+def test_options_reach_the_library_as_on_the_command_line(records, write_csv):
+    u, y, fs = records["fopdt"]
+    path = write_csv("uy.csv", {"u": u, "y": y})
+    want = cli_json("identify", "--model", "fopdt", "--fs", fs, "--evaluations", 600,
+                    "--population", 20, "--td-max", 5, "--integer-delay", "--seed", 3, path)
+    r = pdtfit.identify(u, y, fs, evaluations=600, population=20, td_max=5.0,
+                        integer_delay=True, seed=3)
+    assert r.as_dict() == want and r.evaluations <= 600
+
+
+@cli_test
+@pytest.mark.parametrize("method,model,td_max", [("elms", "fopdt", None), ("eiv", "fopdt", 4.0),
+                                                 ("elms", "sopdt", None), ("eiv", "sopdt", None)])
+def test_least_squares_equals_the_program(records, write_csv, method, model, td_max):
+    u, y, fs = records[model]
+    path = write_csv("uy.csv", {"u": u, "y": y})
+    extra = ["--td-max", td_max] if td_max is not None else []
+    want = cli_json("identify", "--model", model, "--method", method, "--fs", fs, *extra, path)
+    r = pdtfit.identify(u, y, fs, model=model, method=method, td_max=td_max)
+    assert r.as_dict() == want and list(r.as_dict()) == list(want)
+    with pytest.raises(ValueError, match="seed"):
+        pdtfit.identify(u, y, fs, method=method, seed=2)
+
+
+@cli_test
+def test_read_csv_with_time_column_equals_the_program(records, write_csv):
+    u, y, fs = records["fopdt"]
+    path = write_csv("tuy.csv", {"t": np.arange(len(u)) / fs, "u": u, "y": y})
+    rec = pdtfit.read_csv(path)
+    assert rec.n == len(u) and np.array_equal(rec.u, u) and np.array_equal(rec.y, y)
+    assert rec.Ts == pytest.approx(1.0 / fs, rel=1e-12)
+    want = cli_json("identify", "--model", "fopdt", path)
+    assert pdtfit.identify(rec.u, rec.y, Ts=rec.Ts).as_dict() == want
+
+
+@cli_test
+def test_read_csv_errors_are_the_programs(tmp_path):
+    path = tmp_path / "bad.csv"
+    path.write_text("t,u,y\n" + "".join(f"{k},1,2\n" for k in range(5)) + "5,1,abc\n")
+    res = cli.run(["identify", "--model", "fopdt", path])
+    assert res.returncode == 2
+    with pytest.raises(ValueError) as e:
+        pdtfit.read_csv(path)
+    assert res.stderr.strip() == "pdtfit: " + str(e.value)
+    assert ":7:" in str(e.value)
+
+
+@cli_test
+@pytest.mark.parametrize("rule,form", [("simc", "pi"), ("simc", "pid"), ("imc", "pi"),
+                                       ("imc", "pid"), ("amigo", "pi"), ("zn", "pi")])
+def test_tune_equals_the_program(records, rule, form):
+    u, y, fs = records["fopdt"]
+    r = pdtfit.identify(u, y, fs, model="fopdt")
+    want = cli_json("tune", "--rule", rule, "--form", form, "--model", "fopdt",
+                    "--K", repr(r.K), "--tau", repr(r.tau), "--Td", repr(r.Td), "--ms-max", 0)
+    assert pdtfit.tune(r, rule=rule, form=form, ms_max=0).as_dict() == want
+
+
+@cli_test
+def test_tune_of_a_printed_sopdt_equals_the_program(records):
+    u, y, fs = records["sopdt"]
+    printed = pdtfit.identify(u, y, fs, model="sopdt").as_dict()
+    want = cli_json("tune", "--rule", "imc", "--form", "pid", "--model", "sopdt",
+                    "--K", printed["K"], "--wn", printed["wn"], "--zeta", printed["zeta"],
+                    "--Td", printed["Td"], "--lambda", 4)
+    got = pdtfit.tune(printed, rule="imc", form="pid", lambda_=4.0)
+    assert got.as_dict() == want and got.lambda_ == 4.0
+
+
+@cli_test
+@pytest.mark.parametrize("method,model", [("skogestad", "fopdt"), ("skogestad", "sopdt"),
+                                          ("sung", "fopdt"), ("sung", "sopdt")])
+def test_reduce_equals_the_program(method, model):
+    lags, zeros = [2, 1, 0.4, 0.2, 0.05, 0.05, 0.05], [-0.3, 0.08]
+    want = cli_json("reduce", "--method", method, "--model", model, "--gain", 1,
+                    "--lags", ",".join(map(str, lags)), "--zeros", ",".join(map(str, zeros)))
+    assert pdtfit.reduce(1.0, lags, zeros, model=model, method=method).as_dict() == want
+
+
+@cli_test
+def test_refusal_is_the_programs(write_csv, records):
+    u, y, fs = records["fopdt"]
+    flat = np.full_like(u, u[0])
+    res = cli.run(["identify", "--model", "fopdt", "--fs", fs,
+                   write_csv("flat.csv", {"u": flat, "y": y})])
+    assert res.returncode == 1
+    with pytest.raises(pdtfit.PdtError) as e:
+        pdtfit.identify(flat, y, fs)
+    assert e.value.status == "NO_EXCITATION"
+    assert e.value.code == status.STATUS["NO_EXCITATION"]
+    # The library's own words, as the program prints them.
+    assert str(e.value).split(": ")[1].split(" (")[0] in res.stderr
+
+
+def test_tune_refused_by_ms_limit(records):
+    u, y, fs = records["fopdt"]
+    r = pdtfit.identify(u, y, fs)
+    with pytest.raises(pdtfit.PdtError) as e:
+        pdtfit.tune(r, rule="zn", form="pid", ms_max=1.1)
+    assert e.value.status == "POOR_FIT" and "Ms " in str(e.value)
+
+
+def test_simulate_gives_the_reported_fit(records):
+    u, y, fs = records["sopdt"]
+    r = pdtfit.identify(u, y, fs, model="sopdt")
+    ysim = r.simulate()
+    fit = 100.0 * (1.0 - np.linalg.norm(y - ysim) / np.linalg.norm(y - np.mean(y)))
+    assert fit == pytest.approx(r.fit, abs=0.05)
+    assert r.fit > 90.0
+
+
+def test_model_constructors_agree():
+    nat = pdtfit.model("sopdt", 2.0, 1.5, wn=0.5, zeta=1.25)
+    tc = pdtfit.model("sopdt", 2.0, 1.5, tau1=nat.tau1, tau2=nat.tau2)
+    assert tc.K == pytest.approx(2.0) and tc.zeta == pytest.approx(1.25, rel=1e-5)
+    f = pdtfit.model("FOPDT", 1.0, 0.5, tau=3.0)
+    assert f.as_dict() == {"model": "fopdt", "K": 1, "tau": 3, "Td": 0.5}
+    integ = pdtfit.model("sopdt", Td=1.0, Ki=0.2, T=4.0)
+    assert integ.K is None and integ.Ki == pytest.approx(0.2) and integ.wn == 0
+
+
+def test_bad_choices_and_arguments():
+    u = np.zeros(100)
+    with pytest.raises(ValueError, match="unknown cost"):
+        pdtfit.identify(u, u, 1.0, cost="nope")
+    with pytest.raises(ValueError, match="fs"):
+        pdtfit.identify(u, u)
+    with pytest.raises(ValueError):
+        pdtfit.identify(u, u[:50], 1.0)
+    with pytest.raises(pdtfit.PdtError) as e:
+        pdtfit.identify(u, u, 1.0, evaluations=1)
+    assert e.value.status in pdtfit.STATUS_NAMES.values()
+
+
+def test_plot_returns_a_figure(records):
+    pytest.importorskip("matplotlib")
+    u, y, fs = records["fopdt"]
+    fig = pdtfit.identify(u, y, fs).plot()
+    assert type(fig).__name__ == "Figure" and len(fig.axes) == 2
+    assert "FOPDT" in fig._suptitle.get_text() and math.isfinite(fig.axes[1].lines[0].get_ydata()[0])

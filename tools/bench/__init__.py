@@ -1,0 +1,1 @@
+"""Building blocks of the benchmarks (benchlib.py); installed as pdtbench."""

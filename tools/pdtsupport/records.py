@@ -1,0 +1,59 @@
+"""Records the command-line tests share: simulated with scipy.signal (the
+process driven by a zero-order-hold input, its dead time applied by
+shifting the input on a fine grid on which the delayed switching instants
+fall), and the check of a recovered FOPDT."""
+import numpy as np
+import pytest
+import scipy.signal as ss
+
+from pdtsupport.cli import FOPDT_KEYS
+from pdtsupport.rng import Lcg64
+
+
+def multistep_input(n, u0, amp, hold_min, hold_max, rest, seed):
+    """Steps between random levels around u0 after `rest` samples at u0;
+    a small LCG keeps the record the same on every numpy version."""
+    rnd = Lcg64(seed).uniform
+    u = np.full(n, float(u0))
+    k, sign = rest, 1.0
+    while k < n:
+        hold = hold_min + int(rnd() * (hold_max - hold_min + 1))
+        u[k:k + hold] = u0 + sign * amp * (0.4 + 0.6 * rnd())
+        sign = -sign
+        k += hold
+    return u
+
+
+def simulate(num, den, Td, u, Ts, sub=20):
+    """Samples y(k Ts) of num/den e^{-Td s} for the ZOH input u (deviations),
+    from rest. Td must be a multiple of Ts / sub."""
+    h = Ts / sub
+    shift = round(Td / h)
+    assert abs(shift * h - Td) < 1e-9
+    uf = np.repeat(u, sub)
+    uf = np.concatenate([np.zeros(shift), uf])[: len(uf)]
+    t = np.arange(len(uf)) * h
+    _, yf, _ = ss.lsim((num, den), uf, t, interp=False)
+    return yf[::sub]
+
+
+def noise(n, std, seed):
+    return std * np.random.default_rng(seed).standard_normal(n)
+
+
+TS = 0.1
+N = 600
+U0, Y0 = 50.0, 20.0
+
+
+def check_fopdt(out, K, tau, Td, rtol=0.02, td_tol=0.05):
+    assert list(out) == FOPDT_KEYS
+    assert out["model"] == "fopdt"
+    assert out["K"] == pytest.approx(K, rel=rtol)
+    assert out["tau"] == pytest.approx(tau, rel=rtol)
+    assert out["Td"] == pytest.approx(Td, abs=td_tol)
+    assert out["u0"] == pytest.approx(U0)
+    assert out["y0"] == pytest.approx(Y0, abs=0.05)
+    assert out["fit"] > 95.0
+    assert out["cost"] >= 0.0 and isinstance(out["evaluations"], int)
+    assert out["evaluations"] > 0
