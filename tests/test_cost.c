@@ -69,8 +69,7 @@ static void init_ok(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
     assert_true(ws <= PDT_COST_WORKSPACE_SIZE(n));
     assert_int_equal(ws % sizeof(pdt_real_t), 0);
     canary_fill(g_work + reals, CANARY_COUNT);
-    assert_int_equal(pdt_cost_init(c, cfg, g_u, g_y, n, cfg->use_frequency ? g_work : NULL, ws),
-                     PDT_OK);
+    assert_int_equal(pdt_cost_init(c, cfg, g_u, g_y, n, g_work, ws), PDT_OK);
     canary_check(g_work + reals, CANARY_COUNT);
 }
 
@@ -373,6 +372,7 @@ static void test_exact_model_zero_cost(void **state)
 #define COST_NBIG 8000u
 static pdt_real_t g_ubig[COST_NBIG];
 static pdt_real_t g_ybig[COST_NBIG];
+static pdt_real_t g_workbig[2u * COST_NBIG];
 
 static double time_cost_double(const pdt_discrete_t *d, const pdt_real_t *u, const pdt_real_t *y,
                                double u0, double y0, size_t n, size_t lu, bool sim, bool ofs)
@@ -446,7 +446,9 @@ static void test_long_record_accuracy(void **state)
         for (int ofs = 0; ofs < 2; ofs++) {
             pdt_cost_t c;
             cfg.estimate_offset = (ofs != 0);
-            assert_int_equal(pdt_cost_init(&c, &cfg, g_ubig, g_ybig, COST_NBIG, NULL, 0), PDT_OK);
+            assert_int_equal(pdt_cost_init(&c, &cfg, g_ubig, g_ybig, COST_NBIG, g_workbig,
+                                            sizeof g_workbig),
+                             PDT_OK);
             for (int which = 0; which < 4; which++) {
                 const pdt_discrete_t *d = (which & 1) ? &off : &truth;
                 bool sim = (which & 2) != 0;
@@ -632,7 +634,8 @@ static void test_fft_size_and_workspace(void **state)
         assert_int_equal(PDT_COST_FFT_SIZE_MAX(n), nf);
         assert_int_equal(pdt_cost_workspace_size(&cfg, n), PDT_COST_WORKSPACE_SIZE(n));
         assert_int_equal(pdt_cost_workspace_size(&cfg, n),
-                         3u * (nf / 2u) * sizeof(pdt_real_t) + pdt_fft_workspace_size(nf));
+                         (2u * n + 3u * (nf / 2u)) * sizeof(pdt_real_t) +
+                             pdt_fft_workspace_size(nf));
         for (size_t lu = 1; lu < n; lu += 1u + n / 7u) {
             cfg.delay_max = lu;
             assert_true(pdt_cost_workspace_size(&cfg, n) <= PDT_COST_WORKSPACE_SIZE(n));
@@ -641,7 +644,7 @@ static void test_fft_size_and_workspace(void **state)
         assert_true(pdt_cost_workspace_size(&cfg, n) <= PDT_COST_WORKSPACE_SIZE(n));
     }
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_workspace_size(&cfg, 300), 0);
+    assert_int_equal(pdt_cost_workspace_size(&cfg, 300), 600u * sizeof(pdt_real_t));
 }
 
 /* The exact workspace suffices, one byte less does not, and init writes
@@ -662,9 +665,13 @@ static void test_workspace_exact(void **state)
     assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, g_work, ws - 1u), PDT_ERR_NOMEM);
     canary_check(g_work, COST_WORK_REALS + CANARY_COUNT);
     init_ok(&c, &cfg, s->n);
-    /* Without use_frequency no workspace is needed. */
+    /* Without use_frequency only the normalised record is needed. */
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, NULL, 0), PDT_OK);
+    ws = pdt_cost_workspace_size(&cfg, s->n);
+    assert_int_equal(ws, 2u * s->n * sizeof(pdt_real_t));
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, g_work, ws - 1u), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, NULL, 0), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, g_work, ws), PDT_OK);
     assert_int_equal(c.nf, 0);
 }
 
@@ -868,8 +875,12 @@ static void test_init_errors(void **state)
     }
     init_fails(&cfg, g_long, g_long, COST_NLONG, g_work, sizeof g_work, PDT_ERR_LENGTH,
                __LINE__);
+    /* Without spectra a long record needs only its normalised copy. */
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_long, g_long, COST_NLONG, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_workspace_size(&cfg, COST_NLONG),
+                     2u * COST_NLONG * sizeof(pdt_real_t));
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_long, g_long, COST_NLONG, NULL, 0),
+                     PDT_ERR_NOMEM);
 
     /* PDT_ERR_NOMEM */
     init_fails(&good, g_u, g_y, n, NULL, sizeof g_work, PDT_ERR_NOMEM, __LINE__);
@@ -894,7 +905,7 @@ static void test_eval_errors(void **state)
     cfg.delay_min = 3;
     init_ok(&c, &cfg, s->n);
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, g_work, sizeof g_work), PDT_OK);
     memset(&zero, 0, sizeof zero);
 
     /* time costs */
@@ -981,7 +992,7 @@ static void test_eval_errors(void **state)
     init_ok(&c, &cfg, s->n);
     assert_int_equal(pdt_cost_eval(&c, &m, &v), PDT_OK);
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, g_work, sizeof g_work), PDT_OK);
     v = ((pdt_real_t)123.0);
     assert_int_equal(pdt_cost_eval(&cnof, &m0, &v), PDT_ERR_ARG);
     assert_true(v == ((pdt_real_t)123.0));

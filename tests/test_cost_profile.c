@@ -33,6 +33,8 @@ static pdt_real_t g_ref[CPV_NMAX];
 static pdt_real_t g_scratch[CPV_NMAX + CANARY_COUNT];
 static pdt_real_t g_ysim[CPV_NMAX + CANARY_COUNT];
 static pdt_real_t g_work[CPV_WORK_REALS + CANARY_COUNT];
+/* A second cost object needs its own normalised record. */
+static pdt_real_t g_work2[2u * CPV_NMAX];
 
 static void load_set(const cpv_set_t *s)
 {
@@ -86,8 +88,7 @@ static void init_ok(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
     size_t reals = ws / sizeof(pdt_real_t);
     assert_true(reals <= CPV_WORK_REALS);
     canary_fill(g_work + reals, CANARY_COUNT);
-    assert_int_equal(pdt_cost_init(c, cfg, g_u, g_y, n, cfg->use_frequency ? g_work : NULL, ws),
-                     PDT_OK);
+    assert_int_equal(pdt_cost_init(c, cfg, g_u, g_y, n, g_work, ws), PDT_OK);
     canary_check(g_work + reals, CANARY_COUNT);
 }
 
@@ -353,7 +354,8 @@ static void test_profile_properties(void **state)
                 cfg2.estimate_offset = false;
                 cfg2.use_frequency = false;
                 cfg2.y0 = cfg.y0 + r.offset;
-                init_ok(&c2, &cfg2, s->n);
+                assert_int_equal(pdt_cost_init(&c2, &cfg2, g_u, g_y, s->n, g_work2, sizeof g_work2),
+                                 PDT_OK);
                 m = with_gain(shape, r.gain);
                 assert_int_equal(pdt_cost_eval(&c2, &m, &e), PDT_OK);
                 worst_offset = fmax(worst_offset, rel_err((double)e, (double)r.ct));
@@ -497,26 +499,26 @@ static void test_whole_record_too_short(void **state)
     cfg.use_frequency = false;
     cfg.delay_max = n - 2u - PDT_MIN_SAMPLES;
     cfg.whole_record = false;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max++;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_ERR_TOO_SHORT);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_ERR_TOO_SHORT);
     cfg.whole_record = true;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max = n - 1u;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max = n;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_ERR_TOO_SHORT);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_ERR_TOO_SHORT);
     /* The shortest records. */
     cfg.delay_max = PDT_MIN_SAMPLES + 1u;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work), PDT_OK);
     assert_int_equal(c.cfg.delay_max, PDT_MIN_SAMPLES + 1u);
     cfg.delay_max = 0;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 1u, NULL, 0),
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 1u, g_work, sizeof g_work),
                      PDT_ERR_TOO_SHORT);
     cfg.whole_record = false;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max = 1;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, NULL, 0),
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work),
                      PDT_ERR_TOO_SHORT);
     /* With spectra the rule is the same. */
     cfg.use_frequency = true;
@@ -672,7 +674,7 @@ static void test_profile_errors(void **state)
     cfg.delay_mode = PDT_DELAY_FRACTIONAL;
     for (int k = 0; k < 4; k++) {
         cfg.kind = (pdt_cost_kind_t)k;
-        assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, NULL, 0), PDT_OK);
+        assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, g_work, sizeof g_work), PDT_OK);
         if (k == PDT_COST_FREQUENCY || k == PDT_COST_COMBINED) {
             PROFILE_FAILS(&cnof, &m0, 0, 0, PDT_ERR_ARG);
         } else {

@@ -639,10 +639,11 @@ static double model_fit(const pdt_model_t *m, double Ts, const pdt_real_t *u, co
     cc.kind = PDT_COST_SIMULATION;
     pdt_cost_t cost;
     pdt_discrete_t d;
-    pdt_real_t *ysim = malloc(n * sizeof *ysim);
+    size_t wlen = pdt_cost_workspace_size(&cc, n);
+    pdt_real_t *ysim = malloc(n * sizeof *ysim + wlen);
     if (!ysim) fail(EXIT_REFUSED, "out of memory");
     double fit = (double)NAN;
-    if (pdt_cost_init(&cost, &cc, u, y, n, NULL, 0) == PDT_OK &&
+    if (pdt_cost_init(&cost, &cc, u, y, n, ysim + n, wlen) == PDT_OK &&
         pdt_discrete_init(m, (pdt_real_t)Ts, &d) == PDT_OK &&
         pdt_cost_simulate(&cost, &d, ysim) == PDT_OK) {
         double mean = 0.0, e2 = 0.0, v2 = 0.0;
