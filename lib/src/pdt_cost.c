@@ -337,16 +337,18 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
     if (cfg->delay_min > lu || cfg->f_lo > cfg->f_hi) {
         return PDT_ERR_BOUNDS;
     }
-    if (!pdt_finite(cfg->u0) || !pdt_finite(cfg->y0)) {
-        return PDT_ERR_NONFINITE;
-    }
     for (k = 0u; k < n; k++) {
         if (!pdt_finite(u[k]) || !pdt_finite(y[k])) {
             return PDT_ERR_NONFINITE;
         }
     }
+    /* Before the operating point: a caller's level estimated from a
+     * stretch with a bad cell in it may have overflowed on it. */
     if (pdt_cost_outlier(u, n) != n || pdt_cost_outlier(y, n) != n) {
         return PDT_ERR_OUTLIER;
+    }
+    if (!pdt_finite(cfg->u0) || !pdt_finite(cfg->y0)) {
+        return PDT_ERR_NONFINITE;
     }
 
     t.cfg = *cfg;
@@ -1218,6 +1220,11 @@ pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt
 {
     return pdt_cost_profile_hint(c, shape, gain_min, gain_max, PDT_R(0.0), PDT_R(0.0), scratch,
                                  out);
+}
+
+pdt_real_t pdt_cost_units(const pdt_cost_t *c, pdt_real_t ncost)
+{
+    return (c == NULL) ? ncost : cost_units(c, ncost);
 }
 
 pdt_status_t pdt_cost_fit(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t offset,

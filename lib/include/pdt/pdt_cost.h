@@ -229,7 +229,8 @@ size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
  *  PDT_ERR_LENGTH    N_f beyond 2^PDT_FFT_MAX_LOG2 (only with use_frequency);
  *  PDT_ERR_NOMEM     work NULL or work_len below pdt_cost_workspace_size.
  * Checked in this order: pointers and the config's own values (ARG),
- * lengths (TOO_SHORT), bounds (BOUNDS), data (NONFINITE, then OUTLIER);
+ * lengths (TOO_SHORT), bounds (BOUNDS), data (NONFINITE in u or y, then
+ * OUTLIER, then NONFINITE in u0 or y0);
  * then, with use_frequency only: N_f (LENGTH), the bin spacing and custom
  * weight values (ARG); then the workspace (NOMEM if NULL, ARG if
  * misaligned, NOMEM if short). On error *c and work are untouched.
@@ -330,6 +331,11 @@ pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape
                                    pdt_real_t gain_min, pdt_real_t gain_max,
                                    pdt_real_t gain_hint, pdt_real_t offset_hint,
                                    pdt_real_t *scratch, pdt_cost_profile_t *out);
+
+/* A cost in the normalised units of c (pdt_cost_profile_t.ncost) in
+ * output units squared: ncost 4^y_exp, +infinity where that overflows.
+ * NULL c gives ncost unchanged. */
+pdt_real_t pdt_cost_units(const pdt_cost_t *c, pdt_real_t ncost);
 
 /* The fit of model m (engineering units, its gain included) with output
  * offset offset (added to y0) on the record, in percent:
