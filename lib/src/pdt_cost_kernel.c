@@ -84,18 +84,22 @@ static void body1(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t j
     pdt_real_t ys = st->ys, p1 = st->p1;
     while (j < jend) {
         size_t stop = (jend - j > KERNEL_BLOCK) ? j + KERNEL_BLOCK : jend;
+        const pdt_real_t *up = ud + j, *yp = yd + j;
+        const pdt_real_t *const uend = ud + stop;
         pdt_real_t s = PDT_R(0.0), ss = PDT_R(0.0), ee = PDT_R(0.0), es = PDT_R(0.0);
-        for (; j < stop; j++) {
-            pdt_real_t u1 = ud[j];
+        /* A block is never empty: the pointer test alone ends the loop. */
+        do {
+            pdt_real_t u1 = *up++;
             ys += (b0 * u1 + b1 * p1) - d0 * ys;
             p1 = u1;
-            pdt_real_t e = (yd[j] - c0) - K0 * ys;
+            pdt_real_t e = (*yp++ - c0) - K0 * ys;
             s += ys;
             ss += ys * ys;
             ee += e * e;
             es += e * ys;
-        }
+        } while (up != uend);
         add_sums(t, s, ss, ee, es);
+        j = stop;
     }
     st->ys = ys;
     st->p1 = p1;
@@ -115,21 +119,48 @@ static void body2(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t j
     pdt_real_t ys = st->ys, dys = st->dys, p1 = st->p1, p2 = st->p2;
     while (j < jend) {
         size_t stop = (jend - j > KERNEL_BLOCK) ? j + KERNEL_BLOCK : jend;
+        const pdt_real_t *up = ud + j, *yp = yd + j;
+        const pdt_real_t *const uend = ud + stop;
         pdt_real_t s = PDT_R(0.0), ss = PDT_R(0.0), ee = PDT_R(0.0), es = PDT_R(0.0);
-        for (; j < stop; j++) {
-            pdt_real_t u1 = ud[j];
-            pdt_real_t bu = b0 * u1 + b1 * p1 + b2 * p2;
-            dys += (bu - e0 * dys) - d1 * ys;
+        pdt_real_t e;
+        if (((stop - j) & 1u) != 0u) {
+            /* An odd block: one sample, then pairs. */
+            pdt_real_t u1 = *up++;
+            dys += ((b0 * u1 + b1 * p1 + b2 * p2) - e0 * dys) - d1 * ys;
             ys += dys;
             p2 = p1;
             p1 = u1;
-            pdt_real_t e = (yd[j] - c0) - K0 * ys;
+            e = (*yp++ - c0) - K0 * ys;
             s += ys;
             ss += ys * ys;
             ee += e * e;
             es += e * ys;
         }
+        /* Two samples a turn: the input taps rotate through the loaded
+         * values instead of being moved every sample. */
+        while (up != uend) {
+            pdt_real_t ua = up[0], ub = up[1];
+            up += 2;
+            dys += ((b0 * ua + b1 * p1 + b2 * p2) - e0 * dys) - d1 * ys;
+            ys += dys;
+            e = (yp[0] - c0) - K0 * ys;
+            s += ys;
+            ss += ys * ys;
+            ee += e * e;
+            es += e * ys;
+            dys += ((b0 * ub + b1 * ua + b2 * p1) - e0 * dys) - d1 * ys;
+            ys += dys;
+            e = (yp[1] - c0) - K0 * ys;
+            yp += 2;
+            s += ys;
+            ss += ys * ys;
+            ee += e * e;
+            es += e * ys;
+            p2 = ua;
+            p1 = ub;
+        }
         add_sums(t, s, ss, ee, es);
+        j = stop;
     }
     st->ys = ys;
     st->dys = dys;
