@@ -231,6 +231,146 @@ static void test_vectors_profile(void **state)
                   g_worst[0], g_worst[1], g_worst[2], g_worst[3], g_worst[4]);
 }
 
+/* pdt_cost_profile_many, four shapes (or the rest) at a time with each
+ * shape's own bounds, and pdt_cost_profile_hint with poor references,
+ * against the same reference values. */
+static void test_vectors_many_and_hints(void **state)
+{
+    double worst = 0.0;
+    (void)state;
+    for (size_t si = 0; si < CPV_NSETS; si++) {
+        const cpv_set_t *s = &cpv_sets[si];
+        const double ys = y_scale(s);
+        load_set(s);
+        for (size_t ci = 0; ci < CPV_NCFG; ci++) {
+            const cpv_config_t *v = &cpv_configs[ci];
+            pdt_cost_config_t cfg;
+            pdt_cost_t c;
+            base_config(s, &cfg);
+            apply_config(v, &cfg);
+            init_ok(&c, &cfg, s->n);
+            for (size_t i0 = 0; i0 < s->nshape; i0 += PDT_COST_MANY) {
+                size_t cnt = s->nshape - i0 < PDT_COST_MANY ? s->nshape - i0 : PDT_COST_MANY;
+                pdt_model_t m[PDT_COST_MANY];
+                pdt_real_t lo[PDT_COST_MANY], hi[PDT_COST_MANY];
+                pdt_cost_profile_t r[PDT_COST_MANY + 1u];
+                r[cnt].cost = (pdt_real_t)-1.0;
+                for (size_t k = 0; k < cnt; k++) {
+                    const cpv_result_t *w = &s->result[(i0 + k) * CPV_NCFG + ci];
+                    m[k] = model_of(s, i0 + k, 1.0);
+                    lo[k] = (pdt_real_t)w->gain_min;
+                    hi[k] = (pdt_real_t)w->gain_max;
+                }
+                /* a reference fit far off (the first shape's gain, doubled) */
+                assert_int_equal(pdt_cost_profile_many(&c, m, cnt, lo, hi,
+                                                       (pdt_real_t)(2.0 * s->result[i0 * CPV_NCFG + ci].gain),
+                                                       (pdt_real_t)ys, g_scratch, r),
+                                 PDT_OK);
+                assert_true(r[cnt].cost == (pdt_real_t)-1.0);
+                for (size_t k = 0; k < cnt; k++) {
+                    const cpv_result_t *w = &s->result[(i0 + k) * CPV_NCFG + ci];
+                    double gain = w->sign_free ? fabs((double)r[k].gain) : (double)r[k].gain;
+                    pdt_cost_profile_t h;
+                    check_val((double)r[k].cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, i0 + k,
+                              v->name, "many cost");
+                    check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0, &worst,
+                              s->name, i0 + k, v->name, "many gain");
+                    check_val((double)r[k].offset, w->offset, CPV_RTOL, ys, &worst, s->name,
+                              i0 + k, v->name, "many offset");
+                    /* the exact reference and a reference at minus the gain */
+                    for (int sgn = -1; sgn <= 1; sgn += 2) {
+                        assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k],
+                                                               (pdt_real_t)(sgn * w->gain),
+                                                               (pdt_real_t)w->offset, g_scratch,
+                                                               &h),
+                                         PDT_OK);
+                        check_val((double)h.cost, w->cost, CPV_RTOL, 0.0, &worst, s->name,
+                                  i0 + k, v->name, "hint cost");
+                        check_val((double)h.offset, w->offset, CPV_RTOL, ys, &worst, s->name,
+                                  i0 + k, v->name, "hint offset");
+                        assert_true(fabs((double)h.ncost - (double)r[k].ncost) <=
+                                    1e-4 * fabs((double)r[k].ncost));
+                    }
+                }
+            }
+            /* Four shapes of one order: the side-by-side pass where the
+             * host has one. */
+            for (int kind = 1; kind <= 2; kind++) {
+                size_t idx[PDT_COST_MANY], cnt = 0;
+                pdt_model_t m[PDT_COST_MANY];
+                pdt_real_t lo[PDT_COST_MANY], hi[PDT_COST_MANY];
+                pdt_cost_profile_t r[PDT_COST_MANY];
+                for (size_t j = 0; cnt < PDT_COST_MANY && j < 4u * s->nshape; j++) {
+                    if (s->kind[j % s->nshape] == kind) {
+                        idx[cnt++] = j % s->nshape;
+                    }
+                }
+                if (cnt == 0) {
+                    continue;
+                }
+                for (size_t k = 0; k < cnt; k++) {
+                    const cpv_result_t *w = &s->result[idx[k] * CPV_NCFG + ci];
+                    m[k] = model_of(s, idx[k], 1.0);
+                    lo[k] = (pdt_real_t)w->gain_min;
+                    hi[k] = (pdt_real_t)w->gain_max;
+                }
+                assert_int_equal(pdt_cost_profile_many(&c, m, cnt, lo, hi, 0, 0, g_scratch, r),
+                                 PDT_OK);
+                for (size_t k = 0; k < cnt; k++) {
+                    const cpv_result_t *w = &s->result[idx[k] * CPV_NCFG + ci];
+                    double gain = w->sign_free ? fabs((double)r[k].gain) : (double)r[k].gain;
+                    check_val((double)r[k].cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, idx[k],
+                              v->name, "many4 cost");
+                    check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0,
+                              &worst, s->name, idx[k], v->name, "many4 gain");
+                    check_val((double)r[k].offset, w->offset, CPV_RTOL, ys, &worst, s->name,
+                              idx[k], v->name, "many4 offset");
+                }
+            }
+        }
+    }
+    print_message("worst relative error, profile_many and hinted profiles: %.3g\n", worst);
+}
+
+/* The refusals of pdt_cost_profile_many leave out untouched. */
+static void test_many_errors(void **state)
+{
+    const cpv_set_t *s = &cpv_sets[0];
+    pdt_cost_config_t cfg;
+    pdt_cost_t c;
+    pdt_model_t m[PDT_COST_MANY];
+    pdt_real_t lo[PDT_COST_MANY] = {0}, hi[PDT_COST_MANY] = {0};
+    pdt_cost_profile_t r[PDT_COST_MANY];
+    (void)state;
+    load_set(s);
+    base_config(s, &cfg);
+    apply_config(&cpv_configs[0], &cfg);
+    init_ok(&c, &cfg, s->n);
+    for (size_t k = 0; k < PDT_COST_MANY; k++) {
+        m[k] = model_of(s, k % s->nshape, 1.0);
+    }
+    memset(r, 0x5a, sizeof r);
+    assert_int_equal(pdt_cost_profile_many(&c, m, 0u, lo, hi, 0, 0, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY + 1u, lo, hi, 0, 0, g_scratch, r),
+                     PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(NULL, m, 1u, lo, hi, 0, 0, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, NULL, 1u, lo, hi, 0, 0, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, m, 1u, NULL, hi, 0, 0, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, m, 1u, lo, hi, 0, 0, NULL, r), PDT_ERR_ARG);
+    lo[2] = 2;
+    hi[2] = 1;
+    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, 0, 0, g_scratch, r),
+                     PDT_ERR_BOUNDS);
+    lo[2] = 0;
+    hi[2] = 0;
+    m[3].kind = (pdt_model_kind_t)99;
+    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, 0, 0, g_scratch, r),
+                     PDT_ERR_ARG);
+    for (size_t k = 0; k < sizeof r; k++) {
+        assert_int_equal(((const unsigned char *)r)[k], 0x5a);
+    }
+}
+
 static void test_vectors_simulate(void **state)
 {
     double worst_snr = 400.0;
@@ -768,6 +908,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vectors_whole_record),
         cmocka_unit_test(test_vectors_profile),
+        cmocka_unit_test(test_vectors_many_and_hints),
+        cmocka_unit_test(test_many_errors),
         cmocka_unit_test(test_vectors_simulate),
         cmocka_unit_test(test_profile_properties),
         cmocka_unit_test(test_profile_bounds),

@@ -929,8 +929,13 @@ static pdt_real_t gain_to_norm(const pdt_cost_t *c, pdt_real_t g)
 
 /* The sums that cancel in the residual sum of squares at the best gain
  * may exceed it by this factor before the rounding costs more than about
- * 2e-6 of it; beyond, the pass is run again around the fit it found. */
+ * 2e-6 of it in float (1e-11 in double); beyond, the pass is run again
+ * around the fit it found. */
+#if PDT_REAL_DOUBLE
+#define CANCEL_RATIO (PDT_R(1e-11) / PDT_REAL_EPS)
+#else
 #define CANCEL_RATIO (PDT_R(2e-6) / PDT_REAL_EPS)
+#endif
 
 /* The simulation's time part: one kernel pass around the reference fit
  * (K0, c0) and the regression summaries of it, normalised units. */
@@ -943,16 +948,13 @@ typedef struct sim_fit {
     pdt_real_t ss, ee, es;    /* the raw sums they come from */
 } sim_fit_t;
 
-static void sim_pass(const pdt_cost_t *c, const pdt_discrete_t *d, size_t k0, pdt_real_t K0,
-                     pdt_real_t c0, sim_fit_t *f)
+/* The summaries of the kernel's sums q, taken around (K0, c0). */
+static void sim_derive(const pdt_cost_t *c, const pdt_discrete_t *d, size_t k0, pdt_real_t K0,
+                       pdt_real_t c0, const pdt_cost_sums_t *qs, sim_fit_t *f)
 {
     const size_t o = d->order - 1u;
-    pdt_cost_sums_t q;
+    const pdt_cost_sums_t q = *qs;
     pdt_real_t m = (pdt_real_t)(c->n - k0);
-    if (!c->cfg.estimate_offset) {
-        c0 = PDT_R(0.0);
-    }
-    pdt_cost_kernel(c->u, c->y, c->n, k0, d, K0, c0, &q);
     f->m = m;
     f->K0 = K0;
     f->c0 = c0;
@@ -969,6 +971,35 @@ static void sim_pass(const pdt_cost_t *c, const pdt_discrete_t *d, size_t k0, pd
         f->vss -= q.s * sm;
         f->ves -= f->sum_e * sm;
         f->vee -= f->sum_e * (f->sum_e / m);
+    }
+}
+
+static void sim_pass(const pdt_cost_t *c, const pdt_discrete_t *d, size_t k0, pdt_real_t K0,
+                     pdt_real_t c0, sim_fit_t *f)
+{
+    pdt_cost_sums_t q;
+    pdt_cost_kernel(c->u, c->y, c->n, k0, d, K0, c0, &q);
+    sim_derive(c, d, k0, K0, c0, &q, f);
+}
+
+/* The reference fit of a simulation pass in normalised units: the
+ * caller's hint, or without one the data's own mean. Without an offset
+ * fit the reference offset is 0. */
+static void sim_reference(const pdt_cost_t *c, uint8_t order, pdt_real_t gain_hint,
+                          pdt_real_t offset_hint, pdt_real_t *K0, pdt_real_t *c0)
+{
+    const size_t k0 = first_scored(c, order, false);
+    *K0 = gain_to_norm(c, gain_hint);
+    *c0 = pdt_ldexp(offset_hint, -c->y_exp);
+    if (!pdt_finite(gain_hint) || !pdt_finite(offset_hint) ||
+        (gain_hint == PDT_R(0.0) && offset_hint == PDT_R(0.0))) {
+        /* No reference: the data's own mean, so that at least a record
+         * far from its operating point does not cancel. */
+        *K0 = PDT_R(0.0);
+        *c0 = c->ysum[order - 1u] / (pdt_real_t)(c->n - k0);
+    }
+    if (!c->cfg.estimate_offset) {
+        *c0 = PDT_R(0.0);
     }
 }
 
@@ -1094,62 +1125,76 @@ static pdt_real_t pred_at(const pdt_cost_t *c, const pdt_discrete_t *d, const pd
     return bsum_get(&s2) / (pdt_real_t)(c->n - k0);
 }
 
-pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape,
-                                   pdt_real_t gain_min, pdt_real_t gain_max,
-                                   pdt_real_t gain_hint, pdt_real_t offset_hint,
-                                   pdt_real_t *scratch, pdt_cost_profile_t *out)
+/* The checks of a profile call and the shape's discrete model (none for
+ * FREQUENCY). */
+static pdt_status_t profile_check(const pdt_cost_t *c, const pdt_model_t *shape,
+                                  pdt_real_t gain_min, pdt_real_t gain_max, pdt_discrete_t *d)
 {
-    const pdt_cost_kind_t kind = (c != NULL) ? c->cfg.kind : PDT_COST_SIMULATION;
-    const bool combined = (kind == PDT_COST_COMBINED);
-    const pdt_cost_kind_t tkind = combined ? c->cfg.time_kind : kind;
-    bool need_time, need_freq, pred, bounded;
-    pdt_discrete_t d;
-    pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0),
-                            PDT_R(0.0)};
-    /* Regression summaries: time part a (K - kt)^2, frequency part
-     * b (|K| - kf)^2, each up to its constant. */
-    pdt_real_t at = PDT_R(0.0), kt = PDT_R(0.0), af = PDT_R(0.0), kf = PDT_R(0.0);
-    pdt_real_t smean = PDT_R(0.0), emean = PDT_R(0.0), lo, hi, K, ct = PDT_R(0.0);
-    pdt_real_t cf = PDT_R(0.0), off = PDT_R(0.0), total;
-    sim_fit_t f;
-    size_t k0 = 0u;
-
-    if (!prepared(c) || shape == NULL || scratch == NULL || out == NULL ||
-        pdt_model_check(shape) != PDT_OK || !pdt_finite(gain_min) || !pdt_finite(gain_max)) {
+    const pdt_cost_kind_t kind = c->cfg.kind;
+    if (shape == NULL || pdt_model_check(shape) != PDT_OK || !pdt_finite(gain_min) ||
+        !pdt_finite(gain_max)) {
         return PDT_ERR_ARG;
     }
     if (gain_min > gain_max) {
         return PDT_ERR_BOUNDS;
     }
-    bounded = !(gain_min == PDT_R(0.0) && gain_max == PDT_R(0.0));
-    lo = gain_to_norm(c, gain_min);
-    hi = gain_to_norm(c, gain_max);
-    need_freq = (kind == PDT_COST_FREQUENCY) || (combined && c->cfg.phi_f > PDT_R(0.0));
-    need_time = (kind != PDT_COST_FREQUENCY) && (!combined || c->cfg.phi_t > PDT_R(0.0));
-    if ((kind == PDT_COST_FREQUENCY || combined) && c->nf == 0u) {
+    if ((kind == PDT_COST_FREQUENCY || kind == PDT_COST_COMBINED) && c->nf == 0u) {
         return PDT_ERR_ARG;
     }
-    pred = (tkind == PDT_COST_PREDICTION);
     /* The delay bounds hold for every criterion that has a time part, even
      * one weighted 0, as in pdt_cost_eval. */
-    if (kind != PDT_COST_FREQUENCY && eval_discretize(c, shape, &d) != PDT_OK) {
+    if (kind != PDT_COST_FREQUENCY && eval_discretize(c, shape, d) != PDT_OK) {
         return PDT_ERR_ARG;
     }
+    return PDT_OK;
+}
+
+/* Whether the profile has a simulation time part, the kernel's work. */
+static bool sim_time(const pdt_cost_t *c)
+{
+    const pdt_cost_kind_t kind = c->cfg.kind;
+    if (kind == PDT_COST_COMBINED) {
+        return c->cfg.phi_t > PDT_R(0.0) && c->cfg.time_kind == PDT_COST_SIMULATION;
+    }
+    return kind == PDT_COST_SIMULATION;
+}
+
+/* The profile of a checked shape with discrete model d. pre: the kernel's
+ * sums around the reference (K0, c0) when a caller already ran them, else
+ * NULL. */
+static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt_discrete_t *d,
+                        pdt_real_t gain_min, pdt_real_t gain_max, pdt_real_t K0, pdt_real_t c0,
+                        const pdt_cost_sums_t *pre, pdt_real_t *scratch, pdt_cost_profile_t *out)
+{
+    const pdt_cost_kind_t kind = c->cfg.kind;
+    const bool combined = (kind == PDT_COST_COMBINED);
+    const bool bounded = !(gain_min == PDT_R(0.0) && gain_max == PDT_R(0.0));
+    const bool need_freq = (kind == PDT_COST_FREQUENCY) ||
+                           (combined && c->cfg.phi_f > PDT_R(0.0));
+    const bool need_time = (kind != PDT_COST_FREQUENCY) &&
+                           (!combined || c->cfg.phi_t > PDT_R(0.0));
+    const bool pred = need_time && !sim_time(c);
+    const pdt_real_t lo = gain_to_norm(c, gain_min), hi = gain_to_norm(c, gain_max);
+    pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0),
+                            PDT_R(0.0)};
+    /* Regression summaries: time part a (K - kt)^2, frequency part
+     * b (|K| - kf)^2, each up to its constant. */
+    pdt_real_t at = PDT_R(0.0), kt = PDT_R(0.0), af = PDT_R(0.0), kf = PDT_R(0.0);
+    pdt_real_t smean = PDT_R(0.0), emean = PDT_R(0.0), K, ct = PDT_R(0.0);
+    pdt_real_t cf = PDT_R(0.0), off = PDT_R(0.0), total;
+    sim_fit_t f;
+    size_t k0 = 0u;
+
     if (need_time) {
         if (pred) {
-            pred_summary(c, &d, scratch, &smean, &emean, &at, &kt);
+            pred_summary(c, d, scratch, &smean, &emean, &at, &kt);
         } else {
-            pdt_real_t K0 = gain_to_norm(c, gain_hint);
-            pdt_real_t c0 = pdt_ldexp(offset_hint, -c->y_exp);
-            k0 = first_scored(c, d.order, false);
-            if (!pdt_finite(gain_hint) || !pdt_finite(offset_hint) ||
-                (gain_hint == PDT_R(0.0) && offset_hint == PDT_R(0.0))) {
-                /* No reference: the data's own mean, so that at least a
-                 * record far from its operating point does not cancel. */
-                K0 = PDT_R(0.0);
-                c0 = c->ysum[d.order - 1u] / (pdt_real_t)(c->n - k0);
+            k0 = first_scored(c, d->order, false);
+            if (pre != NULL) {
+                sim_derive(c, d, k0, K0, c0, pre, &f);
+            } else {
+                sim_pass(c, d, k0, K0, c0, &f);
             }
-            sim_pass(c, &d, k0, K0, c0, &f);
             sim_summary(&f, &at, &kt);
         }
         if (combined) {
@@ -1168,7 +1213,7 @@ pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape
         if (sim_cancels(&f, K, rss)) {
             /* Too much of the reference fit's residual cancelled: once more
              * around the fit just found. */
-            sim_pass(c, &d, k0, K, sim_offset(c, &f, K), &f);
+            sim_pass(c, d, k0, K, sim_offset(c, &f, K), &f);
             sim_summary(&f, &at, &kt);
             if (combined) {
                 at *= c->cfg.phi_t;
@@ -1181,8 +1226,8 @@ pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape
     } else if (need_time) {
         pdt_real_t o = emean - K * smean;
         /* In the equation error the offset enters through A(1). */
-        pdt_real_t a1 = (d.order == 1u) ? d.d[0] : d.d[1];
-        ct = pred_at(c, &d, scratch, K, o);
+        pdt_real_t a1 = (d->order == 1u) ? d->d[0] : d->d[1];
+        ct = pred_at(c, d, scratch, K, o);
         off = (a1 > PDT_REAL_EPS) ? o / a1 : PDT_R(0.0);
     }
     if (!pdt_finite(ct)) {
@@ -1212,6 +1257,70 @@ pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape
     r.gain = pdt_ldexp(K, c->y_exp - c->u_exp);
     r.offset = pdt_ldexp(off, c->y_exp);
     *out = r;
+}
+
+pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape,
+                                   pdt_real_t gain_min, pdt_real_t gain_max,
+                                   pdt_real_t gain_hint, pdt_real_t offset_hint,
+                                   pdt_real_t *scratch, pdt_cost_profile_t *out)
+{
+    pdt_discrete_t d;
+    pdt_real_t K0 = PDT_R(0.0), c0 = PDT_R(0.0);
+    pdt_status_t st;
+    if (!prepared(c) || scratch == NULL || out == NULL) {
+        return PDT_ERR_ARG;
+    }
+    st = profile_check(c, shape, gain_min, gain_max, &d);
+    if (st != PDT_OK) {
+        return st;
+    }
+    if (sim_time(c)) {
+        sim_reference(c, d.order, gain_hint, offset_hint, &K0, &c0);
+    }
+    profile_run(c, shape, &d, gain_min, gain_max, K0, c0, NULL, scratch, out);
+    return PDT_OK;
+}
+
+pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shapes, size_t count,
+                                   const pdt_real_t *gain_min, const pdt_real_t *gain_max,
+                                   pdt_real_t gain_hint, pdt_real_t offset_hint,
+                                   pdt_real_t *scratch, pdt_cost_profile_t *out)
+{
+    pdt_discrete_t d[PDT_COST_MANY];
+    pdt_cost_sums_t q[PDT_COST_MANY];
+    pdt_real_t K0 = PDT_R(0.0), c0 = PDT_R(0.0);
+    bool shared = false;
+    size_t i;
+    if (!prepared(c) || shapes == NULL || gain_min == NULL || gain_max == NULL ||
+        scratch == NULL || out == NULL || count == 0u || count > PDT_COST_MANY) {
+        return PDT_ERR_ARG;
+    }
+    for (i = 0; i < count; i++) {
+        pdt_status_t st = profile_check(c, &shapes[i], gain_min[i], gain_max[i], &d[i]);
+        if (st != PDT_OK) {
+            return st;
+        }
+    }
+    if (sim_time(c)) {
+        /* One pass for all when they share an order, hence a reference. */
+        shared = true;
+        for (i = 1; i < count; i++) {
+            shared = shared && d[i].order == d[0].order;
+        }
+        if (shared) {
+            sim_reference(c, d[0].order, gain_hint, offset_hint, &K0, &c0);
+            pdt_cost_kernel_many(c->u, c->y, c->n, first_scored(c, d[0].order, false), d, count,
+                                 K0, c0, q);
+        }
+    }
+    for (i = 0; i < count; i++) {
+        pdt_real_t k0i = K0, c0i = c0;
+        if (sim_time(c) && !shared) {
+            sim_reference(c, d[i].order, gain_hint, offset_hint, &k0i, &c0i);
+        }
+        profile_run(c, &shapes[i], &d[i], gain_min[i], gain_max[i], k0i, c0i,
+                    shared ? &q[i] : NULL, scratch, &out[i]);
+    }
     return PDT_OK;
 }
 

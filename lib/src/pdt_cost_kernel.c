@@ -168,30 +168,144 @@ static void body2(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t j
     st->p2 = p2;
 }
 
-void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
-                     const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
-                     pdt_cost_sums_t *out)
+/* Output samples [k0, kend) of one candidate, from state st, into t. */
+static void kernel_range(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
+                         size_t kend, const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
+                         kstate_t *st, pdt_cost_sums_t *t)
 {
     /* The first output sample the input reaches: u(0) acts on s(l + 1). */
     const size_t l1 = (d->delay < n) ? d->delay + 1u : n;
     const pdt_real_t *yd = y + l1;
-    pdt_cost_sums_t t = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
-    kstate_t st = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     size_t body = l1;
 
     if (k0 < l1) {
-        t.ee = head_sum(y, k0, l1, c0);
+        t->ee += head_sum(y, k0, (l1 < kend) ? l1 : kend, c0);
     } else {
-        generic(u, yd, 0u, k0 - l1, d, K0, c0, false, &st, &t);
+        generic(u, yd, 0u, ((k0 < kend) ? k0 : kend) - l1, d, K0, c0, false, st, t);
         body = k0;
+    }
+    if (body >= kend) {
+        return;
     }
     /* Output sample k reads u(k - l1) = ud[j] and y(k) = yd[j], j = k - l1. */
     if (d->order == 2u) {
-        body2(u, yd, body - l1, n - l1, d, K0, c0, &st, &t);
+        body2(u, yd, body - l1, kend - l1, d, K0, c0, st, t);
     } else if (d->b[2] == PDT_R(0.0)) {
-        body1(u, yd, body - l1, n - l1, d, K0, c0, &st, &t);
+        body1(u, yd, body - l1, kend - l1, d, K0, c0, st, t);
     } else {
-        generic(u, yd, body - l1, n - l1, d, K0, c0, true, &st, &t);
+        generic(u, yd, body - l1, kend - l1, d, K0, c0, true, st, t);
     }
+}
+
+void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
+                     const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
+                     pdt_cost_sums_t *out)
+{
+    pdt_cost_sums_t t = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    kstate_t st = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    kernel_range(u, y, n, k0, n, d, K0, c0, &st, &t);
     *out = t;
+}
+
+#if PDT_COST_KERNEL_VECTOR
+/* Four candidates side by side in the lanes of a vector: where the host
+ * has vector registers, one instruction serves all four, and the loop's
+ * loads of y and its control are shared. Each lane reads its own delayed
+ * input; the lanes start together once every candidate's input has
+ * arrived (before that each runs alone). */
+typedef pdt_real_t kvec_t __attribute__((vector_size(4 * sizeof(pdt_real_t))));
+
+/* A macro, not a function: a vector return value would tie the ABI to
+ * the vector width (GCC warns for 32-byte vectors without AVX). */
+#define kv(x) ((kvec_t){(x), (x), (x), (x)})
+
+static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t n,
+                      const pdt_discrete_t *d, const size_t l1[4], pdt_real_t K0, pdt_real_t c0,
+                      kstate_t st[4], pdt_cost_sums_t t[4])
+{
+    const kvec_t b0 = {d[0].b[0], d[1].b[0], d[2].b[0], d[3].b[0]};
+    const kvec_t b1 = {d[0].b[1], d[1].b[1], d[2].b[1], d[3].b[1]};
+    const kvec_t b2 = {d[0].b[2], d[1].b[2], d[2].b[2], d[3].b[2]};
+    const kvec_t dd0 = {d[0].d[0], d[1].d[0], d[2].d[0], d[3].d[0]};
+    const kvec_t dd1 = (d[0].order == 2u) ? (kvec_t){d[0].d[1], d[1].d[1], d[2].d[1], d[3].d[1]}
+                                          : kv(PDT_R(0.0));
+    const kvec_t e0 = dd0 - dd1;
+    const kvec_t vk0 = kv(K0), vc0 = kv(c0);
+    kvec_t ys = {st[0].ys, st[1].ys, st[2].ys, st[3].ys};
+    kvec_t dys = {st[0].dys, st[1].dys, st[2].dys, st[3].dys};
+    kvec_t p1 = {st[0].p1, st[1].p1, st[2].p1, st[3].p1};
+    kvec_t p2 = {st[0].p2, st[1].p2, st[2].p2, st[3].p2};
+    kvec_t ts = kv(PDT_R(0.0)), tss = ts, tee = ts, tes = ts;
+    while (k < n) {
+        size_t stop = (n - k > KERNEL_BLOCK) ? k + KERNEL_BLOCK : n;
+        kvec_t s = kv(PDT_R(0.0)), ss = s, ee = s, es = s;
+        if (d[0].order == 2u) {
+            for (; k < stop; k++) {
+                kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                dys += ((b0 * uk + b1 * p1 + b2 * p2) - e0 * dys) - dd1 * ys;
+                ys += dys;
+                p2 = p1;
+                p1 = uk;
+                kvec_t e = (kv(y[k]) - vc0) - vk0 * ys;
+                s += ys;
+                ss += ys * ys;
+                ee += e * e;
+                es += e * ys;
+            }
+        } else {
+            for (; k < stop; k++) {
+                kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                ys += (b0 * uk + b1 * p1 + b2 * p2) - dd0 * ys;
+                p2 = p1;
+                p1 = uk;
+                kvec_t e = (kv(y[k]) - vc0) - vk0 * ys;
+                s += ys;
+                ss += ys * ys;
+                ee += e * e;
+                es += e * ys;
+            }
+        }
+        ts += s;
+        tss += ss;
+        tee += ee;
+        tes += es;
+    }
+    for (size_t i = 0; i < 4u; i++) {
+        add_sums(&t[i], ts[i], tss[i], tee[i], tes[i]);
+    }
+}
+#endif
+
+void pdt_cost_kernel_many(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
+                          const pdt_discrete_t *d, size_t count, pdt_real_t K0, pdt_real_t c0,
+                          pdt_cost_sums_t *out)
+{
+    size_t i;
+#if PDT_COST_KERNEL_VECTOR
+    if (count == 4u && d[1].order == d[0].order && d[2].order == d[0].order &&
+        d[3].order == d[0].order) {
+        pdt_cost_sums_t t[4];
+        kstate_t st[4];
+        size_t l1[4], kmax = k0;
+        for (i = 0; i < 4u; i++) {
+            l1[i] = (d[i].delay < n) ? d[i].delay + 1u : n;
+            kmax = (l1[i] > kmax) ? l1[i] : kmax;
+        }
+        for (i = 0; i < 4u; i++) {
+            t[i] = (pdt_cost_sums_t){PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+            st[i] = (kstate_t){PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+            kernel_range(u, y, n, k0, kmax, &d[i], K0, c0, &st[i], &t[i]);
+        }
+        if (kmax < n) {
+            many_body(u, y, kmax, n, d, l1, K0, c0, st, t);
+        }
+        for (i = 0; i < 4u; i++) {
+            out[i] = t[i];
+        }
+        return;
+    }
+#endif
+    for (i = 0; i < count; i++) {
+        pdt_cost_kernel(u, y, n, k0, &d[i], K0, c0, &out[i]);
+    }
 }

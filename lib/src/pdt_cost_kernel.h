@@ -10,6 +10,12 @@
 #include "pdt/pdt_common.h"
 #include "pdt/pdt_discrete.h"
 
+#if defined(__GNUC__) && (defined(__SSE2__) || defined(__ARM_NEON))
+#define PDT_COST_KERNEL_VECTOR 1
+#else
+#define PDT_COST_KERNEL_VECTOR 0
+#endif
+
 /* One pass of the unit-gain shape response s over the scored samples
  * k0 .. n-1, against the residual of a reference fit e = y - K0 s - c0:
  *   s = sum s, ss = sum s^2, ee = sum e^2, es = sum e s.
@@ -27,5 +33,13 @@ typedef struct pdt_cost_sums {
 void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
                      const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
                      pdt_cost_sums_t *out);
+
+/* The same for count candidates d[0..count-1] with one reference fit, into
+ * out[0..count-1]. Where the compiler offers vector registers (GCC or
+ * Clang with SSE2 or NEON) four candidates of one order run in one pass,
+ * a lane each; otherwise, and for other counts, one pass each. */
+void pdt_cost_kernel_many(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
+                          const pdt_discrete_t *d, size_t count, pdt_real_t K0, pdt_real_t c0,
+                          pdt_cost_sums_t *out);
 
 #endif /* PDT_COST_KERNEL_H */

@@ -119,16 +119,44 @@ static void run(int sopdt, int hint)
     }
 }
 
+/* The same candidates four at a time (pdt_cost_profile_many). */
+static void run_many(int sopdt)
+{
+    pdt_cost_profile_t p[4];
+    pdt_model_t m[4];
+    const pdt_real_t lo[4] = {0, 0, 0, 0}, hi[4] = {0, 0, 0, 0};
+    for (unsigned i = 0; i < KB_REPS; i += 4u) {
+        for (unsigned k = 0; k < 4u; k++) {
+            m[k] = shape(sopdt, (pdt_real_t)(1.0 + 0.004 * (double)((i + k) % 5u)));
+        }
+#ifdef KB_BASELINE
+        (void)lo;
+        (void)hi;
+        for (unsigned k = 0; k < 4u; k++) {
+            (void)pdt_cost_profile(&g_cost, &m[k], 0, 0, g_scratch, &p[k]);
+        }
+#else
+        (void)pdt_cost_profile_many(&g_cost, m, 4u, lo, hi, g_hint[sopdt][0], g_hint[sopdt][1],
+                                    g_scratch, p);
+#endif
+        g_sink += p[0].cost + p[1].cost + p[2].cost + p[3].cost;
+    }
+}
+
 /* One function per case, called through pointers so that the host
  * compiler keeps each one for callgrind's inclusive count. */
 void kb_fopdt_hint(void);
 void kb_fopdt_cold(void);
 void kb_sopdt_hint(void);
 void kb_sopdt_cold(void);
+void kb_fopdt_many4(void);
+void kb_sopdt_many4(void);
 void kb_fopdt_hint(void) { run(0, 1); }
 void kb_fopdt_cold(void) { run(0, 0); }
 void kb_sopdt_hint(void) { run(1, 1); }
 void kb_sopdt_cold(void) { run(1, 0); }
+void kb_fopdt_many4(void) { run_many(0); }
+void kb_sopdt_many4(void) { run_many(1); }
 
 static void put(const char *s)
 {
@@ -153,10 +181,11 @@ static void put_u64(uint64_t v)
 
 int main(void)
 {
-    static void (*volatile const cases[])(void) = {kb_fopdt_hint, kb_fopdt_cold, kb_sopdt_hint,
-                                                   kb_sopdt_cold};
-    static const char *const names[] = {"kb_fopdt_hint", "kb_fopdt_cold", "kb_sopdt_hint",
-                                        "kb_sopdt_cold"};
+    static void (*volatile const cases[])(void) = {kb_fopdt_hint,  kb_fopdt_cold,
+                                                   kb_sopdt_hint,  kb_sopdt_cold,
+                                                   kb_fopdt_many4, kb_sopdt_many4};
+    static const char *const names[] = {"kb_fopdt_hint",  "kb_fopdt_cold",  "kb_sopdt_hint",
+                                        "kb_sopdt_cold",  "kb_fopdt_many4", "kb_sopdt_many4"};
     pdt_port_init();
     make_record();
     if (!prepare()) {

@@ -332,6 +332,25 @@ pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape
                                    pdt_real_t gain_hint, pdt_real_t offset_hint,
                                    pdt_real_t *scratch, pdt_cost_profile_t *out);
 
+/* Most shapes pdt_cost_profile_many takes in one call. */
+#define PDT_COST_MANY 4u
+
+/* pdt_cost_profile_hint of count shapes (1 .. PDT_COST_MANY) with one
+ * reference fit, into out[0..count-1], each with its own gain bounds
+ * gain_min[i], gain_max[i]: the same results as count calls, up to
+ * rounding. Where the host has vector registers (GCC or Clang with SSE2
+ * or NEON) four shapes of one order (all FOPDT or all SOPDT) on a
+ * SIMULATION time part are simulated side by side in one pass over the
+ * record; elsewhere each shape gets its own pass, as in count calls. The
+ * identification's population evaluation calls it with four candidates at
+ * a time. Returns PDT_ERR_ARG for NULL, count 0 or above PDT_COST_MANY, or
+ * any shape pdt_cost_profile refuses (PDT_ERR_BOUNDS for a gain_min above
+ * its gain_max); out is then untouched. */
+pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shapes, size_t count,
+                                   const pdt_real_t *gain_min, const pdt_real_t *gain_max,
+                                   pdt_real_t gain_hint, pdt_real_t offset_hint,
+                                   pdt_real_t *scratch, pdt_cost_profile_t *out);
+
 /* A cost in the normalised units of c (pdt_cost_profile_t.ncost) in
  * output units squared: ncost 4^y_exp, +infinity where that overflows.
  * NULL c gives ncost unchanged. */
