@@ -11,6 +11,7 @@
  */
 #include "test_util.h"
 
+#include "cost_accuracy_vectors.h"
 #include "cost_profile_vectors.h"
 
 /* Relative tolerance against the double reference. Float: the data are
@@ -23,6 +24,14 @@
 #endif
 
 #define CPV_NMAX 600u
+
+/* Accuracy over records up to 10^4 samples and scales 1e-30 .. 1e30; the
+ * float bound is that of the short vectors. */
+#if PDT_REAL_DOUBLE
+#define CAV_RTOL 1e-9
+#else
+#define CAV_RTOL 1e-4
+#endif
 #define CPV_NSETS (sizeof cpv_sets / sizeof cpv_sets[0])
 #define CPV_WORK_REALS (PDT_COST_WORKSPACE_SIZE(CPV_NMAX) / sizeof(pdt_real_t))
 
@@ -369,6 +378,108 @@ static void test_many_errors(void **state)
     for (size_t k = 0; k < sizeof r; k++) {
         assert_int_equal(((const unsigned char *)r)[k], 0x5a);
     }
+}
+
+/* ---- accuracy over long records and data scales ---- */
+
+#define CAV_NMAX 10000u
+static pdt_real_t g_au[CAV_NMAX];
+static pdt_real_t g_ay[CAV_NMAX];
+static pdt_real_t g_awork[2u * CAV_NMAX];
+static pdt_real_t g_ascratch[CAV_NMAX];
+
+/* The record of a case, rebuilt with the generator's double arithmetic. */
+static void cav_record(const cav_case_t *v)
+{
+    uint32_t st = v->seed;
+    double x = 0.0;
+    static double ud[CAV_NMAX];
+    assert_true(v->n <= CAV_NMAX);
+    for (size_t k = 0; k < v->n; k += v->hold) {
+        st = 1664525u * st + 1013904223u;
+        double level = ((double)st / 4294967296.0 < 0.5) ? 1.0 : -1.0;
+        for (size_t j = k; j < k + v->hold && j < v->n; j++) {
+            ud[j] = level;
+        }
+    }
+    for (size_t k = 0; k < v->n; k++) {
+        double sum = 0.0;
+        for (int i = 0; i < 4; i++) {
+            st = 1664525u * st + 1013904223u;
+            sum += (double)st / 4294967296.0;
+        }
+        double noise = v->amp * (sum - 2.0);
+        double uin = (k >= 1u + CAV_PLANT_L) ? ud[k - 1u - CAV_PLANT_L] : 0.0;
+        x = v->a * x + v->b * uin;
+        g_au[k] = (pdt_real_t)(float)(v->su * ud[k] + v->uoff);
+        g_ay[k] = (pdt_real_t)(float)(v->sy * (x + noise) + v->yoff);
+    }
+}
+
+static void test_accuracy_scales(void **state)
+{
+    double worst[3] = {0.0, 0.0, 0.0};
+    (void)state;
+    for (size_t ci = 0; ci < sizeof cav_cases / sizeof cav_cases[0]; ci++) {
+        const cav_case_t *v = &cav_cases[ci];
+        pdt_cost_config_t cfg;
+        pdt_cost_t c;
+        double cw[3] = {0.0, 0.0, 0.0};
+        cav_record(v);
+        assert_true((double)g_au[0] == v->u0 && (double)g_ay[0] == v->y0);
+        pdt_cost_config_default(&cfg);
+        cfg.Ts = (pdt_real_t)CAV_TS;
+        cfg.u0 = g_au[0];
+        cfg.y0 = g_ay[0];
+        cfg.delay_max = CAV_DELAY_MAX;
+        cfg.kind = PDT_COST_SIMULATION;
+        cfg.whole_record = true;
+        cfg.use_frequency = false;
+        assert_int_equal(pdt_cost_init(&c, &cfg, g_au, g_ay, v->n, g_awork, sizeof g_awork),
+                         PDT_OK);
+        for (size_t i = 0; i < CAV_NSHAPE; i++) {
+            const double q[4] = {cav_shape_param[4u * i], cav_shape_param[4u * i + 1u],
+                                 cav_shape_param[4u * i + 2u], cav_shape_param[4u * i + 3u]};
+            pdt_model_t m[PDT_COST_MANY];
+            pdt_real_t lo[PDT_COST_MANY] = {0}, hi[PDT_COST_MANY] = {0};
+            pdt_cost_profile_t r[PDT_COST_MANY + 2u];
+            const double ncost = ldexp(v->cost[i], -2 * c.y_exp);
+            for (size_t k = 0; k < PDT_COST_MANY; k++) {
+                m[k] = vector_model(cav_shape_kind[i], q);
+            }
+            /* without a reference, with the exact one, and four at a time
+             * with one half the gain off */
+            assert_int_equal(pdt_cost_profile(&c, &m[0], 0, 0, g_ascratch, &r[0]), PDT_OK);
+            assert_int_equal(pdt_cost_profile_hint(&c, &m[0], 0, 0, (pdt_real_t)v->gain[i],
+                                                   (pdt_real_t)v->offset[i], g_ascratch, &r[1]),
+                             PDT_OK);
+            assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi,
+                                                   (pdt_real_t)(1.5 * v->gain[i]),
+                                                   (pdt_real_t)v->offset[i], g_ascratch, &r[2]),
+                             PDT_OK);
+            for (size_t k = 0; k < 3u; k++) {
+                cw[0] = fmax(cw[0], rel_err((double)r[k].ncost, ncost));
+                cw[1] = fmax(cw[1], rel_err((double)r[k].gain, v->gain[i]));
+                cw[2] = fmax(cw[2], fabs((double)r[k].offset - v->offset[i]) / v->yrange);
+                if (ncost * ldexp(1.0, 2 * c.y_exp) < 1e38 &&
+                    ncost * ldexp(1.0, 2 * c.y_exp) > 1e-37) {
+                    cw[0] = fmax(cw[0], rel_err((double)r[k].cost, v->cost[i]));
+                }
+            }
+        }
+        print_message("accuracy n %5zu noise %-6g su %-6g sy %-6g: cost %.2g gain %.2g "
+                      "offset %.2g\n",
+                      v->n, v->amp, v->su, v->sy, cw[0], cw[1], cw[2]);
+        for (int k = 0; k < 3; k++) {
+            worst[k] = fmax(worst[k], cw[k]);
+        }
+    }
+    print_message("worst relative errors against the double reference: cost %.3g gain %.3g "
+                  "offset %.3g (of max |y - y0|)\n",
+                  worst[0], worst[1], worst[2]);
+    assert_true(worst[0] <= CAV_RTOL);
+    assert_true(worst[1] <= CAV_RTOL);
+    assert_true(worst[2] <= CAV_RTOL);
 }
 
 static void test_vectors_simulate(void **state)
@@ -910,6 +1021,7 @@ int main(void)
         cmocka_unit_test(test_vectors_profile),
         cmocka_unit_test(test_vectors_many_and_hints),
         cmocka_unit_test(test_many_errors),
+        cmocka_unit_test(test_accuracy_scales),
         cmocka_unit_test(test_vectors_simulate),
         cmocka_unit_test(test_profile_properties),
         cmocka_unit_test(test_profile_bounds),
