@@ -109,7 +109,21 @@ static void body1(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t j
  *   dys' = dys + bu - d0 dys - d1 (ys - dys) = dys + (bu - (d0 - d1) dys - d1 ys)
  * keeps the small numbers d0 and d1 that set a slow model's time constant
  * and gain (1 - d0 + d1, the product of the poles, would round them away)
- * with one operation fewer than the textbook arrangement. */
+ * with one operation fewer than the textbook arrangement.
+ * BODY2_STEP is one sample with input ua, taps pa = u(k-2-l) and
+ * pb = u(k-3-l), output yk; a macro, so that the unrolled loop is one body
+ * that the compiler schedules freely at any optimisation level. */
+#define BODY2_STEP(ua, pa, pb, yk)                                            \
+    do {                                                                      \
+        dys += ((b0 * (ua) + b1 * (pa) + b2 * (pb)) - e0 * dys) - d1 * ys;    \
+        ys += dys;                                                            \
+        e = ((yk) - c0) - K0 * ys;                                            \
+        s += ys;                                                              \
+        ss += ys * ys;                                                        \
+        ee += e * e;                                                          \
+        es += e * ys;                                                         \
+    } while (0)
+
 static void body2(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t jend,
                   const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, kstate_t *st,
                   pdt_cost_sums_t *t)
@@ -123,41 +137,26 @@ static void body2(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t j
         const pdt_real_t *const uend = ud + stop;
         pdt_real_t s = PDT_R(0.0), ss = PDT_R(0.0), ee = PDT_R(0.0), es = PDT_R(0.0);
         pdt_real_t e;
-        if (((stop - j) & 1u) != 0u) {
-            /* An odd block: one sample, then pairs. */
-            pdt_real_t u1 = *up++;
-            dys += ((b0 * u1 + b1 * p1 + b2 * p2) - e0 * dys) - d1 * ys;
-            ys += dys;
+        /* Single samples up to a multiple of four, then four a turn: the
+         * input taps rotate through the loaded values instead of being
+         * moved every sample, and the loop's control is shared. */
+        for (size_t r = (stop - j) & 3u; r > 0u; r--) {
+            pdt_real_t ua = *up++;
+            BODY2_STEP(ua, p1, p2, *yp);
+            yp++;
             p2 = p1;
-            p1 = u1;
-            e = (*yp++ - c0) - K0 * ys;
-            s += ys;
-            ss += ys * ys;
-            ee += e * e;
-            es += e * ys;
+            p1 = ua;
         }
-        /* Two samples a turn: the input taps rotate through the loaded
-         * values instead of being moved every sample. */
         while (up != uend) {
-            pdt_real_t ua = up[0], ub = up[1];
-            up += 2;
-            dys += ((b0 * ua + b1 * p1 + b2 * p2) - e0 * dys) - d1 * ys;
-            ys += dys;
-            e = (yp[0] - c0) - K0 * ys;
-            s += ys;
-            ss += ys * ys;
-            ee += e * e;
-            es += e * ys;
-            dys += ((b0 * ub + b1 * ua + b2 * p1) - e0 * dys) - d1 * ys;
-            ys += dys;
-            e = (yp[1] - c0) - K0 * ys;
-            yp += 2;
-            s += ys;
-            ss += ys * ys;
-            ee += e * e;
-            es += e * ys;
-            p2 = ua;
-            p1 = ub;
+            pdt_real_t ua = up[0], ub = up[1], uc = up[2], uq = up[3];
+            up += 4;
+            BODY2_STEP(ua, p1, p2, yp[0]);
+            BODY2_STEP(ub, ua, p1, yp[1]);
+            BODY2_STEP(uc, ub, ua, yp[2]);
+            BODY2_STEP(uq, uc, ub, yp[3]);
+            yp += 4;
+            p2 = uc;
+            p1 = uq;
         }
         add_sums(t, s, ss, ee, es);
         j = stop;
