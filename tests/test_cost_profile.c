@@ -271,9 +271,9 @@ static void test_vectors_many_and_hints(void **state)
                     hi[k] = (pdt_real_t)w->gain_max;
                 }
                 /* a reference fit far off (the first shape's gain, doubled) */
-                assert_int_equal(pdt_cost_profile_many(&c, m, cnt, lo, hi,
-                                                       (pdt_real_t)(2.0 * s->result[i0 * CPV_NCFG + ci].gain),
-                                                       (pdt_real_t)ys, g_scratch, r),
+                const pdt_cost_hint_t far = {
+                    (pdt_real_t)(2.0 * s->result[i0 * CPV_NCFG + ci].gain), (pdt_real_t)ys, 0};
+                assert_int_equal(pdt_cost_profile_many(&c, m, cnt, lo, hi, &far, g_scratch, r),
                                  PDT_OK);
                 assert_true(r[cnt].cost == (pdt_real_t)-1.0);
                 for (size_t k = 0; k < cnt; k++) {
@@ -288,10 +288,10 @@ static void test_vectors_many_and_hints(void **state)
                               i0 + k, v->name, "many offset");
                     /* the exact reference and a reference at minus the gain */
                     for (int sgn = -1; sgn <= 1; sgn += 2) {
-                        assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k],
-                                                               (pdt_real_t)(sgn * w->gain),
-                                                               (pdt_real_t)w->offset, g_scratch,
-                                                               &h),
+                        const pdt_cost_hint_t ref = {(pdt_real_t)(sgn * w->gain),
+                                                     (pdt_real_t)w->offset, 0};
+                        assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &ref,
+                                                               g_scratch, &h),
                                          PDT_OK);
                         check_val((double)h.cost, w->cost, CPV_RTOL, 0.0, &worst, s->name,
                                   i0 + k, v->name, "hint cost");
@@ -323,7 +323,7 @@ static void test_vectors_many_and_hints(void **state)
                     lo[k] = (pdt_real_t)w->gain_min;
                     hi[k] = (pdt_real_t)w->gain_max;
                 }
-                assert_int_equal(pdt_cost_profile_many(&c, m, cnt, lo, hi, 0, 0, g_scratch, r),
+                assert_int_equal(pdt_cost_profile_many(&c, m, cnt, lo, hi, NULL, g_scratch, r),
                                  PDT_OK);
                 for (size_t k = 0; k < cnt; k++) {
                     const cpv_result_t *w = &s->result[idx[k] * CPV_NCFG + ci];
@@ -359,21 +359,21 @@ static void test_many_errors(void **state)
         m[k] = model_of(s, k % s->nshape, 1.0);
     }
     memset(r, 0x5a, sizeof r);
-    assert_int_equal(pdt_cost_profile_many(&c, m, 0u, lo, hi, 0, 0, g_scratch, r), PDT_ERR_ARG);
-    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY + 1u, lo, hi, 0, 0, g_scratch, r),
+    assert_int_equal(pdt_cost_profile_many(&c, m, 0u, lo, hi, NULL, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY + 1u, lo, hi, NULL, g_scratch, r),
                      PDT_ERR_ARG);
-    assert_int_equal(pdt_cost_profile_many(NULL, m, 1u, lo, hi, 0, 0, g_scratch, r), PDT_ERR_ARG);
-    assert_int_equal(pdt_cost_profile_many(&c, NULL, 1u, lo, hi, 0, 0, g_scratch, r), PDT_ERR_ARG);
-    assert_int_equal(pdt_cost_profile_many(&c, m, 1u, NULL, hi, 0, 0, g_scratch, r), PDT_ERR_ARG);
-    assert_int_equal(pdt_cost_profile_many(&c, m, 1u, lo, hi, 0, 0, NULL, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(NULL, m, 1u, lo, hi, NULL, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, NULL, 1u, lo, hi, NULL, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, m, 1u, NULL, hi, NULL, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, m, 1u, lo, hi, NULL, NULL, r), PDT_ERR_ARG);
     lo[2] = 2;
     hi[2] = 1;
-    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, 0, 0, g_scratch, r),
+    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, NULL, g_scratch, r),
                      PDT_ERR_BOUNDS);
     lo[2] = 0;
     hi[2] = 0;
     m[3].kind = (pdt_model_kind_t)99;
-    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, 0, 0, g_scratch, r),
+    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, NULL, g_scratch, r),
                      PDT_ERR_ARG);
     for (size_t k = 0; k < sizeof r; k++) {
         assert_int_equal(((const unsigned char *)r)[k], 0x5a);
@@ -450,12 +450,13 @@ static void test_accuracy_scales(void **state)
             /* without a reference, with the exact one, and four at a time
              * with one half the gain off */
             assert_int_equal(pdt_cost_profile(&c, &m[0], 0, 0, g_ascratch, &r[0]), PDT_OK);
-            assert_int_equal(pdt_cost_profile_hint(&c, &m[0], 0, 0, (pdt_real_t)v->gain[i],
-                                                   (pdt_real_t)v->offset[i], g_ascratch, &r[1]),
+            const pdt_cost_hint_t exact = {(pdt_real_t)v->gain[i], (pdt_real_t)v->offset[i], 0};
+            const pdt_cost_hint_t off = {(pdt_real_t)(1.5 * v->gain[i]), (pdt_real_t)v->offset[i],
+                                         0};
+            assert_int_equal(pdt_cost_profile_hint(&c, &m[0], 0, 0, &exact, g_ascratch, &r[1]),
                              PDT_OK);
-            assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi,
-                                                   (pdt_real_t)(1.5 * v->gain[i]),
-                                                   (pdt_real_t)v->offset[i], g_ascratch, &r[2]),
+            assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, &off, g_ascratch,
+                                                   &r[2]),
                              PDT_OK);
             for (size_t k = 0; k < 3u; k++) {
                 cw[0] = fmax(cw[0], rel_err((double)r[k].ncost, ncost));

@@ -933,8 +933,10 @@ static pdt_real_t gain_to_norm(const pdt_cost_t *c, pdt_real_t g)
  * around the fit it found. */
 #if PDT_REAL_DOUBLE
 #define CANCEL_RATIO (PDT_R(1e-11) / PDT_REAL_EPS)
+#define LOOSE_RATIO (PDT_R(1e-8) / PDT_REAL_EPS)
 #else
 #define CANCEL_RATIO (PDT_R(2e-6) / PDT_REAL_EPS)
+#define LOOSE_RATIO (PDT_R(1e-3) / PDT_REAL_EPS)
 #endif
 
 /* The simulation's time part: one kernel pass around the reference fit
@@ -985,14 +987,16 @@ static void sim_pass(const pdt_cost_t *c, const pdt_discrete_t *d, size_t k0, pd
 /* The reference fit of a simulation pass in normalised units: the
  * caller's hint, or without one the data's own mean. Without an offset
  * fit the reference offset is 0. */
-static void sim_reference(const pdt_cost_t *c, uint8_t order, pdt_real_t gain_hint,
-                          pdt_real_t offset_hint, pdt_real_t *K0, pdt_real_t *c0)
+static void sim_reference(const pdt_cost_t *c, uint8_t order, const pdt_cost_hint_t *hint,
+                          pdt_real_t *K0, pdt_real_t *c0)
 {
     const size_t k0 = first_scored(c, order, false);
-    *K0 = gain_to_norm(c, gain_hint);
-    *c0 = pdt_ldexp(offset_hint, -c->y_exp);
-    if (!pdt_finite(gain_hint) || !pdt_finite(offset_hint) ||
-        (gain_hint == PDT_R(0.0) && offset_hint == PDT_R(0.0))) {
+    if (hint != NULL && pdt_finite(hint->gain) && pdt_finite(hint->offset)) {
+        *K0 = gain_to_norm(c, hint->gain);
+        *c0 = pdt_ldexp(hint->offset, -c->y_exp);
+    }
+    if (hint == NULL || !pdt_finite(hint->gain) || !pdt_finite(hint->offset) ||
+        (hint->gain == PDT_R(0.0) && hint->offset == PDT_R(0.0))) {
         /* No reference: the data's own mean, so that at least a record
          * far from its operating point does not cancel. */
         *K0 = PDT_R(0.0);
@@ -1004,12 +1008,17 @@ static void sim_reference(const pdt_cost_t *c, uint8_t order, pdt_real_t gain_hi
 }
 
 /* Whether the residual sum of squares rss at gain K came from sums so
- * much larger that float rounding shows in it. */
-static bool sim_cancels(const sim_fit_t *f, pdt_real_t K, pdt_real_t rss)
+ * much larger that float rounding shows in it. Near the best cost so far
+ * (ncost_ref, normalised, 0 if unknown) that is 2e-6 of it; a candidate
+ * four times worse is allowed 1e-3: its rank among poor candidates is all
+ * the search takes from it, and the second pass would double its price
+ * whenever the reference fit does not suit its shape. */
+static bool sim_cancels(const sim_fit_t *f, pdt_real_t K, pdt_real_t rss, pdt_real_t ncost_ref)
 {
     pdt_real_t dk = pdt_fabs(K - f->K0);
     pdt_real_t big = f->ee + dk * (PDT_R(2.0) * f->es + dk * f->ss);
-    return pdt_finite(big) && !(big <= CANCEL_RATIO * rss);
+    bool poor = ncost_ref > PDT_R(0.0) && rss > PDT_R(4.0) * ncost_ref * f->m;
+    return pdt_finite(big) && !(big <= (poor ? LOOSE_RATIO : CANCEL_RATIO) * rss);
 }
 
 /* Residual sum of squares of the fit with gain K (and the best offset),
@@ -1164,7 +1173,8 @@ static bool sim_time(const pdt_cost_t *c)
  * NULL. */
 static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt_discrete_t *d,
                         pdt_real_t gain_min, pdt_real_t gain_max, pdt_real_t K0, pdt_real_t c0,
-                        const pdt_cost_sums_t *pre, pdt_real_t *scratch, pdt_cost_profile_t *out)
+                        pdt_real_t ncost_ref, const pdt_cost_sums_t *pre, pdt_real_t *scratch,
+                        pdt_cost_profile_t *out)
 {
     const pdt_cost_kind_t kind = c->cfg.kind;
     const bool combined = (kind == PDT_COST_COMBINED);
@@ -1210,7 +1220,8 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     K = best_gain(at, kt, af, kf, bounded, lo, hi);
     if (need_time && !pred) {
         pdt_real_t rss = sim_rss(&f, K);
-        if (sim_cancels(&f, K, rss)) {
+        /* The time part's own share of the reference cost. */
+        if (sim_cancels(&f, K, rss, combined ? ncost_ref / c->cfg.phi_t : ncost_ref)) {
             /* Too much of the reference fit's residual cancelled: once more
              * around the fit just found. */
             sim_pass(c, d, k0, K, sim_offset(c, &f, K), &f);
@@ -1259,10 +1270,19 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     *out = r;
 }
 
+/* The reference cost of a hint, 0 when there is none. */
+static pdt_real_t hint_ncost(const pdt_cost_hint_t *hint)
+{
+    if (hint == NULL || !pdt_finite(hint->ncost) || !(hint->ncost > PDT_R(0.0))) {
+        return PDT_R(0.0);
+    }
+    return hint->ncost;
+}
+
 pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape,
                                    pdt_real_t gain_min, pdt_real_t gain_max,
-                                   pdt_real_t gain_hint, pdt_real_t offset_hint,
-                                   pdt_real_t *scratch, pdt_cost_profile_t *out)
+                                   const pdt_cost_hint_t *hint, pdt_real_t *scratch,
+                                   pdt_cost_profile_t *out)
 {
     pdt_discrete_t d;
     pdt_real_t K0 = PDT_R(0.0), c0 = PDT_R(0.0);
@@ -1275,16 +1295,16 @@ pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape
         return st;
     }
     if (sim_time(c)) {
-        sim_reference(c, d.order, gain_hint, offset_hint, &K0, &c0);
+        sim_reference(c, d.order, hint, &K0, &c0);
     }
-    profile_run(c, shape, &d, gain_min, gain_max, K0, c0, NULL, scratch, out);
+    profile_run(c, shape, &d, gain_min, gain_max, K0, c0, hint_ncost(hint), NULL, scratch, out);
     return PDT_OK;
 }
 
 pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shapes, size_t count,
                                    const pdt_real_t *gain_min, const pdt_real_t *gain_max,
-                                   pdt_real_t gain_hint, pdt_real_t offset_hint,
-                                   pdt_real_t *scratch, pdt_cost_profile_t *out)
+                                   const pdt_cost_hint_t *hint, pdt_real_t *scratch,
+                                   pdt_cost_profile_t *out)
 {
     pdt_discrete_t d[PDT_COST_MANY];
     pdt_cost_sums_t q[PDT_COST_MANY];
@@ -1308,7 +1328,7 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
             shared = shared && d[i].order == d[0].order;
         }
         if (shared) {
-            sim_reference(c, d[0].order, gain_hint, offset_hint, &K0, &c0);
+            sim_reference(c, d[0].order, hint, &K0, &c0);
             pdt_cost_kernel_many(c->u, c->y, c->n, first_scored(c, d[0].order, false), d, count,
                                  K0, c0, q);
         }
@@ -1316,9 +1336,9 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
     for (i = 0; i < count; i++) {
         pdt_real_t k0i = K0, c0i = c0;
         if (sim_time(c) && !shared) {
-            sim_reference(c, d[i].order, gain_hint, offset_hint, &k0i, &c0i);
+            sim_reference(c, d[i].order, hint, &k0i, &c0i);
         }
-        profile_run(c, &shapes[i], &d[i], gain_min[i], gain_max[i], k0i, c0i,
+        profile_run(c, &shapes[i], &d[i], gain_min[i], gain_max[i], k0i, c0i, hint_ncost(hint),
                     shared ? &q[i] : NULL, scratch, &out[i]);
     }
     return PDT_OK;
@@ -1327,8 +1347,7 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
 pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t gain_min,
                               pdt_real_t gain_max, pdt_real_t *scratch, pdt_cost_profile_t *out)
 {
-    return pdt_cost_profile_hint(c, shape, gain_min, gain_max, PDT_R(0.0), PDT_R(0.0), scratch,
-                                 out);
+    return pdt_cost_profile_hint(c, shape, gain_min, gain_max, NULL, scratch, out);
 }
 
 pdt_real_t pdt_cost_units(const pdt_cost_t *c, pdt_real_t ncost)

@@ -582,18 +582,25 @@ static void shape_of(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
     }
 }
 
+/* The multiplier of a shape's gain per unit of the model's K (its DC
+ * gain, or an integrator's velocity gain). */
+static pdt_real_t gain_scale(const pdt_model_t *shape)
+{
+    if (shape->kind == PDT_MODEL_SOPDT) {
+        return shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a;
+    }
+    return PDT_R(1.0);
+}
+
 /* Bounds on the multiplier of the shape's gain from the caller's K bounds. */
 static void gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
                         pdt_real_t *hi)
 {
-    pdt_real_t scale = PDT_R(1.0);
+    pdt_real_t scale = gain_scale(shape);
     if (c->cfg.K_min == PDT_R(0.0) && c->cfg.K_max == PDT_R(0.0)) {
         *lo = PDT_R(0.0);
         *hi = PDT_R(0.0);
         return;
-    }
-    if (shape->kind == PDT_MODEL_SOPDT) {
-        scale = shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a;
     }
     *lo = c->cfg.K_min * scale;
     *hi = c->cfg.K_max * scale;
@@ -608,9 +615,15 @@ static void evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_
     shape_of(c, g, &shape);
     gain_bounds(c, &shape, &glo, &ghi);
     c->evaluations++;
-    /* The best so far is the reference fit of the cost's one pass. */
-    if (pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, c->best_gain, c->best_offset,
-                              c->scratch, &pr) != PDT_OK ||
+    /* The best so far is the reference fit of the cost's one pass, its gain
+     * carried over to this shape's unit. */
+    pdt_cost_hint_t hint = {c->best_gain, c->best_offset, c->best_cost};
+    if (shape.kind == PDT_MODEL_SOPDT && c->best_cost < PDT_REAL_MAX) {
+        pdt_model_t best;
+        shape_of(c, c->best, &best);
+        hint.gain = c->best_gain * gain_scale(&shape) / gain_scale(&best);
+    }
+    if (pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) != PDT_OK ||
         !(pr.ncost == pr.ncost)) {
         *cost = PDT_REAL_MAX;
         *gain = PDT_R(0.0);

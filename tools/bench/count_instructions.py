@@ -4,11 +4,13 @@
 inclusive count of each case function of tools/bench/kernel_count.c) and on
 the Cortex-M4F (QEMU mps2-an386 with -icount shift=0: one port tick is 40
 instructions), for this tree and for a base commit (the same program built
-with -DKB_BASELINE against the base's library). Writes the table into
-docs/kernel.md between the markers.
+with -DKB_BASELINE against the base's library). Also builds the cost tests
+in both real types and takes the accuracy of the evaluation against the
+double numpy reference from test_cost_profile's output. Writes both tables
+into docs/kernel.md between their markers.
 
 Usage: python3 tools/bench/count_instructions.py [--base REV] [--check]
---check prints the table without rewriting docs/kernel.md.
+--check prints the tables without rewriting docs/kernel.md.
 """
 import argparse
 import pathlib
@@ -22,6 +24,8 @@ PROGRAM = ROOT / "tools" / "bench" / "kernel_count.c"
 DOC = ROOT / "docs" / "kernel.md"
 BEGIN = "<!-- count_instructions.py: begin -->"
 END = "<!-- count_instructions.py: end -->"
+ACC_BEGIN = "<!-- count_instructions.py accuracy: begin -->"
+ACC_END = "<!-- count_instructions.py accuracy: end -->"
 CASES = ["kb_fopdt_hint", "kb_fopdt_cold", "kb_sopdt_hint", "kb_sopdt_cold",
          "kb_fopdt_many4", "kb_sopdt_many4"]
 CM4 = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"]
@@ -88,6 +92,40 @@ def base_tree(rev, work):
     return tree
 
 
+def accuracy():
+    """The accuracy lines of test_cost_profile in both real types."""
+    out = {}
+    for real in ("float", "double"):
+        build = ROOT / "build" / f"kernel-accuracy-{real}"
+        subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build), "-G", "Ninja",
+                        "-DCMAKE_BUILD_TYPE=Release",
+                        f"-DPDT_REAL_DOUBLE={'ON' if real == 'double' else 'OFF'}"],
+                       check=True, stdout=subprocess.DEVNULL)
+        subprocess.run(["cmake", "--build", str(build), "--target", "test_cost_profile"],
+                       check=True, stdout=subprocess.DEVNULL)
+        run = subprocess.run([str(build / "tests" / "test_cost_profile")], check=True,
+                             capture_output=True, text=True)
+        out[real] = [ln for ln in (run.stdout + run.stderr).splitlines()
+                     if ln.startswith("accuracy n") or ln.startswith("worst relative errors "
+                                                                      "against")]
+    lines = []
+    for m in re.finditer(r"accuracy n\s+(\d+) noise (\S+)\s+su (\S+)\s+sy (\S+)\s*: cost (\S+) "
+                         r"gain (\S+) offset (\S+)", "\n".join(out["float"])):
+        lines.append("| " + " | ".join(m.groups()) + " |")
+    table = ["| N | noise | u scale | y scale | cost | gain | offset |",
+             "|---:|---:|---:|---:|---:|---:|---:|", *lines, ""]
+    for real in ("float", "double"):
+        for ln in out[real]:
+            if ln.startswith("worst"):
+                table.append(f"- {real} build, {ln}.")
+    return "\n".join(table)
+
+
+def replace(text, begin, end, body):
+    a, b = text.index(begin) + len(begin), text.index(end)
+    return text[:a] + "\n" + body + "\n" + text[b:]
+
+
 def fmt(v):
     return "" if v is None else f"{v:.1f}"
 
@@ -138,12 +176,13 @@ def main():
         f"`-icount shift=0` (ticks x 40).",
     ]
     table = "\n".join(lines)
+    acc = accuracy()
     print(table)
+    print(acc)
     if args.check:
         return 0
-    text = DOC.read_text()
-    a, b = text.index(BEGIN) + len(BEGIN), text.index(END)
-    DOC.write_text(text[:a] + "\n" + table + "\n" + text[b:])
+    text = replace(DOC.read_text(), BEGIN, END, table)
+    DOC.write_text(replace(text, ACC_BEGIN, ACC_END, acc))
     return 0
 
 

@@ -105,15 +105,15 @@ static void set_hint(int sopdt)
 static void run(int sopdt, int hint)
 {
     pdt_cost_profile_t p;
-    pdt_real_t gh = hint ? g_hint[sopdt][0] : 0, oh = hint ? g_hint[sopdt][1] : 0;
+    const pdt_cost_hint_t h = {g_hint[sopdt][0], g_hint[sopdt][1], 0};
     for (unsigned i = 0; i < KB_REPS; i++) {
         pdt_model_t m = shape(sopdt, (pdt_real_t)(1.0 + 0.004 * (double)(i % 5u)));
 #ifdef KB_BASELINE
-        (void)gh;
-        (void)oh;
+        (void)h;
+        (void)hint;
         (void)pdt_cost_profile(&g_cost, &m, 0, 0, g_scratch, &p);
 #else
-        (void)pdt_cost_profile_hint(&g_cost, &m, 0, 0, gh, oh, g_scratch, &p);
+        (void)pdt_cost_profile_hint(&g_cost, &m, 0, 0, hint ? &h : NULL, g_scratch, &p);
 #endif
         g_sink += p.cost;
     }
@@ -136,8 +136,8 @@ static void run_many(int sopdt)
             (void)pdt_cost_profile(&g_cost, &m[k], 0, 0, g_scratch, &p[k]);
         }
 #else
-        (void)pdt_cost_profile_many(&g_cost, m, 4u, lo, hi, g_hint[sopdt][0], g_hint[sopdt][1],
-                                    g_scratch, p);
+        const pdt_cost_hint_t h = {g_hint[sopdt][0], g_hint[sopdt][1], 0};
+        (void)pdt_cost_profile_many(&g_cost, m, 4u, lo, hi, &h, g_scratch, p);
 #endif
         g_sink += p[0].cost + p[1].cost + p[2].cost + p[3].cost;
     }
