@@ -25,6 +25,13 @@
 
 #define CPV_NMAX 600u
 
+/* The loose bound of a candidate far worse than the hint's cost. */
+#if PDT_REAL_DOUBLE
+#define CPV_RTOL_POOR 1e-7
+#else
+#define CPV_RTOL_POOR 2e-3
+#endif
+
 /* Accuracy over records up to 10^4 samples and scales 1e-30 .. 1e30; the
  * float bound is that of the short vectors. */
 #if PDT_REAL_DOUBLE
@@ -300,6 +307,14 @@ static void test_vectors_many_and_hints(void **state)
                         assert_true(fabs((double)h.ncost - (double)r[k].ncost) <=
                                     1e-4 * fabs((double)r[k].ncost));
                     }
+                    /* A reference cost far below: every candidate counts as
+                     * poor and is scored to the loose bound, in one pass. */
+                    const pdt_cost_hint_t poor = {(pdt_real_t)(3.0 * w->gain), 0,
+                                                  (pdt_real_t)1e-30};
+                    assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &poor,
+                                                           g_scratch, &h),
+                                     PDT_OK);
+                    assert_close(h.cost, w->cost, CPV_RTOL_POOR, 0.0);
                 }
             }
             /* Four shapes of one order: the side-by-side pass where the
