@@ -105,11 +105,12 @@ static void set_hint(int sopdt)
 static void run(int sopdt, int hint)
 {
     pdt_cost_profile_t p;
+#ifndef KB_BASELINE
     const pdt_cost_hint_t h = {g_hint[sopdt][0], g_hint[sopdt][1], 0};
+#endif
     for (unsigned i = 0; i < KB_REPS; i++) {
         pdt_model_t m = shape(sopdt, (pdt_real_t)(1.0 + 0.004 * (double)(i % 5u)));
 #ifdef KB_BASELINE
-        (void)h;
         (void)hint;
         (void)pdt_cost_profile(&g_cost, &m, 0, 0, g_scratch, &p);
 #else
