@@ -198,6 +198,18 @@ static void test_vectors_whole_record(void **state)
  * (relative to |offset| + the output's range), ct, cf. */
 static double g_worst[5];
 
+/* The cost of set si under configuration ci, its record loaded. */
+static const cpv_config_t *open_case(const cpv_set_t *s, size_t ci, pdt_cost_t *c)
+{
+    const cpv_config_t *v = &cpv_configs[ci];
+    pdt_cost_config_t cfg;
+    load_set(s);
+    base_config(s, &cfg);
+    apply_config(v, &cfg);
+    init_ok(c, &cfg, s->n);
+    return v;
+}
+
 static void test_vectors_profile(void **state)
 {
     (void)state;
@@ -205,14 +217,9 @@ static void test_vectors_profile(void **state)
     for (size_t si = 0; si < CPV_NSETS; si++) {
         const cpv_set_t *s = &cpv_sets[si];
         const double ys = y_scale(s);
-        load_set(s);
         for (size_t ci = 0; ci < CPV_NCFG; ci++) {
-            const cpv_config_t *v = &cpv_configs[ci];
-            pdt_cost_config_t cfg;
             pdt_cost_t c;
-            base_config(s, &cfg);
-            apply_config(v, &cfg);
-            init_ok(&c, &cfg, s->n);
+            const cpv_config_t *v = open_case(s, ci, &c);
             for (size_t i = 0; i < s->nshape; i++) {
                 const cpv_result_t *w = &s->result[i * CPV_NCFG + ci];
                 pdt_model_t m = model_of(s, i, 1.0);
@@ -257,14 +264,9 @@ static void test_vectors_many_and_hints(void **state)
     for (size_t si = 0; si < CPV_NSETS; si++) {
         const cpv_set_t *s = &cpv_sets[si];
         const double ys = y_scale(s);
-        load_set(s);
         for (size_t ci = 0; ci < CPV_NCFG; ci++) {
-            const cpv_config_t *v = &cpv_configs[ci];
-            pdt_cost_config_t cfg;
             pdt_cost_t c;
-            base_config(s, &cfg);
-            apply_config(v, &cfg);
-            init_ok(&c, &cfg, s->n);
+            const cpv_config_t *v = open_case(s, ci, &c);
             for (size_t i0 = 0; i0 < s->nshape; i0 += PDT_COST_MANY) {
                 size_t cnt = s->nshape - i0 < PDT_COST_MANY ? s->nshape - i0 : PDT_COST_MANY;
                 pdt_model_t m[PDT_COST_MANY];

@@ -218,6 +218,16 @@ typedef pdt_real_t kvec_t __attribute__((vector_size(4 * sizeof(pdt_real_t))));
  * the vector width (GCC warns for 32-byte vectors without AVX). */
 #define kv(x) ((kvec_t){(x), (x), (x), (x)})
 
+/* The scoring of sample k in every lane, shared by both orders' loops. */
+#define KV_SCORE()                                      \
+    do {                                                \
+        kvec_t e = (kv(y[k]) - vc0) - vk0 * ys;         \
+        s += ys;                                        \
+        ss += ys * ys;                                  \
+        ee += e * e;                                    \
+        es += e * ys;                                   \
+    } while (0)
+
 static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t n,
                       const pdt_discrete_t *d, const size_t l1[4], pdt_real_t K0, pdt_real_t c0,
                       kstate_t st[4], pdt_cost_sums_t t[4])
@@ -245,11 +255,7 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
                 ys += dys;
                 p2 = p1;
                 p1 = uk;
-                kvec_t e = (kv(y[k]) - vc0) - vk0 * ys;
-                s += ys;
-                ss += ys * ys;
-                ee += e * e;
-                es += e * ys;
+                KV_SCORE();
             }
         } else {
             for (; k < stop; k++) {
@@ -257,11 +263,7 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
                 ys += (b0 * uk + b1 * p1 + b2 * p2) - dd0 * ys;
                 p2 = p1;
                 p1 = uk;
-                kvec_t e = (kv(y[k]) - vc0) - vk0 * ys;
-                s += ys;
-                ss += ys * ys;
-                ee += e * e;
-                es += e * ys;
+                KV_SCORE();
             }
         }
         ts += s;
