@@ -317,6 +317,13 @@ static void test_vectors_many_and_hints(void **state)
                                                            g_scratch, &h),
                                      PDT_OK);
                     assert_close(h.cost, w->cost, CPV_RTOL_POOR, 0.0);
+                    /* A reference whose residual overflows: as without one. */
+                    const pdt_cost_hint_t wild = {(pdt_real_t)1e30, (pdt_real_t)-1e30, 0};
+                    assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &wild,
+                                                           g_scratch, &h),
+                                     PDT_OK);
+                    check_val((double)h.cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, i0 + k,
+                              v->name, "wild hint cost");
                 }
             }
             /* Four shapes of one order: the side-by-side pass where the

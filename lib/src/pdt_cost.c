@@ -1018,8 +1018,22 @@ static bool sim_cancels(const sim_fit_t *f, pdt_real_t K, pdt_real_t rss, pdt_re
     pdt_real_t dk = pdt_fabs(K - f->K0);
     pdt_real_t big = f->ee + dk * (PDT_R(2.0) * f->es + dk * f->ss);
     bool poor = ncost_ref > PDT_R(0.0) && rss > PDT_R(4.0) * ncost_ref * f->m;
-    return pdt_finite(big) && !(big <= (poor ? LOOSE_RATIO : CANCEL_RATIO) * rss);
+    return pdt_finite(rss) && !(big <= (poor ? LOOSE_RATIO : CANCEL_RATIO) * rss);
 }
+
+/* Whether rounding may have taken all of rss: the fit found is then no
+ * better a reference than none. */
+static bool sim_lost(const sim_fit_t *f, pdt_real_t K, pdt_real_t rss)
+{
+    pdt_real_t dk = pdt_fabs(K - f->K0);
+    pdt_real_t big = f->ee + dk * (PDT_R(2.0) * f->es + dk * f->ss);
+    return !(big * (PDT_R(64.0) * PDT_REAL_EPS) < rss);
+}
+
+/* Passes after the first, at most: one around the fit found normally
+ * suffices; a caller's reference far off takes one more, and a fit whose
+ * first refinement still cancels a third. */
+#define SIM_PASSES 3u
 
 /* Residual sum of squares of the fit with gain K (and the best offset),
  * from the pass's summaries. */
@@ -1027,7 +1041,17 @@ static pdt_real_t sim_rss(const sim_fit_t *f, pdt_real_t K)
 {
     pdt_real_t dk = K - f->K0;
     pdt_real_t r = f->vee - dk * (PDT_R(2.0) * f->ves - dk * f->vss);
+    if (r != r) {
+        return (pdt_real_t)INFINITY; /* sums that overflowed */
+    }
     return r > PDT_R(0.0) ? r : PDT_R(0.0);
+}
+
+/* Whether a pass's sums all came out finite. */
+static bool sim_finite(const sim_fit_t *f)
+{
+    return pdt_finite(f->vee) && pdt_finite(f->ves) && pdt_finite(f->vss) &&
+           pdt_finite(f->sum_e) && pdt_finite(f->sum_s);
 }
 
 static pdt_real_t sim_offset(const pdt_cost_t *c, const sim_fit_t *f, pdt_real_t K)
@@ -1205,6 +1229,12 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
             } else {
                 sim_pass(c, d, k0, K0, c0, &f);
             }
+            if (!sim_finite(&f) && K0 != PDT_R(0.0)) {
+                /* A reference far off this shape (its residual overflowed):
+                 * once more without one. */
+                sim_reference(c, d->order, NULL, &K0, &c0);
+                sim_pass(c, d, k0, K0, c0, &f);
+            }
             sim_summary(&f, &at, &kt);
         }
         if (combined) {
@@ -1221,10 +1251,20 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     if (need_time && !pred) {
         pdt_real_t rss = sim_rss(&f, K);
         /* The time part's own share of the reference cost. */
-        if (sim_cancels(&f, K, rss, combined ? ncost_ref / c->cfg.phi_t : ncost_ref)) {
-            /* Too much of the reference fit's residual cancelled: once more
-             * around the fit just found. */
-            sim_pass(c, d, k0, K, sim_offset(c, &f, K), &f);
+        const pdt_real_t ref = combined ? ncost_ref / c->cfg.phi_t : ncost_ref;
+        const bool hinted = (f.K0 != PDT_R(0.0));
+        for (unsigned pass = 0u; pass < SIM_PASSES && sim_cancels(&f, K, rss, ref); pass++) {
+            /* Too much of the reference fit's residual cancelled: again
+             * around the fit just found, or, where a caller's reference
+             * was so far off this shape that nothing was left, around the
+             * data's mean first. */
+            if (pass == 0u && hinted && sim_lost(&f, K, rss)) {
+                sim_reference(c, d->order, NULL, &K0, &c0);
+            } else {
+                K0 = K;
+                c0 = sim_offset(c, &f, K);
+            }
+            sim_pass(c, d, k0, K0, c0, &f);
             sim_summary(&f, &at, &kt);
             if (combined) {
                 at *= c->cfg.phi_t;

@@ -582,25 +582,18 @@ static void shape_of(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
     }
 }
 
-/* The multiplier of a shape's gain per unit of the model's K (its DC
- * gain, or an integrator's velocity gain). */
-static pdt_real_t gain_scale(const pdt_model_t *shape)
-{
-    if (shape->kind == PDT_MODEL_SOPDT) {
-        return shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a;
-    }
-    return PDT_R(1.0);
-}
-
 /* Bounds on the multiplier of the shape's gain from the caller's K bounds. */
 static void gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
                         pdt_real_t *hi)
 {
-    pdt_real_t scale = gain_scale(shape);
+    pdt_real_t scale = PDT_R(1.0);
     if (c->cfg.K_min == PDT_R(0.0) && c->cfg.K_max == PDT_R(0.0)) {
         *lo = PDT_R(0.0);
         *hi = PDT_R(0.0);
         return;
+    }
+    if (shape->kind == PDT_MODEL_SOPDT) {
+        scale = shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a;
     }
     *lo = c->cfg.K_min * scale;
     *hi = c->cfg.K_max * scale;
@@ -616,12 +609,15 @@ static void evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_
     gain_bounds(c, &shape, &glo, &ghi);
     c->evaluations++;
     /* The best so far is the reference fit of the cost's one pass, its gain
-     * carried over to this shape's unit. */
+     * carried over to this shape's unit: b + a / T (T the record's length)
+     * moves smoothly from a lag's DC gain to an integrator's. */
     pdt_cost_hint_t hint = {c->best_gain, c->best_offset, c->best_cost};
     if (shape.kind == PDT_MODEL_SOPDT && c->best_cost < PDT_REAL_MAX) {
         pdt_model_t best;
+        const pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
         shape_of(c, c->best, &best);
-        hint.gain = c->best_gain * gain_scale(&shape) / gain_scale(&best);
+        hint.gain = c->best_gain * (shape.p.sopdt.b + shape.p.sopdt.a / T) /
+                    (best.p.sopdt.b + best.p.sopdt.a / T);
     }
     if (pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) != PDT_OK ||
         !(pr.ncost == pr.ncost)) {

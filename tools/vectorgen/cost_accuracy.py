@@ -10,8 +10,9 @@ plant x(k) = a x(k-1) + b u(k-1-l) runs on it in double, LCG noise (sums
 of four uniforms) is added, and both signals are mapped to su u + uoff and
 sy y + yoff and rounded to float32. The reference works on those float32
 values, so what is measured is the arithmetic of the float build, not the
-rounding of its data. Per record two unit-gain shapes are profiled (a
-FOPDT a little off the plant and an overdamped SOPDT).
+rounding of its data. Per record three unit-gain shapes are profiled: a
+FOPDT a little off the plant, an overdamped SOPDT, and an integrator with a
+lag, whose ramp makes large sums.
 """
 import numpy as np
 
@@ -47,6 +48,7 @@ CASES = (
 SHAPES = (
     base.Fopdt(1.0, PLANT_TAU * 1.05, PLANT_L * TS + 0.2),
     base.Sopdt(1.0, 1.0 / 2.5 + 1.0 / 3.0, 1.0 / (2.5 * 3.0), (PLANT_L - 2) * TS + 0.3),
+    base.Sopdt(1.0, 0.5, 0.0, PLANT_L * TS),
 )
 
 
