@@ -731,6 +731,41 @@ static void init_fails(const pdt_cost_config_t *cfg, const pdt_real_t *u, const 
 #define INIT_FAILS(cfg, n, want) \
     init_fails((cfg), g_u, g_y, (n), g_work, sizeof g_work, (want), __LINE__)
 
+/* pdt_cost_fit: finite for a candidate and for a model far off, refusals
+ * leave the output; pdt_cost_units maps exactly. */
+static void test_fit_and_units(void **state)
+{
+    const cost_vec_set_t *s = &cost_vec_sets[0];
+    pdt_cost_config_t cfg;
+    pdt_cost_t c;
+    pdt_model_t m = vector_model(s->kind[0], s->param);
+    pdt_real_t fit = (pdt_real_t)-7.0;
+    static pdt_real_t scratch[COST_NMAX];
+    (void)state;
+    load_set(s);
+    set_config(s, &cfg);
+    init_ok(&c, &cfg, s->n);
+    assert_int_equal(pdt_cost_fit(&c, &m, 0, scratch, &fit), PDT_OK);
+    assert_true(isfinite((double)fit) && fit <= (pdt_real_t)100.0);
+    if (m.kind == PDT_MODEL_FOPDT) {
+        m.p.fopdt.K = (pdt_real_t)1e30;
+    } else {
+        m.p.sopdt.k = (pdt_real_t)1e30;
+    }
+    assert_int_equal(pdt_cost_fit(&c, &m, 0, scratch, &fit), PDT_OK);
+    assert_true(isfinite((double)fit) && fit < (pdt_real_t)0.0);
+    fit = (pdt_real_t)-7.0;
+    assert_int_equal(pdt_cost_fit(NULL, &m, 0, scratch, &fit), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_fit(&c, NULL, 0, scratch, &fit), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_fit(&c, &m, 0, NULL, &fit), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_fit(&c, &m, (pdt_real_t)NAN, scratch, &fit), PDT_ERR_ARG);
+    m.kind = (pdt_model_kind_t)99;
+    assert_int_equal(pdt_cost_fit(&c, &m, 0, scratch, &fit), PDT_ERR_ARG);
+    assert_true(fit == (pdt_real_t)-7.0);
+    assert_true(pdt_cost_units(NULL, (pdt_real_t)3.0) == (pdt_real_t)3.0);
+    assert_true((double)pdt_cost_units(&c, (pdt_real_t)0.75) == ldexp(0.75, 2 * c.y_exp));
+}
+
 static void test_init_errors(void **state)
 {
     const cost_vec_set_t *s = &cost_vec_sets[0];
@@ -864,6 +899,24 @@ static void test_init_errors(void **state)
     load_set(s);
     g_y[n - 1u] = (pdt_real_t)INFINITY;
     INIT_FAILS(&good, n, PDT_ERR_NONFINITE);
+    load_set(s);
+
+    /* PDT_ERR_OUTLIER: a bad-value cell, named by pdt_cost_outlier; it is
+     * checked before the operating point a level over it would spoil, and
+     * after NaN and infinity. */
+    g_y[7] = (pdt_real_t)1e20;
+    INIT_FAILS(&good, n, PDT_ERR_OUTLIER);
+    assert_int_equal(pdt_cost_outlier(g_y, n), 7u);
+    cfg = good;
+    cfg.y0 = (pdt_real_t)INFINITY;
+    INIT_FAILS(&cfg, n, PDT_ERR_OUTLIER);
+    g_u[3] = (pdt_real_t)NAN;
+    INIT_FAILS(&good, n, PDT_ERR_NONFINITE);
+    load_set(s);
+    g_u[n / 2u] = (pdt_real_t)-3e38;
+    INIT_FAILS(&good, n, PDT_ERR_OUTLIER);
+    assert_int_equal(pdt_cost_outlier(g_u, n), n / 2u);
+    assert_int_equal(pdt_cost_outlier(g_y, n), n);
     load_set(s);
 
     /* PDT_ERR_LENGTH: N_f would pass 2^PDT_FFT_MAX_LOG2. */
@@ -1036,6 +1089,7 @@ int main(void)
         cmocka_unit_test(test_workspace_exact),
         cmocka_unit_test(test_diverging_model),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_fit_and_units),
         cmocka_unit_test(test_eval_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
