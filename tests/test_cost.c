@@ -69,8 +69,7 @@ static void init_ok(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
     assert_true(ws <= PDT_COST_WORKSPACE_SIZE(n));
     assert_int_equal(ws % sizeof(pdt_real_t), 0);
     canary_fill(g_work + reals, CANARY_COUNT);
-    assert_int_equal(pdt_cost_init(c, cfg, g_u, g_y, n, cfg->use_frequency ? g_work : NULL, ws),
-                     PDT_OK);
+    assert_int_equal(pdt_cost_init(c, cfg, g_u, g_y, n, g_work, ws), PDT_OK);
     canary_check(g_work + reals, CANARY_COUNT);
 }
 
@@ -368,6 +367,7 @@ static void test_exact_model_zero_cost(void **state)
 #define COST_NBIG 8000u
 static pdt_real_t g_ubig[COST_NBIG];
 static pdt_real_t g_ybig[COST_NBIG];
+static pdt_real_t g_workbig[2u * COST_NBIG];
 
 static double time_cost_double(const pdt_discrete_t *d, const pdt_real_t *u, const pdt_real_t *y,
                                double u0, double y0, size_t n, size_t lu, bool sim, bool ofs)
@@ -441,7 +441,9 @@ static void test_long_record_accuracy(void **state)
         for (int ofs = 0; ofs < 2; ofs++) {
             pdt_cost_t c;
             cfg.estimate_offset = (ofs != 0);
-            assert_int_equal(pdt_cost_init(&c, &cfg, g_ubig, g_ybig, COST_NBIG, NULL, 0), PDT_OK);
+            assert_int_equal(pdt_cost_init(&c, &cfg, g_ubig, g_ybig, COST_NBIG, g_workbig,
+                                            sizeof g_workbig),
+                             PDT_OK);
             for (int which = 0; which < 4; which++) {
                 const pdt_discrete_t *d = (which & 1) ? &off : &truth;
                 bool sim = (which & 2) != 0;
@@ -627,7 +629,8 @@ static void test_fft_size_and_workspace(void **state)
         assert_int_equal(PDT_COST_FFT_SIZE_MAX(n), nf);
         assert_int_equal(pdt_cost_workspace_size(&cfg, n), PDT_COST_WORKSPACE_SIZE(n));
         assert_int_equal(pdt_cost_workspace_size(&cfg, n),
-                         3u * (nf / 2u) * sizeof(pdt_real_t) + pdt_fft_workspace_size(nf));
+                         (2u * n + 3u * (nf / 2u)) * sizeof(pdt_real_t) +
+                             pdt_fft_workspace_size(nf));
         for (size_t lu = 1; lu < n; lu += 1u + n / 7u) {
             cfg.delay_max = lu;
             assert_true(pdt_cost_workspace_size(&cfg, n) <= PDT_COST_WORKSPACE_SIZE(n));
@@ -636,7 +639,7 @@ static void test_fft_size_and_workspace(void **state)
         assert_true(pdt_cost_workspace_size(&cfg, n) <= PDT_COST_WORKSPACE_SIZE(n));
     }
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_workspace_size(&cfg, 300), 0);
+    assert_int_equal(pdt_cost_workspace_size(&cfg, 300), 600u * sizeof(pdt_real_t));
 }
 
 /* The exact workspace suffices, one byte less does not, and init writes
@@ -657,9 +660,13 @@ static void test_workspace_exact(void **state)
     assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, g_work, ws - 1u), PDT_ERR_NOMEM);
     canary_check(g_work, COST_WORK_REALS + CANARY_COUNT);
     init_ok(&c, &cfg, s->n);
-    /* Without use_frequency no workspace is needed. */
+    /* Without use_frequency only the normalised record is needed. */
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, NULL, 0), PDT_OK);
+    ws = pdt_cost_workspace_size(&cfg, s->n);
+    assert_int_equal(ws, 2u * s->n * sizeof(pdt_real_t));
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, g_work, ws - 1u), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, NULL, 0), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, s->n, g_work, ws), PDT_OK);
     assert_int_equal(c.nf, 0);
 }
 
@@ -718,6 +725,41 @@ static void init_fails(const pdt_cost_config_t *cfg, const pdt_real_t *u, const 
 
 #define INIT_FAILS(cfg, n, want) \
     init_fails((cfg), g_u, g_y, (n), g_work, sizeof g_work, (want), __LINE__)
+
+/* pdt_cost_fit: finite for a candidate and for a model far off, refusals
+ * leave the output; pdt_cost_units maps exactly. */
+static void test_fit_and_units(void **state)
+{
+    const cost_vec_set_t *s = &cost_vec_sets[0];
+    pdt_cost_config_t cfg;
+    pdt_cost_t c;
+    pdt_model_t m = vector_model(s->kind[0], s->param);
+    pdt_real_t fit = (pdt_real_t)-7.0;
+    static pdt_real_t scratch[COST_NMAX];
+    (void)state;
+    load_set(s);
+    set_config(s, &cfg);
+    init_ok(&c, &cfg, s->n);
+    assert_int_equal(pdt_cost_fit(&c, &m, 0, scratch, &fit), PDT_OK);
+    assert_true(isfinite((double)fit) && fit <= (pdt_real_t)100.0);
+    if (m.kind == PDT_MODEL_FOPDT) {
+        m.p.fopdt.K = (pdt_real_t)1e30;
+    } else {
+        m.p.sopdt.k = (pdt_real_t)1e30;
+    }
+    assert_int_equal(pdt_cost_fit(&c, &m, 0, scratch, &fit), PDT_OK);
+    assert_true(isfinite((double)fit) && fit < (pdt_real_t)0.0);
+    fit = (pdt_real_t)-7.0;
+    assert_int_equal(pdt_cost_fit(NULL, &m, 0, scratch, &fit), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_fit(&c, NULL, 0, scratch, &fit), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_fit(&c, &m, 0, NULL, &fit), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_fit(&c, &m, (pdt_real_t)NAN, scratch, &fit), PDT_ERR_ARG);
+    m.kind = (pdt_model_kind_t)99;
+    assert_int_equal(pdt_cost_fit(&c, &m, 0, scratch, &fit), PDT_ERR_ARG);
+    assert_true(fit == (pdt_real_t)-7.0);
+    assert_true(pdt_cost_units(NULL, (pdt_real_t)3.0) == (pdt_real_t)3.0);
+    assert_true((double)pdt_cost_units(&c, (pdt_real_t)0.75) == ldexp(0.75, 2 * c.y_exp));
+}
 
 static void test_init_errors(void **state)
 {
@@ -854,6 +896,24 @@ static void test_init_errors(void **state)
     INIT_FAILS(&good, n, PDT_ERR_NONFINITE);
     load_set(s);
 
+    /* PDT_ERR_OUTLIER: a bad-value cell, named by pdt_cost_outlier; it is
+     * checked before the operating point a level over it would spoil, and
+     * after NaN and infinity. */
+    g_y[7] = (pdt_real_t)1e20;
+    INIT_FAILS(&good, n, PDT_ERR_OUTLIER);
+    assert_int_equal(pdt_cost_outlier(g_y, n), 7u);
+    cfg = good;
+    cfg.y0 = (pdt_real_t)INFINITY;
+    INIT_FAILS(&cfg, n, PDT_ERR_OUTLIER);
+    g_u[3] = (pdt_real_t)NAN;
+    INIT_FAILS(&good, n, PDT_ERR_NONFINITE);
+    load_set(s);
+    g_u[n / 2u] = (pdt_real_t)-3e38;
+    INIT_FAILS(&good, n, PDT_ERR_OUTLIER);
+    assert_int_equal(pdt_cost_outlier(g_u, n), n / 2u);
+    assert_int_equal(pdt_cost_outlier(g_y, n), n);
+    load_set(s);
+
     /* PDT_ERR_LENGTH: N_f would pass 2^PDT_FFT_MAX_LOG2. */
     cfg = good;
     cfg.weight = PDT_WEIGHT_UNIFORM;
@@ -863,8 +923,12 @@ static void test_init_errors(void **state)
     }
     init_fails(&cfg, g_long, g_long, COST_NLONG, g_work, sizeof g_work, PDT_ERR_LENGTH,
                __LINE__);
+    /* Without spectra a long record needs only its normalised copy. */
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_long, g_long, COST_NLONG, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_workspace_size(&cfg, COST_NLONG),
+                     2u * COST_NLONG * sizeof(pdt_real_t));
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_long, g_long, COST_NLONG, NULL, 0),
+                     PDT_ERR_NOMEM);
 
     /* PDT_ERR_NOMEM */
     init_fails(&good, g_u, g_y, n, NULL, sizeof g_work, PDT_ERR_NOMEM, __LINE__);
@@ -889,7 +953,7 @@ static void test_eval_errors(void **state)
     cfg.delay_min = 3;
     init_ok(&c, &cfg, s->n);
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, g_work, sizeof g_work), PDT_OK);
     memset(&zero, 0, sizeof zero);
 
     /* time costs */
@@ -976,7 +1040,7 @@ static void test_eval_errors(void **state)
     init_ok(&c, &cfg, s->n);
     assert_int_equal(pdt_cost_eval(&c, &m, &v), PDT_OK);
     cfg.use_frequency = false;
-    assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, g_work, sizeof g_work), PDT_OK);
     v = ((pdt_real_t)123.0);
     assert_int_equal(pdt_cost_eval(&cnof, &m0, &v), PDT_ERR_ARG);
     assert_true(v == ((pdt_real_t)123.0));
@@ -1020,6 +1084,7 @@ int main(void)
         cmocka_unit_test(test_workspace_exact),
         cmocka_unit_test(test_diverging_model),
         cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_fit_and_units),
         cmocka_unit_test(test_eval_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

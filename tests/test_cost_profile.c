@@ -11,6 +11,7 @@
  */
 #include "test_util.h"
 
+#include "cost_accuracy_vectors.h"
 #include "cost_profile_vectors.h"
 
 /* Relative tolerance against the double reference. Float: the data are
@@ -23,6 +24,21 @@
 #endif
 
 #define CPV_NMAX 600u
+
+/* The loose bound of a candidate far worse than the hint's cost. */
+#if PDT_REAL_DOUBLE
+#define CPV_RTOL_POOR 1e-7
+#else
+#define CPV_RTOL_POOR 2e-3
+#endif
+
+/* Accuracy over records up to 10^4 samples and scales 1e-30 .. 1e30; the
+ * float bound is that of the short vectors. */
+#if PDT_REAL_DOUBLE
+#define CAV_RTOL 1e-9
+#else
+#define CAV_RTOL 1e-4
+#endif
 #define CPV_NSETS (sizeof cpv_sets / sizeof cpv_sets[0])
 #define CPV_WORK_REALS (PDT_COST_WORKSPACE_SIZE(CPV_NMAX) / sizeof(pdt_real_t))
 
@@ -33,6 +49,8 @@ static pdt_real_t g_ref[CPV_NMAX];
 static pdt_real_t g_scratch[CPV_NMAX + CANARY_COUNT];
 static pdt_real_t g_ysim[CPV_NMAX + CANARY_COUNT];
 static pdt_real_t g_work[CPV_WORK_REALS + CANARY_COUNT];
+/* A second cost object needs its own normalised record. */
+static pdt_real_t g_work2[2u * CPV_NMAX];
 
 static void load_set(const cpv_set_t *s)
 {
@@ -86,8 +104,7 @@ static void init_ok(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
     size_t reals = ws / sizeof(pdt_real_t);
     assert_true(reals <= CPV_WORK_REALS);
     canary_fill(g_work + reals, CANARY_COUNT);
-    assert_int_equal(pdt_cost_init(c, cfg, g_u, g_y, n, cfg->use_frequency ? g_work : NULL, ws),
-                     PDT_OK);
+    assert_int_equal(pdt_cost_init(c, cfg, g_u, g_y, n, g_work, ws), PDT_OK);
     canary_check(g_work + reals, CANARY_COUNT);
 }
 
@@ -176,6 +193,18 @@ static void test_vectors_whole_record(void **state)
  * (relative to |offset| + the output's range), ct, cf. */
 static double g_worst[5];
 
+/* The cost of set si under configuration ci, its record loaded. */
+static const cpv_config_t *open_case(const cpv_set_t *s, size_t ci, pdt_cost_t *c)
+{
+    const cpv_config_t *v = &cpv_configs[ci];
+    pdt_cost_config_t cfg;
+    load_set(s);
+    base_config(s, &cfg);
+    apply_config(v, &cfg);
+    init_ok(c, &cfg, s->n);
+    return v;
+}
+
 static void test_vectors_profile(void **state)
 {
     (void)state;
@@ -183,14 +212,9 @@ static void test_vectors_profile(void **state)
     for (size_t si = 0; si < CPV_NSETS; si++) {
         const cpv_set_t *s = &cpv_sets[si];
         const double ys = y_scale(s);
-        load_set(s);
         for (size_t ci = 0; ci < CPV_NCFG; ci++) {
-            const cpv_config_t *v = &cpv_configs[ci];
-            pdt_cost_config_t cfg;
             pdt_cost_t c;
-            base_config(s, &cfg);
-            apply_config(v, &cfg);
-            init_ok(&c, &cfg, s->n);
+            const cpv_config_t *v = open_case(s, ci, &c);
             for (size_t i = 0; i < s->nshape; i++) {
                 const cpv_result_t *w = &s->result[i * CPV_NCFG + ci];
                 pdt_model_t m = model_of(s, i, 1.0);
@@ -223,6 +247,259 @@ static void test_vectors_profile(void **state)
     print_message("worst relative errors, profile: cost %.3g gain %.3g offset %.3g "
                   "(of the output range) ct %.3g cf %.3g\n",
                   g_worst[0], g_worst[1], g_worst[2], g_worst[3], g_worst[4]);
+}
+
+/* pdt_cost_profile_many, four shapes (or the rest) at a time with each
+ * shape's own bounds, and pdt_cost_profile_hint with poor references,
+ * against the same reference values. */
+static void test_vectors_many_and_hints(void **state)
+{
+    double worst = 0.0;
+    (void)state;
+    for (size_t si = 0; si < CPV_NSETS; si++) {
+        const cpv_set_t *s = &cpv_sets[si];
+        const double ys = y_scale(s);
+        for (size_t ci = 0; ci < CPV_NCFG; ci++) {
+            pdt_cost_t c;
+            const cpv_config_t *v = open_case(s, ci, &c);
+            for (size_t i0 = 0; i0 < s->nshape; i0 += PDT_COST_MANY) {
+                size_t cnt = s->nshape - i0 < PDT_COST_MANY ? s->nshape - i0 : PDT_COST_MANY;
+                pdt_model_t m[PDT_COST_MANY];
+                pdt_real_t lo[PDT_COST_MANY], hi[PDT_COST_MANY];
+                pdt_cost_profile_t r[PDT_COST_MANY + 1u];
+                r[cnt].cost = (pdt_real_t)-1.0;
+                for (size_t k = 0; k < cnt; k++) {
+                    const cpv_result_t *w = &s->result[(i0 + k) * CPV_NCFG + ci];
+                    m[k] = model_of(s, i0 + k, 1.0);
+                    lo[k] = (pdt_real_t)w->gain_min;
+                    hi[k] = (pdt_real_t)w->gain_max;
+                }
+                /* a reference fit far off (the first shape's gain, doubled) */
+                const pdt_cost_hint_t far = {
+                    (pdt_real_t)(2.0 * s->result[i0 * CPV_NCFG + ci].gain), (pdt_real_t)ys, 0};
+                assert_int_equal(pdt_cost_profile_many(&c, m, cnt, lo, hi, &far, g_scratch, r),
+                                 PDT_OK);
+                assert_true(r[cnt].cost == (pdt_real_t)-1.0);
+                for (size_t k = 0; k < cnt; k++) {
+                    const cpv_result_t *w = &s->result[(i0 + k) * CPV_NCFG + ci];
+                    double gain = w->sign_free ? fabs((double)r[k].gain) : (double)r[k].gain;
+                    pdt_cost_profile_t h;
+                    check_val((double)r[k].cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, i0 + k,
+                              v->name, "many cost");
+                    check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0, &worst,
+                              s->name, i0 + k, v->name, "many gain");
+                    check_val((double)r[k].offset, w->offset, CPV_RTOL, ys, &worst, s->name,
+                              i0 + k, v->name, "many offset");
+                    /* the exact reference and a reference at minus the gain */
+                    for (int sgn = -1; sgn <= 1; sgn += 2) {
+                        const pdt_cost_hint_t ref = {(pdt_real_t)(sgn * w->gain),
+                                                     (pdt_real_t)w->offset, 0};
+                        assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &ref,
+                                                               g_scratch, &h),
+                                         PDT_OK);
+                        check_val((double)h.cost, w->cost, CPV_RTOL, 0.0, &worst, s->name,
+                                  i0 + k, v->name, "hint cost");
+                        check_val((double)h.offset, w->offset, CPV_RTOL, ys, &worst, s->name,
+                                  i0 + k, v->name, "hint offset");
+                        assert_true(fabs((double)h.ncost - (double)r[k].ncost) <=
+                                    1e-4 * fabs((double)r[k].ncost));
+                    }
+                    /* A reference cost far below: every candidate counts as
+                     * poor and is scored to the loose bound, in one pass. */
+                    const pdt_cost_hint_t poor = {(pdt_real_t)(3.0 * w->gain), 0,
+                                                  (pdt_real_t)1e-30};
+                    assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &poor,
+                                                           g_scratch, &h),
+                                     PDT_OK);
+                    assert_close(h.cost, w->cost, CPV_RTOL_POOR, 0.0);
+                    /* A reference whose residual overflows: as without one. */
+                    const pdt_cost_hint_t wild = {(pdt_real_t)1e30, (pdt_real_t)-1e30, 0};
+                    assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &wild,
+                                                           g_scratch, &h),
+                                     PDT_OK);
+                    check_val((double)h.cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, i0 + k,
+                              v->name, "wild hint cost");
+                }
+            }
+            /* Four shapes of one order: the side-by-side pass where the
+             * host has one. */
+            for (int kind = 1; kind <= 2; kind++) {
+                size_t idx[PDT_COST_MANY], cnt = 0;
+                pdt_model_t m[PDT_COST_MANY];
+                pdt_real_t lo[PDT_COST_MANY], hi[PDT_COST_MANY];
+                pdt_cost_profile_t r[PDT_COST_MANY];
+                for (size_t j = 0; cnt < PDT_COST_MANY && j < 4u * s->nshape; j++) {
+                    if (s->kind[j % s->nshape] == kind) {
+                        idx[cnt++] = j % s->nshape;
+                    }
+                }
+                if (cnt == 0) {
+                    continue;
+                }
+                for (size_t k = 0; k < cnt; k++) {
+                    const cpv_result_t *w = &s->result[idx[k] * CPV_NCFG + ci];
+                    m[k] = model_of(s, idx[k], 1.0);
+                    lo[k] = (pdt_real_t)w->gain_min;
+                    hi[k] = (pdt_real_t)w->gain_max;
+                }
+                assert_int_equal(pdt_cost_profile_many(&c, m, cnt, lo, hi, NULL, g_scratch, r),
+                                 PDT_OK);
+                for (size_t k = 0; k < cnt; k++) {
+                    const cpv_result_t *w = &s->result[idx[k] * CPV_NCFG + ci];
+                    double gain = w->sign_free ? fabs((double)r[k].gain) : (double)r[k].gain;
+                    check_val((double)r[k].cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, idx[k],
+                              v->name, "many4 cost");
+                    check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0,
+                              &worst, s->name, idx[k], v->name, "many4 gain");
+                    check_val((double)r[k].offset, w->offset, CPV_RTOL, ys, &worst, s->name,
+                              idx[k], v->name, "many4 offset");
+                }
+            }
+        }
+    }
+    print_message("worst relative error, profile_many and hinted profiles: %.3g\n", worst);
+}
+
+/* The refusals of pdt_cost_profile_many leave out untouched. */
+static void test_many_errors(void **state)
+{
+    const cpv_set_t *s = &cpv_sets[0];
+    pdt_cost_config_t cfg;
+    pdt_cost_t c;
+    pdt_model_t m[PDT_COST_MANY];
+    pdt_real_t lo[PDT_COST_MANY] = {0}, hi[PDT_COST_MANY] = {0};
+    pdt_cost_profile_t r[PDT_COST_MANY];
+    (void)state;
+    load_set(s);
+    base_config(s, &cfg);
+    apply_config(&cpv_configs[0], &cfg);
+    init_ok(&c, &cfg, s->n);
+    for (size_t k = 0; k < PDT_COST_MANY; k++) {
+        m[k] = model_of(s, k % s->nshape, 1.0);
+    }
+    memset(r, 0x5a, sizeof r);
+    assert_int_equal(pdt_cost_profile_many(&c, m, 0u, lo, hi, NULL, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY + 1u, lo, hi, NULL, g_scratch, r),
+                     PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(NULL, m, 1u, lo, hi, NULL, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, NULL, 1u, lo, hi, NULL, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, m, 1u, NULL, hi, NULL, g_scratch, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_many(&c, m, 1u, lo, hi, NULL, NULL, r), PDT_ERR_ARG);
+    lo[2] = 2;
+    hi[2] = 1;
+    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, NULL, g_scratch, r),
+                     PDT_ERR_BOUNDS);
+    lo[2] = 0;
+    hi[2] = 0;
+    m[3].kind = (pdt_model_kind_t)99;
+    assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, NULL, g_scratch, r),
+                     PDT_ERR_ARG);
+    for (size_t k = 0; k < sizeof r; k++) {
+        assert_int_equal(((const unsigned char *)r)[k], 0x5a);
+    }
+}
+
+/* ---- accuracy over long records and data scales ---- */
+
+#define CAV_NMAX 10000u
+static pdt_real_t g_au[CAV_NMAX];
+static pdt_real_t g_ay[CAV_NMAX];
+static pdt_real_t g_awork[2u * CAV_NMAX];
+static pdt_real_t g_ascratch[CAV_NMAX];
+
+/* The record of a case, rebuilt with the generator's double arithmetic. */
+static void cav_record(const cav_case_t *v)
+{
+    uint32_t st = v->seed;
+    double x = 0.0;
+    static double ud[CAV_NMAX];
+    assert_true(v->n <= CAV_NMAX);
+    for (size_t k = 0; k < v->n; k += v->hold) {
+        st = 1664525u * st + 1013904223u;
+        double level = ((double)st / 4294967296.0 < 0.5) ? 1.0 : -1.0;
+        for (size_t j = k; j < k + v->hold && j < v->n; j++) {
+            ud[j] = level;
+        }
+    }
+    for (size_t k = 0; k < v->n; k++) {
+        double sum = 0.0;
+        for (int i = 0; i < 4; i++) {
+            st = 1664525u * st + 1013904223u;
+            sum += (double)st / 4294967296.0;
+        }
+        double noise = v->amp * (sum - 2.0);
+        double uin = (k >= 1u + CAV_PLANT_L) ? ud[k - 1u - CAV_PLANT_L] : 0.0;
+        x = v->a * x + v->b * uin;
+        g_au[k] = (pdt_real_t)(float)(v->su * ud[k] + v->uoff);
+        g_ay[k] = (pdt_real_t)(float)(v->sy * (x + noise) + v->yoff);
+    }
+}
+
+static void test_accuracy_scales(void **state)
+{
+    double worst[3] = {0.0, 0.0, 0.0};
+    (void)state;
+    for (size_t ci = 0; ci < sizeof cav_cases / sizeof cav_cases[0]; ci++) {
+        const cav_case_t *v = &cav_cases[ci];
+        pdt_cost_config_t cfg;
+        pdt_cost_t c;
+        double cw[3] = {0.0, 0.0, 0.0};
+        cav_record(v);
+        assert_true((double)g_au[0] == v->u0 && (double)g_ay[0] == v->y0);
+        pdt_cost_config_default(&cfg);
+        cfg.Ts = (pdt_real_t)CAV_TS;
+        cfg.u0 = g_au[0];
+        cfg.y0 = g_ay[0];
+        cfg.delay_max = CAV_DELAY_MAX;
+        cfg.kind = PDT_COST_SIMULATION;
+        cfg.whole_record = true;
+        cfg.use_frequency = false;
+        assert_int_equal(pdt_cost_init(&c, &cfg, g_au, g_ay, v->n, g_awork, sizeof g_awork),
+                         PDT_OK);
+        for (size_t i = 0; i < CAV_NSHAPE; i++) {
+            const double q[4] = {cav_shape_param[4u * i], cav_shape_param[4u * i + 1u],
+                                 cav_shape_param[4u * i + 2u], cav_shape_param[4u * i + 3u]};
+            pdt_model_t m[PDT_COST_MANY];
+            pdt_real_t lo[PDT_COST_MANY] = {0}, hi[PDT_COST_MANY] = {0};
+            pdt_cost_profile_t r[PDT_COST_MANY + 2u];
+            const double ncost = ldexp(v->cost[i], -2 * c.y_exp);
+            for (size_t k = 0; k < PDT_COST_MANY; k++) {
+                m[k] = vector_model(cav_shape_kind[i], q);
+            }
+            /* without a reference, with the exact one, and four at a time
+             * with one half the gain off */
+            assert_int_equal(pdt_cost_profile(&c, &m[0], 0, 0, g_ascratch, &r[0]), PDT_OK);
+            const pdt_cost_hint_t exact = {(pdt_real_t)v->gain[i], (pdt_real_t)v->offset[i], 0};
+            const pdt_cost_hint_t off = {(pdt_real_t)(1.5 * v->gain[i]), (pdt_real_t)v->offset[i],
+                                         0};
+            assert_int_equal(pdt_cost_profile_hint(&c, &m[0], 0, 0, &exact, g_ascratch, &r[1]),
+                             PDT_OK);
+            assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, &off, g_ascratch,
+                                                   &r[2]),
+                             PDT_OK);
+            for (size_t k = 0; k < 3u; k++) {
+                cw[0] = fmax(cw[0], rel_err((double)r[k].ncost, ncost));
+                cw[1] = fmax(cw[1], rel_err((double)r[k].gain, v->gain[i]));
+                cw[2] = fmax(cw[2], fabs((double)r[k].offset - v->offset[i]) / v->yrange);
+                if (ncost * ldexp(1.0, 2 * c.y_exp) < 1e38 &&
+                    ncost * ldexp(1.0, 2 * c.y_exp) > 1e-37) {
+                    cw[0] = fmax(cw[0], rel_err((double)r[k].cost, v->cost[i]));
+                }
+            }
+        }
+        print_message("accuracy n %5zu noise %-6g su %-6g sy %-6g: cost %.2g gain %.2g "
+                      "offset %.2g\n",
+                      v->n, v->amp, v->su, v->sy, cw[0], cw[1], cw[2]);
+        for (int k = 0; k < 3; k++) {
+            worst[k] = fmax(worst[k], cw[k]);
+        }
+    }
+    print_message("worst relative errors against the double reference: cost %.3g gain %.3g "
+                  "offset %.3g (of max |y - y0|)\n",
+                  worst[0], worst[1], worst[2]);
+    assert_true(worst[0] <= CAV_RTOL);
+    assert_true(worst[1] <= CAV_RTOL);
+    assert_true(worst[2] <= CAV_RTOL);
 }
 
 static void test_vectors_simulate(void **state)
@@ -348,7 +625,8 @@ static void test_profile_properties(void **state)
                 cfg2.estimate_offset = false;
                 cfg2.use_frequency = false;
                 cfg2.y0 = cfg.y0 + r.offset;
-                init_ok(&c2, &cfg2, s->n);
+                assert_int_equal(pdt_cost_init(&c2, &cfg2, g_u, g_y, s->n, g_work2, sizeof g_work2),
+                                 PDT_OK);
                 m = with_gain(shape, r.gain);
                 assert_int_equal(pdt_cost_eval(&c2, &m, &e), PDT_OK);
                 worst_offset = fmax(worst_offset, rel_err((double)e, (double)r.ct));
@@ -492,26 +770,26 @@ static void test_whole_record_too_short(void **state)
     cfg.use_frequency = false;
     cfg.delay_max = n - 2u - PDT_MIN_SAMPLES;
     cfg.whole_record = false;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max++;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_ERR_TOO_SHORT);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_ERR_TOO_SHORT);
     cfg.whole_record = true;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max = n - 1u;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max = n;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, NULL, 0), PDT_ERR_TOO_SHORT);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_ERR_TOO_SHORT);
     /* The shortest records. */
     cfg.delay_max = PDT_MIN_SAMPLES + 1u;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work), PDT_OK);
     assert_int_equal(c.cfg.delay_max, PDT_MIN_SAMPLES + 1u);
     cfg.delay_max = 0;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 1u, NULL, 0),
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 1u, g_work, sizeof g_work),
                      PDT_ERR_TOO_SHORT);
     cfg.whole_record = false;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, NULL, 0), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max = 1;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, NULL, 0),
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work),
                      PDT_ERR_TOO_SHORT);
     /* With spectra the rule is the same. */
     cfg.use_frequency = true;
@@ -667,7 +945,7 @@ static void test_profile_errors(void **state)
     cfg.delay_mode = PDT_DELAY_FRACTIONAL;
     for (int k = 0; k < 4; k++) {
         cfg.kind = (pdt_cost_kind_t)k;
-        assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, NULL, 0), PDT_OK);
+        assert_int_equal(pdt_cost_init(&cnof, &cfg, g_u, g_y, s->n, g_work, sizeof g_work), PDT_OK);
         if (k == PDT_COST_FREQUENCY || k == PDT_COST_COMBINED) {
             PROFILE_FAILS(&cnof, &m0, 0, 0, PDT_ERR_ARG);
         } else {
@@ -761,6 +1039,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_vectors_whole_record),
         cmocka_unit_test(test_vectors_profile),
+        cmocka_unit_test(test_vectors_many_and_hints),
+        cmocka_unit_test(test_many_errors),
+        cmocka_unit_test(test_accuracy_scales),
         cmocka_unit_test(test_vectors_simulate),
         cmocka_unit_test(test_profile_properties),
         cmocka_unit_test(test_profile_bounds),

@@ -1288,15 +1288,15 @@ static void test_workspace_canaries(void **state)
 static void test_status_names(void **state)
 {
     (void)state;
-    for (int a = PDT_ERR_NOT_AT_REST; a <= PDT_RUNNING; a++) {
+    for (int a = PDT_ERR_OUTLIER; a <= PDT_RUNNING; a++) {
         const char *na = pdt_status_str((pdt_status_t)a);
         assert_non_null(na);
         assert_string_not_equal(na, "unknown status");
-        for (int b = PDT_ERR_NOT_AT_REST; b < a; b++) {
+        for (int b = PDT_ERR_OUTLIER; b < a; b++) {
             assert_string_not_equal(na, pdt_status_str((pdt_status_t)b));
         }
     }
-    assert_string_equal(pdt_status_str((pdt_status_t)(PDT_ERR_NOT_AT_REST - 1)),
+    assert_string_equal(pdt_status_str((pdt_status_t)(PDT_ERR_OUTLIER - 1)),
                         "unknown status");
 }
 

@@ -41,6 +41,7 @@
 
 static pdt_real_t g_u[LS_NMAX];
 static pdt_real_t g_y[LS_NMAX];
+static pdt_real_t g_cost_work[2u * LS_NMAX];
 static pdt_real_t g_costs[LS_DMAX + 1u + CANARY_COUNT];
 static pdt_real_t g_costs2[LS_DMAX + 1u + CANARY_COUNT];
 
@@ -337,7 +338,8 @@ static void test_cost_matches_prediction(void **state)
         cc.whole_record = c->whole_record != 0;
         cc.estimate_offset = false;
         cc.use_frequency = false;
-        assert_int_equal(pdt_cost_init(&cost, &cc, g_u, g_y, n, NULL, 0u), PDT_OK);
+        assert_int_equal(pdt_cost_init(&cost, &cc, g_u, g_y, n, g_cost_work, sizeof g_cost_work),
+                         PDT_OK);
         assert_int_equal(pdt_cost_prediction(&cost, &res.dmodel, &pc), PDT_OK);
         double cmax = 0.0;
         for (size_t j = 0; j <= c->delay_max - c->delay_min; j++) {

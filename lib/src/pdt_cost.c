@@ -4,7 +4,16 @@
  */
 #include "pdt/pdt_cost.h"
 
+#include "pdt_cost_kernel.h"
 #include "pdt_internal.h"
+
+#if PDT_REAL_DOUBLE
+#define pdt_ldexp ldexp
+#define pdt_frexp frexp
+#else
+#define pdt_ldexp ldexpf
+#define pdt_frexp frexpf
+#endif
 
 /* Samples per partial sum. Summing blocks first and then the block totals
  * keeps the rounding error of a float sum over thousands of samples near
@@ -60,8 +69,9 @@ size_t pdt_cost_fft_size(size_t n, size_t delay_max)
     return (nf <= max_nf) ? nf : 0u;
 }
 
-/* Workspace bytes for FFT size nf, 0 if the FFT does not support nf. */
-static size_t workspace_bytes(size_t nf)
+/* Workspace bytes of the frequency part for FFT size nf, 0 if the FFT
+ * does not support nf. */
+static size_t spectra_bytes(size_t nf)
 {
     size_t fft = pdt_fft_workspace_size(nf);
     if (fft == 0u) {
@@ -72,12 +82,17 @@ static size_t workspace_bytes(size_t nf)
 
 size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n)
 {
+    const size_t record = 2u * n * sizeof(pdt_real_t);
     size_t nf;
-    if (cfg == NULL || !cfg->use_frequency) {
+    if (cfg == NULL || n == 0u || n > ((size_t)1u << PDT_FFT_MAX_LOG2) ||
+        pdt_delay_bound(n, cfg->delay_max) >= n) {
         return 0u;
     }
+    if (!cfg->use_frequency) {
+        return record;
+    }
     nf = pdt_cost_fft_size(n, cfg->delay_max);
-    return (nf == 0u) ? 0u : workspace_bytes(nf);
+    return (nf == 0u) ? 0u : record + spectra_bytes(nf);
 }
 
 static bool kind_ok(pdt_cost_kind_t k)
@@ -201,12 +216,116 @@ static void fill_weights(const pdt_cost_config_t *cfg, size_t n, size_t nf, pdt_
     *k_last = last;
 }
 
+/* Jumps between samples are compared at half scale, so that the
+ * difference of two finite floats cannot overflow. */
+static pdt_real_t half_jump(const pdt_real_t *x, size_t k)
+{
+    return pdt_fabs(PDT_R(0.5) * x[k] - PDT_R(0.5) * x[k - 1u]);
+}
+
+/* A gross outlier is a gap in the sizes of a signal's jumps: a few jumps
+ * at least OUTLIER_GAP times the largest of all the other non-zero ones.
+ * A level never enters (the test is blind to the operating point, which a
+ * bad cell in the rest window would spoil); a clean step or relay signal
+ * has no other non-zero jumps and passes; a response that decays into the
+ * rounding fills the sizes between and passes too. */
+#define OUTLIER_GAP PDT_R(16777216.0)
+
+size_t pdt_cost_outlier(const pdt_real_t *x, size_t n)
+{
+    pdt_real_t top = PDT_R(0.0), thr, below = PDT_R(0.0), low_high;
+    size_t k, high = 0u, first = n;
+    if (x == NULL || n < 2u) {
+        return n;
+    }
+    for (k = 1u; k < n; k++) {
+        pdt_real_t j = half_jump(x, k);
+        top = j > top ? j : top;
+    }
+    if (!(top > PDT_R(0.0)) || !pdt_finite(top)) {
+        return n;
+    }
+    thr = top / OUTLIER_GAP;
+    low_high = top;
+    for (k = 1u; k < n; k++) {
+        pdt_real_t j = half_jump(x, k);
+        if (j >= thr) {
+            high++;
+            first = (first == n) ? k : first;
+            low_high = j < low_high ? j : low_high;
+        } else if (j > below) {
+            below = j;
+        }
+    }
+    if (!(below > PDT_R(0.0)) || high > 2u + n / 64u || low_high < below * OUTLIER_GAP) {
+        return n;
+    }
+    /* A lone jump at the start is the first sample standing off. */
+    return (high == 1u && first == 1u) ? 0u : first;
+}
+
+/* Copies x - x0 into out scaled by a power of two into (-1, 1) and
+ * returns the exponent e: x - x0 = out 2^e. The difference is formed at
+ * half scale, which cannot overflow. */
+static int normalise(const pdt_real_t *x, pdt_real_t x0, size_t n, pdt_real_t *out)
+{
+    const pdt_real_t h0 = PDT_R(0.5) * x0;
+    pdt_real_t top = PDT_R(0.0);
+    int e = 0;
+    size_t k;
+    for (k = 0u; k < n; k++) {
+        pdt_real_t dv = pdt_fabs(PDT_R(0.5) * x[k] - h0);
+        top = dv > top ? dv : top;
+    }
+    if (top > PDT_R(0.0)) {
+        (void)pdt_frexp(top, &e);
+    }
+    for (k = 0u; k < n; k++) {
+        out[k] = pdt_ldexp(PDT_R(0.5) * x[k] - h0, -e);
+    }
+    return e + 1;
+}
+
+/* Sum and centred sum of squares of x[k0..n-1], in blocks. */
+static void window_moments(const pdt_real_t *x, size_t k0, size_t n, pdt_real_t *sum,
+                           pdt_real_t *var)
+{
+    pdt_real_t s = PDT_R(0.0), v = PDT_R(0.0), blk = PDT_R(0.0), mean;
+    size_t k;
+    for (k = k0; k < n; k++) {
+        blk += x[k];
+        if ((k - k0) % PDT_COST_BLOCK == PDT_COST_BLOCK - 1u) {
+            s += blk;
+            blk = PDT_R(0.0);
+        }
+    }
+    s += blk;
+    mean = s / (pdt_real_t)(n - k0);
+    blk = PDT_R(0.0);
+    for (k = k0; k < n; k++) {
+        pdt_real_t d = x[k] - mean;
+        blk += d * d;
+        if ((k - k0) % PDT_COST_BLOCK == PDT_COST_BLOCK - 1u) {
+            v += blk;
+            blk = PDT_R(0.0);
+        }
+    }
+    *sum = s;
+    *var = v + blk;
+}
+
+static size_t first_scored(const pdt_cost_t *c, uint8_t order, bool pred);
+
 pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pdt_real_t *u,
                            const pdt_real_t *y, size_t n, void *work, size_t work_len)
 {
     pdt_cost_t t;
     size_t lu;
     size_t k;
+    size_t nf = 0u;
+    size_t need = 2u * n * sizeof(pdt_real_t);
+    pdt_real_t *un;
+    pdt_real_t *yn;
 
     if (c == NULL || cfg == NULL || u == NULL || y == NULL || !config_ok(cfg)) {
         return PDT_ERR_ARG;
@@ -218,19 +337,22 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
     if (cfg->delay_min > lu || cfg->f_lo > cfg->f_hi) {
         return PDT_ERR_BOUNDS;
     }
-    if (!pdt_finite(cfg->u0) || !pdt_finite(cfg->y0)) {
-        return PDT_ERR_NONFINITE;
-    }
     for (k = 0u; k < n; k++) {
         if (!pdt_finite(u[k]) || !pdt_finite(y[k])) {
             return PDT_ERR_NONFINITE;
         }
     }
+    /* Before the operating point: a caller's level estimated from a
+     * stretch with a bad cell in it may have overflowed on it. */
+    if (pdt_cost_outlier(u, n) != n || pdt_cost_outlier(y, n) != n) {
+        return PDT_ERR_OUTLIER;
+    }
+    if (!pdt_finite(cfg->u0) || !pdt_finite(cfg->y0)) {
+        return PDT_ERR_NONFINITE;
+    }
 
     t.cfg = *cfg;
     t.cfg.delay_max = lu;
-    t.u = u;
-    t.y = y;
     t.n = n;
     t.nf = 0u;
     t.k_first = 1u;
@@ -241,52 +363,64 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
     t.w_step = PDT_R(0.0);
 
     if (cfg->use_frequency) {
-        size_t nf = pdt_cost_fft_size(n, lu);
-        size_t nb;
-        size_t need;
-        pdt_real_t *base;
-        pdt_fft_t fft;
-        pdt_status_t st;
-
+        nf = pdt_cost_fft_size(n, lu);
         if (nf == 0u) {
             return PDT_ERR_LENGTH;
         }
-        nb = nf / 2u;
         t.w_step = (PDT_R(2.0) * PDT_PI) / ((pdt_real_t)nf * cfg->Ts);
         if (!pdt_finite(t.w_step)) {
             return PDT_ERR_ARG;
         }
         if (cfg->weight == PDT_WEIGHT_CUSTOM) {
-            for (k = 0u; k <= nb; k++) {
+            for (k = 0u; k <= nf / 2u; k++) {
                 if (!pdt_finite(cfg->weights[k]) || cfg->weights[k] < PDT_R(0.0)) {
                     return PDT_ERR_ARG;
                 }
             }
         }
-        need = workspace_bytes(nf);
-        if (work == NULL) {
-            return PDT_ERR_NOMEM;
-        }
-        if (!pdt_aligned(work)) {
-            return PDT_ERR_ARG;
-        }
-        if (need == 0u || work_len < need) {
-            return PDT_ERR_NOMEM;
-        }
+        need = (spectra_bytes(nf) == 0u) ? 0u : need + spectra_bytes(nf);
+    }
+    if (work == NULL) {
+        return PDT_ERR_NOMEM;
+    }
+    if (!pdt_aligned(work)) {
+        return PDT_ERR_ARG;
+    }
+    if (need == 0u || work_len < need) {
+        return PDT_ERR_NOMEM;
+    }
 
+    un = (pdt_real_t *)work;
+    yn = un + n;
+    t.u_exp = normalise(u, cfg->u0, n, un);
+    t.y_exp = normalise(y, cfg->y0, n, yn);
+    t.u = un;
+    t.y = yn;
+    for (k = 0u; k < 2u; k++) {
+        window_moments(yn, first_scored(&t, (uint8_t)(k + 1u), false), n, &t.ysum[k],
+                       &t.yvar[k]);
+    }
+
+    if (cfg->use_frequency) {
+        const size_t nb = nf / 2u;
+        pdt_real_t *base = yn + n;
+        pdt_fft_t fft;
+        pdt_status_t st;
         /* Layout (reals): [0, nb) |U|, [nb, 2nb) |Y|, [2nb, 3nb) weights,
          * then the twiddles. u's FFT buffer is [0, 2nb) and leaves |U| at
          * its start; y's is [nb, 3nb) and leaves |Y| at its start; the
-         * weights come last, over the end of y's buffer. */
-        base = (pdt_real_t *)work;
-        st = pdt_fft_init(&fft, nf, base + 3u * nb, work_len - 3u * nb * sizeof(pdt_real_t));
+         * weights come last, over the end of y's buffer. The spectra are of
+         * the normalised record, like everything else. */
+        st = pdt_fft_init(&fft, nf, base + 3u * nb,
+                          work_len - (2u * n + 3u * nb) * sizeof(pdt_real_t));
         if (st == PDT_OK) {
-            st = spectrum_magnitude(&fft, u, cfg->u0, n, nf, base);
+            st = spectrum_magnitude(&fft, un, PDT_R(0.0), n, nf, base);
         }
         if (st == PDT_OK) {
-            st = spectrum_magnitude(&fft, y, cfg->y0, n, nf, base + nb);
+            st = spectrum_magnitude(&fft, yn, PDT_R(0.0), n, nf, base + nb);
         }
         if (st != PDT_OK) {
+            /* Cannot happen for an nf that pdt_cost_fft_size returned. */
             return st;
         }
         fill_weights(cfg, n, nf, base + 2u * nb, &t.k_first, &t.k_last);
@@ -404,10 +538,23 @@ static size_t first_scored(const pdt_cost_t *c, uint8_t order, bool pred)
     return c->cfg.delay_max + order;
 }
 
-/* Input deviation u(k - back), 0 before the record. */
+/* Normalised input u(k - back), 0 before the record. */
 static inline pdt_real_t u_dev(const pdt_cost_t *c, size_t k, size_t back)
 {
-    return (k >= back) ? c->u[k - back] - c->cfg.u0 : PDT_R(0.0);
+    return (k >= back) ? c->u[k - back] : PDT_R(0.0);
+}
+
+/* What the response of a model to the normalised input is multiplied by to
+ * be in the normalised output's units. */
+static pdt_real_t unit_ratio(const pdt_cost_t *c)
+{
+    return pdt_ldexp(PDT_R(1.0), c->u_exp - c->y_exp);
+}
+
+/* A normalised cost (mean square) in output units squared. */
+static pdt_real_t cost_units(const pdt_cost_t *c, pdt_real_t v)
+{
+    return pdt_ldexp(v, 2 * c->y_exp);
 }
 
 /* Simulation state in delta form: ys = ysim(k-1), dys = ysim(k-1) -
@@ -434,10 +581,11 @@ static inline pdt_real_t sim_step(const pdt_discrete_t *d, sim_state_t *s, pdt_r
     return s->ys;
 }
 
-static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_discrete_t *d)
+/* The time costs of d, whose input part is multiplied by g, in normalised
+ * units. */
+static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t g)
 {
     const pdt_real_t *y = c->y;
-    const pdt_real_t y0 = c->cfg.y0;
     const size_t l = d->delay;
     const size_t k0 = first_scored(c, d->order, true);
     pdt_real_t p1 = u_dev(c, k0, l + 2u); /* u(k-2-l) and u(k-3-l) at k = k0 */
@@ -453,11 +601,11 @@ static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_discrete_t *d)
         pdt_real_t r;
         if (d->order == 1u) {
             /* A(q) y = (1 - q) y + d0 q y */
-            r = dy + d->d[0] * (y[k - 1u] - y0) - bu;
+            r = dy + d->d[0] * y[k - 1u] - g * bu;
         } else {
             /* A(q) y = (1 - q)^2 y + d0 q (1 - q) y + d1 q^2 y */
             pdt_real_t dy1 = y[k - 1u] - y[k - 2u];
-            r = (dy - dy1) + d->d[0] * dy1 + d->d[1] * (y[k - 2u] - y0) - bu;
+            r = (dy - dy1) + d->d[0] * dy1 + d->d[1] * y[k - 2u] - g * bu;
         }
         acc_add(&acc, r);
         p2 = p1;
@@ -466,10 +614,9 @@ static pdt_real_t prediction_cost(const pdt_cost_t *c, const pdt_discrete_t *d)
     return acc_result(&acc, c->n - k0);
 }
 
-static pdt_real_t simulation_cost(const pdt_cost_t *c, const pdt_discrete_t *d)
+static pdt_real_t simulation_cost(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t g)
 {
     const pdt_real_t *y = c->y;
-    const pdt_real_t y0 = c->cfg.y0;
     const size_t l = d->delay;
     const size_t k0 = first_scored(c, d->order, false);
     sim_state_t st = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
@@ -480,7 +627,7 @@ static pdt_real_t simulation_cost(const pdt_cost_t *c, const pdt_discrete_t *d)
     for (k = 0u; k < c->n; k++) {
         pdt_real_t ys = sim_step(d, &st, u_dev(c, k, l + 1u));
         if (k >= k0) {
-            acc_add(&acc, (y[k] - y0) - ys);
+            acc_add(&acc, y[k] - g * ys);
         }
     }
     return acc_result(&acc, c->n - k0);
@@ -491,7 +638,7 @@ pdt_status_t pdt_cost_prediction(const pdt_cost_t *c, const pdt_discrete_t *d, p
     if (!prepared(c) || d == NULL || cost == NULL || check_dmodel(c, d) != PDT_OK) {
         return PDT_ERR_ARG;
     }
-    *cost = prediction_cost(c, d);
+    *cost = cost_units(c, prediction_cost(c, d, unit_ratio(c)));
     return PDT_OK;
 }
 
@@ -500,13 +647,14 @@ pdt_status_t pdt_cost_simulation(const pdt_cost_t *c, const pdt_discrete_t *d, p
     if (!prepared(c) || d == NULL || cost == NULL || check_dmodel(c, d) != PDT_OK) {
         return PDT_ERR_ARG;
     }
-    *cost = simulation_cost(c, d);
+    *cost = cost_units(c, simulation_cost(c, d, unit_ratio(c)));
     return PDT_OK;
 }
 
-/* Cf of a checked model on a cost prepared with spectra. */
+/* Cf of a checked model on a cost prepared with spectra, normalised. */
 static pdt_real_t frequency_cost(const pdt_cost_t *c, const pdt_model_t *m)
 {
+    const pdt_real_t ratio = unit_ratio(c);
     pdt_real_t gain;
     pdt_real_t tau = PDT_R(0.0);
     pdt_real_t a = PDT_R(0.0);
@@ -518,10 +666,10 @@ static pdt_real_t frequency_cost(const pdt_cost_t *c, const pdt_model_t *m)
     size_t k;
 
     if (first_order) {
-        gain = pdt_fabs(m->p.fopdt.K);
+        gain = pdt_fabs(m->p.fopdt.K) * ratio;
         tau = m->p.fopdt.tau;
     } else {
-        gain = pdt_fabs(m->p.sopdt.k);
+        gain = pdt_fabs(m->p.sopdt.k) * ratio;
         a = m->p.sopdt.a;
         b = m->p.sopdt.b;
     }
@@ -555,7 +703,7 @@ pdt_status_t pdt_cost_frequency(const pdt_cost_t *c, const pdt_model_t *m, pdt_r
         pdt_model_check(m) != PDT_OK) {
         return PDT_ERR_ARG;
     }
-    *cost = frequency_cost(c, m);
+    *cost = cost_units(c, frequency_cost(c, m));
     return PDT_OK;
 }
 
@@ -611,8 +759,8 @@ pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t
         }
         /* A zero weight leaves the time cost out of COMBINED: skip its O(n). */
         if (kind != PDT_COST_COMBINED || c->cfg.phi_t > PDT_R(0.0)) {
-            ct = (tkind == PDT_COST_PREDICTION) ? prediction_cost(c, &d)
-                                                : simulation_cost(c, &d);
+            ct = (tkind == PDT_COST_PREDICTION) ? prediction_cost(c, &d, unit_ratio(c))
+                                                : simulation_cost(c, &d, unit_ratio(c));
         }
     }
     if (need_freq && (kind != PDT_COST_COMBINED || c->cfg.phi_f > PDT_R(0.0))) {
@@ -632,7 +780,7 @@ pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t
     } else {
         total = need_time ? ct : cf;
     }
-    *cost = total;
+    *cost = cost_units(c, total);
     return PDT_OK;
 }
 
@@ -667,21 +815,20 @@ static void filter_input(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_
     }
 }
 
-/* The data side of the time part at sample k: y(k) - y0 for the
- * simulation, A(q) (y - y0) at k for the prediction (k >= order). */
+/* The data side of the time part at sample k: y(k) for the simulation,
+ * A(q) y at k for the prediction (k >= order), normalised. */
 static inline pdt_real_t data_side(const pdt_cost_t *c, const pdt_discrete_t *d, bool pred,
                                    size_t k)
 {
     const pdt_real_t *y = c->y;
-    const pdt_real_t y0 = c->cfg.y0;
     if (!pred) {
-        return y[k] - y0;
+        return y[k];
     }
     if (d->order == 1u) {
-        return (y[k] - y[k - 1u]) + d->d[0] * (y[k - 1u] - y0);
+        return (y[k] - y[k - 1u]) + d->d[0] * y[k - 1u];
     }
     pdt_real_t dy1 = y[k - 1u] - y[k - 2u];
-    return ((y[k] - y[k - 1u]) - dy1) + d->d[0] * dy1 + d->d[1] * (y[k - 2u] - y0);
+    return ((y[k] - y[k - 1u]) - dy1) + d->d[0] * dy1 + d->d[1] * y[k - 2u];
 }
 
 /* Blocked sum, as the residual accumulator: accurate float sums over long
@@ -769,140 +916,525 @@ static pdt_real_t best_gain(pdt_real_t a, pdt_real_t kt, pdt_real_t b, pdt_real_
     return best;
 }
 
-pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t gain_min,
-                              pdt_real_t gain_max, pdt_real_t *scratch, pdt_cost_profile_t *out)
+/* Gain bounds of the caller (multipliers of the shape in engineering
+ * units) in normalised units, saturated. */
+static pdt_real_t gain_to_norm(const pdt_cost_t *c, pdt_real_t g)
 {
-    const pdt_cost_kind_t kind = (c != NULL) ? c->cfg.kind : PDT_COST_SIMULATION;
-    const bool combined = (kind == PDT_COST_COMBINED);
-    const pdt_cost_kind_t tkind = combined ? c->cfg.time_kind : kind;
-    bool need_time, need_freq, pred, bounded;
-    pdt_discrete_t d;
-    pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
-    /* Regression summaries: time part a (K - kt)^2, frequency part
-     * b (|K| - kf)^2, each up to its constant. */
-    pdt_real_t at = PDT_R(0.0), kt = PDT_R(0.0), af = PDT_R(0.0), kf = PDT_R(0.0);
-    pdt_real_t smean = PDT_R(0.0), emean = PDT_R(0.0);
-    size_t k0 = 0u, m = 0u, k;
+    pdt_real_t v = pdt_ldexp(g, c->u_exp - c->y_exp);
+    if (!pdt_finite(v)) {
+        v = (v > PDT_R(0.0)) ? PDT_REAL_MAX : -PDT_REAL_MAX;
+    }
+    return v;
+}
 
-    if (!prepared(c) || shape == NULL || scratch == NULL || out == NULL ||
-        pdt_model_check(shape) != PDT_OK || !pdt_finite(gain_min) || !pdt_finite(gain_max)) {
+/* The sums that cancel in the residual sum of squares at the best gain
+ * may exceed it by this factor before the rounding costs more than about
+ * 2e-6 of it in float (1e-11 in double); beyond, the pass is run again
+ * around the fit it found. */
+#if PDT_REAL_DOUBLE
+#define CANCEL_RATIO (PDT_R(1e-11) / PDT_REAL_EPS)
+#define LOOSE_RATIO (PDT_R(1e-8) / PDT_REAL_EPS)
+#else
+#define CANCEL_RATIO (PDT_R(2e-6) / PDT_REAL_EPS)
+#define LOOSE_RATIO (PDT_R(1e-3) / PDT_REAL_EPS)
+#endif
+
+/* The simulation's time part: one kernel pass around the reference fit
+ * (K0, c0) and the regression summaries of it, normalised units. */
+typedef struct sim_fit {
+    pdt_real_t m;        /* scored samples */
+    pdt_real_t K0, c0;   /* the reference fit */
+    pdt_real_t sum_s;    /* sum s */
+    pdt_real_t sum_e;    /* sum (y - K0 s - c0) */
+    pdt_real_t vss, ves, vee; /* (centred with the offset) co-moments */
+    pdt_real_t ss, ee, es;    /* the raw sums they come from */
+} sim_fit_t;
+
+/* The summaries of the kernel's sums q, taken around (K0, c0). */
+static void sim_derive(const pdt_cost_t *c, const pdt_discrete_t *d, size_t k0, pdt_real_t K0,
+                       pdt_real_t c0, const pdt_cost_sums_t *qs, sim_fit_t *f)
+{
+    const size_t o = d->order - 1u;
+    const pdt_cost_sums_t q = *qs;
+    pdt_real_t m = (pdt_real_t)(c->n - k0);
+    f->m = m;
+    f->K0 = K0;
+    f->c0 = c0;
+    f->sum_s = q.s;
+    f->sum_e = (c->ysum[o] - K0 * q.s) - m * c0;
+    f->vss = q.ss;
+    f->ves = q.es;
+    f->vee = q.ee;
+    f->ss = q.ss;
+    f->ee = q.ee;
+    f->es = pdt_fabs(q.es);
+    if (c->cfg.estimate_offset) {
+        pdt_real_t sm = q.s / m;
+        f->vss -= q.s * sm;
+        f->ves -= f->sum_e * sm;
+        f->vee -= f->sum_e * (f->sum_e / m);
+    }
+}
+
+static void sim_pass(const pdt_cost_t *c, const pdt_discrete_t *d, size_t k0, pdt_real_t K0,
+                     pdt_real_t c0, sim_fit_t *f)
+{
+    pdt_cost_sums_t q;
+    pdt_cost_kernel(c->u, c->y, c->n, k0, d, K0, c0, &q);
+    sim_derive(c, d, k0, K0, c0, &q, f);
+}
+
+/* The reference fit of a simulation pass in normalised units: the
+ * caller's hint, or without one the data's own mean. Without an offset
+ * fit the reference offset is 0. */
+static void sim_reference(const pdt_cost_t *c, uint8_t order, const pdt_cost_hint_t *hint,
+                          pdt_real_t *K0, pdt_real_t *c0)
+{
+    const size_t k0 = first_scored(c, order, false);
+    if (hint != NULL && pdt_finite(hint->gain) && pdt_finite(hint->offset)) {
+        *K0 = gain_to_norm(c, hint->gain);
+        *c0 = pdt_ldexp(hint->offset, -c->y_exp);
+    }
+    if (hint == NULL || !pdt_finite(hint->gain) || !pdt_finite(hint->offset) ||
+        (hint->gain == PDT_R(0.0) && hint->offset == PDT_R(0.0))) {
+        /* No reference: the data's own mean, so that at least a record
+         * far from its operating point does not cancel. */
+        *K0 = PDT_R(0.0);
+        *c0 = c->ysum[order - 1u] / (pdt_real_t)(c->n - k0);
+    }
+    if (!c->cfg.estimate_offset) {
+        *c0 = PDT_R(0.0);
+    }
+}
+
+/* Whether the residual sum of squares rss at gain K came from sums so
+ * much larger that float rounding shows in it. Near the best cost so far
+ * (ncost_ref, normalised, 0 if unknown) that is 2e-6 of it; a candidate
+ * four times worse is allowed 1e-3: its rank among poor candidates is all
+ * the search takes from it, and the second pass would double its price
+ * whenever the reference fit does not suit its shape. */
+static bool sim_cancels(const sim_fit_t *f, pdt_real_t K, pdt_real_t rss, pdt_real_t ncost_ref)
+{
+    pdt_real_t dk = pdt_fabs(K - f->K0);
+    pdt_real_t big = f->ee + dk * (PDT_R(2.0) * f->es + dk * f->ss);
+    bool poor = ncost_ref > PDT_R(0.0) && rss > PDT_R(4.0) * ncost_ref * f->m;
+    return pdt_finite(rss) && !(big <= (poor ? LOOSE_RATIO : CANCEL_RATIO) * rss);
+}
+
+/* Whether rounding may have taken all of rss: the fit found is then no
+ * better a reference than none. */
+static bool sim_lost(const sim_fit_t *f, pdt_real_t K, pdt_real_t rss)
+{
+    pdt_real_t dk = pdt_fabs(K - f->K0);
+    pdt_real_t big = f->ee + dk * (PDT_R(2.0) * f->es + dk * f->ss);
+    return !(big * (PDT_R(64.0) * PDT_REAL_EPS) < rss);
+}
+
+/* Passes after the first, at most: one around the fit found normally
+ * suffices; a caller's reference far off takes one more, and a fit whose
+ * first refinement still cancels a third. */
+#define SIM_PASSES 3u
+
+/* Residual sum of squares of the fit with gain K (and the best offset),
+ * from the pass's summaries. */
+static pdt_real_t sim_rss(const sim_fit_t *f, pdt_real_t K)
+{
+    pdt_real_t dk = K - f->K0;
+    pdt_real_t r = f->vee - dk * (PDT_R(2.0) * f->ves - dk * f->vss);
+    if (r != r) {
+        return (pdt_real_t)INFINITY; /* sums that overflowed */
+    }
+    return r > PDT_R(0.0) ? r : PDT_R(0.0);
+}
+
+/* Whether a pass's sums all came out finite. */
+static bool sim_finite(const sim_fit_t *f)
+{
+    return pdt_finite(f->vee) && pdt_finite(f->ves) && pdt_finite(f->vss) &&
+           pdt_finite(f->sum_e) && pdt_finite(f->sum_s);
+}
+
+static pdt_real_t sim_offset(const pdt_cost_t *c, const sim_fit_t *f, pdt_real_t K)
+{
+    if (!c->cfg.estimate_offset) {
+        return PDT_R(0.0);
+    }
+    return f->c0 + (f->sum_e - (K - f->K0) * f->sum_s) / f->m;
+}
+
+/* The time part's summary a (K - kt)^2 of the pass. */
+static void sim_summary(const sim_fit_t *f, pdt_real_t *at, pdt_real_t *kt)
+{
+    *at = PDT_R(0.0);
+    *kt = PDT_R(0.0);
+    if (f->vss > PDT_R(0.0) && pdt_finite(f->vss) && pdt_finite(f->ves)) {
+        *kt = f->K0 + f->ves / f->vss;
+        *at = f->vss / f->m;
+    }
+}
+
+/* The frequency part's summary b (|K| - kf)^2, normalised units. */
+static void freq_summary(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t *af,
+                         pdt_real_t *kf)
+{
+    bsum_t sgg = {PDT_R(0.0), PDT_R(0.0), 0u}, syg = {PDT_R(0.0), PDT_R(0.0), 0u};
+    size_t k;
+    for (k = c->k_first; k <= c->k_last; k++) {
+        pdt_real_t g = model_mag(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
+        pdt_real_t wg = c->wgt[k - 1u] * g;
+        bsum_add(&sgg, wg * g);
+        bsum_add(&syg, wg * c->ymag[k - 1u]);
+    }
+    pdt_real_t vgg = bsum_get(&sgg);
+    *af = PDT_R(0.0);
+    *kf = PDT_R(0.0);
+    if (vgg > PDT_R(0.0) && pdt_finite(vgg)) {
+        *kf = bsum_get(&syg) / vgg;
+        *af = vgg;
+    }
+}
+
+static pdt_real_t freq_at(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t gain)
+{
+    bsum_t s2 = {PDT_R(0.0), PDT_R(0.0), 0u};
+    pdt_real_t gabs = pdt_fabs(gain);
+    size_t k;
+    for (k = c->k_first; k <= c->k_last; k++) {
+        pdt_real_t g = model_mag(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
+        pdt_real_t e = c->ymag[k - 1u] - gabs * g;
+        bsum_add(&s2, c->wgt[k - 1u] * e * e);
+    }
+    pdt_real_t v = bsum_get(&s2);
+    return pdt_finite(v) ? v : (pdt_real_t)INFINITY;
+}
+
+/* The prediction's time part (three passes over the regressor B(q) u in
+ * scratch): summary, then the cost and offset at the chosen gain. */
+static void pred_summary(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *scratch,
+                         pdt_real_t *smean, pdt_real_t *emean, pdt_real_t *at, pdt_real_t *kt)
+{
+    const size_t k0 = first_scored(c, d->order, true);
+    const size_t m = c->n - k0;
+    size_t k;
+    filter_input(c, d, scratch);
+    *smean = PDT_R(0.0);
+    *emean = PDT_R(0.0);
+    if (c->cfg.estimate_offset) {
+        bsum_t ss = {PDT_R(0.0), PDT_R(0.0), 0u}, se = {PDT_R(0.0), PDT_R(0.0), 0u};
+        for (k = k0; k < c->n; k++) {
+            bsum_add(&ss, scratch[k]);
+            bsum_add(&se, data_side(c, d, true, k));
+        }
+        *smean = bsum_get(&ss) / (pdt_real_t)m;
+        *emean = bsum_get(&se) / (pdt_real_t)m;
+    }
+    bsum_t sxx = {PDT_R(0.0), PDT_R(0.0), 0u}, sxy = {PDT_R(0.0), PDT_R(0.0), 0u};
+    for (k = k0; k < c->n; k++) {
+        pdt_real_t x = scratch[k] - *smean;
+        bsum_add(&sxx, x * x);
+        bsum_add(&sxy, x * (data_side(c, d, true, k) - *emean));
+    }
+    pdt_real_t vxx = bsum_get(&sxx);
+    *at = PDT_R(0.0);
+    *kt = PDT_R(0.0);
+    if (vxx > PDT_R(0.0) && pdt_finite(vxx)) {
+        *kt = bsum_get(&sxy) / vxx;
+        *at = vxx / (pdt_real_t)m;
+    }
+}
+
+/* The cost at the chosen gain, summed directly rather than from the
+ * regression sums, which cancel when the fit is good. */
+static pdt_real_t pred_at(const pdt_cost_t *c, const pdt_discrete_t *d, const pdt_real_t *scratch,
+                          pdt_real_t gain, pdt_real_t off)
+{
+    const size_t k0 = first_scored(c, d->order, true);
+    bsum_t s2 = {PDT_R(0.0), PDT_R(0.0), 0u};
+    size_t k;
+    for (k = k0; k < c->n; k++) {
+        pdt_real_t e = data_side(c, d, true, k) - gain * scratch[k] - off;
+        bsum_add(&s2, e * e);
+    }
+    return bsum_get(&s2) / (pdt_real_t)(c->n - k0);
+}
+
+/* The checks of a profile call and the shape's discrete model (none for
+ * FREQUENCY). */
+static pdt_status_t profile_check(const pdt_cost_t *c, const pdt_model_t *shape,
+                                  pdt_real_t gain_min, pdt_real_t gain_max, pdt_discrete_t *d)
+{
+    const pdt_cost_kind_t kind = c->cfg.kind;
+    if (shape == NULL || pdt_model_check(shape) != PDT_OK || !pdt_finite(gain_min) ||
+        !pdt_finite(gain_max)) {
         return PDT_ERR_ARG;
     }
     if (gain_min > gain_max) {
         return PDT_ERR_BOUNDS;
     }
-    bounded = !(gain_min == PDT_R(0.0) && gain_max == PDT_R(0.0));
-    need_freq = (kind == PDT_COST_FREQUENCY) || (combined && c->cfg.phi_f > PDT_R(0.0));
-    need_time = (kind != PDT_COST_FREQUENCY) && (!combined || c->cfg.phi_t > PDT_R(0.0));
-    if ((kind == PDT_COST_FREQUENCY || combined) && c->nf == 0u) {
+    if ((kind == PDT_COST_FREQUENCY || kind == PDT_COST_COMBINED) && c->nf == 0u) {
         return PDT_ERR_ARG;
     }
-    pred = (tkind == PDT_COST_PREDICTION);
     /* The delay bounds hold for every criterion that has a time part, even
      * one weighted 0, as in pdt_cost_eval. */
-    if (kind != PDT_COST_FREQUENCY && eval_discretize(c, shape, &d) != PDT_OK) {
+    if (kind != PDT_COST_FREQUENCY && eval_discretize(c, shape, d) != PDT_OK) {
         return PDT_ERR_ARG;
     }
+    return PDT_OK;
+}
+
+/* Whether the profile has a simulation time part, the kernel's work. */
+static bool sim_time(const pdt_cost_t *c)
+{
+    const pdt_cost_kind_t kind = c->cfg.kind;
+    if (kind == PDT_COST_COMBINED) {
+        return c->cfg.phi_t > PDT_R(0.0) && c->cfg.time_kind == PDT_COST_SIMULATION;
+    }
+    return kind == PDT_COST_SIMULATION;
+}
+
+/* The profile of a checked shape with discrete model d. pre: the kernel's
+ * sums around the reference (K0, c0) when a caller already ran them, else
+ * NULL. */
+static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt_discrete_t *d,
+                        pdt_real_t gain_min, pdt_real_t gain_max, pdt_real_t K0, pdt_real_t c0,
+                        pdt_real_t ncost_ref, const pdt_cost_sums_t *pre, pdt_real_t *scratch,
+                        pdt_cost_profile_t *out)
+{
+    const pdt_cost_kind_t kind = c->cfg.kind;
+    const bool combined = (kind == PDT_COST_COMBINED);
+    const bool bounded = !(gain_min == PDT_R(0.0) && gain_max == PDT_R(0.0));
+    const bool need_freq = (kind == PDT_COST_FREQUENCY) ||
+                           (combined && c->cfg.phi_f > PDT_R(0.0));
+    const bool need_time = (kind != PDT_COST_FREQUENCY) &&
+                           (!combined || c->cfg.phi_t > PDT_R(0.0));
+    const bool pred = need_time && !sim_time(c);
+    const pdt_real_t lo = gain_to_norm(c, gain_min), hi = gain_to_norm(c, gain_max);
+    pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0),
+                            PDT_R(0.0)};
+    /* Regression summaries: time part a (K - kt)^2, frequency part
+     * b (|K| - kf)^2, each up to its constant. */
+    pdt_real_t at = PDT_R(0.0), kt = PDT_R(0.0), af = PDT_R(0.0), kf = PDT_R(0.0);
+    pdt_real_t smean = PDT_R(0.0), emean = PDT_R(0.0), K, ct = PDT_R(0.0);
+    pdt_real_t cf = PDT_R(0.0), off = PDT_R(0.0), total;
+    sim_fit_t f;
+    size_t k0 = 0u;
+
     if (need_time) {
         if (pred) {
-            filter_input(c, &d, scratch);
+            pred_summary(c, d, scratch, &smean, &emean, &at, &kt);
         } else {
-            simulate_dev(c, &d, scratch);
-        }
-        k0 = first_scored(c, d.order, pred);
-        m = c->n - k0;
-        if (c->cfg.estimate_offset) {
-            bsum_t ss = {PDT_R(0.0), PDT_R(0.0), 0u}, se = {PDT_R(0.0), PDT_R(0.0), 0u};
-            for (k = k0; k < c->n; k++) {
-                bsum_add(&ss, scratch[k]);
-                bsum_add(&se, data_side(c, &d, pred, k));
+            k0 = first_scored(c, d->order, false);
+            if (pre != NULL) {
+                sim_derive(c, d, k0, K0, c0, pre, &f);
+            } else {
+                sim_pass(c, d, k0, K0, c0, &f);
             }
-            smean = bsum_get(&ss) / (pdt_real_t)m;
-            emean = bsum_get(&se) / (pdt_real_t)m;
-        }
-        bsum_t sxx = {PDT_R(0.0), PDT_R(0.0), 0u}, sxy = {PDT_R(0.0), PDT_R(0.0), 0u};
-        for (k = k0; k < c->n; k++) {
-            pdt_real_t x = scratch[k] - smean;
-            bsum_add(&sxx, x * x);
-            bsum_add(&sxy, x * (data_side(c, &d, pred, k) - emean));
-        }
-        pdt_real_t vxx = bsum_get(&sxx);
-        if (vxx > PDT_R(0.0) && pdt_finite(vxx)) {
-            kt = bsum_get(&sxy) / vxx;
-            at = vxx / (pdt_real_t)m;
+            if (!sim_finite(&f) && K0 != PDT_R(0.0)) {
+                /* A reference far off this shape (its residual overflowed):
+                 * once more without one. */
+                sim_reference(c, d->order, NULL, &K0, &c0);
+                sim_pass(c, d, k0, K0, c0, &f);
+            }
+            sim_summary(&f, &at, &kt);
         }
         if (combined) {
             at *= c->cfg.phi_t;
         }
     }
     if (need_freq) {
-        bsum_t sgg = {PDT_R(0.0), PDT_R(0.0), 0u}, syg = {PDT_R(0.0), PDT_R(0.0), 0u};
-        for (k = c->k_first; k <= c->k_last; k++) {
-            pdt_real_t g = model_mag(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
-            pdt_real_t wg = c->wgt[k - 1u] * g;
-            bsum_add(&sgg, wg * g);
-            bsum_add(&syg, wg * c->ymag[k - 1u]);
-        }
-        pdt_real_t vgg = bsum_get(&sgg);
-        if (vgg > PDT_R(0.0) && pdt_finite(vgg)) {
-            kf = bsum_get(&syg) / vgg;
-            af = vgg;
-        }
+        freq_summary(c, shape, &af, &kf);
         if (combined) {
             af *= c->cfg.phi_f;
         }
     }
-    r.gain = best_gain(at, kt, af, kf, bounded, gain_min, gain_max);
-
-    /* The cost at that gain, summed directly rather than from the
-     * regression sums, which cancel when the fit is good. */
-    if (need_time) {
-        pdt_real_t off = emean - r.gain * smean;
-        bsum_t s2 = {PDT_R(0.0), PDT_R(0.0), 0u};
-        for (k = k0; k < c->n; k++) {
-            pdt_real_t e = data_side(c, &d, pred, k) - r.gain * scratch[k] - off;
-            bsum_add(&s2, e * e);
+    K = best_gain(at, kt, af, kf, bounded, lo, hi);
+    if (need_time && !pred) {
+        pdt_real_t rss = sim_rss(&f, K);
+        /* The time part's own share of the reference cost. */
+        const pdt_real_t ref = combined ? ncost_ref / c->cfg.phi_t : ncost_ref;
+        const bool hinted = (f.K0 != PDT_R(0.0));
+        for (unsigned pass = 0u; pass < SIM_PASSES && sim_cancels(&f, K, rss, ref); pass++) {
+            /* Too much of the reference fit's residual cancelled: again
+             * around the fit just found, or, where a caller's reference
+             * was so far off this shape that nothing was left, around the
+             * data's mean first. */
+            if (pass == 0u && hinted && sim_lost(&f, K, rss)) {
+                sim_reference(c, d->order, NULL, &K0, &c0);
+            } else {
+                K0 = K;
+                c0 = sim_offset(c, &f, K);
+            }
+            sim_pass(c, d, k0, K0, c0, &f);
+            sim_summary(&f, &at, &kt);
+            if (combined) {
+                at *= c->cfg.phi_t;
+            }
+            K = best_gain(at, kt, af, kf, bounded, lo, hi);
+            rss = sim_rss(&f, K);
         }
-        r.ct = bsum_get(&s2) / (pdt_real_t)m;
-        if (!pdt_finite(r.ct)) {
-            r.ct = (pdt_real_t)INFINITY;
-        }
-        if (!pred) {
-            r.offset = off;
-        } else {
-            /* In the equation error the offset enters through A(1). */
-            pdt_real_t a1 = (d.order == 1u) ? d.d[0] : d.d[1];
-            r.offset = (a1 > PDT_REAL_EPS) ? off / a1 : PDT_R(0.0);
-        }
+        ct = rss / f.m;
+        off = sim_offset(c, &f, K);
+    } else if (need_time) {
+        pdt_real_t o = emean - K * smean;
+        /* In the equation error the offset enters through A(1). */
+        pdt_real_t a1 = (d->order == 1u) ? d->d[0] : d->d[1];
+        ct = pred_at(c, d, scratch, K, o);
+        off = (a1 > PDT_REAL_EPS) ? o / a1 : PDT_R(0.0);
+    }
+    if (!pdt_finite(ct)) {
+        ct = (pdt_real_t)INFINITY;
     }
     if (need_freq) {
-        bsum_t s2 = {PDT_R(0.0), PDT_R(0.0), 0u};
-        pdt_real_t gabs = pdt_fabs(r.gain);
-        for (k = c->k_first; k <= c->k_last; k++) {
-            pdt_real_t g = model_mag(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
-            pdt_real_t e = c->ymag[k - 1u] - gabs * g;
-            bsum_add(&s2, c->wgt[k - 1u] * e * e);
-        }
-        r.cf = bsum_get(&s2);
-        if (!pdt_finite(r.cf)) {
-            r.cf = (pdt_real_t)INFINITY;
-        }
+        cf = freq_at(c, shape, K);
     }
     if (combined) {
-        r.cost = PDT_R(0.0);
+        total = PDT_R(0.0);
         if (c->cfg.phi_t > PDT_R(0.0)) {
-            r.cost += c->cfg.phi_t * r.ct;
+            total += c->cfg.phi_t * ct;
         }
         if (c->cfg.phi_f > PDT_R(0.0)) {
-            r.cost += c->cfg.phi_f * r.cf;
+            total += c->cfg.phi_f * cf;
         }
-        if (!pdt_finite(r.cost)) {
-            r.cost = (pdt_real_t)INFINITY;
+        if (!pdt_finite(total)) {
+            total = (pdt_real_t)INFINITY;
         }
     } else {
-        r.cost = (kind == PDT_COST_FREQUENCY) ? r.cf : r.ct;
+        total = (kind == PDT_COST_FREQUENCY) ? cf : ct;
     }
+    r.ncost = total;
+    r.cost = cost_units(c, total);
+    r.ct = cost_units(c, ct);
+    r.cf = cost_units(c, cf);
+    r.gain = pdt_ldexp(K, c->y_exp - c->u_exp);
+    r.offset = pdt_ldexp(off, c->y_exp);
     *out = r;
+}
+
+/* The reference cost of a hint, 0 when there is none. */
+static pdt_real_t hint_ncost(const pdt_cost_hint_t *hint)
+{
+    if (hint == NULL || !pdt_finite(hint->ncost) || !(hint->ncost > PDT_R(0.0))) {
+        return PDT_R(0.0);
+    }
+    return hint->ncost;
+}
+
+pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape,
+                                   pdt_real_t gain_min, pdt_real_t gain_max,
+                                   const pdt_cost_hint_t *hint, pdt_real_t *scratch,
+                                   pdt_cost_profile_t *out)
+{
+    pdt_discrete_t d;
+    pdt_real_t K0 = PDT_R(0.0), c0 = PDT_R(0.0);
+    pdt_status_t st;
+    if (!prepared(c) || scratch == NULL || out == NULL) {
+        return PDT_ERR_ARG;
+    }
+    st = profile_check(c, shape, gain_min, gain_max, &d);
+    if (st != PDT_OK) {
+        return st;
+    }
+    if (sim_time(c)) {
+        sim_reference(c, d.order, hint, &K0, &c0);
+    }
+    profile_run(c, shape, &d, gain_min, gain_max, K0, c0, hint_ncost(hint), NULL, scratch, out);
+    return PDT_OK;
+}
+
+pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shapes, size_t count,
+                                   const pdt_real_t *gain_min, const pdt_real_t *gain_max,
+                                   const pdt_cost_hint_t *hint, pdt_real_t *scratch,
+                                   pdt_cost_profile_t *out)
+{
+    pdt_discrete_t d[PDT_COST_MANY];
+    pdt_cost_sums_t q[PDT_COST_MANY];
+    pdt_real_t K0 = PDT_R(0.0), c0 = PDT_R(0.0);
+    bool shared = false;
+    size_t i;
+    if (!prepared(c) || shapes == NULL || gain_min == NULL || gain_max == NULL ||
+        scratch == NULL || out == NULL || count == 0u || count > PDT_COST_MANY) {
+        return PDT_ERR_ARG;
+    }
+    for (i = 0; i < count; i++) {
+        pdt_status_t st = profile_check(c, &shapes[i], gain_min[i], gain_max[i], &d[i]);
+        if (st != PDT_OK) {
+            return st;
+        }
+    }
+    if (sim_time(c)) {
+        /* One pass for all when they share an order, hence a reference. */
+        shared = true;
+        for (i = 1; i < count; i++) {
+            shared = shared && d[i].order == d[0].order;
+        }
+        if (shared) {
+            sim_reference(c, d[0].order, hint, &K0, &c0);
+            pdt_cost_kernel_many(c->u, c->y, c->n, first_scored(c, d[0].order, false), d, count,
+                                 K0, c0, q);
+        }
+    }
+    for (i = 0; i < count; i++) {
+        pdt_real_t k0i = K0, c0i = c0;
+        if (sim_time(c) && !shared) {
+            sim_reference(c, d[i].order, hint, &k0i, &c0i);
+        }
+        profile_run(c, &shapes[i], &d[i], gain_min[i], gain_max[i], k0i, c0i, hint_ncost(hint),
+                    shared ? &q[i] : NULL, scratch, &out[i]);
+    }
+    return PDT_OK;
+}
+
+pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t gain_min,
+                              pdt_real_t gain_max, pdt_real_t *scratch, pdt_cost_profile_t *out)
+{
+    return pdt_cost_profile_hint(c, shape, gain_min, gain_max, NULL, scratch, out);
+}
+
+pdt_real_t pdt_cost_units(const pdt_cost_t *c, pdt_real_t ncost)
+{
+    return (c == NULL) ? ncost : cost_units(c, ncost);
+}
+
+pdt_status_t pdt_cost_fit(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t offset,
+                          pdt_real_t *scratch, pdt_real_t *fit)
+{
+    pdt_discrete_t d;
+    pdt_real_t mean, e2 = PDT_R(0.0), v2 = PDT_R(0.0), off, v;
+    size_t k;
+    if (!prepared(c) || m == NULL || scratch == NULL || fit == NULL ||
+        pdt_model_check(m) != PDT_OK || !pdt_finite(offset) ||
+        pdt_discrete_init(m, c->cfg.Ts, &d) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    simulate_dev(c, &d, scratch);
+    off = pdt_ldexp(offset, -c->y_exp);
+    {
+        bsum_t s = {PDT_R(0.0), PDT_R(0.0), 0u};
+        for (k = 0u; k < c->n; k++) {
+            bsum_add(&s, c->y[k]);
+        }
+        mean = bsum_get(&s) / (pdt_real_t)c->n;
+    }
+    {
+        const int sh = c->u_exp - c->y_exp;
+        bsum_t se = {PDT_R(0.0), PDT_R(0.0), 0u}, sv = {PDT_R(0.0), PDT_R(0.0), 0u};
+        for (k = 0u; k < c->n; k++) {
+            pdt_real_t e = c->y[k] - (pdt_ldexp(scratch[k], sh) + off);
+            pdt_real_t dv = c->y[k] - mean;
+            bsum_add(&se, e * e);
+            bsum_add(&sv, dv * dv);
+        }
+        e2 = bsum_get(&se);
+        v2 = bsum_get(&sv);
+    }
+    v = PDT_R(0.0);
+    if (v2 > PDT_R(0.0)) {
+        v = PDT_R(100.0) * (PDT_R(1.0) - pdt_sqrt(e2 / v2));
+        if (!pdt_finite(v)) {
+            v = PDT_R(-1e30);
+        }
+    }
+    *fit = v;
     return PDT_OK;
 }
 
@@ -916,7 +1448,7 @@ pdt_status_t pdt_cost_simulate(const pdt_cost_t *c, const pdt_discrete_t *d, pdt
     }
     simulate_dev(c, d, ysim);
     for (k = 0u; k < c->n; k++) {
-        ysim[k] += c->cfg.y0;
+        ysim[k] = pdt_ldexp(ysim[k], c->u_exp) + c->cfg.y0;
     }
     return PDT_OK;
 }

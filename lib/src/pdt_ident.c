@@ -608,18 +608,29 @@ static void evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_
     shape_of(c, g, &shape);
     gain_bounds(c, &shape, &glo, &ghi);
     c->evaluations++;
-    if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) != PDT_OK ||
-        !(pr.cost == pr.cost)) {
+    /* The best so far is the reference fit of the cost's one pass, its gain
+     * carried over to this shape's unit: b + a / T (T the record's length)
+     * moves smoothly from a lag's DC gain to an integrator's. */
+    pdt_cost_hint_t hint = {c->best_gain, c->best_offset, c->best_cost};
+    if (shape.kind == PDT_MODEL_SOPDT && c->best_cost < PDT_REAL_MAX) {
+        pdt_model_t best;
+        const pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
+        shape_of(c, c->best, &best);
+        hint.gain = c->best_gain * (shape.p.sopdt.b + shape.p.sopdt.a / T) /
+                    (best.p.sopdt.b + best.p.sopdt.a / T);
+    }
+    if (pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) != PDT_OK ||
+        !(pr.ncost == pr.ncost)) {
         *cost = PDT_REAL_MAX;
         *gain = PDT_R(0.0);
         *offset = PDT_R(0.0);
         return;
     }
-    *cost = pr.cost;
+    *cost = pr.ncost;
     *gain = pr.gain;
     *offset = pr.offset;
-    if (pr.cost < c->best_cost) {
-        c->best_cost = pr.cost;
+    if (pr.ncost < c->best_cost) {
+        c->best_cost = pr.ncost;
         c->best_gain = pr.gain;
         c->best_offset = pr.offset;
         for (uint32_t j = 0; j < c->genes; j++) {
@@ -1085,12 +1096,12 @@ static pdt_real_t scan_cost(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_
     shape_of(c, g, &shape);
     c->evaluations++;
     if (pdt_cost_profile(&c->cost_time, &shape, gain, gain, c->scratch, &pr) != PDT_OK ||
-        !(pr.cost == pr.cost)) {
+        !(pr.ncost == pr.ncost)) {
         *offset = PDT_R(0.0);
         return PDT_REAL_MAX;
     }
     *offset = pr.offset;
-    return pr.cost;
+    return pr.ncost;
 }
 
 static void scan_start(pdt_ident_t *c)
@@ -1176,7 +1187,6 @@ static void scan_advance(pdt_ident_t *c)
 static void finish(pdt_ident_t *c)
 {
     pdt_model_t m;
-    pdt_discrete_t d;
     shape_of(c, c->best, &m);
     if (m.kind == PDT_MODEL_FOPDT) {
         m.p.fopdt.K = c->best_gain;
@@ -1209,33 +1219,15 @@ static void finish(pdt_ident_t *c)
                 m.p.sopdt.b = PDT_R(0.0);
                 m.p.sopdt.k = pr.gain;
                 c->best_gain = pr.gain;
-                c->best_cost = pr.cost;
+                c->best_cost = pr.ncost;
                 c->best_offset = (c->cfg.cost == PDT_COST_FREQUENCY) ? c->best_offset : pr.offset;
             }
         }
     }
     c->model = m;
     c->y0 = c->cost.cfg.y0 + c->best_offset;
-    c->fit = PDT_R(0.0);
-    if (pdt_discrete_init(&m, c->cfg.Ts, &d) == PDT_OK &&
-        pdt_cost_simulate(&c->cost, &d, c->scratch) == PDT_OK) {
-        const pdt_real_t *y = c->data.y;
-        const size_t n = c->data.n;
-        pdt_real_t mean = PDT_R(0.0), shift = y[0];
-        for (size_t k = 0; k < n; k++) {
-            mean += y[k] - shift;
-        }
-        mean = shift + mean / (pdt_real_t)n;
-        pdt_real_t e2 = PDT_R(0.0), v2 = PDT_R(0.0);
-        for (size_t k = 0; k < n; k++) {
-            pdt_real_t e = y[k] - (c->scratch[k] + c->best_offset);
-            pdt_real_t v = y[k] - mean;
-            e2 += e * e;
-            v2 += v * v;
-        }
-        if (v2 > PDT_R(0.0)) {
-            c->fit = PDT_R(100.0) * (PDT_R(1.0) - pdt_sqrt(e2 / v2));
-        }
+    if (pdt_cost_fit(&c->cost, &m, c->best_offset, c->scratch, &c->fit) != PDT_OK) {
+        c->fit = PDT_R(0.0);
     }
     c->phase = PH_DONE;
 }
@@ -1381,7 +1373,7 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.model = ctx->model;
     r.u0 = ctx->cost.cfg.u0;
     r.y0 = ctx->y0;
-    r.cost = ctx->best_cost;
+    r.cost = pdt_cost_units(&ctx->cost, ctx->best_cost);
     r.fit = ctx->fit;
     r.evaluations = ctx->evaluations;
     r.generations = ctx->generations;

@@ -41,6 +41,8 @@ const char *pdt_status_str(pdt_status_t status)
         return "stopped by the caller";
     case PDT_ERR_NOT_AT_REST:
         return "record does not end at rest";
+    case PDT_ERR_OUTLIER:
+        return "gross outlier in the data";
     default:
         return "unknown status";
     }
@@ -87,6 +89,8 @@ const char *pdt_status_name(pdt_status_t status)
         return "PDT_ERR_ABORTED";
     case PDT_ERR_NOT_AT_REST:
         return "PDT_ERR_NOT_AT_REST";
+    case PDT_ERR_OUTLIER:
+        return "PDT_ERR_OUTLIER";
     default:
         return "PDT_STATUS_UNKNOWN";
     }

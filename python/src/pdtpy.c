@@ -252,9 +252,12 @@ static pdt_status_t simulate_real(const pdt_model_t *m, double Ts, const pdt_rea
     cc.kind = PDT_COST_SIMULATION;
     pdt_cost_t cost;
     pdt_discrete_t d;
-    pdt_status_t st = pdt_cost_init(&cost, &cc, u, y, n, NULL, 0);
+    const size_t wlen = pdt_cost_workspace_size(&cc, n);
+    void *work = wlen ? malloc(wlen) : NULL;
+    pdt_status_t st = work ? pdt_cost_init(&cost, &cc, u, y, n, work, wlen) : PDT_ERR_NOMEM;
     if (st == PDT_OK) st = pdt_discrete_init(m, (pdt_real_t)Ts, &d);
     if (st == PDT_OK) st = pdt_cost_simulate(&cost, &d, ysim);
+    free(work);
     return st;
 }
 

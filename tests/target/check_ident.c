@@ -319,7 +319,7 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
     cfg.use_frequency = kind == PDT_COST_COMBINED;
     size_t ws = pdt_cost_workspace_size(&cfg, r->n);
     bool ok = ws <= sizeof g_cost_work &&
-              pdt_cost_init(&c, &cfg, g_u, g_y, r->n, cfg.use_frequency ? g_cost_work : NULL,
+              pdt_cost_init(&c, &cfg, g_u, g_y, r->n, g_cost_work,
                             ws) == PDT_OK;
     uint64_t t_eval = 0, t_prof = 0;
     size_t stack_eval = 0, stack_prof = 0;

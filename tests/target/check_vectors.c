@@ -381,7 +381,7 @@ static bool cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
         return false;
     }
     canary_fill(g_cwork + reals, CANARY_COUNT);
-    return pdt_cost_init(c, cfg, g_cu, g_cy, n, cfg->use_frequency ? g_cwork : NULL, ws) ==
+    return pdt_cost_init(c, cfg, g_cu, g_cy, n, g_cwork, ws) ==
                PDT_OK &&
            canary_intact(g_cwork + reals, CANARY_COUNT);
 }

@@ -21,10 +21,12 @@ double ident_simulate(const pdt_model_t *m, double Ts, const ident_data_t *d, pd
     cc.kind = PDT_COST_SIMULATION;
     pdt_cost_t cost;
     pdt_discrete_t dm;
-    pdt_real_t *ys = malloc(n * sizeof *ys);
+    /* The cost keeps its normalised copy of the record after the output. */
+    const size_t wlen = pdt_cost_workspace_size(&cc, n);
+    pdt_real_t *ys = malloc(n * sizeof *ys + wlen);
     if (!ys) cli_fail(EXIT_REFUSED, "out of memory");
     double fit = (double)NAN;
-    if (pdt_cost_init(&cost, &cc, d->u, d->y, n, NULL, 0) == PDT_OK &&
+    if (wlen > 0 && pdt_cost_init(&cost, &cc, d->u, d->y, n, ys + n, wlen) == PDT_OK &&
         pdt_discrete_init(m, (pdt_real_t)Ts, &dm) == PDT_OK &&
         pdt_cost_simulate(&cost, &dm, ys) == PDT_OK) {
         double mean = 0.0, e2 = 0.0, v2 = 0.0;

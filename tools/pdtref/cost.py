@@ -241,7 +241,9 @@ def profile(u, y, shape, dm, Ts, kind, u0=0.0, y0=0.0, delay_max=None,
 
     Method: the time cost of the model scaled by K is an exact quadratic in
     K, and the frequency cost one in |K|, so each is sampled at three gains
-    and its parabola solved from the samples; the total is then a quadratic
+    (multiples of the data's own gain unit, the ratio of the ranges of y and
+    u, so that a record whose gain is 1e20 is sampled where its parabola
+    shows) and its parabola solved from the samples; the total is then a quadratic
     on each half-line of K, minimised there over the bounds, and the better
     half-line wins (the positive one on an exact tie). The result's costs
     are evaluated again directly at the chosen gain.
@@ -285,20 +287,29 @@ def profile(u, y, shape, dm, Ts, kind, u0=0.0, y0=0.0, delay_max=None,
     def total(g):
         return wt * tcost(g) + wf * fcost(abs(g))
 
-    tm, t0, tp = tcost(-1.0), tcost(0.0), tcost(1.0)
+    uspan = float(np.max(np.abs(np.asarray(u, dtype=float) - u0)))
+    yspan = float(np.max(np.abs(np.asarray(y, dtype=float) - y0)))
+    gs = yspan / uspan if uspan > 0.0 and yspan > 0.0 else 1.0
+    # The quadratics below are in t = K / gs.
+    tm, t0, tp = tcost(-gs), tcost(0.0), tcost(gs)
     ct_q = (t0, 0.5 * (tp - tm), 0.5 * (tp + tm) - t0)
-    f0, f1, f2 = fcost(0.0), fcost(1.0), fcost(2.0)
+    f0, f1, f2 = fcost(0.0), fcost(gs), fcost(2.0 * gs)
     cf_2 = 0.5 * (f2 - 2.0 * f1 + f0)
     cf_q = (f0, f1 - f0 - cf_2, cf_2)
     pos = [wt * ct_q[i] + wf * cf_q[i] for i in range(3)]
     neg = [wt * ct_q[0] + wf * cf_q[0], wt * ct_q[1] - wf * cf_q[1],
            wt * ct_q[2] + wf * cf_q[2]]
 
+    def argmin(q, a, b):
+        # back in gains, clamped again: a bound divided and multiplied by gs
+        # may have moved by a rounding
+        return min(max(gs * _quad_argmin(q, a / gs, b / gs), a), b)
+
     cands = []
     if max(lo, 0.0) <= hi:
-        cands.append(_quad_argmin(pos, max(lo, 0.0), hi))
+        cands.append(argmin(pos, max(lo, 0.0), hi))
     if lo <= min(hi, 0.0):
-        cands.append(_quad_argmin(neg, lo, min(hi, 0.0)))
+        cands.append(argmin(neg, lo, min(hi, 0.0)))
     values = [total(g) for g in cands]
     best = 0
     if len(cands) == 2 and values[1] < values[0]:

@@ -128,9 +128,14 @@ typedef struct pdt_cost_config {
 /* The prepared cost. Fields are private; fill it with pdt_cost_init. */
 typedef struct pdt_cost {
     pdt_cost_config_t cfg;   /* copy of the config, delay_max resolved */
-    const pdt_real_t *u;     /* caller's data */
-    const pdt_real_t *y;
+    const pdt_real_t *u;     /* the record normalised (workspace): */
+    const pdt_real_t *y;     /* (u - u0) 2^-u_exp, (y - y0) 2^-y_exp */
     size_t n;                /* samples */
+    int u_exp;               /* scales of the normalised record: powers of */
+    int y_exp;               /* two, so mapping back is exact */
+    pdt_real_t ysum[2];      /* sum y and sum (y - mean)^2 of the normalised */
+    pdt_real_t yvar[2];      /* y over the simulation's scored samples, by
+                              * model order - 1 */
     size_t nf;               /* FFT size N_f (0 without frequency data) */
     size_t k_first;          /* first and last bin with a non-zero weight */
     size_t k_last;           /* (k_first > k_last: none) */
@@ -150,14 +155,18 @@ void pdt_cost_config_default(pdt_cost_config_t *cfg);
 size_t pdt_cost_fft_size(size_t n, size_t delay_max);
 
 /* Workspace bytes pdt_cost_init needs for this config and record length,
- * exactly: 3 N_f/2 reals (|U|, |Y| and the weight per bin, kept for the life
- * of the cost) plus pdt_fft_workspace_size(N_f) bytes for the FFT's
+ * exactly: 2 n reals for the normalised copy of the record (u and y as
+ * deviations from the operating point, scaled by powers of two into
+ * (-1, 1), so that no cost overflows or underflows in float at any data
+ * scale and the inner loops subtract nothing), kept for the life of the
+ * cost; with use_frequency, plus 3 N_f/2 reals (|U|, |Y| and the weight
+ * per bin, kept) and pdt_fft_workspace_size(N_f) bytes for the FFT's
  * twiddle table, used only during init. The FFT buffer (N_f reals) needed
  * during init lies over the |Y| and weight arrays before they are filled,
- * so it costs nothing extra. With the current FFT that is 2 N_f reals.
- * Returns 0 when use_frequency is false (no workspace needed), and 0 when
- * cfg is NULL or n or the delay bound is unsupported (pdt_cost_init then
- * says why). */
+ * so it costs nothing extra. With the current FFT the frequency part is
+ * 2 N_f reals.
+ * Returns 0 when cfg is NULL or n or the delay bound is unsupported
+ * (pdt_cost_init then says why). */
 size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
 
 /* Smallest power of two >= x among 16 .. 2^PDT_FFT_MAX_LOG2, or 0 beyond
@@ -190,15 +199,15 @@ size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
  * always fits. It is 0 when n is too long for PDT_FFT_MAX_LOG2, so such an
  * array fails to compile instead of failing at run time. */
 #define PDT_COST_WORKSPACE_SIZE(n) \
-    (3u * (PDT_COST_FFT_SIZE_MAX(n) / 2u) * sizeof(pdt_real_t) \
+    ((2u * (size_t)(n) + 3u * (PDT_COST_FFT_SIZE_MAX(n) / 2u)) * sizeof(pdt_real_t) \
      + PDT_FFT_WORKSPACE_SIZE(PDT_COST_FFT_SIZE_MAX(n)))
 
 /* Prepares c for the record u, y of n samples: checks the config and the
- * data and, with use_frequency, computes the DFT magnitudes and weights
- * into work. c keeps pointers to u, y and work (all caller memory, which
- * must stay valid and unchanged while c is used); the rest is copied.
- * work must be aligned for pdt_real_t; it is not needed (may be NULL) when
- * use_frequency is false.
+ * data, copies the record normalised into work and, with use_frequency,
+ * computes the DFT magnitudes and weights there too. c keeps a pointer to
+ * work (caller memory, which must stay valid and unchanged while c is
+ * used), not to u and y; the rest is copied. work must be aligned for
+ * pdt_real_t.
  * Returns:
  *  PDT_ERR_ARG       NULL c/cfg/u/y, Ts not finite and > 0 (or so small
  *                    that 2 pi / (N_f Ts) overflows), an unknown enum,
@@ -211,15 +220,22 @@ size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
  *                    samples: n - delay_max - 2 (n - 2 with whole_record);
  *  PDT_ERR_BOUNDS    delay_min > delay_max, or f_lo > f_hi;
  *  PDT_ERR_NONFINITE NaN or infinity in u, y, u0 or y0;
+ *  PDT_ERR_OUTLIER   a gross outlier in u or y: a jump between samples
+ *                    2^24 times (seven decades) larger than every other
+ *                    non-zero jump of that signal, at no more than
+ *                    2 + n / 64 places (a logger's bad-value marker, e.g.
+ *                    1e20 or -3e38 in a record of order 1);
+ *                    pdt_cost_outlier names the sample;
  *  PDT_ERR_LENGTH    N_f beyond 2^PDT_FFT_MAX_LOG2 (only with use_frequency);
- *  PDT_ERR_NOMEM     work NULL or work_len below pdt_cost_workspace_size
- *                    (only with use_frequency).
+ *  PDT_ERR_NOMEM     work NULL or work_len below pdt_cost_workspace_size.
  * Checked in this order: pointers and the config's own values (ARG),
- * lengths (TOO_SHORT), bounds (BOUNDS), data (NONFINITE); then, with
- * use_frequency only: N_f (LENGTH), the bin spacing and custom weight
- * values (ARG), the workspace (NOMEM if NULL, ARG if misaligned, NOMEM if
- * short). On error *c and work are untouched.
- * Work: O(n) for the checks, plus O(N_f log N_f) with use_frequency. */
+ * lengths (TOO_SHORT), bounds (BOUNDS), data (NONFINITE in u or y, then
+ * OUTLIER, then NONFINITE in u0 or y0);
+ * then, with use_frequency only: N_f (LENGTH), the bin spacing and custom
+ * weight values (ARG); then the workspace (NOMEM if NULL, ARG if
+ * misaligned, NOMEM if short). On error *c and work are untouched.
+ * Work: O(n) for the checks and the copy, plus O(N_f log N_f) with
+ * use_frequency. */
 pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pdt_real_t *u,
                            const pdt_real_t *y, size_t n, void *work, size_t work_len);
 
@@ -249,9 +265,20 @@ pdt_status_t pdt_cost_frequency(const pdt_cost_t *c, const pdt_model_t *m, pdt_r
  * use_frequency; *cost is then untouched. */
 pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *cost);
 
+/* The index of a gross outlier in x[0..n-1] as pdt_cost_init refuses it
+ * (PDT_ERR_OUTLIER), or n if there is none (also for NULL x or n < 2).
+ * The sample named is the first of the jumps (the one after the jump).
+ * O(n). */
+size_t pdt_cost_outlier(const pdt_real_t *x, size_t n);
+
 /* Result of pdt_cost_profile. */
 typedef struct pdt_cost_profile {
     pdt_real_t cost;   /* cfg.kind's cost at the best gain and offset */
+    pdt_real_t ncost;  /* the same cost in the normalised units of the cost
+                        * object: cost / 4^y_exp exactly (y_exp a field of
+                        * pdt_cost_t), but finite and neither 0 by underflow
+                        * nor infinite by overflow at any data scale a
+                        * float holds. Compare candidates by it. */
     pdt_real_t gain;   /* best multiplier of the shape's gain */
     pdt_real_t offset; /* best output offset, added to y0 (0 for FREQUENCY,
                         * without estimate_offset, and for PREDICTION of
@@ -281,10 +308,75 @@ typedef struct pdt_cost_profile {
  * Returns PDT_ERR_ARG (NULL, c not prepared, invalid shape, its delay
  * outside the bounds, FREQUENCY / COMBINED without use_frequency, a bound
  * not finite), PDT_ERR_BOUNDS (gain_min > gain_max); *out untouched then.
- * Work: one simulation and two more passes over the record, two passes
- * over the bins; O(n + N_f). */
+ * Work: for the SIMULATION time part, one pass over the record (the
+ * shape simulated and the regression sums accumulated together, no
+ * per-sample branches), and a second pass only when the fit is so good
+ * that the first one's sums would cancel in float (the residual below
+ * about 1/17 of the sums it comes from in float, see
+ * pdt_cost_profile_hint); for PREDICTION three passes; two passes over the
+ * bins for the frequency part. O(n + N_f). */
 pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t gain_min,
                               pdt_real_t gain_max, pdt_real_t *scratch, pdt_cost_profile_t *out);
+
+/* The reference fit of pdt_cost_profile_hint: what the caller knows of
+ * the best fit so far, in the units pdt_cost_profile returns. */
+typedef struct pdt_cost_hint {
+    pdt_real_t gain;   /* a gain multiplier near the candidate's best */
+    pdt_real_t offset; /* an output offset near the candidate's best */
+    pdt_real_t ncost;  /* the best normalised cost so far (ncost), or 0 if
+                        * none: a candidate whose time part costs more than
+                        * 4 times it is scored to about 1e-3 relative
+                        * instead of 2e-6 (float; 1e-8 instead of 1e-11 in
+                        * double), which spares it the second pass */
+} pdt_cost_hint_t;
+
+/* pdt_cost_profile with a reference fit (hint; NULL for none): the
+ * reference is subtracted from the data inside the single pass, so that a
+ * good candidate's cost is accurate without the second pass. The result
+ * is pdt_cost_profile's up to rounding for any gain and offset in the
+ * hint: a poor one (or 0, 0) only makes the second pass more likely. A
+ * hint value that is not finite is taken as none. This is the call of the
+ * identification's search, with the best fit so far as the hint: one pass
+ * per candidate. Same returns as pdt_cost_profile. */
+pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape,
+                                   pdt_real_t gain_min, pdt_real_t gain_max,
+                                   const pdt_cost_hint_t *hint, pdt_real_t *scratch,
+                                   pdt_cost_profile_t *out);
+
+/* Most shapes pdt_cost_profile_many takes in one call. */
+#define PDT_COST_MANY 4u
+
+/* pdt_cost_profile_hint of count shapes (1 .. PDT_COST_MANY) with one
+ * reference fit, into out[0..count-1], each with its own gain bounds
+ * gain_min[i], gain_max[i]: the same results as count calls, up to
+ * rounding. Where the host has vector registers (GCC or Clang with SSE2
+ * or NEON) four shapes of one order (all FOPDT or all SOPDT) on a
+ * SIMULATION time part are simulated side by side in one pass over the
+ * record; elsewhere each shape gets its own pass, as in count calls. The
+ * identification's population evaluation calls it with four candidates at
+ * a time. Returns PDT_ERR_ARG for NULL, count 0 or above PDT_COST_MANY, or
+ * any shape pdt_cost_profile refuses (PDT_ERR_BOUNDS for a gain_min above
+ * its gain_max); out is then untouched. */
+pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shapes, size_t count,
+                                   const pdt_real_t *gain_min, const pdt_real_t *gain_max,
+                                   const pdt_cost_hint_t *hint, pdt_real_t *scratch,
+                                   pdt_cost_profile_t *out);
+
+/* A cost in the normalised units of c (pdt_cost_profile_t.ncost) in
+ * output units squared: ncost 4^y_exp, +infinity where that overflows.
+ * NULL c gives ncost unchanged. */
+pdt_real_t pdt_cost_units(const pdt_cost_t *c, pdt_real_t ncost);
+
+/* The fit of model m (engineering units, its gain included) with output
+ * offset offset (added to y0) on the record, in percent:
+ *   100 (1 - sqrt(sum (y - ysim)^2 / sum (y - mean y)^2)) over k = 0 .. n-1,
+ * computed on the normalised record, so it is finite at every data scale;
+ * a model whose residual overflows gets -1e30 (never NaN or infinity),
+ * and a record whose y does not move gets 0. scratch: n reals,
+ * overwritten. Returns PDT_ERR_ARG for NULL, c not prepared, an invalid m
+ * or one whose discretisation fails; *fit is then untouched. O(n). */
+pdt_status_t pdt_cost_fit(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t offset,
+                          pdt_real_t *scratch, pdt_real_t *fit);
 
 /* The model's simulated output in engineering units: ysim[k] = y0 + the
  * response of d, from rest, to u - u0, for k = 0 .. n-1 (n reals). d may

@@ -64,7 +64,11 @@ typedef enum pdt_status {
      * needs a record that ends at rest (the input back at its start, the
      * output settled); this one does not (a step test, an integrating
      * process). */
-    PDT_ERR_NOT_AT_REST = -17
+    PDT_ERR_NOT_AT_REST = -17,
+    /* The data hold a gross outlier: a sample many orders of magnitude off
+     * the rest of its signal (a logger's bad-value marker such as 1e20 or
+     * -3e38). pdt_cost_outlier names it. */
+    PDT_ERR_OUTLIER = -18
 } pdt_status_t;
 
 /* A short, static, English name of a status ("bad argument", ...). Never

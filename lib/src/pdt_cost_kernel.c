@@ -1,0 +1,312 @@
+/*
+ * The simulation cost's inner loop: the evaluation the identification
+ * repeats thousands of times. See pdt_cost_kernel.h.
+ *
+ * The record is cut where the branches would be: the samples before the
+ * input reaches the model (the response is 0 there, only the residual
+ * y - c0 is summed), the samples the paper's window simulates but does not
+ * score, and the body, with one loop per model order so that nothing is
+ * decided per sample. Sums are taken in blocks: the rounding error of a
+ * float sum over thousands of samples stays near (BLOCK + n / BLOCK) eps
+ * instead of n eps.
+ */
+#include "pdt_cost_kernel.h"
+
+#include "pdt_internal.h"
+
+#define KERNEL_BLOCK 128u
+
+/* Simulation state in delta form (see pdt_discrete.h): ys = s(k-1),
+ * dys = s(k-1) - s(k-2), p1, p2 the two previous delayed inputs. */
+typedef struct kstate {
+    pdt_real_t ys, dys, p1, p2;
+} kstate_t;
+
+static void add_sums(pdt_cost_sums_t *t, pdt_real_t s, pdt_real_t ss, pdt_real_t ee,
+                     pdt_real_t es)
+{
+    t->s += s;
+    t->ss += ss;
+    t->ee += ee;
+    t->es += es;
+}
+
+/* Samples [k, end) where the model's input is still 0: s = 0, e = y - c0. */
+static pdt_real_t head_sum(const pdt_real_t *y, size_t k, size_t end, pdt_real_t c0)
+{
+    pdt_real_t total = PDT_R(0.0);
+    while (k < end) {
+        size_t stop = (end - k > KERNEL_BLOCK) ? k + KERNEL_BLOCK : end;
+        pdt_real_t blk = PDT_R(0.0);
+        for (; k < stop; k++) {
+            pdt_real_t e = y[k] - c0;
+            blk += e * e;
+        }
+        total += blk;
+    }
+    return total;
+}
+
+/* Any order and taps, one sample at a time: the paper's unscored samples
+ * (score false) and a first-order model with a third input tap, which the
+ * FOPDT discretisation never makes. ud[j] is the delayed input u(j) for
+ * the output sample j + l + 1, yd the output from that sample on. */
+static void generic(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t jend,
+                    const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, bool score,
+                    kstate_t *st, pdt_cost_sums_t *t)
+{
+    for (; j < jend; j++) {
+        pdt_real_t u1 = ud[j];
+        pdt_real_t bu = d->b[0] * u1 + d->b[1] * st->p1 + d->b[2] * st->p2;
+        if (d->order == 1u) {
+            st->ys += bu - d->d[0] * st->ys;
+        } else {
+            pdt_real_t ys2 = st->ys - st->dys;
+            st->dys += bu - d->d[0] * st->dys - d->d[1] * ys2;
+            st->ys += st->dys;
+        }
+        st->p2 = st->p1;
+        st->p1 = u1;
+        if (score) {
+            pdt_real_t s = st->ys;
+            pdt_real_t e = (yd[j] - c0) - K0 * s;
+            add_sums(t, s, s * s, e * e, e * s);
+        }
+    }
+}
+
+/* First order, two input taps (every FOPDT): s += b0 u1 + b1 p1 - d0 s. */
+static void body1(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t jend,
+                  const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, kstate_t *st,
+                  pdt_cost_sums_t *t)
+{
+    const pdt_real_t b0 = d->b[0], b1 = d->b[1], d0 = d->d[0];
+    pdt_real_t ys = st->ys, p1 = st->p1;
+    while (j < jend) {
+        size_t stop = (jend - j > KERNEL_BLOCK) ? j + KERNEL_BLOCK : jend;
+        const pdt_real_t *up = ud + j, *yp = yd + j;
+        const pdt_real_t *const uend = ud + stop;
+        pdt_real_t s = PDT_R(0.0), ss = PDT_R(0.0), ee = PDT_R(0.0), es = PDT_R(0.0);
+        /* A block is never empty: the pointer test alone ends the loop. */
+        do {
+            pdt_real_t u1 = *up++;
+            ys += (b0 * u1 + b1 * p1) - d0 * ys;
+            p1 = u1;
+            pdt_real_t e = (*yp++ - c0) - K0 * ys;
+            s += ys;
+            ss += ys * ys;
+            ee += e * e;
+            es += e * ys;
+        } while (up != uend);
+        add_sums(t, s, ss, ee, es);
+        j = stop;
+    }
+    st->ys = ys;
+    st->p1 = p1;
+}
+
+/* Second order. The delta form's update
+ *   dys' = dys + bu - d0 dys - d1 (ys - dys) = dys + (bu - (d0 - d1) dys - d1 ys)
+ * keeps the small numbers d0 and d1 that set a slow model's time constant
+ * and gain (1 - d0 + d1, the product of the poles, would round them away)
+ * with one operation fewer than the textbook arrangement.
+ * BODY2_STEP is one sample with input ua, taps pa = u(k-2-l) and
+ * pb = u(k-3-l), output yk; a macro, so that the unrolled loop is one body
+ * that the compiler schedules freely at any optimisation level. */
+#define BODY2_STEP(ua, pa, pb, yk)                                            \
+    do {                                                                      \
+        dys += ((b0 * (ua) + b1 * (pa) + b2 * (pb)) - e0 * dys) - d1 * ys;    \
+        ys += dys;                                                            \
+        e = ((yk) - c0) - K0 * ys;                                            \
+        s += ys;                                                              \
+        ss += ys * ys;                                                        \
+        ee += e * e;                                                          \
+        es += e * ys;                                                         \
+    } while (0)
+
+static void body2(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t jend,
+                  const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, kstate_t *st,
+                  pdt_cost_sums_t *t)
+{
+    const pdt_real_t b0 = d->b[0], b1 = d->b[1], b2 = d->b[2], d1 = d->d[1];
+    const pdt_real_t e0 = d->d[0] - d1;
+    pdt_real_t ys = st->ys, dys = st->dys, p1 = st->p1, p2 = st->p2;
+    while (j < jend) {
+        size_t stop = (jend - j > KERNEL_BLOCK) ? j + KERNEL_BLOCK : jend;
+        const pdt_real_t *up = ud + j, *yp = yd + j;
+        const pdt_real_t *const uend = ud + stop;
+        pdt_real_t s = PDT_R(0.0), ss = PDT_R(0.0), ee = PDT_R(0.0), es = PDT_R(0.0);
+        pdt_real_t e;
+        /* Single samples up to a multiple of four, then four a turn: the
+         * input taps rotate through the loaded values instead of being
+         * moved every sample, and the loop's control is shared. */
+        for (size_t r = (stop - j) & 3u; r > 0u; r--) {
+            pdt_real_t ua = *up++;
+            BODY2_STEP(ua, p1, p2, *yp);
+            yp++;
+            p2 = p1;
+            p1 = ua;
+        }
+        while (up != uend) {
+            pdt_real_t ua = up[0], ub = up[1], uc = up[2], uq = up[3];
+            up += 4;
+            BODY2_STEP(ua, p1, p2, yp[0]);
+            BODY2_STEP(ub, ua, p1, yp[1]);
+            BODY2_STEP(uc, ub, ua, yp[2]);
+            BODY2_STEP(uq, uc, ub, yp[3]);
+            yp += 4;
+            p2 = uc;
+            p1 = uq;
+        }
+        add_sums(t, s, ss, ee, es);
+        j = stop;
+    }
+    st->ys = ys;
+    st->dys = dys;
+    st->p1 = p1;
+    st->p2 = p2;
+}
+
+/* Output samples [k0, kend) of one candidate, from state st, into t. */
+static void kernel_range(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
+                         size_t kend, const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
+                         kstate_t *st, pdt_cost_sums_t *t)
+{
+    /* The first output sample the input reaches: u(0) acts on s(l + 1). */
+    const size_t l1 = (d->delay < n) ? d->delay + 1u : n;
+    const pdt_real_t *yd = y + l1;
+    size_t body = l1;
+
+    if (k0 < l1) {
+        t->ee += head_sum(y, k0, (l1 < kend) ? l1 : kend, c0);
+    } else {
+        generic(u, yd, 0u, ((k0 < kend) ? k0 : kend) - l1, d, K0, c0, false, st, t);
+        body = k0;
+    }
+    if (body >= kend) {
+        return;
+    }
+    /* Output sample k reads u(k - l1) = ud[j] and y(k) = yd[j], j = k - l1. */
+    if (d->order == 2u) {
+        body2(u, yd, body - l1, kend - l1, d, K0, c0, st, t);
+    } else if (d->b[2] == PDT_R(0.0)) {
+        body1(u, yd, body - l1, kend - l1, d, K0, c0, st, t);
+    } else {
+        generic(u, yd, body - l1, kend - l1, d, K0, c0, true, st, t);
+    }
+}
+
+void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
+                     const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
+                     pdt_cost_sums_t *out)
+{
+    pdt_cost_sums_t t = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    kstate_t st = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    kernel_range(u, y, n, k0, n, d, K0, c0, &st, &t);
+    *out = t;
+}
+
+#if PDT_COST_KERNEL_VECTOR
+/* Four candidates side by side in the lanes of a vector: where the host
+ * has vector registers, one instruction serves all four, and the loop's
+ * loads of y and its control are shared. Each lane reads its own delayed
+ * input; the lanes start together once every candidate's input has
+ * arrived (before that each runs alone). */
+typedef pdt_real_t kvec_t __attribute__((vector_size(4 * sizeof(pdt_real_t))));
+
+/* A macro, not a function: a vector return value would tie the ABI to
+ * the vector width (GCC warns for 32-byte vectors without AVX). */
+#define kv(x) ((kvec_t){(x), (x), (x), (x)})
+
+/* The scoring of sample k in every lane, shared by both orders' loops. */
+#define KV_SCORE()                                      \
+    do {                                                \
+        kvec_t e = (kv(y[k]) - vc0) - vk0 * ys;         \
+        s += ys;                                        \
+        ss += ys * ys;                                  \
+        ee += e * e;                                    \
+        es += e * ys;                                   \
+    } while (0)
+
+static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t n,
+                      const pdt_discrete_t *d, const size_t l1[4], pdt_real_t K0, pdt_real_t c0,
+                      kstate_t st[4], pdt_cost_sums_t t[4])
+{
+    const kvec_t b0 = {d[0].b[0], d[1].b[0], d[2].b[0], d[3].b[0]};
+    const kvec_t b1 = {d[0].b[1], d[1].b[1], d[2].b[1], d[3].b[1]};
+    const kvec_t b2 = {d[0].b[2], d[1].b[2], d[2].b[2], d[3].b[2]};
+    const kvec_t dd0 = {d[0].d[0], d[1].d[0], d[2].d[0], d[3].d[0]};
+    const kvec_t dd1 = (d[0].order == 2u) ? (kvec_t){d[0].d[1], d[1].d[1], d[2].d[1], d[3].d[1]}
+                                          : kv(PDT_R(0.0));
+    const kvec_t e0 = dd0 - dd1;
+    const kvec_t vk0 = kv(K0), vc0 = kv(c0);
+    kvec_t ys = {st[0].ys, st[1].ys, st[2].ys, st[3].ys};
+    kvec_t dys = {st[0].dys, st[1].dys, st[2].dys, st[3].dys};
+    kvec_t p1 = {st[0].p1, st[1].p1, st[2].p1, st[3].p1};
+    kvec_t p2 = {st[0].p2, st[1].p2, st[2].p2, st[3].p2};
+    kvec_t ts = kv(PDT_R(0.0)), tss = ts, tee = ts, tes = ts;
+    while (k < n) {
+        size_t stop = (n - k > KERNEL_BLOCK) ? k + KERNEL_BLOCK : n;
+        kvec_t s = kv(PDT_R(0.0)), ss = s, ee = s, es = s;
+        if (d[0].order == 2u) {
+            for (; k < stop; k++) {
+                kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                dys += ((b0 * uk + b1 * p1 + b2 * p2) - e0 * dys) - dd1 * ys;
+                ys += dys;
+                p2 = p1;
+                p1 = uk;
+                KV_SCORE();
+            }
+        } else {
+            for (; k < stop; k++) {
+                kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                ys += (b0 * uk + b1 * p1 + b2 * p2) - dd0 * ys;
+                p2 = p1;
+                p1 = uk;
+                KV_SCORE();
+            }
+        }
+        ts += s;
+        tss += ss;
+        tee += ee;
+        tes += es;
+    }
+    for (size_t i = 0; i < 4u; i++) {
+        add_sums(&t[i], ts[i], tss[i], tee[i], tes[i]);
+    }
+}
+#endif
+
+void pdt_cost_kernel_many(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
+                          const pdt_discrete_t *d, size_t count, pdt_real_t K0, pdt_real_t c0,
+                          pdt_cost_sums_t *out)
+{
+    size_t i;
+#if PDT_COST_KERNEL_VECTOR
+    if (count == 4u && d[1].order == d[0].order && d[2].order == d[0].order &&
+        d[3].order == d[0].order) {
+        pdt_cost_sums_t t[4];
+        kstate_t st[4];
+        size_t l1[4], kmax = k0;
+        for (i = 0; i < 4u; i++) {
+            l1[i] = (d[i].delay < n) ? d[i].delay + 1u : n;
+            kmax = (l1[i] > kmax) ? l1[i] : kmax;
+        }
+        for (i = 0; i < 4u; i++) {
+            t[i] = (pdt_cost_sums_t){PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+            st[i] = (kstate_t){PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+            kernel_range(u, y, n, k0, kmax, &d[i], K0, c0, &st[i], &t[i]);
+        }
+        if (kmax < n) {
+            many_body(u, y, kmax, n, d, l1, K0, c0, st, t);
+        }
+        for (i = 0; i < 4u; i++) {
+            out[i] = t[i];
+        }
+        return;
+    }
+#endif
+    for (i = 0; i < count; i++) {
+        pdt_cost_kernel(u, y, n, k0, &d[i], K0, c0, &out[i]);
+    }
+}
