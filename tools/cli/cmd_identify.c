@@ -184,6 +184,22 @@ static const char *status_hint(pdt_status_t st)
     }
 }
 
+/* A gross outlier (a logger's bad-value marker): which column, which data
+ * row, what value, so that it can be found in the file. */
+static void fail_outlier(const ident_data_t *d)
+{
+    const size_t n = d->s.n;
+    const size_t ku = pdt_cost_outlier(d->u, n), ky = pdt_cost_outlier(d->y, n);
+    const int in_y = ky < n && (ku >= n || ky <= ku);
+    const size_t k = in_y ? ky : ku;
+    if (k >= n) cli_fail(EXIT_REFUSED, "cannot identify: %s", pdt_status_str(PDT_ERR_OUTLIER));
+    cli_fail(EXIT_REFUSED,
+             "cannot identify: %s: %s = %g in data row %zu (counting from 1, after any "
+             "--resample fill), orders of magnitude off the rest of the record",
+             pdt_status_str(PDT_ERR_OUTLIER), in_y ? "y" : "u", (double)(in_y ? d->y[k] : d->u[k]),
+             k + 1u);
+}
+
 /* The least --evaluations the library takes with this configuration: the
  * size query refuses a budget below it. */
 static uint32_t least_evaluations(pdt_ident_config_t cfg, size_t n)
@@ -240,6 +256,7 @@ static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_
                      "for this model, population and criterion",
                      (unsigned long)a->evaluations, (unsigned long)least);
     }
+    if (st == PDT_ERR_OUTLIER) fail_outlier(d);
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
     free(work);

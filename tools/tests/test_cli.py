@@ -502,3 +502,14 @@ def test_frequency_default_weight_small_budget(at_rest_csv):
         assert out["evaluations"] <= 600
         assert out["K"] == pytest.approx(2.0, rel=0.03), seed
         assert out["tau"] == pytest.approx(5.0, rel=0.03), seed
+
+
+def test_bad_value_cell_is_named(tmp_path, fopdt_record):
+    """A logger's bad-value marker is refused with its column, row and value,
+    not turned into a model."""
+    t, u, y = fopdt_record
+    y = y.copy()
+    y[123] = -3e38
+    path = write_csv(tmp_path / "bad.csv", {"t": t, "u": u, "y": y})
+    res = run(["identify", "--model", "fopdt", path])
+    assert_usage_error(res, "gross outlier", "y = -3e+38 in data row 124", status=1)
