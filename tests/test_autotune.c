@@ -150,6 +150,20 @@ static void work_check(const pdt_autotune_config_t *c)
     canary_check(g_work + reals, CANARY_COUNT);
 }
 
+/* The autotune's shared part of the workspace with order_auto: the
+ * largest of both identifications' and the validation's. */
+static size_t share(const pdt_ident_config_t *ic, size_t cap)
+{
+    pdt_ident_config_t a = *ic;
+    a.model = PDT_MODEL_FOPDT;
+    size_t f = pdt_ident_workspace_size(&a, cap);
+    a.model = PDT_MODEL_SOPDT;
+    size_t s = pdt_ident_workspace_size(&a, cap);
+    size_t v = pdt_validate_workspace_size(cap);
+    size_t m = f > s ? f : s;
+    return m > v ? m : v;
+}
+
 static void base_config(pdt_autotune_config_t *c, double Ts, uint32_t dec, size_t cap,
                         pdt_excite_kind_t kind, pdt_model_kind_t model)
 {
@@ -725,9 +739,21 @@ static void test_poor_fit(void **state)
     plant_t p;
     run_t r;
     step_setup(&c, &p, 5.0);
+    /* By default the evidence decides: gains only if robust over what the
+     * data leave uncertain. */
     run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
-    print_message("heavy noise: %s, fit %.3g%%\n", pdt_status_str(r.st),
-                  (double)r.res.ident.fit);
+    print_message("heavy noise: %s, fit %.3g%%, robust Ms bound %.3g, detune %.3g\n",
+                  pdt_status_str(r.st), (double)r.res.ident.fit, (double)r.res.ms_robust,
+                  (double)r.res.detune);
+    assert_true(r.st == PDT_OK || r.st == PDT_ERR_UNCERTAIN || r.st == PDT_ERR_MODEL_INVALID);
+    assert_true(r.res.has_valid);
+    if (r.st == PDT_OK) {
+        assert_true(r.res.ms_robust <= c.ms_robust);
+    }
+    /* fit_min, when set, refuses at once. */
+    step_setup(&c, &p, 5.0);
+    c.tune.fit_min = R(80.0);
+    run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
     assert_failed(&g_at, &r, PDT_ERR_POOR_FIT, PDT_AUTOTUNE_TUNE, 30.0);
     assert_true(r.res.has_model);
     assert_true((double)r.res.ident.fit < (double)c.tune.fit_min);
@@ -803,13 +829,18 @@ static void test_bad_inputs(void **state)
     assert_int_equal(pdt_autotune_workspace_size(NULL), 0u);
     pdt_ident_config_t ic = good.ident;
     ic.Ts = good.Ts;
-    assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) +
-                               pdt_ident_workspace_size(&ic, good.capacity));
+    assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) + share(&ic, good.capacity));
     c = good;
     c.decimation = 3u;
     ic.Ts = R(1.5);
     assert_int_equal(pdt_autotune_workspace_size(&c),
-                     2u * c.capacity * sizeof(pdt_real_t) + pdt_ident_workspace_size(&ic, c.capacity));
+                     2u * c.capacity * sizeof(pdt_real_t) + share(&ic, c.capacity));
+    c.order_auto = false;
+    ic.model = c.ident.model;
+    size_t only = pdt_ident_workspace_size(&ic, c.capacity);
+    size_t val = pdt_validate_workspace_size(c.capacity);
+    assert_int_equal(pdt_autotune_workspace_size(&c),
+                     2u * c.capacity * sizeof(pdt_real_t) + (only > val ? only : val));
     /* exactly the size asked for works */
     assert_int_equal(pdt_autotune_init(&at, &good, R(30.0), g_work, need), PDT_OK);
 

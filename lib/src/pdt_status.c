@@ -41,6 +41,10 @@ const char *pdt_status_str(pdt_status_t status)
         return "stopped by the caller";
     case PDT_ERR_NOT_AT_REST:
         return "record does not end at rest";
+    case PDT_ERR_MODEL_INVALID:
+        return "data contradict the model";
+    case PDT_ERR_UNCERTAIN:
+        return "model too uncertain for robust gains";
     default:
         return "unknown status";
     }

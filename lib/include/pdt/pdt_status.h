@@ -64,7 +64,15 @@ typedef enum pdt_status {
      * needs a record that ends at rest (the input back at its start, the
      * output settled); this one does not (a step test, an integrating
      * process). */
-    PDT_ERR_NOT_AT_REST = -17
+    PDT_ERR_NOT_AT_REST = -17,
+    /* Gains refused: the data contradict the model. Its residuals are
+     * explained by the input beyond what any safe retuning can absorb, or
+     * the model disagrees with a point the experiment measured directly
+     * (a relay's ultimate gain and period). */
+    PDT_ERR_MODEL_INVALID = -19,
+    /* Gains refused: the data do not determine the model's parameters well
+     * enough for any gains to be robust over their confidence region. */
+    PDT_ERR_UNCERTAIN = -20
 } pdt_status_t;
 
 /* A short, static, English name of a status ("bad argument", ...). Never
