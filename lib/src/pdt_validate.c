@@ -230,7 +230,7 @@ static pdt_status_t prepare(const pdt_model_t *m, const pdt_ident_data_t *data, 
         pdt_discrete_simulate(&d, c->du, n, c->ys) != PDT_OK) {
         return PDT_ERR_ARG;
     }
-    pdt_real_t p[4];
+    pdt_real_t p[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     c->np = params_of(m, p);
     /* The gain enters linearly (ys / K): only the shape is perturbed. */
     for (uint32_t i = 1; i < c->np; i++) {
@@ -541,6 +541,11 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
     }
     const pdt_model_t *m = &v->model;
     const bool fo = m->kind == PDT_MODEL_FOPDT;
+    /* An integrator's b is bounded below by 0: its one-sided uncertainty
+     * only turns the integration into a slow pole, which the controller's
+     * own integral covers; the first-order bound would instead grow without
+     * limit at low frequency. */
+    const bool integ = !fo && m->p.sopdt.b == PDT_R(0.0);
     pdt_real_t Td = pdt_model_dead_time(m) + dTd;
     pdt_real_t T = g->tauI;
     pdt_real_t tm = fo ? m->p.fopdt.tau : m->p.sopdt.a / (m->p.sopdt.b > PDT_R(0.0)
@@ -602,6 +607,9 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
             pdt_real_t qv = PDT_R(0.0);
             for (uint32_t a = 0; a < np; a++) {
                 for (uint32_t b = 0; b < np; b++) {
+                    if (integ && (a == 2u || b == 2u)) {
+                        continue;
+                    }
                     qv += v->std.cov[a][b] * (dg[a].re * dg[b].re + dg[a].im * dg[b].im);
                 }
             }

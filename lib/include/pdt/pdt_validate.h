@@ -122,7 +122,8 @@ pdt_status_t pdt_ident_select_order(const pdt_validate_result_t *fo,
  * autotune's decimation shift): max over w of |S| / (1 - |C S| D), D the
  * additive model error: the FIR's magnitude (when the independence test
  * failed) plus 3 standard deviations of |G| over the parameters' confidence
- * ellipsoid (first order). +infinity where |C S| D >= 1. Evaluated on 200
+ * ellipsoid (first order; an integrating SOPDT's b, bounded below by 0,
+ * left out). +infinity where |C S| D >= 1. Evaluated on 200
  * log-spaced frequencies from 1e-3 / T (T the slowest of the controller's
  * and the model's times) to pi / Ts (beyond, the data say nothing).
  * *fir_part: whether the FIR's part of D exceeds the parameters' where the
