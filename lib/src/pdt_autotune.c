@@ -35,6 +35,11 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg)
     cfg->relay_agree = PDT_R(2.0);
 }
 
+static pdt_real_t rmax0(pdt_real_t x)
+{
+    return x > PDT_R(0.0) ? x : PDT_R(0.0);
+}
+
 /* The knob factors the tuning tries, in order, until the evidence accepts
  * the gains: a slower closed loop each time. */
 static const pdt_real_t detune_steps[] = {
@@ -370,34 +375,44 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
     return PDT_RUNNING;
 }
 
-/* Whether the relay's ultimate point and the model's agree within the
- * configured factor. The model's comes from its Ziegler-Nichols PI gains
- * (Kc = 0.45 Ku, tauI = Pu / 1.2), the one place that solves for it. */
+/* Whether the model passes through the point of its frequency response
+ * the relay measured: a relay of half swing d and hysteresis eps that
+ * cycles with amplitude a and period Pu says, by its describing function,
+ * G(j 2 pi / Pu) = -(pi a / (4 d)) e^{j asin(eps / a)}. The magnitudes must
+ * agree within the factor relay_agree, the phases within
+ * 45 degrees x (relay_agree - 1). */
 static bool relay_agrees(const pdt_autotune_t *at)
 {
-    if (!at->res.has_relay || at->cfg.relay_agree == PDT_R(0.0)) {
+    const pdt_excite_relay_t *rl = &at->res.relay;
+    if (!at->res.has_relay || at->cfg.relay_agree == PDT_R(0.0) || !(rl->Pu > PDT_R(0.0)) ||
+        !(rl->a > PDT_R(0.0)) || !(rl->d > PDT_R(0.0))) {
         return true;
     }
-    pdt_tune_config_t zc;
-    pdt_tune_config_default(&zc);
-    zc.rule = PDT_TUNE_ZN;
-    zc.form = PDT_TUNE_PI;
-    zc.ms_max = PDT_R(0.0);
-    zc.fit_min = PDT_R(0.0);
-    pdt_tune_result_t zr;
-    if (pdt_tune_compute(&at->res.ident.model, PDT_R(100.0), &zc, &zr) != PDT_OK) {
-        return true; /* no phase crossover (or no stable ZN loop to read it
-                      * from): nothing to compare */
+    pdt_real_t w = PDT_R(2.0) * PDT_PI / rl->Pu;
+    pdt_real_t mag, ph;
+    if (pdt_model_freq(&at->res.ident.model, &w, 1u, &mag, &ph) != PDT_OK || !(mag > PDT_R(0.0))) {
+        return true;
     }
-    pdt_real_t ku = pdt_fabs(zr.ideal.Kc / PDT_R(0.45));
-    pdt_real_t pu = zr.ideal.tauI * PDT_R(1.2);
-    pdt_real_t rk = ku / pdt_fabs(at->res.relay.Ku);
-    pdt_real_t rp = pu / at->res.relay.Pu;
+    pdt_real_t gain;
+    if (pdt_model_dc_gain(&at->res.ident.model, &gain) == PDT_OK && gain < PDT_R(0.0)) {
+        ph += PDT_PI; /* the relay's action took the sign out */
+    } else if (at->res.ident.model.kind == PDT_MODEL_SOPDT && at->res.ident.model.p.sopdt.k <
+                                                                  PDT_R(0.0)) {
+        ph += PDT_PI;
+    }
+    pdt_real_t x = at->cfg.excite.eps / rl->a;
+    pdt_real_t ph_relay = -PDT_PI + pdt_atan2(x, pdt_sqrt(rmax0(PDT_R(1.0) - x * x)));
+    pdt_real_t r = mag * PDT_R(4.0) * rl->d / (PDT_PI * rl->a);
     pdt_real_t f = at->cfg.relay_agree;
-    if (!pdt_finite(rk) || !pdt_finite(rp)) {
-        return true;
+    pdt_real_t dph = ph - ph_relay;
+    while (dph > PDT_PI) {
+        dph -= PDT_R(2.0) * PDT_PI;
     }
-    return rk <= f && rk >= PDT_R(1.0) / f && rp <= f && rp >= PDT_R(1.0) / f;
+    while (dph < -PDT_PI) {
+        dph += PDT_R(2.0) * PDT_PI;
+    }
+    pdt_real_t ph_tol = PDT_PI / PDT_R(4.0) * (f - PDT_R(1.0));
+    return r <= f && r >= PDT_R(1.0) / f && pdt_fabs(dph) <= ph_tol;
 }
 
 /* One knob factor per scan: the rule's gains with the knob scaled, checked

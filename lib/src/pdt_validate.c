@@ -490,12 +490,31 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
     return PDT_OK;
 }
 
+static bool determined(const pdt_validate_result_t *v)
+{
+    for (uint32_t i = 0; i < v->std.count; i++) {
+        if (!pdt_finite(v->std.std[i])) {
+            return false;
+        }
+    }
+    return true;
+}
+
 pdt_status_t pdt_ident_select_order(const pdt_validate_result_t *fo,
                                     const pdt_validate_result_t *so, pdt_model_kind_t *kind)
 {
     if (fo == NULL || so == NULL || kind == NULL || fo->model.kind != PDT_MODEL_FOPDT ||
         so->model.kind != PDT_MODEL_SOPDT) {
         return PDT_ERR_ARG;
+    }
+    /* A model whose parameters the data do not determine (a singular
+     * Fisher information: e.g. a SOPDT whose second pole is not in the
+     * data) loses to one whose are. */
+    bool fo_det = determined(fo);
+    bool so_det = determined(so);
+    if (fo_det != so_det) {
+        *kind = fo_det ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+        return PDT_OK;
     }
     if (fo->independent != so->independent) {
         *kind = fo->independent ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
@@ -617,11 +636,17 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
         }
         pdt_real_t dfir = PDT_R(0.0);
         if (!v->independent) {
+            /* |sum h_j z^-j| with z^-1 = e^{-j w Ts}: the lag fir_lag is a
+             * pure delay and leaves the magnitude alone; the phasor turns
+             * by one multiplication per tap (12 taps: no drift to speak
+             * of in float). */
             val_c_t acc = {PDT_R(0.0), PDT_R(0.0)};
+            val_c_t zi = {pdt_cos(w * v->Ts), -pdt_sin(w * v->Ts)};
+            val_c_t zp = {PDT_R(1.0), PDT_R(0.0)};
             for (uint32_t j = 0; j < PDT_VALIDATE_FIR; j++) {
-                pdt_real_t ph = w * v->Ts * (pdt_real_t)(v->fir_lag + j);
-                acc.re += v->fir[j] * pdt_cos(ph);
-                acc.im -= v->fir[j] * pdt_sin(ph);
+                acc.re += v->fir[j] * zp.re;
+                acc.im += v->fir[j] * zp.im;
+                zp = c_mul(zp, zi);
             }
             dfir = c_abs(acc);
         }
@@ -642,7 +667,7 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
         pdt_real_t bound = cs < PDT_R(1.0) ? sabs / (PDT_R(1.0) - cs) : (pdt_real_t)INFINITY;
         if (bound > best) {
             best = bound;
-            best_fir = dfir > dpar;
+            best_fir = std_ok && dfir > dpar;
         }
     }
     *ms = best;

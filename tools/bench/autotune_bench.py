@@ -348,8 +348,8 @@ def relay(p, scale, seed):
     e = experiment(p, scale)
     max_scans = int(200 * scale / e["Ts"])
     text = " ".join(["relay", fmt_plant(p, e["Ts"]), f"{e['std']:.17g}", str(seed),
-                     str(max_scans), f"{AMP:.17g}", f"{RELAY_EPS * e['std']:.17g}", "1",
-                     "3"])
+                     str(max_scans), f"{AMP:.17g}", f"{RELAY_EPS * e['std']:.17g}",
+                     str(RELAY_NEW[0]), str(RELAY_NEW[1]), str(RELAY_NEW[2])])
     out = drive(text)
     out["Ts"] = e["Ts"]
     return out
@@ -588,10 +588,12 @@ def report(res, ev_text):
       "Output limits +/-2, process value limits +/-5 swings, time limit twice "
       "the experiment. The identification is the library's default (SOPDT, "
       "output-error cost, GA and refinement, its default budget of 3000 "
-      "evaluations at 4 per scan), seeded per plant; SOPDT for the PID run, "
-      "FOPDT for the PI run. The tuning is SIMC with "
-      "tau_c = theta, derivative filter N = 10, and the library's default "
-      "refusal limits (fit >= 80 %, Ms <= 2 on the identified model).")
+      "evaluations at 4 per scan), seeded per plant; the order fixed "
+      "(`order_auto` off): SOPDT for the PID run, FOPDT for the PI run. The "
+      "tuning is SIMC with tau_c = theta, derivative filter N = 10, and the "
+      "library's default decisions (Ms <= 2 on the identified model, the "
+      "robust Ms bound <= 2 of the evidence with tau_c raised in steps until "
+      "it holds; no fit threshold).")
     A("- **Reference SIMC** (PI on a FOPDT, PID on a SOPDT, same rule and "
       "filter, no refusal limits): Skogestad's half rule of the true plant "
       "through pdt_reduce_half_rule (P1-P5, P7, P8; for P1 the PID is the PI, "
@@ -668,14 +670,11 @@ def report(res, ev_text):
         A(f"- {name} {tag}: {why}")
     if refused:
         A("")
-    A(f"SIMC PI on the identified SOPDT (column 'PI on the SOPDT') is refused "
-      f"{len(noform)} times of {n}: "
-      + ", ".join(f"{a} ({b})" for a, b in noform)
-      + ". The library gives SIMC PI only for a SOPDT with real poles (it "
-      "reduces it to a FOPDT by the half rule), and the identification "
-      "returns complex poles with damping near 1 for many high-order plants. "
-      "A user who wants a PI must therefore identify a FOPDT, as the PI runs "
-      "here do.")
+    A(f"SIMC PI on the identified SOPDT (column 'PI on the SOPDT', the "
+      f"model's own limits only) is refused {len(noform)} times of {n}"
+      + (": " + ", ".join(f"{a} ({b})" for a, b in noform) if noform else "")
+      + ". A SOPDT with complex poles gets the half rule of the pair split "
+      "by its real part (tuning.md), so every identified SOPDT has a PI.")
     A("")
     # --- reference models
     A("## Reference models")
@@ -788,26 +787,27 @@ library moves them, re-read this section):
   (P4, P5, P8, P9 with complex poles near critical damping): SIMC then
   uses it as tauD and gives a faster, less robust PID (true Ms still
   below 2).
-- **Where the autotune does worse:** the integrating family P6 with a PI.
-  A FOPDT cannot hold an integrator; the identification fits a large gain
-  and a time constant at the upper bound of its search (twice the record),
-  and SIMC PI on that model is slower than the integrating rule on the
-  true model: load IAE up to about three times the reference, and one run
-  refused because the FOPDT fit is below 80 %. The SOPDT runs identify the
-  integrator (b = 0) and match the reference. For PI on the lag-dominant
+- **Where the autotune does worse:** the integrating family P6 with a PI
+  when the order is fixed to a FOPDT, as here. A FOPDT cannot hold an
+  integrator; the identification fits a large gain and a time constant at
+  the upper bound of its search (twice the record), and SIMC PI on that
+  model is slower than the integrating rule on the true model. The SOPDT
+  runs identify the integrator (b = 0) and match the reference, and with
+  `order_auto` (the default; the evidence batch above) the autotune keeps
+  the integrating SOPDT for a PI too. For PI on the lag-dominant
   P7 (T = 5, 10) the identified FOPDT has more dead time than the half
   rule's, which gives a more cautious loop (Ms about 1.5 against 1.7-1.8)
   and a larger load IAE.
-- **Refusals** happen where they should: the three PID runs refused for
-  Ms > 2 on the identified model are the three plants where SIMC PID on
-  the half-rule model also gives a true Ms of 2.7-3.8. In all three the
-  second time constant is much larger than the dead time, and the
-  derivative filter Tf = tauD / 10 is then comparable with the dead time
-  SIMC designs for (tau_c = theta): the filter's lag is not in the model
-  the rule assumes.
-- **SIMC PI on a SOPDT with complex poles is refused** (no form) by the
-  library; the identification returns such poles, damping 0.75-0.99, for
-  12 of the 27 plants. Identify a FOPDT when the goal is a PI.
+- **Detuning instead of refusal**: where SIMC PID with tau_c = theta gives
+  Ms > 2 on the identified model (plants whose second time constant is much
+  larger than the dead time, so that the derivative filter Tf = tauD / 10
+  is comparable with the dead time SIMC designs for), the autotune now
+  raises tau_c until Ms on the model and the robust bound are at most 2,
+  instead of refusing; the lists above say which runs still end without
+  gains.
+- **SIMC PI on a SOPDT with complex poles** has a form now (the half rule
+  of the pair split by its real part); the identification returns such
+  poles, damping 0.75-0.99, for many of the higher-order plants.
 - **Ziegler-Nichols from the relay**: lower load IAE than SIMC on many
   plants, but Ms above 2 for most PI loops, and the PID destabilises the
   dead-time dominated P1 T = 0.1 and P2 T = 0.1. The relay runs with a
@@ -819,9 +819,8 @@ library moves them, re-read this section):
   (0.8 T settle, 8 T pulse and tail); the identification then takes at
   most 752 scans (the budget of 3000 evaluations at 4 per scan), at most
   6 T of scans at this scan period, with the output at the operating
-  point. A relay test takes 2-9 T on the stable plants (shortest on
-  lag-dominated ones) and 13-19 T on the integrating ones, and gives no
-  model.
+  point. The relay test column is the relay alone (ending at its first
+  symmetric cycle, the new default), which gives no model.
 - IAE normalisation: T (and |K| T for the load) makes the families
   comparable in size, not equal: dead-time dominated plants have a larger
   normalised IAE under any tuning."""
@@ -864,8 +863,8 @@ def evidence_plants():
 EXPERIMENTS = ("relay", "PRBS", "step", "pulse")
 NOISES = (0.0, 0.01, 0.03)
 SEEDS = (1, 2, 3)
-RELAY_SHORT = (0, 1)       # relay_skip, relay_cycles of the shortened relay
-RELAY_OLD = (1, 3)
+RELAY_NEW = (0, 3, 0.1)    # relay_skip, relay_cycles, relay_settle: the defaults
+RELAY_OLD = (1, 3, 0.0)    # the relay as it was
 EV_STATUS = {0: "ok", -5: "too short", -7: "no form", -8: "no excitation",
              -10: "pv limit", -11: "output limit", -12: "timeout",
              -14: "poor fit / Ms on model", -15: "unstable", -17: "not at rest",
@@ -903,7 +902,7 @@ def ev_autotune(p, scale, exp, noise, seed, old=False, order=1):
     lim = 5.0 * e["swing"]
     max_scans = int(3 * e["capacity"] * DECIMATION)
     kind = EXPERIMENTS.index(exp)
-    skip, cyc = RELAY_OLD if old else RELAY_SHORT
+    skip, cyc, settle = RELAY_OLD if old else RELAY_NEW
     n_sp = int(round(30 * scale / e["Ts"]))
     if old:   # the library as it was: FOPDT, fit >= 80 %, Ms <= 2 on the model only
         order, ms_rob, fit_min, agree = 0, 0.0, 80.0, 0.0
@@ -914,7 +913,7 @@ def ev_autotune(p, scale, exp, noise, seed, old=False, order=1):
         kind, DECIMATION, e["capacity"], SETTLE, e["tail"], f"{AMP:.17g}",
         f"{e['p1']:.17g}", f"{e['p2']:.17g}", -2 * AMP, 2 * AMP, f"{-lim:.17g}",
         f"{lim:.17g}", 1000 + seed, 0, order, ms_rob, fit_min, agree,
-        f"{RELAY_EPS * std:.17g}", skip, cyc, n_sp, n_sp, 1 if p.gain() < 0 else 0])
+        f"{RELAY_EPS * std:.17g}", skip, cyc, n_sp, n_sp, 1 if p.gain() < 0 else 0, settle])
     out = drive(text)
     out["Ts"] = e["Ts"]
     out["n_sp"] = n_sp
@@ -984,7 +983,7 @@ def relay_study(args):
     if tu is None:
         return dict(p=p, rows=rows)
     e = ev_experiment(p, scale, "relay")
-    for skip, cyc in ((1, 3), (0, 2), (0, 1)):
+    for skip, cyc, settle in RELAY_VARIANTS:
         for noise in (0.0, 0.01, 0.03):
             for seed in (SEEDS if noise > 0 else (1,)):
                 std = noise * abs(p.gain()) * AMP * (scale if p.integ else 1.0)
@@ -993,19 +992,21 @@ def relay_study(args):
                 # the relay mode acts reverse; a negative plant gets -d
                 text = " ".join(["relay", fmt_plant(p, e["Ts"]), f"{std:.17g}", str(seed),
                                  str(max_scans), f"{AMP:.17g}", f"{RELAY_EPS * std:.17g}",
-                                 str(skip), str(cyc)])
+                                 str(skip), str(cyc), str(settle)])
                 if sign < 0:
                     continue
                 out = drive(text)
                 if int(out.get("status", -99)) != 0:
-                    rows.append(dict(skip=skip, cyc=cyc, noise=noise, ok=False))
+                    rows.append(dict(skip=skip, cyc=cyc, settle=settle, noise=noise, ok=False))
                     continue
-                rows.append(dict(skip=skip, cyc=cyc, noise=noise, ok=True,
+                rows.append(dict(skip=skip, cyc=cyc, settle=settle, noise=noise, ok=True,
                                  t=out["scans"] * e["Ts"] / scale,
                                  eK=abs(out["Ku"]) / tu[0] - 1.0,
                                  eP=out["Pu"] / tu[1] - 1.0))
     return dict(p=p, rows=rows)
 
+
+RELAY_VARIANTS = ((1, 3, 0.0), (0, 2, 0.0), (0, 1, 0.0), (0, 3, 0.1))
 
 MC_SEEDS = 40
 
@@ -1041,7 +1042,8 @@ def ev_report(res, relay, mc):
       "by the robust Ms bound <= 2 of pdt_validate_margin, the knob raised in steps "
       "until they are, relay agreement within a factor 2, fit_min off) and as it "
       "was (`old`: FOPDT only, fit >= 80 %, Ms <= 2 on the model, the relay of "
-      "1 skipped + 3 measured cycles). PI (SIMC, tau_c = theta), the library's "
+      "1 skipped + 3 measured cycles; the new relay ends at its first symmetric "
+      "cycle, relay_settle 0.1). PI (SIMC, tau_c = theta), the library's "
       "default form. The experiment rule uses only the time scale T (63 % of the "
       "step response; 1 for the integrating plants): identification period T/25, "
       "scan period T/125; step: held for 8 T; pulse: 4 T on, 4 T recorded after "
@@ -1077,6 +1079,11 @@ def ev_report(res, relay, mc):
                                                       sorted(refused.items())) or "none")
           + ".")
         A("")
+    fails = [(x["p"].name, r) for x in res for r in x["runs"] if not r["old"] and r["status"] != 0]
+    A("The refused runs (new): " + ("; ".join(
+        f"{nm} {r['exp']} {r['noise'] * 100:g} % seed {r['seed']}: "
+        f"{EV_STATUS.get(r['status'], str(r['status']))}" for nm, r in fails) or "none") + ".")
+    A("")
     A("Per plant (new | old): runs completed of 28, the largest Ms on the true plant, "
       "the median of set-point and load IAE against the reference SIMC PI on the "
       "true plant (ratio; below 1 is better than the reference), the order kept "
@@ -1087,7 +1094,7 @@ def ev_report(res, relay, mc):
     A("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for x in res:
         ref = x["ref"]
-        row = [x["p"].name + " " + x["p"].label, f"{ref['Ms']:.2f}" if ref else "-"]
+        row = [x["p"].name, f"{ref['Ms']:.2f}" if ref else "-"]
         cells = {}
         for old in (False, True):
             rr = [r for r in x["runs"] if r["old"] == old]
@@ -1166,21 +1173,24 @@ def ev_report(res, relay, mc):
       "and the integrating ones: time from the start until the measured cycles are "
       "complete (in T), and the error of Ku and Pu against the true ultimate point "
       "(first -180 degree crossing of the exact frequency response), over noise 0, "
-      "1 %, 3 % and three seeds. skip + cycles: cycles not measured + cycles "
-      "averaged.")
+      "1 %, 3 % and three seeds. skip + cycles, settle: cycles not measured + "
+      "most cycles measured, and relay_settle (0: every cycle; 0.1, the new "
+      "default: the relay ends at its first symmetric cycle, which alone is the "
+      "measurement).")
     A("")
-    A("| skip + cycles | runs | median time / T | max time / T | median abs Ku error | "
+    A("| skip + cycles, settle | runs | median time / T | max time / T | median abs Ku error | "
       "max abs Ku error | median abs Pu error | max abs Pu error |")
     A("|---|---|---|---|---|---|---|---|")
-    for sc in ((1, 3), (0, 2), (0, 1)):
-        rows = [r for x in relay for r in x["rows"] if (r["skip"], r["cyc"]) == sc]
+    for sc in RELAY_VARIANTS:
+        rows = [r for x in relay for r in x["rows"]
+                if (r["skip"], r["cyc"], r["settle"]) == sc]
         ok = [r for r in rows if r["ok"]]
         if not ok:
             continue
         t = np.array([r["t"] for r in ok])
         eK = np.abs([r["eK"] for r in ok])
         eP = np.abs([r["eP"] for r in ok])
-        A(f"| {sc[0]} + {sc[1]} | {len(ok)} of {len(rows)} | {np.median(t):.2f} | "
+        A(f"| {sc[0]} + {sc[1]}, {sc[2]:g} | {len(ok)} of {len(rows)} | {np.median(t):.2f} | "
           f"{t.max():.2f} | {np.median(eK) * 100:.1f} % | {eK.max() * 100:.1f} % | "
           f"{np.median(eP) * 100:.1f} % | {eP.max() * 100:.1f} % |")
     A("")

@@ -33,12 +33,12 @@
  * AT: decimation capacity settle amplitude t_on t_off u_min u_max pv_min
  * pv_max model(1 FOPDT, 2 SOPDT) ident_seed form(0 PI, 1 PID): the
  * autotune's own rule is SIMC of that form.
- * RELAY: d eps skip cycles.
+ * RELAY: d eps skip cycles settle.
  * AT2: kind(0 relay, 1 PRBS, 2 step, 3 pulse) decimation capacity settle
  * tail amplitude(relay: d) p1 p2 u_min u_max pv_min pv_max ident_seed
  * form(0 PI, 1 PID) order(1 auto, 0 FOPDT, -1 SOPDT) ms_robust fit_min
  * relay_agree relay_eps relay_skip relay_cycles n_sp n_load direct(relay: 1
- * for a process of negative gain). p1 p2:
+ * for a process of negative gain) relay_settle. p1 p2:
  * pulse t_on t_off; step duration -; PRBS scans per chip, bits.
  * Closed loop (at, loop): a unit set-point step held n_sp scans, then a
  * unit load step at the plant input for n_load scans, noise-free.
@@ -252,6 +252,7 @@ static int run_autotune(void)
     cfg.max_scans = (uint32_t)max_scans;
     pdt_ident_config_default(&cfg.ident);
     cfg.ident.model = v[10] == 1.0 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+    cfg.order_auto = false; /* this batch compares the two orders */
     cfg.ident.seed = (uint64_t)v[11];
     pdt_tune_config_default(&cfg.tune);
     cfg.tune.rule = PDT_TUNE_SIMC;
@@ -357,8 +358,8 @@ static int run_at(void)
     long max_scans;
     read_plant(&p);
     read_noise(&z, &max_scans);
-    double v[24];
-    for (int i = 0; i < 24; i++) {
+    double v[25];
+    for (int i = 0; i < 25; i++) {
         if (rd(&v[i])) die("at config");
     }
     static const pdt_excite_kind_t kinds[4] = {PDT_EXCITE_RELAY, PDT_EXCITE_PRBS,
@@ -392,6 +393,7 @@ static int run_at(void)
         cfg.excite.eps = (pdt_real_t)v[18];
         cfg.excite.relay_skip = (uint32_t)v[19];
         cfg.excite.relay_cycles = (uint32_t)v[20];
+        cfg.excite.relay_settle = (pdt_real_t)v[24];
         cfg.excite.setpoint = RL(0.0);
         cfg.move = PDT_RECORD_MOVE_ANY;
         break;
@@ -486,8 +488,8 @@ static int run_relay(void)
     long max_scans;
     read_plant(&p);
     read_noise(&z, &max_scans);
-    double v[4];
-    for (int i = 0; i < 4; i++) {
+    double v[5];
+    for (int i = 0; i < 5; i++) {
         if (rd(&v[i])) die("relay config");
     }
     pdt_excite_config_t ec;
@@ -497,6 +499,7 @@ static int run_relay(void)
     ec.eps = (pdt_real_t)v[1];
     ec.relay_skip = (uint32_t)v[2];
     ec.relay_cycles = (uint32_t)v[3];
+    ec.relay_settle = (pdt_real_t)v[4];
     ec.setpoint = RL(0.0);
     pdt_excite_t gen;
     pdt_status_t st = pdt_excite_init(&gen, &ec);

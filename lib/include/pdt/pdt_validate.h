@@ -109,8 +109,10 @@ pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t 
                                    pdt_ident_std_t *out);
 
 /* The model order the data support, from the validations of a FOPDT (fo)
- * and a SOPDT (so) identified on the same record: a model whose residual
- * is independent of the input is preferred to one whose is not; among
+ * and a SOPDT (so) identified on the same record: a model whose parameters
+ * the data determine (every std finite) is preferred to one whose are not;
+ * then a model whose residual is independent of the input to one whose is
+ * not; among
  * equals, the smaller BIC, the FOPDT unless the SOPDT's BIC is lower by
  * more than 2 (the usual "positive evidence" step). Returns PDT_ERR_ARG for
  * NULL or results of the wrong kinds; *kind untouched then. O(1). */
@@ -127,9 +129,9 @@ pdt_status_t pdt_ident_select_order(const pdt_validate_result_t *fo,
  * log-spaced frequencies from 1e-3 / T (T the slowest of the controller's
  * and the model's times) to pi / Ts (beyond, the data say nothing).
  * *fir_part: whether the FIR's part of D exceeds the parameters' where the
- * bound peaks (may be NULL). Returns PDT_ERR_ARG for NULL v, g or ms, or
- * gains outside their domain. Work: 200 x (PDT_VALIDATE_FIR + 30)
- * multiplications and a few sines. */
+ * bound peaks, false when a std is infinite (may be NULL). Returns PDT_ERR_ARG for NULL v, g or ms, or
+ * gains outside their domain. Work: 200 x (about 4 PDT_VALIDATE_FIR + 60)
+ * multiplications and 4 sines or cosines. */
 pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
                                  const pdt_tune_gains_t *g, pdt_real_t *ms, bool *fir_part);
 
