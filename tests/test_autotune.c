@@ -433,6 +433,49 @@ static void test_sopdt_pulse(void **state)
     assert_sopdt(&r, &m, 0.04);
 }
 
+/* The order chosen by the data (order_auto): the SOPDT plant of the pulse
+ * test keeps a SOPDT, the FOPDT plant of the step test a FOPDT; either way
+ * the model is validated and the gains pass the robust bound. */
+static void test_order_auto(void **state)
+{
+    (void)state;
+    pdt_autotune_config_t c;
+    base_config(&c, 0.5, 2u, 300u, PDT_EXCITE_PULSE, PDT_MODEL_FOPDT);
+    c.order_auto = true;
+    c.excite.amplitude = R(4.0);
+    c.excite.t_on = R(40.0);
+    c.excite.t_off = R(0.0);
+    c.excite.count = 1u;
+    plant_t p;
+    pdt_model_t m = sopdt_tc(1.5, 8.0, 3.0, 2.0);
+    plant_init(&p, &m, 0.5, 50.0, 10.0, 0.03, 5u);
+    run_t r;
+    run_autotune(&g_at, &c, &p, R(50.0), 100000u, NULL, &r);
+    report("order auto, SOPDT plant", &r);
+    assert_success(&g_at, &c, &r, 1.5);
+    assert_int_equal(r.res.ident.model.kind, PDT_MODEL_SOPDT);
+    assert_true(r.res.has_valid && r.res.valid.model.kind == PDT_MODEL_SOPDT);
+    assert_true(r.res.bic_other > r.res.valid.bic);
+    assert_true(r.res.ms_robust >= r.res.tune.fig.Ms * R(0.98) && r.res.ms_robust <= c.ms_robust);
+    assert_sopdt(&r, &m, 0.04);
+
+    base_config(&c, 0.5, 1u, 400u, PDT_EXCITE_STEP, PDT_MODEL_SOPDT);
+    c.order_auto = true;
+    c.excite.amplitude = R(5.0);
+    c.excite.duration = R(60.0);
+    c.tail = 120u;
+    m = fopdt(2.0, 10.0, 3.0);
+    plant_init(&p, &m, 0.5, 30.0, 60.0, 0.05, 17u);
+    run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
+    report("order auto, FOPDT plant", &r);
+    assert_success(&g_at, &c, &r, 2.0);
+    assert_int_equal(r.res.ident.model.kind, PDT_MODEL_FOPDT);
+    assert_fopdt(&r, 2.0, 10.0, 3.0, 0.03);
+    /* The parameter std is small against the parameters here. */
+    assert_true(r.res.valid.std.count == 4u);
+    assert_true(r.res.valid.std.std[0] < R(0.05) && r.res.valid.std.std[1] < R(0.5));
+}
+
 /* The same SOPDT, a chirp, no decimation, PID. */
 static void test_sopdt_chirp(void **state)
 {
@@ -775,6 +818,8 @@ static void sp_model(pdt_autotune_config_t *c) { c->ident.model = (pdt_model_kin
 static void sp_pop(pdt_autotune_config_t *c) { c->ident.population = 3u; }
 static void sp_amp0(pdt_autotune_config_t *c) { c->excite.amplitude = R(0.0); }
 static void sp_kind(pdt_autotune_config_t *c) { c->excite.kind = (pdt_excite_kind_t)9; }
+static void sp_msrob(pdt_autotune_config_t *c) { c->ms_robust = R(1.0); }
+static void sp_agree(pdt_autotune_config_t *c) { c->relay_agree = R(0.5); }
 static void sp_u_inv(pdt_autotune_config_t *c) { c->u_min = R(101.0); }
 static void sp_pv_inv(pdt_autotune_config_t *c) { c->pv_min = R(2000.0); }
 static void sp_cap(pdt_autotune_config_t *c) { c->capacity = c->settle + PDT_MIN_SAMPLES - 1u; }
@@ -791,6 +836,7 @@ static void test_bad_inputs(void **state)
         {sp_pvmax_nan, PDT_ERR_ARG},  {sp_model, PDT_ERR_ARG},    {sp_pop, PDT_ERR_ARG},
         {sp_amp0, PDT_ERR_ARG},       {sp_kind, PDT_ERR_ARG},     {sp_u_inv, PDT_ERR_BOUNDS},
         {sp_pv_inv, PDT_ERR_BOUNDS},  {sp_cap, PDT_ERR_TOO_SHORT},
+        {sp_msrob, PDT_ERR_ARG},      {sp_agree, PDT_ERR_ARG},
     };
     pdt_autotune_config_t good, c;
     plant_t p;
@@ -830,8 +876,10 @@ static void test_bad_inputs(void **state)
     assert_int_equal(pdt_autotune_workspace_size(NULL), 0u);
     pdt_ident_config_t ic = good.ident;
     ic.Ts = good.Ts;
-    assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) + share(&ic, good.capacity));
     c = good;
+    c.order_auto = true;
+    assert_int_equal(pdt_autotune_workspace_size(&c),
+                     2u * c.capacity * sizeof(pdt_real_t) + share(&ic, c.capacity));
     c.decimation = 3u;
     ic.Ts = R(1.5);
     assert_int_equal(pdt_autotune_workspace_size(&c),
@@ -842,6 +890,9 @@ static void test_bad_inputs(void **state)
     size_t val = pdt_validate_workspace_size(c.capacity);
     assert_int_equal(pdt_autotune_workspace_size(&c),
                      2u * c.capacity * sizeof(pdt_real_t) + (only > val ? only : val));
+    ic.Ts = good.Ts;
+    only = pdt_ident_workspace_size(&ic, good.capacity);
+    assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) + (only > val ? only : val));
     /* exactly the size asked for works */
     assert_int_equal(pdt_autotune_init(&at, &good, R(30.0), g_work, need), PDT_OK);
 
@@ -889,6 +940,9 @@ static void test_defaults(void **state)
     assert_true(c.pv_min < R(-1e30) && c.pv_max > R(1e30));
     assert_int_equal(c.ident.model, PDT_MODEL_FOPDT);
     assert_int_equal(c.tune.rule, PDT_TUNE_SIMC);
+    assert_true(c.tune.fit_min == R(0.0));
+    assert_false(c.order_auto);
+    assert_true(c.ms_robust == R(2.0) && c.relay_agree == R(2.0));
     /* Ts and capacity must be set: the defaults alone are refused */
     assert_int_equal(pdt_autotune_workspace_size(&c), 0u);
     c.Ts = R(1.0);
@@ -904,6 +958,7 @@ int main(void)
         cmocka_unit_test(test_fopdt_prbs_decimated),
         cmocka_unit_test(test_sopdt_pulse),
         cmocka_unit_test(test_sopdt_chirp),
+        cmocka_unit_test(test_order_auto),
         cmocka_unit_test(test_integrating_pulse),
         cmocka_unit_test(test_reverse_relay),
         cmocka_unit_test(test_pv_limit_experiment),

@@ -64,7 +64,7 @@ SIM_SPAN = 40.0            # simulated time, time scales
 STATUS = {0: "ok", -1: "bad argument", -3: "no memory", -5: "too short",
           -7: "no form", -8: "no excitation", -10: "pv limit",
           -11: "output limit", -12: "timeout", -14: "refused (fit or Ms)",
-          -15: "unstable", -16: "aborted"}
+          -15: "unstable", -16: "aborted", -19: "model invalid", -20: "uncertain"}
 PHASE = {0: "-", 1: "settle", 2: "excite", 3: "identify", 4: "tune", 5: "done",
          6: "failed"}
 
@@ -495,9 +495,7 @@ def status_of(at, tag):
     if st == 0:
         return "ok"
     why = STATUS.get(st, str(st))
-    if st == -14 and at.get("fit", 100.0) < 80.0:
-        why = f"fit {at['fit']:.1f} % < 80"
-    elif st == -14 and f"{tag}_refused_Ms_model" in at:
+    if st == -14 and f"{tag}_refused_Ms_model" in at:
         why = f"Ms {at[f'{tag}_refused_Ms_model']:.2f} on model > 2"
     return why
 

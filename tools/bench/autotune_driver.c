@@ -252,7 +252,8 @@ static int run_autotune(void)
     cfg.max_scans = (uint32_t)max_scans;
     pdt_ident_config_default(&cfg.ident);
     cfg.ident.model = v[10] == 1.0 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
-    cfg.order_auto = false; /* this batch compares the two orders */
+    cfg.order_auto = false; /* this batch compares the two orders (and it is
+                             * the default) */
     cfg.ident.seed = (uint64_t)v[11];
     pdt_tune_config_default(&cfg.tune);
     cfg.tune.rule = PDT_TUNE_SIMC;
@@ -287,12 +288,23 @@ static int run_autotune(void)
         print_model("model", &r.ident.model);
         printf("fit %.9g\nevaluations %lu\n", (double)r.ident.fit,
                (unsigned long)r.ident.evaluations);
-        /* Both forms on the model the run identified, with the autotune's
-         * limits: the one of cfg.tune.form is the autotune's own answer. */
-        tune_print("pid", &r.ident.model, r.ident.fit, PDT_TUNE_PID, cfg.tune.fit_min,
-                   cfg.tune.ms_max);
-        tune_print("pi", &r.ident.model, r.ident.fit, PDT_TUNE_PI, cfg.tune.fit_min,
-                   cfg.tune.ms_max);
+        /* The form of cfg.tune.form: the autotune's own answer (its
+         * detuning included); the other form by the rule alone on the
+         * model the run identified, with the autotune's limits. */
+        const char *own = cfg.tune.form == PDT_TUNE_PID ? "pid" : "pi";
+        if (cfg.tune.form == PDT_TUNE_PID) {
+            tune_print("pi", &r.ident.model, r.ident.fit, PDT_TUNE_PI, cfg.tune.fit_min,
+                       cfg.tune.ms_max);
+        } else {
+            tune_print("pid", &r.ident.model, r.ident.fit, PDT_TUNE_PID, cfg.tune.fit_min,
+                       cfg.tune.ms_max);
+        }
+        printf("%s_status %d\n", own, (int)(r.has_gains ? PDT_OK : st));
+        if (r.has_gains) {
+            print_gains(own, &r.tune.ideal);
+            printf("%s_Ms_model %.9g\ndetune %.9g\n", own, (double)r.tune.fig.Ms,
+                   (double)r.detune);
+        }
     }
     free(work);
     free(p.ubuf);

@@ -95,7 +95,8 @@ typedef struct pdt_autotune_config {
     /* Model order. true: a FOPDT and a SOPDT (which covers the
      * underdamped and the integrating process) are identified on the
      * record and pdt_ident_select_order picks one; ident.model is then
-     * ignored. false: ident.model only. Default true */
+     * ignored. false: ident.model only, the caller's explicit choice.
+     * Default false (set it: docs/autotune.md) */
     bool order_auto;
     /* The decision by evidence (pdt_validate.h). The gains must keep the
      * robust bound of the true loop's Ms (pdt_validate_margin: the model
