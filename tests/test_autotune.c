@@ -413,25 +413,36 @@ static void test_fopdt_prbs_decimated(void **state)
     assert_fopdt(&r, 2.0, 10.0, 3.0, 0.03);
 }
 
+/* The SOPDT plant of the pulse tests and its experiment: one pulse,
+ * decimation 2. */
+static void pulse_setup(pdt_autotune_config_t *c, plant_t *p, pdt_model_t *m,
+                        pdt_model_kind_t model)
+{
+    base_config(c, 0.5, 2u, 300u, PDT_EXCITE_PULSE, model);
+    c->excite.amplitude = R(4.0);
+    c->excite.t_on = R(40.0);
+    c->excite.t_off = R(0.0);
+    c->excite.count = 1u;
+    *m = sopdt_tc(1.5, 8.0, 3.0, 2.0);
+    plant_init(p, m, 0.5, 50.0, 10.0, 0.03, 5u);
+}
+
 /* A SOPDT, one pulse, decimation 2. */
 static void test_sopdt_pulse(void **state)
 {
     (void)state;
     pdt_autotune_config_t c;
-    base_config(&c, 0.5, 2u, 300u, PDT_EXCITE_PULSE, PDT_MODEL_SOPDT);
-    c.excite.amplitude = R(4.0);
-    c.excite.t_on = R(40.0);
-    c.excite.t_off = R(0.0);
-    c.excite.count = 1u;
     plant_t p;
-    pdt_model_t m = sopdt_tc(1.5, 8.0, 3.0, 2.0);
-    plant_init(&p, &m, 0.5, 50.0, 10.0, 0.03, 5u);
+    pdt_model_t m;
+    pulse_setup(&c, &p, &m, PDT_MODEL_SOPDT);
     run_t r;
     run_autotune(&g_at, &c, &p, R(50.0), 100000u, NULL, &r);
     report("SOPDT pulse, decimation 2", &r);
     assert_success(&g_at, &c, &r, 1.5);
     assert_sopdt(&r, &m, 0.04);
 }
+
+static void step_setup(pdt_autotune_config_t *c, plant_t *p, double noise_sd);
 
 /* The order chosen by the data (order_auto): the SOPDT plant of the pulse
  * test keeps a SOPDT, the FOPDT plant of the step test a FOPDT; either way
@@ -440,15 +451,10 @@ static void test_order_auto(void **state)
 {
     (void)state;
     pdt_autotune_config_t c;
-    base_config(&c, 0.5, 2u, 300u, PDT_EXCITE_PULSE, PDT_MODEL_FOPDT);
-    c.order_auto = true;
-    c.excite.amplitude = R(4.0);
-    c.excite.t_on = R(40.0);
-    c.excite.t_off = R(0.0);
-    c.excite.count = 1u;
     plant_t p;
-    pdt_model_t m = sopdt_tc(1.5, 8.0, 3.0, 2.0);
-    plant_init(&p, &m, 0.5, 50.0, 10.0, 0.03, 5u);
+    pdt_model_t m;
+    pulse_setup(&c, &p, &m, PDT_MODEL_FOPDT);
+    c.order_auto = true;
     run_t r;
     run_autotune(&g_at, &c, &p, R(50.0), 100000u, NULL, &r);
     report("order auto, SOPDT plant", &r);
@@ -459,13 +465,9 @@ static void test_order_auto(void **state)
     assert_true(r.res.ms_robust >= r.res.tune.fig.Ms * R(0.98) && r.res.ms_robust <= c.ms_robust);
     assert_sopdt(&r, &m, 0.04);
 
-    base_config(&c, 0.5, 1u, 400u, PDT_EXCITE_STEP, PDT_MODEL_SOPDT);
+    step_setup(&c, &p, 0.05);
+    c.ident.model = PDT_MODEL_SOPDT; /* ignored: the data choose */
     c.order_auto = true;
-    c.excite.amplitude = R(5.0);
-    c.excite.duration = R(60.0);
-    c.tail = 120u;
-    m = fopdt(2.0, 10.0, 3.0);
-    plant_init(&p, &m, 0.5, 30.0, 60.0, 0.05, 17u);
     run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
     report("order auto, FOPDT plant", &r);
     assert_success(&g_at, &c, &r, 2.0);

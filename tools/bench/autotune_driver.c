@@ -223,6 +223,41 @@ static void tune_print(const char *tag, const pdt_model_t *m, pdt_real_t fit,
     }
 }
 
+/* Runs the autotune of cfg against the plant, one call per scan, until it
+ * ends, and prints the common part of its result into r. Returns false
+ * when init refused cfg (printed). */
+static bool drive_autotune(plant_t *p, noise_t *z, long max_scans,
+                           const pdt_autotune_config_t *cfg, pdt_autotune_result_t *r,
+                           pdt_status_t *st_out)
+{
+    size_t ws = pdt_autotune_workspace_size(cfg);
+    void *work = malloc(ws ? ws : 1u);
+    pdt_autotune_t at;
+    pdt_status_t st = pdt_autotune_init(&at, cfg, RL(0.0), work, ws);
+    printf("init_status %d\n", (int)st);
+    if (st != PDT_OK) {
+        free(work);
+        return false;
+    }
+    /* The scans go on through the identification, which takes no process
+     * time of its own beyond the scans it needs. */
+    for (long k = 0; k < 50L * max_scans; k++) {
+        double pv = plant_y(p) + noise_next(z);
+        pdt_real_t u;
+        st = pdt_autotune_scan(&at, (pdt_real_t)pv, &u);
+        plant_step(p, (double)u);
+        if (st != PDT_RUNNING) break;
+    }
+    (void)pdt_autotune_result(&at, r);
+    free(work);
+    printf("status %d\nfailed_in %d\nscans %lu\nscans_experiment %lu\nsamples %lu\n", (int)st,
+           (int)r->failed_in, (unsigned long)r->scans, (unsigned long)r->scans_experiment,
+           (unsigned long)r->samples);
+    printf("has_model %d\nhas_gains %d\n", (int)r->has_model, (int)r->has_gains);
+    *st_out = st;
+    return true;
+}
+
 static int run_autotune(void)
 {
     plant_t p;
@@ -259,31 +294,12 @@ static int run_autotune(void)
     cfg.tune.rule = PDT_TUNE_SIMC;
     cfg.tune.form = v[12] == 0.0 ? PDT_TUNE_PI : PDT_TUNE_PID;
 
-    size_t ws = pdt_autotune_workspace_size(&cfg);
-    void *work = malloc(ws ? ws : 1u);
-    pdt_autotune_t at;
-    pdt_status_t st = pdt_autotune_init(&at, &cfg, RL(0.0), work, ws);
-    printf("init_status %d\n", (int)st);
-    if (st != PDT_OK) {
-        free(work);
+    pdt_autotune_result_t r;
+    pdt_status_t st;
+    if (!drive_autotune(&p, &z, max_scans, &cfg, &r, &st)) {
+        free(p.ubuf);
         return 0;
     }
-    /* The scans go on through the identification, which takes no process
-     * time of its own beyond the scans it needs. */
-    long k;
-    for (k = 0; k < 50L * max_scans; k++) {
-        double pv = plant_y(&p) + noise_next(&z);
-        pdt_real_t u;
-        st = pdt_autotune_scan(&at, (pdt_real_t)pv, &u);
-        plant_step(&p, (double)u);
-        if (st != PDT_RUNNING) break;
-    }
-    pdt_autotune_result_t r;
-    (void)pdt_autotune_result(&at, &r);
-    printf("status %d\nfailed_in %d\nscans %lu\nscans_experiment %lu\nsamples %lu\n", (int)st,
-           (int)r.failed_in, (unsigned long)r.scans, (unsigned long)r.scans_experiment,
-           (unsigned long)r.samples);
-    printf("has_model %d\nhas_gains %d\n", (int)r.has_model, (int)r.has_gains);
     if (r.has_model) {
         print_model("model", &r.ident.model);
         printf("fit %.9g\nevaluations %lu\n", (double)r.ident.fit,
@@ -306,7 +322,6 @@ static int run_autotune(void)
                    (double)r.detune);
         }
     }
-    free(work);
     free(p.ubuf);
     return 0;
 }
@@ -427,29 +442,12 @@ static int run_at(void)
     long n_sp = (long)v[21], n_load = (long)v[22];
     if (kinds[kind] == PDT_EXCITE_RELAY && v[23] != 0.0) cfg.excite.action = PDT_EXCITE_DIRECT;
 
-    size_t ws = pdt_autotune_workspace_size(&cfg);
-    void *work = malloc(ws ? ws : 1u);
-    pdt_autotune_t at;
-    pdt_status_t st = pdt_autotune_init(&at, &cfg, RL(0.0), work, ws);
-    printf("init_status %d\n", (int)st);
-    if (st != PDT_OK) {
-        free(work);
+    pdt_autotune_result_t r;
+    pdt_status_t st;
+    if (!drive_autotune(&p, &z, max_scans, &cfg, &r, &st)) {
+        free(p.ubuf);
         return 0;
     }
-    long k;
-    for (k = 0; k < 50L * max_scans; k++) {
-        double pv = plant_y(&p) + noise_next(&z);
-        pdt_real_t u;
-        st = pdt_autotune_scan(&at, (pdt_real_t)pv, &u);
-        plant_step(&p, (double)u);
-        if (st != PDT_RUNNING) break;
-    }
-    pdt_autotune_result_t r;
-    (void)pdt_autotune_result(&at, &r);
-    printf("status %d\nfailed_in %d\nscans %lu\nscans_experiment %lu\nsamples %lu\n", (int)st,
-           (int)r.failed_in, (unsigned long)r.scans, (unsigned long)r.scans_experiment,
-           (unsigned long)r.samples);
-    printf("has_model %d\nhas_gains %d\n", (int)r.has_model, (int)r.has_gains);
     if (r.has_relay) {
         printf("relay_Ku %.9g\nrelay_Pu %.9g\n", (double)r.relay.Ku, (double)r.relay.Pu);
     }
@@ -473,7 +471,6 @@ static int run_at(void)
                (double)r.ms_robust, (double)r.detune);
         closed_loop(&p, &r.tune.ideal, n_sp, n_load);
     }
-    free(work);
     free(p.ubuf);
     return 0;
 }
