@@ -216,6 +216,13 @@ static void test_select_order(void **state)
     vf = validate(&f_near, 5.0);
     assert_int_equal(pdt_ident_select_order(&vf, &vs, &kind), PDT_OK);
     assert_int_equal(kind, PDT_MODEL_SOPDT);
+    /* The near-FOPDT SOPDT's second lag is not determined by FOPDT data:
+     * its std is infinite, the others' finite (conditional on it). */
+    make_output(&f, 0.05, 11u);
+    vs = validate(&s_near, 5.0);
+    print_message("SOPDT of FOPDT data: std k %.3g a %.3g b %.3g Td %.3g\n",
+                  (double)vs.std.std[0], (double)vs.std.std[1], (double)vs.std.std[2],
+                  (double)vs.std.std[3]);
     /* Wrong kinds, NULL: refused, kind untouched. */
     kind = (pdt_model_kind_t)0;
     assert_int_equal(pdt_ident_select_order(&vs, &vf, &kind), PDT_ERR_ARG);
@@ -254,7 +261,16 @@ static void test_margin(void **state)
     pdt_real_t ms2 = 0;
     assert_int_equal(pdt_validate_margin(&v, (pdt_real_t)0.0, &tr2.ideal, &ms2, NULL), PDT_OK);
     assert_true(ms2 < ms);
+    /* An undetermined shape parameter is held at its estimate; an
+     * undetermined gain or an unusable covariance leaves no bound. */
     v0.std.std[1] = (pdt_real_t)INFINITY;
+    assert_int_equal(pdt_validate_margin(&v0, (pdt_real_t)0.0, &tr.ideal, &ms, NULL), PDT_OK);
+    assert_close(ms, ms0, 1e-6, 0.0);
+    v0.std.std[0] = (pdt_real_t)INFINITY;
+    assert_int_equal(pdt_validate_margin(&v0, (pdt_real_t)0.0, &tr.ideal, &ms, NULL), PDT_OK);
+    assert_false(isfinite((double)ms));
+    v0.std.std[0] = (pdt_real_t)1e-3;
+    v0.std.cov[1][2] = (pdt_real_t)INFINITY;
     assert_int_equal(pdt_validate_margin(&v0, (pdt_real_t)0.0, &tr.ideal, &ms, NULL), PDT_OK);
     assert_false(isfinite((double)ms));
     pdt_tune_gains_t bad = tr.ideal;

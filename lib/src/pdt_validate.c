@@ -115,14 +115,21 @@ static bool chol_solve(pdt_real_t A[PDT_VALIDATE_FIR][PDT_VALIDATE_FIR], pdt_rea
 }
 
 /* Inverse of the symmetric positive semi-definite F (n x n) by Gauss-Jordan
- * on its correlation form; a pivot below tol marks the matrix singular:
- * returns false. */
+ * on its correlation form, pivoting on the diagonal. A parameter whose
+ * pivot falls below tol is not determined by the data (the output does
+ * not depend on it beyond what the others explain): it is fixed at its
+ * estimate, marked in *undet, and the inverse is that of the others (the
+ * covariance conditional on it). Returns false when F is not usable at
+ * all (a zero or non-finite diagonal: a parameter the output does not
+ * see). */
 static bool invert(pdt_real_t F[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS],
-                   pdt_real_t Inv[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS], uint32_t n)
+                   pdt_real_t Inv[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS], uint32_t n,
+                   bool *undet)
 {
     pdt_real_t dsc[PDT_VALIDATE_MAX_PARAMS];
     pdt_real_t M[PDT_VALIDATE_MAX_PARAMS][2u * PDT_VALIDATE_MAX_PARAMS];
     for (uint32_t i = 0; i < n; i++) {
+        undet[i] = false;
         if (!(F[i][i] > PDT_R(0.0)) || !pdt_finite(F[i][i])) {
             return false;
         }
@@ -136,21 +143,18 @@ static bool invert(pdt_real_t F[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS
     }
     const pdt_real_t tol = PDT_R(1e3) * PDT_REAL_EPS;
     for (uint32_t c = 0; c < n; c++) {
-        uint32_t piv = c;
-        for (uint32_t r = c + 1u; r < n; r++) {
-            if (pdt_fabs(M[r][c]) > pdt_fabs(M[piv][c])) {
-                piv = r;
-            }
-        }
-        if (!(pdt_fabs(M[piv][c]) > tol)) {
-            return false;
-        }
-        if (piv != c) {
+        /* Diagonal pivots keep the parameter order, so that a small pivot
+         * names the parameter the others already explain. */
+        if (!(M[c][c] > tol)) {
+            undet[c] = true;
             for (uint32_t j = 0; j < 2u * n; j++) {
-                pdt_real_t t = M[c][j];
-                M[c][j] = M[piv][j];
-                M[piv][j] = t;
+                M[c][j] = PDT_R(0.0);
             }
+            for (uint32_t r = 0; r < n; r++) {
+                M[r][c] = PDT_R(0.0);
+            }
+            M[c][c] = PDT_R(1.0);
+            continue;
         }
         pdt_real_t inv = PDT_R(1.0) / M[c][c];
         for (uint32_t j = 0; j < 2u * n; j++) {
@@ -167,7 +171,7 @@ static bool invert(pdt_real_t F[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS
     }
     for (uint32_t i = 0; i < n; i++) {
         for (uint32_t j = 0; j < n; j++) {
-            Inv[i][j] = M[i][n + j] / (dsc[i] * dsc[j]);
+            Inv[i][j] = (undet[i] || undet[j]) ? PDT_R(0.0) : M[i][n + j] / (dsc[i] * dsc[j]);
         }
     }
     return true;
@@ -329,15 +333,18 @@ static void uncertainty(const val_ctx_t *c, pdt_real_t gain, pdt_real_t sse,
     }
     (void)gain;
     pdt_real_t s2 = sse / (pdt_real_t)(c->n - np) * inflation;
-    bool ok = invert(Fc, Inv, np);
+    bool undet[PDT_VALIDATE_MAX_PARAMS];
+    bool ok = invert(Fc, Inv, np, undet);
     *out = (pdt_ident_std_t){0};
     out->count = np;
     for (uint32_t i = 0; i < np; i++) {
         for (uint32_t j = 0; j < np; j++) {
             out->cov[i][j] = ok ? s2 * Inv[i][j] : (pdt_real_t)INFINITY;
         }
-        out->std[i] = ok && out->cov[i][i] >= PDT_R(0.0) ? pdt_sqrt(out->cov[i][i])
-                                                          : (pdt_real_t)INFINITY;
+        /* An undetermined parameter: std +infinity, covariance 0 (the
+         * others' covariance is conditional on it). */
+        bool fin = ok && !undet[i] && out->cov[i][i] >= PDT_R(0.0);
+        out->std[i] = fin ? pdt_sqrt(out->cov[i][i]) : (pdt_real_t)INFINITY;
     }
 }
 
@@ -490,14 +497,18 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
     return PDT_OK;
 }
 
+/* The gain determined and the covariance usable: what pdt_validate_margin
+ * needs. A shape parameter held at its estimate does not count against
+ * a model (a SOPDT's negligible lag, an integrator's lag). */
 static bool determined(const pdt_validate_result_t *v)
 {
+    bool ok = pdt_finite(v->std.std[0]);
     for (uint32_t i = 0; i < v->std.count; i++) {
-        if (!pdt_finite(v->std.std[i])) {
-            return false;
+        for (uint32_t j = 0; j < v->std.count; j++) {
+            ok = ok && pdt_finite(v->std.cov[i][j]);
         }
     }
-    return true;
+    return ok;
 }
 
 pdt_status_t pdt_ident_select_order(const pdt_validate_result_t *fo,
@@ -507,9 +518,8 @@ pdt_status_t pdt_ident_select_order(const pdt_validate_result_t *fo,
         so->model.kind != PDT_MODEL_SOPDT) {
         return PDT_ERR_ARG;
     }
-    /* A model whose parameters the data do not determine (a singular
-     * Fisher information: e.g. a SOPDT whose second pole is not in the
-     * data) loses to one whose are. */
+    /* A model whose gain the data do not determine, or whose covariance is
+     * unusable, loses to one whose are. */
     bool fo_det = determined(fo);
     bool so_det = determined(so);
     if (fo_det != so_det) {
@@ -583,9 +593,15 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
     }
     pdt_real_t lr = pdt_log(w_hi / w_lo) / (pdt_real_t)(VAL_GRID - 1u);
     const uint32_t np = v->std.count - 1u; /* without y0 */
-    bool std_ok = true;
+    /* The bound needs the covariance, and the gain determined: a shape
+     * parameter the data do not determine is fixed at its estimate (its
+     * effect on the output is within what the others explain), the gain
+     * never is. */
+    bool std_ok = pdt_finite(v->std.std[0]);
     for (uint32_t i = 0; i < np; i++) {
-        std_ok = std_ok && pdt_finite(v->std.std[i]);
+        for (uint32_t j = 0; j < np; j++) {
+            std_ok = std_ok && pdt_finite(v->std.cov[i][j]);
+        }
     }
     pdt_real_t best = PDT_R(1.0);
     bool best_fir = false;

@@ -51,9 +51,12 @@ extern "C" {
 
 /* Standard deviations and covariance of the identified parameters, in the
  * order FOPDT K, tau, Td, y0 (count 4) or SOPDT k, a, b, Td, y0 (count 5),
- * in the model's units. A parameter the data do not determine (a singular
- * Fisher information) has std +infinity and its covariance row and column
- * +infinity. */
+ * in the model's units. A parameter the data do not determine (the Fisher
+ * information singular in its direction, e.g. the second lag of a SOPDT
+ * fitted to a first-order process) has std +infinity and covariance row
+ * and column 0: it is held at its estimate and the others' covariance is
+ * conditional on it. A Fisher information without a usable diagonal gives
+ * +infinity everywhere. */
 typedef struct pdt_ident_std {
     uint32_t count;
     pdt_real_t std[PDT_VALIDATE_MAX_PARAMS];
@@ -109,10 +112,10 @@ pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t 
                                    pdt_ident_std_t *out);
 
 /* The model order the data support, from the validations of a FOPDT (fo)
- * and a SOPDT (so) identified on the same record: a model whose parameters
- * the data determine (every std finite) is preferred to one whose are not;
- * then a model whose residual is independent of the input to one whose is
- * not; among
+ * and a SOPDT (so) identified on the same record: a model whose gain the
+ * data determine and whose covariance is usable is preferred to one whose
+ * are not; then a model whose residual is independent of the input to one
+ * whose is not; among
  * equals, the smaller BIC, the FOPDT unless the SOPDT's BIC is lower by
  * more than 2 (the usual "positive evidence" step). Returns PDT_ERR_ARG for
  * NULL or results of the wrong kinds; *kind untouched then. O(1). */
@@ -125,11 +128,12 @@ pdt_status_t pdt_ident_select_order(const pdt_validate_result_t *fo,
  * additive model error: the FIR's magnitude (when the independence test
  * failed) plus 3 standard deviations of |G| over the parameters' confidence
  * ellipsoid (first order; an integrating SOPDT's b, bounded below by 0,
- * left out). +infinity where |C S| D >= 1. Evaluated on 200
+ * left out; undetermined shape parameters held at their estimates; an
+ * undetermined gain or an unusable covariance gives +infinity). +infinity where |C S| D >= 1. Evaluated on 200
  * log-spaced frequencies from 1e-3 / T (T the slowest of the controller's
  * and the model's times) to pi / Ts (beyond, the data say nothing).
  * *fir_part: whether the FIR's part of D exceeds the parameters' where the
- * bound peaks, false when a std is infinite (may be NULL). Returns PDT_ERR_ARG for NULL v, g or ms, or
+ * bound peaks, false when the covariance is unusable (may be NULL). Returns PDT_ERR_ARG for NULL v, g or ms, or
  * gains outside their domain. Work: 200 x (about 4 PDT_VALIDATE_FIR + 60)
  * multiplications and 4 sines or cosines. */
 pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
