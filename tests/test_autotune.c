@@ -476,6 +476,14 @@ static void test_order_auto(void **state)
     /* The parameter std is small against the parameters here. */
     assert_true(r.res.valid.std.count == 4u);
     assert_true(r.res.valid.std.std[0] < R(0.05) && r.res.valid.std.std[1] < R(0.5));
+
+    /* Neither the order choice nor the robust bound: no validation. */
+    step_setup(&c, &p, 0.05);
+    c.ms_robust = R(0.0);
+    run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
+    assert_success(&g_at, &c, &r, 2.0);
+    assert_false(r.res.has_valid);
+    assert_true(r.res.detune == R(1.0));
 }
 
 /* The same SOPDT, a chirp, no decimation, PID. */
@@ -892,6 +900,10 @@ static void test_bad_inputs(void **state)
     size_t val = pdt_validate_workspace_size(c.capacity);
     assert_int_equal(pdt_autotune_workspace_size(&c),
                      2u * c.capacity * sizeof(pdt_real_t) + (only > val ? only : val));
+    /* No validation asked for: the identification's share alone. */
+    c.ms_robust = R(0.0);
+    assert_int_equal(pdt_autotune_workspace_size(&c),
+                     2u * c.capacity * sizeof(pdt_real_t) + only);
     ic.Ts = good.Ts;
     only = pdt_ident_workspace_size(&ic, good.capacity);
     assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) + (only > val ? only : val));

@@ -80,6 +80,13 @@ static pdt_status_t check_config(const pdt_autotune_config_t *cfg)
     return PDT_OK;
 }
 
+/* Whether the model is validated: the order choice and the robust bound
+ * need it; without either, the validation's workspace is not asked for. */
+static bool validates(const pdt_autotune_config_t *cfg)
+{
+    return cfg->order_auto || cfg->ms_robust > PDT_R(0.0);
+}
+
 /* Bytes of the identification's part, for capacity samples. The size grows
  * with the record length, so it covers any shorter record. */
 static size_t ident_bytes(const pdt_autotune_config_t *cfg)
@@ -94,7 +101,7 @@ static size_t ident_bytes(const pdt_autotune_config_t *cfg)
         }
         b = b2 > b ? b2 : b;
     }
-    size_t v = pdt_validate_workspace_size(cfg->capacity);
+    size_t v = validates(cfg) ? pdt_validate_workspace_size(cfg->capacity) : 0u;
     return b == 0u ? 0u : (v > b ? v : b);
 }
 
@@ -336,7 +343,7 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
     /* Validation, one model per scan, in the identification's workspace
      * (free now). */
     const uint32_t v = at->stage - models;
-    if (v < models) {
+    if (v < models && validates(&at->cfg)) {
         const pdt_ident_result_t *ir = v == 0u ? &at->first : &at->res.ident;
         pdt_validate_result_t *vr = v == 0u ? &at->first_valid : &at->res.valid;
         st = pdt_validate_model(&ir->model, &data, ident_config(&at->cfg).Ts, ir->y0,
@@ -349,6 +356,7 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
     }
     if (models == 1u) {
         at->res.valid = at->first_valid;
+        at->res.has_valid = validates(&at->cfg);
     } else {
         pdt_model_kind_t kind;
         st = pdt_ident_select_order(&at->first_valid, &at->res.valid, &kind);
@@ -362,8 +370,8 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
         } else {
             at->res.bic_other = at->first_valid.bic;
         }
+        at->res.has_valid = true;
     }
-    at->res.has_valid = true;
     pdt_real_t shift = dead_time_shift(at);
     if (at->res.ident.model.kind == PDT_MODEL_FOPDT) {
         at->res.ident.model.p.fopdt.Td += shift;

@@ -102,7 +102,9 @@ typedef struct pdt_autotune_config {
      * robust bound of the true loop's Ms (pdt_validate_margin: the model
      * error the residual shows and the parameters' confidence region)
      * at most ms_robust, > 1, or 0 for no such check; tau_c (SIMC) or
-     * lambda (IMC) is raised in steps until they do. Default 2.0 */
+     * lambda (IMC) is raised in steps until they do. Default 2.0. With
+     * 0 and order_auto false the model is not validated (has_valid false)
+     * and the workspace is the identification's alone */
     pdt_real_t ms_robust;
     /* A relay test's Ku and Pu and the model's must agree within this
      * factor, >= 1, or 0 for no check. Default 2 */
@@ -165,7 +167,8 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg);
 
 /* Workspace bytes for cfg: 2 capacity reals for the record plus the
  * larger of the identification's workspace for capacity samples (either
- * model with order_auto) and the validation's (pdt_validate.h). 0 when cfg is NULL or
+ * model with order_auto) and the validation's (pdt_validate.h: 5 capacity
+ * reals; asked for only with order_auto or ms_robust > 0). 0 when cfg is NULL or
  * not valid (init then says why). */
 size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
 
