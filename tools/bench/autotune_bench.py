@@ -894,7 +894,7 @@ def ev_experiment(p, scale, exp):
     return dict(Ts=Ts, capacity=capacity, tail=tail, p1=p1, p2=p2, swing=swing)
 
 
-def ev_autotune(p, scale, exp, noise, seed, old=False, order=1):
+def ev_autotune(p, scale, exp, noise, seed, old=False, order=1, form=0):
     e = ev_experiment(p, scale, exp)
     std = noise * abs(p.gain()) * AMP * (scale if p.integ else 1.0)
     lim = 5.0 * e["swing"]
@@ -910,7 +910,7 @@ def ev_autotune(p, scale, exp, noise, seed, old=False, order=1):
         "at", fmt_plant(p, e["Ts"]), f"{std:.17g}", seed, max_scans,
         kind, DECIMATION, e["capacity"], SETTLE, e["tail"], f"{AMP:.17g}",
         f"{e['p1']:.17g}", f"{e['p2']:.17g}", -2 * AMP, 2 * AMP, f"{-lim:.17g}",
-        f"{lim:.17g}", 1000 + seed, 0, order, ms_rob, fit_min, agree,
+        f"{lim:.17g}", 1000 + seed, form, order, ms_rob, fit_min, agree,
         f"{RELAY_EPS * std:.17g}", skip, cyc, n_sp, n_sp, 1 if p.gain() < 0 else 0, settle])
     out = drive(text)
     out["Ts"] = e["Ts"]
@@ -942,12 +942,12 @@ def true_ultimate(p):
 def ev_one(args):
     pi, p = args
     scale = time_scale(p)
-    runs = []
+    runs, pid_runs = [], []
     for exp in EXPERIMENTS:
         for noise in NOISES:
             for seed in (SEEDS if noise > 0 else (1,)):
-                for old in (False, True):
-                    out = ev_autotune(p, scale, exp, noise, seed, old=old)
+                for old, form in ((False, 0), (True, 0), (False, 1)):
+                    out = ev_autotune(p, scale, exp, noise, seed, old=old, form=form)
                     r = dict(exp=exp, noise=noise, seed=seed, old=old,
                              status=int(out.get("status", -99)), out=out)
                     if out.get("has_gains"):
@@ -960,15 +960,22 @@ def ev_one(args):
                                  Ms_model=out["at_Ms_model"],
                                  kind=int(out["model_kind"]),
                                  detune=out.get("detune", 1.0))
-                    runs.append(r)
-    ref_pi, _, src, mdesc = reference(p, scale)
+                    (pid_runs if form == 1 else runs).append(r)
+    ref_pi, ref_pid, src, mdesc = reference(p, scale)
     ref = None
     if ref_pi is not None:
         Ms, stable = robustness(p, ref_pi, scale)
         lo = ev_loop(p, scale, ref_pi)
         ref = dict(g=ref_pi, Ms=Ms, stable=stable, sp=lo.get("cl_sp_iae", math.inf) / scale,
                    ld=lo.get("cl_load_iae", math.inf), src=src)
-    return dict(p=p, scale=scale, runs=runs, ref=ref)
+    ref_d = None
+    if ref_pid is not None:
+        Ms, stable = robustness(p, ref_pid, scale)
+        lo = ev_loop(p, scale, ref_pid)
+        ref_d = dict(g=ref_pid, Ms=Ms, stable=stable,
+                     sp=lo.get("cl_sp_iae", math.inf) / scale,
+                     ld=lo.get("cl_load_iae", math.inf), src=src)
+    return dict(p=p, scale=scale, runs=runs, pid_runs=pid_runs, ref=ref, ref_pid=ref_d)
 
 
 def relay_study(args):
@@ -1144,6 +1151,40 @@ def ev_report(res, relay, mc):
                 return EV_STATUS.get(r["status"], str(r["status"]))
             return f"{r['Ms']:.2f}" if r["stable"] else "unstable"
         A(f"| {key[0]} | {key[1] * 100:g} % | {key[2]} | {c(d.get(False))} | {c(d.get(True))} |")
+    A("")
+    A("### PID")
+    A("")
+    pr = [r for x in res for r in x["pid_runs"]]
+    done = [r for r in pr if r["status"] == 0]
+    ms = np.array([r["Ms"] for r in done if r["stable"]])
+    le = int(np.sum(ms <= 2.2)) if len(ms) else 0
+    refused = {}
+    for r in pr:
+        if r["status"] != 0:
+            k = EV_STATUS.get(r["status"], str(r["status"]))
+            refused[k] = refused.get(k, 0) + 1
+    A("The same runs with SIMC PID (derivative filter N = 10), new library only: "
+      f"completed {len(done)} of {len(pr)} ({100.0 * len(done) / len(pr):.1f} %); "
+      f"unstable loops on the true plant: {sum(1 for r in done if not r['stable'])}; "
+      f"Ms on the true plant <= 2.2 in {le} of {len(done)} completed runs "
+      f"({100.0 * le / max(len(done), 1):.1f} %); Ms median {np.median(ms):.2f}, "
+      f"95th percentile {np.percentile(ms, 95):.2f}, largest {ms.max():.2f}. Refusals: "
+      + (", ".join(f"{k} {v}" for k, v in sorted(refused.items())) or "none") + ".")
+    A("")
+    A("| plant | ref PID Ms | done | max Ms | SP IAE / ref PID | load IAE / ref PID | detune |")
+    A("|---|---|---|---|---|---|---|")
+    for x in res:
+        ref = x["ref_pid"]
+        d = [r for r in x["pid_runs"] if r["status"] == 0]
+        mx = max((r["Ms"] if r["stable"] else math.inf) for r in d) if d else math.nan
+        sp = [r["sp"] / ref["sp"] for r in d if ref and r["stable"]]
+        ld = [r["ld"] / ref["ld"] for r in d if ref and r["stable"]]
+        det = np.median([r["detune"] for r in d]) if d else math.nan
+        A(f"| {x['p'].name} | {ref['Ms']:.2f} | {len(d)} | "
+          f"{'unstable' if mx == math.inf else f'{mx:.2f}'} | "
+          f"{np.median(sp) if sp else math.nan:.2f} | {np.median(ld) if ld else math.nan:.2f} | "
+          f"{det:.2g} |" if ref else f"| {x['p'].name} | - | {len(d)} | {mx:.2f} | - | - | "
+          f"{det:.2g} |")
     A("")
     A("### Parameter uncertainty against Monte-Carlo")
     A("")

@@ -30,8 +30,17 @@
  * call prepares the identification (O(n), plus O(N_f log N_f) for the
  * frequency or combined criterion); every other identify call at most
  * evals_per_scan cost evaluations (O(n) each, O(N_f) for the frequency
- * part) plus one GA breeding step (O(P^2)); the tune call, one
- * pdt_tune_compute (a few thousand loop evaluations, see pdt_tune.h).
+ * part) plus one GA breeding step (O(P^2)); one identify call per model
+ * validated (pdt_validate_model: O(n) per parameter, O(20 n) and
+ * O(78 n) for the residual tests); each tune call, one pdt_tune_compute
+ * (a few thousand loop evaluations, see pdt_tune.h) and one
+ * pdt_validate_margin (200 frequencies), at most 9 tune calls.
+ *
+ * Decisions by evidence (docs/autotune.md): the model is validated
+ * against the record (residual tests, parameter covariance), with
+ * order_auto a FOPDT and a SOPDT are identified and the data choose, and
+ * the gains must keep the robust Ms bound at most ms_robust, the knob
+ * raised until they do; else PDT_ERR_MODEL_INVALID or PDT_ERR_UNCERTAIN.
  */
 #ifndef PDT_AUTOTUNE_H
 #define PDT_AUTOTUNE_H
@@ -115,7 +124,8 @@ typedef struct pdt_autotune_result {
     pdt_status_t status;      /* PDT_OK, or why it failed: an abort
                                * (PDT_ERR_PV_LIMIT, ...), data that could
                                * not support a model, or refused gains
-                               * (PDT_ERR_POOR_FIT, PDT_ERR_UNSTABLE) */
+                               * (PDT_ERR_MODEL_INVALID, PDT_ERR_UNCERTAIN,
+                               * PDT_ERR_POOR_FIT, PDT_ERR_UNSTABLE) */
     pdt_autotune_phase_t failed_in; /* the phase that failed (when it did) */
     bool has_model;           /* the identification finished */
     pdt_ident_result_t ident; /* the model, fit and operating point */
