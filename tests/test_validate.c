@@ -5,6 +5,7 @@
  * choice, the robust bound, and the statuses.
  */
 #include "test_util.h"
+#include "validate_vectors.h"
 
 #define N 400u
 #define TS 0.5
@@ -343,9 +344,68 @@ static void test_status_names(void **state)
                         "model too uncertain for robust gains");
 }
 
+/* Against the numpy reference (tools/pdtref/validate.py): its sensitivities
+ * are central differences in double, the library's forward differences in
+ * the build's real type, so the std agrees to the differences' truncation
+ * (about 1e-3) rather than to rounding. */
+static void test_vectors(void **state)
+{
+    (void)state;
+    static pdt_real_t u[VAL_VEC_N], y[VAL_VEC_N];
+    for (int c = 0; c < VAL_VEC_COUNT; c++) {
+        const double *p = &val_vec_par[5 * c];
+        pdt_model_t m;
+        memset(&m, 0, sizeof m);
+        if (val_vec_kind[c] == 1) {
+            m = fopdt(p[0], p[1], p[2]);
+        } else {
+            m.kind = PDT_MODEL_SOPDT;
+            m.p.sopdt = (pdt_model_sopdt_t){(pdt_real_t)p[0], (pdt_real_t)p[1], (pdt_real_t)p[2],
+                                            (pdt_real_t)p[3]};
+        }
+        double y0 = p[4];
+        for (int k = 0; k < VAL_VEC_N; k++) {
+            u[k] = (pdt_real_t)val_vec_u[VAL_VEC_N * c + k];
+            y[k] = (pdt_real_t)val_vec_y[VAL_VEC_N * c + k];
+        }
+        pdt_ident_data_t data = {u, y, VAL_VEC_N};
+        pdt_validate_result_t v;
+        assert_int_equal(pdt_validate_model(&m, &data, (pdt_real_t)VAL_VEC_TS, (pdt_real_t)y0,
+                                            g_work, sizeof(pdt_real_t) * 5u * N, &v),
+                         PDT_OK);
+        const double *o = &val_vec_out[VAL_VEC_NOUT * c];
+        assert_close(v.sigma, o[0], 1e-3, 0.0);
+        assert_close(v.aic, o[1], 0.0, 0.05);
+        assert_close(v.bic, o[2], 0.0, 0.05);
+        assert_close(v.white_stat, o[3], 2e-2, 0.0);
+        assert_close(v.inflation, o[4], 1e-2, 0.0);
+        assert_close(v.cross_stat, o[5], 3e-2, 0.05);
+        assert_int_equal(v.fir_lag, (uint32_t)o[6]);
+        double fmax = 0.0;
+        for (uint32_t j = 0; j < PDT_VALIDATE_FIR; j++) {
+            fmax = fmax > fabs(o[7 + j]) ? fmax : fabs(o[7 + j]);
+        }
+        for (uint32_t j = 0; j < PDT_VALIDATE_FIR; j++) {
+            assert_close(v.fir[j], o[7 + j], 2e-2, 2e-3 * fmax);
+        }
+        for (uint32_t i = 0; i < v.std.count; i++) {
+            assert_close(v.std.std[i], o[7 + PDT_VALIDATE_FIR + i], 2e-2, 0.0);
+        }
+        const double *gg = &val_vec_gains[4 * c];
+        pdt_tune_gains_t g = {(pdt_real_t)gg[0], (pdt_real_t)gg[1], (pdt_real_t)gg[2],
+                              (pdt_real_t)gg[3]};
+        pdt_real_t ms;
+        assert_int_equal(pdt_validate_margin(&v, (pdt_real_t)0.0, &g, &ms, NULL), PDT_OK);
+        assert_close(ms, o[VAL_VEC_NOUT - 1], 1e-2, 0.0);
+        print_message("validate vector %d: sigma %.4g cross %.4g white %.4g Ms bound %.4g\n", c,
+                      (double)v.sigma, (double)v.cross_stat, (double)v.white_stat, (double)ms);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_vectors),
         cmocka_unit_test(test_true_model_accepted),
         cmocka_unit_test(test_wrong_model_rejected),
         cmocka_unit_test(test_std_monte_carlo),
