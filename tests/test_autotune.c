@@ -150,6 +150,20 @@ static void work_check(const pdt_autotune_config_t *c)
     canary_check(g_work + reals, CANARY_COUNT);
 }
 
+/* The autotune's shared part of the workspace with order_auto: the
+ * largest of both identifications' and the validation's. */
+static size_t share(const pdt_ident_config_t *ic, size_t cap)
+{
+    pdt_ident_config_t a = *ic;
+    a.model = PDT_MODEL_FOPDT;
+    size_t f = pdt_ident_workspace_size(&a, cap);
+    a.model = PDT_MODEL_SOPDT;
+    size_t s = pdt_ident_workspace_size(&a, cap);
+    size_t v = pdt_validate_workspace_size(cap);
+    size_t m = f > s ? f : s;
+    return m > v ? m : v;
+}
+
 static void base_config(pdt_autotune_config_t *c, double Ts, uint32_t dec, size_t cap,
                         pdt_excite_kind_t kind, pdt_model_kind_t model)
 {
@@ -399,24 +413,77 @@ static void test_fopdt_prbs_decimated(void **state)
     assert_fopdt(&r, 2.0, 10.0, 3.0, 0.03);
 }
 
+/* The SOPDT plant of the pulse tests and its experiment: one pulse,
+ * decimation 2. */
+static void pulse_setup(pdt_autotune_config_t *c, plant_t *p, pdt_model_t *m,
+                        pdt_model_kind_t model)
+{
+    base_config(c, 0.5, 2u, 300u, PDT_EXCITE_PULSE, model);
+    c->excite.amplitude = R(4.0);
+    c->excite.t_on = R(40.0);
+    c->excite.t_off = R(0.0);
+    c->excite.count = 1u;
+    *m = sopdt_tc(1.5, 8.0, 3.0, 2.0);
+    plant_init(p, m, 0.5, 50.0, 10.0, 0.03, 5u);
+}
+
 /* A SOPDT, one pulse, decimation 2. */
 static void test_sopdt_pulse(void **state)
 {
     (void)state;
     pdt_autotune_config_t c;
-    base_config(&c, 0.5, 2u, 300u, PDT_EXCITE_PULSE, PDT_MODEL_SOPDT);
-    c.excite.amplitude = R(4.0);
-    c.excite.t_on = R(40.0);
-    c.excite.t_off = R(0.0);
-    c.excite.count = 1u;
     plant_t p;
-    pdt_model_t m = sopdt_tc(1.5, 8.0, 3.0, 2.0);
-    plant_init(&p, &m, 0.5, 50.0, 10.0, 0.03, 5u);
+    pdt_model_t m;
+    pulse_setup(&c, &p, &m, PDT_MODEL_SOPDT);
     run_t r;
     run_autotune(&g_at, &c, &p, R(50.0), 100000u, NULL, &r);
     report("SOPDT pulse, decimation 2", &r);
     assert_success(&g_at, &c, &r, 1.5);
     assert_sopdt(&r, &m, 0.04);
+}
+
+static void step_setup(pdt_autotune_config_t *c, plant_t *p, double noise_sd);
+
+/* The order chosen by the data (order_auto): the SOPDT plant of the pulse
+ * test keeps a SOPDT, the FOPDT plant of the step test a FOPDT; either way
+ * the model is validated and the gains pass the robust bound. */
+static void test_order_auto(void **state)
+{
+    (void)state;
+    pdt_autotune_config_t c;
+    plant_t p;
+    pdt_model_t m;
+    pulse_setup(&c, &p, &m, PDT_MODEL_FOPDT);
+    c.order_auto = true;
+    run_t r;
+    run_autotune(&g_at, &c, &p, R(50.0), 100000u, NULL, &r);
+    report("order auto, SOPDT plant", &r);
+    assert_success(&g_at, &c, &r, 1.5);
+    assert_int_equal(r.res.ident.model.kind, PDT_MODEL_SOPDT);
+    assert_true(r.res.has_valid && r.res.valid.model.kind == PDT_MODEL_SOPDT);
+    assert_true(r.res.bic_other > r.res.valid.bic);
+    assert_true(r.res.ms_robust >= r.res.tune.fig.Ms * R(0.98) && r.res.ms_robust <= c.ms_robust);
+    assert_sopdt(&r, &m, 0.04);
+
+    step_setup(&c, &p, 0.05);
+    c.ident.model = PDT_MODEL_SOPDT; /* ignored: the data choose */
+    c.order_auto = true;
+    run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
+    report("order auto, FOPDT plant", &r);
+    assert_success(&g_at, &c, &r, 2.0);
+    assert_int_equal(r.res.ident.model.kind, PDT_MODEL_FOPDT);
+    assert_fopdt(&r, 2.0, 10.0, 3.0, 0.03);
+    /* The parameter std is small against the parameters here. */
+    assert_true(r.res.valid.std.count == 4u);
+    assert_true(r.res.valid.std.std[0] < R(0.05) && r.res.valid.std.std[1] < R(0.5));
+
+    /* Neither the order choice nor the robust bound: no validation. */
+    step_setup(&c, &p, 0.05);
+    c.ms_robust = R(0.0);
+    run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
+    assert_success(&g_at, &c, &r, 2.0);
+    assert_false(r.res.has_valid);
+    assert_true(r.res.detune == R(1.0));
 }
 
 /* The same SOPDT, a chirp, no decimation, PID. */
@@ -490,7 +557,8 @@ static void reverse_relay(uint32_t dec, double Ts, double rtol, run_t *r)
     assert_success(&g_at, &c, r, -1.5);
     assert_fopdt(r, -1.5, 6.0, 1.5, rtol);
     assert_true(r->res.has_relay);
-    assert_int_equal(r->res.relay.cycles, 3u);
+    /* The relay ends at its first symmetric cycle (relay_settle). */
+    assert_int_equal(r->res.relay.cycles, 1u);
     assert_true((double)r->res.relay.Pu > 0.0 && (double)r->res.relay.Ku > 0.0);
 }
 
@@ -725,9 +793,21 @@ static void test_poor_fit(void **state)
     plant_t p;
     run_t r;
     step_setup(&c, &p, 5.0);
+    /* By default the evidence decides: gains only if robust over what the
+     * data leave uncertain. */
     run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
-    print_message("heavy noise: %s, fit %.3g%%\n", pdt_status_str(r.st),
-                  (double)r.res.ident.fit);
+    print_message("heavy noise: %s, fit %.3g%%, robust Ms bound %.3g, detune %.3g\n",
+                  pdt_status_str(r.st), (double)r.res.ident.fit, (double)r.res.ms_robust,
+                  (double)r.res.detune);
+    assert_true(r.st == PDT_OK || r.st == PDT_ERR_UNCERTAIN || r.st == PDT_ERR_MODEL_INVALID);
+    assert_true(r.res.has_valid);
+    if (r.st == PDT_OK) {
+        assert_true(r.res.ms_robust <= c.ms_robust);
+    }
+    /* fit_min, when set, refuses at once. */
+    step_setup(&c, &p, 5.0);
+    c.tune.fit_min = R(80.0);
+    run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
     assert_failed(&g_at, &r, PDT_ERR_POOR_FIT, PDT_AUTOTUNE_TUNE, 30.0);
     assert_true(r.res.has_model);
     assert_true((double)r.res.ident.fit < (double)c.tune.fit_min);
@@ -748,6 +828,8 @@ static void sp_model(pdt_autotune_config_t *c) { c->ident.model = (pdt_model_kin
 static void sp_pop(pdt_autotune_config_t *c) { c->ident.population = 3u; }
 static void sp_amp0(pdt_autotune_config_t *c) { c->excite.amplitude = R(0.0); }
 static void sp_kind(pdt_autotune_config_t *c) { c->excite.kind = (pdt_excite_kind_t)9; }
+static void sp_msrob(pdt_autotune_config_t *c) { c->ms_robust = R(1.0); }
+static void sp_agree(pdt_autotune_config_t *c) { c->relay_agree = R(0.5); }
 static void sp_u_inv(pdt_autotune_config_t *c) { c->u_min = R(101.0); }
 static void sp_pv_inv(pdt_autotune_config_t *c) { c->pv_min = R(2000.0); }
 static void sp_cap(pdt_autotune_config_t *c) { c->capacity = c->settle + PDT_MIN_SAMPLES - 1u; }
@@ -764,6 +846,7 @@ static void test_bad_inputs(void **state)
         {sp_pvmax_nan, PDT_ERR_ARG},  {sp_model, PDT_ERR_ARG},    {sp_pop, PDT_ERR_ARG},
         {sp_amp0, PDT_ERR_ARG},       {sp_kind, PDT_ERR_ARG},     {sp_u_inv, PDT_ERR_BOUNDS},
         {sp_pv_inv, PDT_ERR_BOUNDS},  {sp_cap, PDT_ERR_TOO_SHORT},
+        {sp_msrob, PDT_ERR_ARG},      {sp_agree, PDT_ERR_ARG},
     };
     pdt_autotune_config_t good, c;
     plant_t p;
@@ -803,13 +886,27 @@ static void test_bad_inputs(void **state)
     assert_int_equal(pdt_autotune_workspace_size(NULL), 0u);
     pdt_ident_config_t ic = good.ident;
     ic.Ts = good.Ts;
-    assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) +
-                               pdt_ident_workspace_size(&ic, good.capacity));
     c = good;
+    c.order_auto = true;
+    assert_int_equal(pdt_autotune_workspace_size(&c),
+                     2u * c.capacity * sizeof(pdt_real_t) + share(&ic, c.capacity));
     c.decimation = 3u;
     ic.Ts = R(1.5);
     assert_int_equal(pdt_autotune_workspace_size(&c),
-                     2u * c.capacity * sizeof(pdt_real_t) + pdt_ident_workspace_size(&ic, c.capacity));
+                     2u * c.capacity * sizeof(pdt_real_t) + share(&ic, c.capacity));
+    c.order_auto = false;
+    ic.model = c.ident.model;
+    size_t only = pdt_ident_workspace_size(&ic, c.capacity);
+    size_t val = pdt_validate_workspace_size(c.capacity);
+    assert_int_equal(pdt_autotune_workspace_size(&c),
+                     2u * c.capacity * sizeof(pdt_real_t) + (only > val ? only : val));
+    /* No validation asked for: the identification's share alone. */
+    c.ms_robust = R(0.0);
+    assert_int_equal(pdt_autotune_workspace_size(&c),
+                     2u * c.capacity * sizeof(pdt_real_t) + only);
+    ic.Ts = good.Ts;
+    only = pdt_ident_workspace_size(&ic, good.capacity);
+    assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) + (only > val ? only : val));
     /* exactly the size asked for works */
     assert_int_equal(pdt_autotune_init(&at, &good, R(30.0), g_work, need), PDT_OK);
 
@@ -857,6 +954,9 @@ static void test_defaults(void **state)
     assert_true(c.pv_min < R(-1e30) && c.pv_max > R(1e30));
     assert_int_equal(c.ident.model, PDT_MODEL_FOPDT);
     assert_int_equal(c.tune.rule, PDT_TUNE_SIMC);
+    assert_true(c.tune.fit_min == R(0.0));
+    assert_false(c.order_auto);
+    assert_true(c.ms_robust == R(2.0) && c.relay_agree == R(2.0));
     /* Ts and capacity must be set: the defaults alone are refused */
     assert_int_equal(pdt_autotune_workspace_size(&c), 0u);
     c.Ts = R(1.0);
@@ -872,6 +972,7 @@ int main(void)
         cmocka_unit_test(test_fopdt_prbs_decimated),
         cmocka_unit_test(test_sopdt_pulse),
         cmocka_unit_test(test_sopdt_chirp),
+        cmocka_unit_test(test_order_auto),
         cmocka_unit_test(test_integrating_pulse),
         cmocka_unit_test(test_reverse_relay),
         cmocka_unit_test(test_pv_limit_experiment),

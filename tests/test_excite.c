@@ -57,6 +57,7 @@ static pdt_excite_config_t case_config(int i)
     c.action = (pdt_excite_action_t)(int)p[EXC_P_ACTION];
     c.relay_skip = (uint32_t)p[EXC_P_RELAY_SKIP];
     c.relay_cycles = (uint32_t)p[EXC_P_RELAY_CYCLES];
+    c.relay_settle = R(0.0); /* the reference measures every cycle */
     return c;
 }
 
@@ -71,6 +72,8 @@ static void test_defaults(void **state)
     assert_true(c.amplitude == R(1.0));
     assert_int_equal(c.prbs_bits, 7);
     assert_int_equal(c.relay_cycles, 3);
+    assert_int_equal(c.relay_skip, 0);
+    assert_true(c.relay_settle == R(0.1));
     assert_false(c.clamp);
     /* defaults work once Ts is set (the chirp needs its sweep too) */
     pdt_excite_t g;
@@ -269,6 +272,7 @@ static void relay_fopdt(pdt_real_t eps, double *Ku, double *Pu, double *a_out)
     c.setpoint = R(0.0);
     c.relay_skip = 2;
     c.relay_cycles = 4;
+    c.relay_settle = R(0.0);
     assert_int_equal(pdt_excite_init(&g, &c), PDT_OK);
     /* y(k) = -a0 y(k-1) + b0 u(k-1-l) + b1 u(k-2-l) + b2 u(k-3-l) */
     size_t n = 0;

@@ -1284,26 +1284,9 @@ static void test_workspace_canaries(void **state)
     }
 }
 
-/* Every status has its own name; one past the last has none. */
-static void test_status_names(void **state)
-{
-    (void)state;
-    for (int a = PDT_ERR_OUTLIER; a <= PDT_RUNNING; a++) {
-        const char *na = pdt_status_str((pdt_status_t)a);
-        assert_non_null(na);
-        assert_string_not_equal(na, "unknown status");
-        for (int b = PDT_ERR_OUTLIER; b < a; b++) {
-            assert_string_not_equal(na, pdt_status_str((pdt_status_t)b));
-        }
-    }
-    assert_string_equal(pdt_status_str((pdt_status_t)(PDT_ERR_OUTLIER - 1)),
-                        "unknown status");
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_status_names),
         cmocka_unit_test(test_errors_pointers),
         cmocka_unit_test(test_errors_config),
         cmocka_unit_test(test_errors_data),

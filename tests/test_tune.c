@@ -450,7 +450,10 @@ static void test_refusals(void **state)
     canary_fill(out.canary, CANARY_COUNT);
     before = out.r;
 
-    /* fit below the threshold, and just at it */
+    /* fit below the threshold, and just at it (the default is off) */
+    assert_int_equal(pdt_tune_compute(&m, TR(10.0), &c, &out.r), PDT_OK);
+    out.r = before;
+    c.fit_min = TR(80.0);
     assert_int_equal(pdt_tune_compute(&m, TR(79.9), &c, &out.r), PDT_ERR_POOR_FIT);
     assert_memory_equal(&out.r, &before, sizeof before);
     c.fit_min = TR(50.0);
@@ -475,20 +478,32 @@ static void test_refusals(void **state)
     assert_int_equal(pdt_tune_compute(&d, TR(100.0), &c, &out.r), PDT_ERR_UNSTABLE);
     assert_memory_equal(&out.r, &before, sizeof before);
 
-    /* no form: complex poles with PI rules, AMIGO; ZN without dead time */
+    /* complex poles: the PI rules and AMIGO see the half rule of the pair
+     * split by its real part; ZN without dead time has no form */
     pdt_model_natural_t nat = {TR(1.0), TR(1.0), TR(0.4), TR(0.5)};
     pdt_model_t u;
     memset(&u, 0, sizeof u);
     u.kind = PDT_MODEL_SOPDT;
     assert_int_equal(pdt_model_sopdt_from_natural(&nat, &u.p.sopdt), PDT_OK);
     const pdt_tune_rule_t rules[3] = {PDT_TUNE_SIMC, PDT_TUNE_IMC, PDT_TUNE_AMIGO};
+    pdt_model_natural_t nat8 = {TR(1.0), TR(1.0), TR(0.8), TR(0.5)};
+    pdt_model_t u8 = u;
+    assert_int_equal(pdt_model_sopdt_from_natural(&nat8, &u8.p.sopdt), PDT_OK);
     for (int i = 0; i < 3; i++) {
         c = config(rules[i], PDT_TUNE_PI);
-        assert_int_equal(pdt_tune_compute(&u, TR(100.0), &c, &out.r), PDT_ERR_NO_FORM);
-        assert_memory_equal(&out.r, &before, sizeof before);
+        assert_int_equal(pdt_tune_compute(&u8, TR(100.0), &c, &out.r), PDT_OK);
+        assert_true(out.r.ideal.tauD == TR(0.0));
+        out.r = before;
     }
+    /* SIMC PI: re = a / (2 b) = zeta / wn = 0.8, tau = 1.2, theta = 0.9 */
+    c = config(PDT_TUNE_SIMC, PDT_TUNE_PI);
+    assert_int_equal(pdt_tune_compute(&u8, TR(100.0), &c, &out.r), PDT_OK);
+    assert_true(fabs((double)out.r.ideal.Kc - 1.2 / 1.8) < 1e-5);
+    assert_true(fabs((double)out.r.ideal.tauI - 1.2) < 1e-5);
+    out.r = before;
     c = config(PDT_TUNE_AMIGO, PDT_TUNE_PID);
-    assert_int_equal(pdt_tune_compute(&u, TR(100.0), &c, &out.r), PDT_ERR_NO_FORM);
+    assert_int_equal(pdt_tune_compute(&u8, TR(100.0), &c, &out.r), PDT_OK);
+    out.r = before;
     c = config(PDT_TUNE_SIMC, PDT_TUNE_PID);
     assert_int_equal(pdt_tune_compute(&u, TR(100.0), &c, &out.r), PDT_OK);
     assert_false(out.r.series_exists);
@@ -615,7 +630,7 @@ static void test_config_default(void **state)
     assert_int_equal(c.form, PDT_TUNE_PI);
     assert_true(c.tau_c == TR(0.0) && c.lambda == TR(0.0));
     assert_true(c.deriv_filter == TR(10.0));
-    assert_true(c.fit_min == TR(80.0));
+    assert_true(c.fit_min == TR(0.0));
     assert_true(c.ms_max == TR(2.0));
     pdt_tune_config_default(NULL);
 

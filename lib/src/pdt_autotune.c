@@ -30,7 +30,22 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg)
     cfg->move = PDT_RECORD_MOVE_ANY;
     pdt_ident_config_default(&cfg->ident);
     pdt_tune_config_default(&cfg->tune);
+    cfg->order_auto = false;
+    cfg->ms_robust = PDT_R(2.0);
+    cfg->relay_agree = PDT_R(2.0);
 }
+
+static pdt_real_t rmax0(pdt_real_t x)
+{
+    return x > PDT_R(0.0) ? x : PDT_R(0.0);
+}
+
+/* The knob factors the tuning tries, in order, until the evidence accepts
+ * the gains: a slower closed loop each time. */
+static const pdt_real_t detune_steps[] = {
+    PDT_R(1.0), PDT_R(1.5), PDT_R(2.0), PDT_R(3.0), PDT_R(4.0),
+    PDT_R(6.0), PDT_R(8.0), PDT_R(12.0), PDT_R(16.0)};
+#define DETUNE_STEPS (sizeof detune_steps / sizeof detune_steps[0])
 
 /* The identification's config: the caller's, at the identification rate. */
 static pdt_ident_config_t ident_config(const pdt_autotune_config_t *cfg)
@@ -46,6 +61,12 @@ static pdt_status_t check_config(const pdt_autotune_config_t *cfg)
         cfg->settle == 0u || cfg->evals_per_scan == 0u) {
         return PDT_ERR_ARG;
     }
+    if (!pdt_finite(cfg->ms_robust) ||
+        (cfg->ms_robust != PDT_R(0.0) && !(cfg->ms_robust > PDT_R(1.0))) ||
+        !pdt_finite(cfg->relay_agree) ||
+        (cfg->relay_agree != PDT_R(0.0) && !(cfg->relay_agree >= PDT_R(1.0)))) {
+        return PDT_ERR_ARG;
+    }
     if (!pdt_finite(cfg->u_min) || !pdt_finite(cfg->u_max) || !pdt_finite(cfg->pv_min) ||
         !pdt_finite(cfg->pv_max)) {
         return PDT_ERR_ARG;
@@ -59,12 +80,29 @@ static pdt_status_t check_config(const pdt_autotune_config_t *cfg)
     return PDT_OK;
 }
 
+/* Whether the model is validated: the order choice and the robust bound
+ * need it; without either, the validation's workspace is not asked for. */
+static bool validates(const pdt_autotune_config_t *cfg)
+{
+    return cfg->order_auto || cfg->ms_robust > PDT_R(0.0);
+}
+
 /* Bytes of the identification's part, for capacity samples. The size grows
  * with the record length, so it covers any shorter record. */
 static size_t ident_bytes(const pdt_autotune_config_t *cfg)
 {
     pdt_ident_config_t ic = ident_config(cfg);
-    return pdt_ident_workspace_size(&ic, cfg->capacity);
+    size_t b = pdt_ident_workspace_size(&ic, cfg->capacity);
+    if (cfg->order_auto) {
+        ic.model = ic.model == PDT_MODEL_FOPDT ? PDT_MODEL_SOPDT : PDT_MODEL_FOPDT;
+        size_t b2 = pdt_ident_workspace_size(&ic, cfg->capacity);
+        if (b == 0u || b2 == 0u) {
+            return 0u;
+        }
+        b = b2 > b ? b2 : b;
+    }
+    size_t v = validates(cfg) ? pdt_validate_workspace_size(cfg->capacity) : 0u;
+    return b == 0u ? 0u : (v > b ? v : b);
 }
 
 size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg)
@@ -154,7 +192,11 @@ pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *
     at->tail_end = 0u;
     at->excite_over = false;
     at->ident_started = false;
+    at->stage = 0u;
+    at->tune_try = 0u;
+    at->tune_why = PDT_OK;
     at->res = (pdt_autotune_result_t){0};
+    at->res.detune = PDT_R(1.0);
     at->res.status = PDT_RUNNING;
     at->magic = AUTOTUNE_MAGIC;
     return PDT_OK;
@@ -243,35 +285,94 @@ static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_
     return PDT_RUNNING;
 }
 
+/* The model each identification stage fits. */
+static pdt_model_kind_t stage_model(const pdt_autotune_t *at)
+{
+    if (!at->cfg.order_auto) {
+        return at->cfg.ident.model;
+    }
+    return at->stage == 0u ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+}
+
+/* The recorder pairs the output of an interval's first scan with the mean
+ * process value over its scans, which lags that output by
+ * (decimation - 1) / 2 scans less than a point sample would: the model saw
+ * that much less dead time than the process has. */
+static pdt_real_t dead_time_shift(const pdt_autotune_t *at)
+{
+    return at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5);
+}
+
+/* Identification stages: 0 (and 1 with order_auto) identify, one model
+ * at a time in the same workspace; then one validation per scan; then the
+ * choice of order. */
 static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
 {
     pdt_status_t st;
     *u = at->u_hold;
-    if (!at->ident_started) {
-        pdt_ident_config_t ic = ident_config(&at->cfg);
-        pdt_ident_data_t data = {at->u, at->y, at->res.samples};
-        st = pdt_ident_init(&at->ident, &ic, &data, at->ident_work, at->ident_work_len);
+    const uint32_t models = at->cfg.order_auto ? 2u : 1u;
+    const pdt_ident_data_t data = {at->u, at->y, at->res.samples};
+    if (at->stage < models) {
+        if (!at->ident_started) {
+            pdt_ident_config_t ic = ident_config(&at->cfg);
+            ic.model = stage_model(at);
+            st = pdt_ident_init(&at->ident, &ic, &data, at->ident_work, at->ident_work_len);
+            if (st != PDT_OK) {
+                return fail(at, st, u);
+            }
+            at->ident_started = true;
+            return PDT_RUNNING;
+        }
+        st = pdt_ident_step(&at->ident, at->cfg.evals_per_scan);
+        if (st == PDT_RUNNING) {
+            return PDT_RUNNING;
+        }
+        if (st == PDT_OK) {
+            st = pdt_ident_result(&at->ident, at->stage == 0u ? &at->first : &at->res.ident);
+        }
         if (st != PDT_OK) {
             return fail(at, st, u);
         }
-        at->ident_started = true;
+        if (models == 1u) {
+            at->res.ident = at->first;
+        }
+        at->ident_started = false;
+        at->stage++;
         return PDT_RUNNING;
     }
-    st = pdt_ident_step(&at->ident, at->cfg.evals_per_scan);
-    if (st == PDT_RUNNING) {
+    /* Validation, one model per scan, in the identification's workspace
+     * (free now). */
+    const uint32_t v = at->stage - models;
+    if (v < models && validates(&at->cfg)) {
+        const pdt_ident_result_t *ir = v == 0u ? &at->first : &at->res.ident;
+        pdt_validate_result_t *vr = v == 0u ? &at->first_valid : &at->res.valid;
+        st = pdt_validate_model(&ir->model, &data, ident_config(&at->cfg).Ts, ir->y0,
+                                at->ident_work, at->ident_work_len, vr);
+        if (st != PDT_OK) {
+            return fail(at, st, u);
+        }
+        at->stage++;
         return PDT_RUNNING;
     }
-    if (st == PDT_OK) {
-        st = pdt_ident_result(&at->ident, &at->res.ident);
+    if (models == 1u) {
+        at->res.valid = at->first_valid;
+        at->res.has_valid = validates(&at->cfg);
+    } else {
+        pdt_model_kind_t kind;
+        st = pdt_ident_select_order(&at->first_valid, &at->res.valid, &kind);
+        if (st != PDT_OK) {
+            return fail(at, st, u);
+        }
+        if (kind == PDT_MODEL_FOPDT) {
+            at->res.bic_other = at->res.valid.bic;
+            at->res.ident = at->first;
+            at->res.valid = at->first_valid;
+        } else {
+            at->res.bic_other = at->first_valid.bic;
+        }
+        at->res.has_valid = true;
     }
-    if (st != PDT_OK) {
-        return fail(at, st, u);
-    }
-    /* The recorder pairs the output of an interval's first scan with the
-     * mean process value over its scans, which lags that output by
-     * (decimation - 1) / 2 scans less than a point sample would: the model
-     * saw that much less dead time than the process has. */
-    pdt_real_t shift = at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5);
+    pdt_real_t shift = dead_time_shift(at);
     if (at->res.ident.model.kind == PDT_MODEL_FOPDT) {
         at->res.ident.model.p.fopdt.Td += shift;
     } else {
@@ -282,18 +383,103 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
     return PDT_RUNNING;
 }
 
+/* Whether the model passes through the point of its frequency response
+ * the relay measured: a relay of half swing d and hysteresis eps that
+ * cycles with amplitude a and period Pu says, by its describing function,
+ * G(j 2 pi / Pu) = -(pi a / (4 d)) e^{j asin(eps / a)}. The magnitudes must
+ * agree within the factor relay_agree, the phases within
+ * 45 degrees x (relay_agree - 1). */
+static bool relay_agrees(const pdt_autotune_t *at)
+{
+    const pdt_excite_relay_t *rl = &at->res.relay;
+    if (!at->res.has_relay || at->cfg.relay_agree == PDT_R(0.0) || !(rl->Pu > PDT_R(0.0)) ||
+        !(rl->a > PDT_R(0.0)) || !(rl->d > PDT_R(0.0))) {
+        return true;
+    }
+    pdt_real_t w = PDT_R(2.0) * PDT_PI / rl->Pu;
+    pdt_real_t mag, ph;
+    if (pdt_model_freq(&at->res.ident.model, &w, 1u, &mag, &ph) != PDT_OK || !(mag > PDT_R(0.0))) {
+        return true;
+    }
+    pdt_real_t gain;
+    if (pdt_model_dc_gain(&at->res.ident.model, &gain) == PDT_OK && gain < PDT_R(0.0)) {
+        ph += PDT_PI; /* the relay's action took the sign out */
+    } else if (at->res.ident.model.kind == PDT_MODEL_SOPDT && at->res.ident.model.p.sopdt.k <
+                                                                  PDT_R(0.0)) {
+        ph += PDT_PI;
+    }
+    pdt_real_t x = at->cfg.excite.eps / rl->a;
+    pdt_real_t ph_relay = -PDT_PI + pdt_atan2(x, pdt_sqrt(rmax0(PDT_R(1.0) - x * x)));
+    pdt_real_t r = mag * PDT_R(4.0) * rl->d / (PDT_PI * rl->a);
+    pdt_real_t f = at->cfg.relay_agree;
+    pdt_real_t dph = ph - ph_relay;
+    while (dph > PDT_PI) {
+        dph -= PDT_R(2.0) * PDT_PI;
+    }
+    while (dph < -PDT_PI) {
+        dph += PDT_R(2.0) * PDT_PI;
+    }
+    pdt_real_t ph_tol = PDT_PI / PDT_R(4.0) * (f - PDT_R(1.0));
+    return r <= f && r >= PDT_R(1.0) / f && pdt_fabs(dph) <= ph_tol;
+}
+
+/* One knob factor per scan: the rule's gains with the knob scaled, checked
+ * on the model (Ms <= ms_max, stable) and against the evidence (robust
+ * bound <= ms_robust). */
 static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
 {
     *u = at->u_hold;
-    pdt_status_t st = pdt_tune_compute(&at->res.ident.model, at->res.ident.fit, &at->cfg.tune,
-                                       &at->res.tune);
-    if (st != PDT_OK) {
+    const pdt_tune_config_t *tc = &at->cfg.tune;
+    if (at->tune_try == 0u) {
+        if (!pdt_finite(at->res.ident.fit) || at->res.ident.fit < tc->fit_min) {
+            return fail(at, pdt_finite(tc->fit_min) ? PDT_ERR_POOR_FIT : PDT_ERR_ARG, u);
+        }
+        if (!relay_agrees(at)) {
+            return fail(at, PDT_ERR_MODEL_INVALID, u);
+        }
+    }
+    const bool knob = tc->rule == PDT_TUNE_SIMC || tc->rule == PDT_TUNE_IMC;
+    pdt_tune_config_t c = *tc;
+    c.ms_max = PDT_R(0.0);
+    c.fit_min = PDT_R(0.0);
+    const pdt_real_t base = tc->detune > PDT_R(0.0) ? tc->detune : PDT_R(1.0);
+    pdt_real_t f = detune_steps[at->tune_try];
+    c.detune = base * f;
+    pdt_tune_result_t r;
+    pdt_status_t st = pdt_tune_compute(&at->res.ident.model, at->res.ident.fit, &c, &r);
+    if (st != PDT_OK && st != PDT_ERR_UNSTABLE) {
         return fail(at, st, u);
     }
-    at->res.has_gains = true;
-    at->res.status = PDT_OK;
-    at->phase = PDT_AUTOTUNE_DONE;
-    return PDT_OK;
+    pdt_real_t ms = PDT_R(0.0);
+    bool fir = false;
+    if (st == PDT_OK && tc->ms_max > PDT_R(0.0) && r.fig.Ms > tc->ms_max) {
+        st = PDT_ERR_POOR_FIT;
+    }
+    if (st == PDT_OK && at->cfg.ms_robust > PDT_R(0.0)) {
+        if (pdt_validate_margin(&at->res.valid, dead_time_shift(at), &r.ideal, &ms, &fir) !=
+            PDT_OK) {
+            ms = (pdt_real_t)INFINITY;
+        }
+        if (!(ms <= at->cfg.ms_robust)) {
+            st = fir ? PDT_ERR_MODEL_INVALID : PDT_ERR_UNCERTAIN;
+        }
+    }
+    if (st == PDT_OK) {
+        at->res.tune = r;
+        at->res.ms_robust = ms;
+        at->res.detune = c.detune;
+        at->res.has_gains = true;
+        at->res.status = PDT_OK;
+        at->phase = PDT_AUTOTUNE_DONE;
+        return PDT_OK;
+    }
+    at->tune_why = st;
+    at->tune_try++;
+    /* Without a knob (AMIGO, ZN) there is nothing to scale. */
+    if (!knob || at->tune_try >= DETUNE_STEPS) {
+        return fail(at, st, u);
+    }
+    return PDT_RUNNING;
 }
 
 pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)

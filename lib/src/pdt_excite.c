@@ -55,8 +55,9 @@ void pdt_excite_config_default(pdt_excite_config_t *cfg, pdt_excite_kind_t kind)
     cfg->bias = PDT_R(0.0);
     cfg->eps = PDT_R(0.0);
     cfg->action = PDT_EXCITE_REVERSE;
-    cfg->relay_skip = 1u;
+    cfg->relay_skip = 0u;
     cfg->relay_cycles = 3u;
+    cfg->relay_settle = PDT_R(0.1);
 }
 
 static pdt_real_t clamp_to(pdt_real_t x, pdt_real_t lo, pdt_real_t hi)
@@ -116,7 +117,9 @@ static bool config_valid(const pdt_excite_config_t *c)
         return pdt_finite(c->setpoint) && pdt_finite(c->d) && c->d > PDT_R(0.0)
                && pdt_finite(c->bias) && pdt_finite(c->eps) && c->eps >= PDT_R(0.0)
                && (c->action == PDT_EXCITE_REVERSE || c->action == PDT_EXCITE_DIRECT)
-               && c->relay_cycles >= 1u && c->relay_cycles <= PDT_EXCITE_RELAY_MAX_CYCLES;
+               && c->relay_cycles >= 1u && c->relay_cycles <= PDT_EXCITE_RELAY_MAX_CYCLES
+               && pdt_finite(c->relay_settle) && c->relay_settle >= PDT_R(0.0)
+               && c->relay_settle < PDT_R(1.0);
     default:
         return false;
     }
@@ -171,6 +174,7 @@ pdt_status_t pdt_excite_init(pdt_excite_t *gen, const pdt_excite_config_t *cfg)
     g.high = false;
     g.rose = false;
     g.since_rise = 0u;
+    g.fall_at = 0u;
     g.seen = 0u;
     g.stored = 0u;
     g.pv_max = PDT_R(0.0);
@@ -249,6 +253,22 @@ pdt_status_t pdt_excite_init(pdt_excite_t *gen, const pdt_excite_config_t *cfg)
     return PDT_OK;
 }
 
+/* Whether the cycle that ends now is the limit cycle: from rest, the first
+ * cycles of a relay are lopsided (one half longer, the peaks off-centre);
+ * the limit cycle of a relay without bias is symmetric. */
+static bool relay_settled(const pdt_excite_t *g)
+{
+    const pdt_excite_config_t *c = &g->cfg;
+    if (!(c->relay_settle > PDT_R(0.0)) || c->bias != PDT_R(0.0)) {
+        return false;
+    }
+    pdt_real_t per = (pdt_real_t)g->since_rise;
+    pdt_real_t halves = pdt_fabs(PDT_R(2.0) * (pdt_real_t)g->fall_at - per);
+    pdt_real_t pp = g->pv_max - g->pv_min;
+    pdt_real_t off = pdt_fabs((g->pv_max - c->setpoint) - (c->setpoint - g->pv_min));
+    return halves <= c->relay_settle * per && off <= c->relay_settle * pp;
+}
+
 /* One relay sample; returns true when the relay has measured its cycles. */
 static bool relay_step(pdt_excite_t *g, pdt_real_t pv)
 {
@@ -260,6 +280,7 @@ static bool relay_step(pdt_excite_t *g, pdt_real_t pv)
         g->high = e >= PDT_R(0.0);
     } else if (g->high && e < -c->eps) {
         g->high = false;
+        g->fall_at = g->since_rise;
     } else if (!g->high && e > c->eps) {
         g->high = true;
         rising = true;
@@ -274,6 +295,12 @@ static bool relay_step(pdt_excite_t *g, pdt_real_t pv)
                 g->amp[g->stored] = PDT_R(0.5) * (g->pv_max - g->pv_min);
                 g->stored++;
                 if (g->stored == c->relay_cycles) {
+                    return true;
+                }
+                if (relay_settled(g)) {
+                    g->per[0] = g->per[g->stored - 1u];
+                    g->amp[0] = g->amp[g->stored - 1u];
+                    g->stored = 1u;
                     return true;
                 }
             }

@@ -43,6 +43,10 @@ const char *pdt_status_str(pdt_status_t status)
         return "record does not end at rest";
     case PDT_ERR_OUTLIER:
         return "gross outlier in the data";
+    case PDT_ERR_MODEL_INVALID:
+        return "data contradict the model";
+    case PDT_ERR_UNCERTAIN:
+        return "model too uncertain for robust gains";
     default:
         return "unknown status";
     }
@@ -91,6 +95,10 @@ const char *pdt_status_name(pdt_status_t status)
         return "PDT_ERR_NOT_AT_REST";
     case PDT_ERR_OUTLIER:
         return "PDT_ERR_OUTLIER";
+    case PDT_ERR_MODEL_INVALID:
+        return "PDT_ERR_MODEL_INVALID";
+    case PDT_ERR_UNCERTAIN:
+        return "PDT_ERR_UNCERTAIN";
     default:
         return "PDT_STATUS_UNKNOWN";
     }

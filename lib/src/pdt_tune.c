@@ -580,8 +580,9 @@ void pdt_tune_config_default(pdt_tune_config_t *cfg)
     cfg->form = PDT_TUNE_PI;
     cfg->tau_c = PDT_R(0.0);
     cfg->lambda = PDT_R(0.0);
+    cfg->detune = PDT_R(0.0);
     cfg->deriv_filter = PDT_R(10.0);
-    cfg->fit_min = PDT_R(80.0);
+    cfg->fit_min = PDT_R(0.0);
     cfg->ms_max = PDT_R(2.0);
 }
 
@@ -632,9 +633,13 @@ static void view_of(const pdt_model_t *m, tune_view_t *v)
     }
     v->K = tc.K;
     if (tc.complex) {
+        /* The rules that need a FOPDT get the half rule with the pair
+         * split equally by its real part re = a / (2 b): tau = 1.5 re,
+         * theta = Td + re / 2, continuous with the real pair at zeta = 1. */
         v->shape = SHAPE_COMPLEX;
-        v->tau = PDT_R(0.0);
-        v->theta = p->Td;
+        v->T1 = v->T2 = tc.T1;
+        v->tau = PDT_R(1.5) * tc.T1;
+        v->theta = p->Td + PDT_R(0.5) * tc.T1;
         return;
     }
     v->shape = SHAPE_REAL;
@@ -651,19 +656,21 @@ typedef struct tune_out {
     pdt_real_t knob;
 } tune_out_t;
 
+static pdt_real_t detune_of(const pdt_tune_config_t *cfg)
+{
+    return cfg->detune > PDT_R(0.0) ? cfg->detune : PDT_R(1.0);
+}
+
 static pdt_status_t rule_simc(const tune_view_t *v, const pdt_tune_config_t *cfg, tune_out_t *o)
 {
     bool pid = cfg->form == PDT_TUNE_PID;
     /* SOPDT PID cancels the poles and keeps the model's own dead time; the
      * others see the half-rule FOPDT. */
     pdt_real_t theta = (pid && v->shape != SHAPE_FIRST) ? v->Td : v->theta;
-    pdt_real_t tc = cfg->tau_c > PDT_R(0.0) ? cfg->tau_c : theta;
+    pdt_real_t tc = (cfg->tau_c > PDT_R(0.0) ? cfg->tau_c : theta) * detune_of(cfg);
     pdt_real_t tt = tc + theta;
     if (!(tt > PDT_R(0.0))) {
         return PDT_ERR_ARG;
-    }
-    if (v->shape == SHAPE_COMPLEX && !pid) {
-        return PDT_ERR_NO_FORM;
     }
     o->knob = tc;
     o->series_rule = true;
@@ -672,6 +679,18 @@ static pdt_status_t rule_simc(const tune_view_t *v, const pdt_tune_config_t *cfg
     case SHAPE_FIRST:
         o->g.Kc = v->tau / (v->K * tt);
         o->g.tauI = rmin(v->tau, PDT_R(4.0) * tt);
+        break;
+    case SHAPE_COMPLEX:
+        if (pid) {
+            /* Ideal PID whose zeros cancel the complex pair. */
+            o->series_rule = false;
+            o->g.Kc = v->a / (v->k * tt);
+            o->g.tauI = v->a / v->b;
+            o->g.tauD = PDT_R(1.0) / v->a;
+        } else {
+            o->g.Kc = v->tau / (v->K * tt);
+            o->g.tauI = rmin(v->tau, PDT_R(4.0) * tt);
+        }
         break;
     case SHAPE_REAL:
         if (pid) {
@@ -682,13 +701,6 @@ static pdt_status_t rule_simc(const tune_view_t *v, const pdt_tune_config_t *cfg
             o->g.Kc = v->tau / (v->K * tt);
             o->g.tauI = rmin(v->tau, PDT_R(4.0) * tt);
         }
-        break;
-    case SHAPE_COMPLEX:
-        /* Ideal PID whose zeros cancel the complex pair. */
-        o->series_rule = false;
-        o->g.Kc = v->a / (v->k * tt);
-        o->g.tauI = v->a / v->b;
-        o->g.tauD = PDT_R(1.0) / v->a;
         break;
     case SHAPE_INTEG:
     default:
@@ -705,9 +717,6 @@ static pdt_status_t rule_simc(const tune_view_t *v, const pdt_tune_config_t *cfg
 static pdt_status_t rule_imc(const tune_view_t *v, const pdt_tune_config_t *cfg, tune_out_t *o)
 {
     bool pid = cfg->form == PDT_TUNE_PID;
-    if (v->shape == SHAPE_COMPLEX && !pid) {
-        return PDT_ERR_NO_FORM;
-    }
     pdt_real_t lam = cfg->lambda;
     if (!(lam > PDT_R(0.0))) {
         if (v->shape == SHAPE_INTEG) {
@@ -718,6 +727,7 @@ static pdt_status_t rule_imc(const tune_view_t *v, const pdt_tune_config_t *cfg,
             lam = rmax(v->tau, PDT_R(3.0) * v->theta);
         }
     }
+    lam *= detune_of(cfg);
     o->knob = lam;
     o->series_rule = false;
     o->g.tauD = PDT_R(0.0);
@@ -753,9 +763,6 @@ static pdt_status_t rule_imc(const tune_view_t *v, const pdt_tune_config_t *cfg,
 static pdt_status_t rule_amigo(const tune_view_t *v, const pdt_tune_config_t *cfg, tune_out_t *o)
 {
     bool pid = cfg->form == PDT_TUNE_PID;
-    if (v->shape == SHAPE_COMPLEX) {
-        return PDT_ERR_NO_FORM;
-    }
     pdt_real_t L = v->theta;
     if (!(L > PDT_R(0.0))) {
         return PDT_ERR_ARG;
@@ -844,6 +851,8 @@ static bool config_valid(const pdt_tune_config_t *cfg)
     bool form_ok = cfg->form == PDT_TUNE_PI || cfg->form == PDT_TUNE_PID;
     return rule_ok && form_ok && pdt_finite(cfg->tau_c) && cfg->tau_c >= PDT_R(0.0) &&
            pdt_finite(cfg->lambda) && cfg->lambda >= PDT_R(0.0) &&
+           pdt_finite(cfg->detune) &&
+           (cfg->detune == PDT_R(0.0) || cfg->detune >= PDT_R(1.0)) &&
            pdt_finite(cfg->deriv_filter) &&
            (cfg->deriv_filter == PDT_R(0.0) || cfg->deriv_filter >= PDT_R(1.0)) &&
            pdt_finite(cfg->fit_min) && pdt_finite(cfg->ms_max) &&

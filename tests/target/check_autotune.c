@@ -23,9 +23,9 @@ int target_check_autotune(void);
 #define AT_CAPACITY 600u
 #define AT_HIST 256u
 
-static pdt_real_t g_at_work[PDT_IDENT_WORKSPACE_SIZE(AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
+static pdt_real_t g_at_work[PDT_AUTOTUNE_WORKSPACE_SIZE(AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
                                 sizeof(pdt_real_t) +
-                            2u * AT_CAPACITY + 1u];
+                            1u];
 static pdt_autotune_t g_at;
 
 /* The plant: the d[] form of pdt_discrete_t in double, from rest. */
@@ -144,6 +144,8 @@ static void at_config(pdt_autotune_config_t *c, double Ts, pdt_model_kind_t kind
     c->pv_min = (pdt_real_t)-100.0;
     c->pv_max = (pdt_real_t)200.0;
     c->ident.model = kind;
+    /* The model asked for, so that the checks below know what to expect. */
+    c->order_auto = false;
 }
 
 static void at_report(const char *name, const at_run_t *r)

@@ -8,6 +8,11 @@
  * answer is printed as `key value` lines.
  *
  *   autotune PLANT NOISE AT        the autotune, one call per scan
+ *   at PLANT NOISE AT2             the autotune with any experiment and
+ *                                  the evidence options, then its gains
+ *                                  in closed loop on the same plant
+ *   loop PLANT Kc tauI tauD Tf n_sp n_load
+ *                                  the closed loop alone
  *   relay    PLANT NOISE RELAY     a relay test with pdt_excite, then
  *                                  Ziegler-Nichols PI and PID gains
  *   model    KIND P1 P2 P3 [P4]    SIMC PI and PID of a known model
@@ -28,7 +33,15 @@
  * AT: decimation capacity settle amplitude t_on t_off u_min u_max pv_min
  * pv_max model(1 FOPDT, 2 SOPDT) ident_seed form(0 PI, 1 PID): the
  * autotune's own rule is SIMC of that form.
- * RELAY: d eps skip cycles.
+ * RELAY: d eps skip cycles settle.
+ * AT2: kind(0 relay, 1 PRBS, 2 step, 3 pulse) decimation capacity settle
+ * tail amplitude(relay: d) p1 p2 u_min u_max pv_min pv_max ident_seed
+ * form(0 PI, 1 PID) order(1 auto, 0 FOPDT, -1 SOPDT) ms_robust fit_min
+ * relay_agree relay_eps relay_skip relay_cycles n_sp n_load direct(relay: 1
+ * for a process of negative gain) relay_settle. p1 p2:
+ * pulse t_on t_off; step duration -; PRBS scans per chip, bits.
+ * Closed loop (at, loop): a unit set-point step held n_sp scans, then a
+ * unit load step at the plant input for n_load scans, noise-free.
  */
 #include <math.h>
 #include <stdint.h>
@@ -210,6 +223,41 @@ static void tune_print(const char *tag, const pdt_model_t *m, pdt_real_t fit,
     }
 }
 
+/* Runs the autotune of cfg against the plant, one call per scan, until it
+ * ends, and prints the common part of its result into r. Returns false
+ * when init refused cfg (printed). */
+static bool drive_autotune(plant_t *p, noise_t *z, long max_scans,
+                           const pdt_autotune_config_t *cfg, pdt_autotune_result_t *r,
+                           pdt_status_t *st_out)
+{
+    size_t ws = pdt_autotune_workspace_size(cfg);
+    void *work = malloc(ws ? ws : 1u);
+    pdt_autotune_t at;
+    pdt_status_t st = pdt_autotune_init(&at, cfg, RL(0.0), work, ws);
+    printf("init_status %d\n", (int)st);
+    if (st != PDT_OK) {
+        free(work);
+        return false;
+    }
+    /* The scans go on through the identification, which takes no process
+     * time of its own beyond the scans it needs. */
+    for (long k = 0; k < 50L * max_scans; k++) {
+        double pv = plant_y(p) + noise_next(z);
+        pdt_real_t u;
+        st = pdt_autotune_scan(&at, (pdt_real_t)pv, &u);
+        plant_step(p, (double)u);
+        if (st != PDT_RUNNING) break;
+    }
+    (void)pdt_autotune_result(&at, r);
+    free(work);
+    printf("status %d\nfailed_in %d\nscans %lu\nscans_experiment %lu\nsamples %lu\n", (int)st,
+           (int)r->failed_in, (unsigned long)r->scans, (unsigned long)r->scans_experiment,
+           (unsigned long)r->samples);
+    printf("has_model %d\nhas_gains %d\n", (int)r->has_model, (int)r->has_gains);
+    *st_out = st;
+    return true;
+}
+
 static int run_autotune(void)
 {
     plant_t p;
@@ -239,48 +287,205 @@ static int run_autotune(void)
     cfg.max_scans = (uint32_t)max_scans;
     pdt_ident_config_default(&cfg.ident);
     cfg.ident.model = v[10] == 1.0 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+    cfg.order_auto = false; /* this batch compares the two orders (and it is
+                             * the default) */
     cfg.ident.seed = (uint64_t)v[11];
     pdt_tune_config_default(&cfg.tune);
     cfg.tune.rule = PDT_TUNE_SIMC;
     cfg.tune.form = v[12] == 0.0 ? PDT_TUNE_PI : PDT_TUNE_PID;
 
-    size_t ws = pdt_autotune_workspace_size(&cfg);
-    void *work = malloc(ws ? ws : 1u);
-    pdt_autotune_t at;
-    pdt_status_t st = pdt_autotune_init(&at, &cfg, RL(0.0), work, ws);
-    printf("init_status %d\n", (int)st);
-    if (st != PDT_OK) {
-        free(work);
+    pdt_autotune_result_t r;
+    pdt_status_t st;
+    if (!drive_autotune(&p, &z, max_scans, &cfg, &r, &st)) {
+        free(p.ubuf);
         return 0;
     }
-    /* The scans go on through the identification, which takes no process
-     * time of its own beyond the scans it needs. */
-    long k;
-    for (k = 0; k < 50L * max_scans; k++) {
-        double pv = plant_y(&p) + noise_next(&z);
-        pdt_real_t u;
-        st = pdt_autotune_scan(&at, (pdt_real_t)pv, &u);
-        plant_step(&p, (double)u);
-        if (st != PDT_RUNNING) break;
-    }
-    pdt_autotune_result_t r;
-    (void)pdt_autotune_result(&at, &r);
-    printf("status %d\nfailed_in %d\nscans %lu\nscans_experiment %lu\nsamples %lu\n", (int)st,
-           (int)r.failed_in, (unsigned long)r.scans, (unsigned long)r.scans_experiment,
-           (unsigned long)r.samples);
-    printf("has_model %d\nhas_gains %d\n", (int)r.has_model, (int)r.has_gains);
     if (r.has_model) {
         print_model("model", &r.ident.model);
         printf("fit %.9g\nevaluations %lu\n", (double)r.ident.fit,
                (unsigned long)r.ident.evaluations);
-        /* Both forms on the model the run identified, with the autotune's
-         * limits: the one of cfg.tune.form is the autotune's own answer. */
-        tune_print("pid", &r.ident.model, r.ident.fit, PDT_TUNE_PID, cfg.tune.fit_min,
-                   cfg.tune.ms_max);
-        tune_print("pi", &r.ident.model, r.ident.fit, PDT_TUNE_PI, cfg.tune.fit_min,
-                   cfg.tune.ms_max);
+        /* The form of cfg.tune.form: the autotune's own answer (its
+         * detuning included); the other form by the rule alone on the
+         * model the run identified, with the autotune's limits. */
+        const char *own = cfg.tune.form == PDT_TUNE_PID ? "pid" : "pi";
+        if (cfg.tune.form == PDT_TUNE_PID) {
+            tune_print("pi", &r.ident.model, r.ident.fit, PDT_TUNE_PI, cfg.tune.fit_min,
+                       cfg.tune.ms_max);
+        } else {
+            tune_print("pid", &r.ident.model, r.ident.fit, PDT_TUNE_PID, cfg.tune.fit_min,
+                       cfg.tune.ms_max);
+        }
+        printf("%s_status %d\n", own, (int)(r.has_gains ? PDT_OK : st));
+        if (r.has_gains) {
+            print_gains(own, &r.tune.ideal);
+            printf("%s_Ms_model %.9g\ndetune %.9g\n", own, (double)r.tune.fig.Ms,
+                   (double)r.detune);
+        }
     }
-    free(work);
+    free(p.ubuf);
+    return 0;
+}
+
+static void plant_reset(plant_t *p)
+{
+    memset(p->x, 0, sizeof p->x);
+    memset(p->ubuf, 0, sizeof(double) * (size_t)p->blen);
+    p->head = 0;
+}
+
+/* The closed loop on the true plant (noise-free, from rest): a unit
+ * set-point step for n_sp scans, then a unit step added to the plant's
+ * input for n_load scans. The ideal-form controller runs every scan: P and
+ * I on the error, the derivative on the measurement through its filter
+ * (exact first-order filter at the scan period). Prints IAE of each part,
+ * the set-point overshoot (fraction of the step) and whether the loop
+ * stayed bounded. */
+static void closed_loop(plant_t *p, const pdt_tune_gains_t *g, long n_sp, long n_load)
+{
+    plant_reset(p);
+    double Kc = (double)g->Kc, tI = (double)g->tauI, tD = (double)g->tauD, Tf = (double)g->Tf;
+    double I = 0.0, xf = 0.0, iae_sp = 0.0, iae_ld = 0.0, ymax = 0.0;
+    double af = Tf > 0.0 ? 1.0 - exp(-p->Ts / Tf) : 1.0;
+    int bounded = 1;
+    for (long k = 0; k < n_sp + n_load; k++) {
+        double y = plant_y(p);
+        if (!isfinite(y) || fabs(y) > 1e6) {
+            bounded = 0;
+            break;
+        }
+        double e = 1.0 - y;
+        double ud = 0.0;
+        if (tD > 0.0) {
+            ud = Tf > 0.0 ? -tD * (y - xf) / Tf : -tD * (y - xf) / p->Ts;
+            xf += af * (y - xf);
+        }
+        double u = Kc * (e + I + ud);
+        I += p->Ts * e / tI;
+        if (k < n_sp) {
+            iae_sp += fabs(e) * p->Ts;
+            if (y > ymax) ymax = y;
+        } else {
+            iae_ld += fabs(e) * p->Ts;
+        }
+        plant_step(p, u + (k >= n_sp ? 1.0 : 0.0));
+    }
+    printf("cl_bounded %d\n", bounded);
+    if (bounded) {
+        printf("cl_sp_iae %.9g\ncl_overshoot %.9g\ncl_load_iae %.9g\ncl_end_error %.9g\n",
+               iae_sp, ymax > 1.0 ? ymax - 1.0 : 0.0, iae_ld, fabs(1.0 - plant_y(p)));
+    }
+}
+
+/* at: the autotune with any experiment and the evidence options, then its
+ * gains in closed loop on the same plant. */
+static int run_at(void)
+{
+    plant_t p;
+    noise_t z;
+    long max_scans;
+    read_plant(&p);
+    read_noise(&z, &max_scans);
+    double v[25];
+    for (int i = 0; i < 25; i++) {
+        if (rd(&v[i])) die("at config");
+    }
+    static const pdt_excite_kind_t kinds[4] = {PDT_EXCITE_RELAY, PDT_EXCITE_PRBS,
+                                               PDT_EXCITE_STEP, PDT_EXCITE_PULSE};
+    int kind = (int)v[0];
+    if (kind < 0 || kind > 3) die("experiment kind");
+    pdt_autotune_config_t cfg;
+    pdt_autotune_config_default(&cfg);
+    cfg.Ts = (pdt_real_t)p.Ts;
+    cfg.decimation = (uint32_t)v[1];
+    cfg.capacity = (size_t)v[2];
+    cfg.settle = (uint32_t)v[3];
+    cfg.tail = (uint32_t)v[4];
+    pdt_excite_config_default(&cfg.excite, kinds[kind]);
+    cfg.excite.amplitude = (pdt_real_t)v[5];
+    switch (kinds[kind]) {
+    case PDT_EXCITE_PULSE:
+        cfg.excite.t_on = (pdt_real_t)v[6];
+        cfg.excite.t_off = (pdt_real_t)v[7];
+        cfg.excite.count = 1u;
+        break;
+    case PDT_EXCITE_STEP:
+        cfg.excite.duration = (pdt_real_t)v[6];
+        break;
+    case PDT_EXCITE_PRBS:
+        cfg.excite.prbs_hold = (uint32_t)v[6];
+        cfg.excite.prbs_bits = (uint32_t)v[7];
+        break;
+    default:
+        cfg.excite.d = (pdt_real_t)v[5];
+        cfg.excite.eps = (pdt_real_t)v[18];
+        cfg.excite.relay_skip = (uint32_t)v[19];
+        cfg.excite.relay_cycles = (uint32_t)v[20];
+        cfg.excite.relay_settle = (pdt_real_t)v[24];
+        cfg.excite.setpoint = RL(0.0);
+        cfg.move = PDT_RECORD_MOVE_ANY;
+        break;
+    }
+    cfg.u_min = (pdt_real_t)v[8];
+    cfg.u_max = (pdt_real_t)v[9];
+    cfg.pv_min = (pdt_real_t)v[10];
+    cfg.pv_max = (pdt_real_t)v[11];
+    cfg.max_scans = (uint32_t)max_scans;
+    cfg.ident.seed = (uint64_t)v[12];
+    cfg.tune.rule = PDT_TUNE_SIMC;
+    cfg.tune.form = v[13] == 0.0 ? PDT_TUNE_PI : PDT_TUNE_PID;
+    cfg.order_auto = v[14] != 0.0;
+    if (!cfg.order_auto) cfg.ident.model = v[14] == 0.0 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+    if (v[14] < 0.0) cfg.ident.model = PDT_MODEL_SOPDT, cfg.order_auto = false;
+    cfg.ms_robust = (pdt_real_t)v[15];
+    cfg.tune.fit_min = (pdt_real_t)v[16];
+    cfg.relay_agree = (pdt_real_t)v[17];
+    long n_sp = (long)v[21], n_load = (long)v[22];
+    if (kinds[kind] == PDT_EXCITE_RELAY && v[23] != 0.0) cfg.excite.action = PDT_EXCITE_DIRECT;
+
+    pdt_autotune_result_t r;
+    pdt_status_t st;
+    if (!drive_autotune(&p, &z, max_scans, &cfg, &r, &st)) {
+        free(p.ubuf);
+        return 0;
+    }
+    if (r.has_relay) {
+        printf("relay_Ku %.9g\nrelay_Pu %.9g\n", (double)r.relay.Ku, (double)r.relay.Pu);
+    }
+    if (r.has_model) {
+        print_model("model", &r.ident.model);
+        printf("fit %.9g\n", (double)r.ident.fit);
+    }
+    if (r.has_valid) {
+        const pdt_validate_result_t *vr = &r.valid;
+        printf("white %d\nindependent %d\nsigma %.9g\nbic %.9g\nbic_other %.9g\n", (int)vr->white,
+               (int)vr->independent, (double)vr->sigma, (double)vr->bic, (double)r.bic_other);
+        printf("white_stat %.9g\ncross_stat %.9g\ninflation %.9g\n", (double)vr->white_stat,
+               (double)vr->cross_stat, (double)vr->inflation);
+        for (uint32_t i = 0; i < vr->std.count; i++) {
+            printf("std%u %.9g\n", (unsigned)i, (double)vr->std.std[i]);
+        }
+    }
+    if (r.has_gains) {
+        print_gains("at", &r.tune.ideal);
+        printf("at_Ms_model %.9g\nms_robust %.9g\ndetune %.9g\n", (double)r.tune.fig.Ms,
+               (double)r.ms_robust, (double)r.detune);
+        closed_loop(&p, &r.tune.ideal, n_sp, n_load);
+    }
+    free(p.ubuf);
+    return 0;
+}
+
+/* loop: only the closed loop of given gains on the plant. */
+static int run_loop(void)
+{
+    plant_t p;
+    read_plant(&p);
+    double v[6];
+    for (int i = 0; i < 6; i++) {
+        if (rd(&v[i])) die("loop");
+    }
+    pdt_tune_gains_t g = {RL(v[0]), RL(v[1]), RL(v[2]), RL(v[3])};
+    closed_loop(&p, &g, (long)v[4], (long)v[5]);
     free(p.ubuf);
     return 0;
 }
@@ -292,8 +497,8 @@ static int run_relay(void)
     long max_scans;
     read_plant(&p);
     read_noise(&z, &max_scans);
-    double v[4];
-    for (int i = 0; i < 4; i++) {
+    double v[5];
+    for (int i = 0; i < 5; i++) {
         if (rd(&v[i])) die("relay config");
     }
     pdt_excite_config_t ec;
@@ -303,6 +508,7 @@ static int run_relay(void)
     ec.eps = (pdt_real_t)v[1];
     ec.relay_skip = (uint32_t)v[2];
     ec.relay_cycles = (uint32_t)v[3];
+    ec.relay_settle = (pdt_real_t)v[4];
     ec.setpoint = RL(0.0);
     pdt_excite_t gen;
     pdt_status_t st = pdt_excite_init(&gen, &ec);
@@ -403,6 +609,8 @@ int main(void)
     if (scanf("%31s", mode) != 1) die("mode");
     if (strcmp(mode, "autotune") == 0) return run_autotune();
     if (strcmp(mode, "relay") == 0) return run_relay();
+    if (strcmp(mode, "at") == 0) return run_at();
+    if (strcmp(mode, "loop") == 0) return run_loop();
     if (strcmp(mode, "model") == 0) return run_model();
     if (strcmp(mode, "halfrule") == 0) return run_halfrule();
     die("unknown mode");

@@ -20,6 +20,8 @@ size_t tune_opts_table(tune_opts_t *t, cli_opt_t *tab, int rule_form)
          "the span of u > 0 (its range in engineering units)", 0},
         {"--y-span", OPT_REAL, &t->y_span, &t->have_y_span, CHK_GT0, 0, 0, NULL,
          "the span of y > 0 (its range in engineering units)", 0},
+        {"--fit-min", OPT_REAL, &t->fit_min, &t->have_fit_min, CHK_GE0, 0, 0, NULL,
+         "a fit in percent >= 0 (0: no fit threshold, the default)", 0},
     };
     const size_t skip = rule_form ? 0 : 2, n = sizeof rows / sizeof rows[0] - skip;
     memcpy(tab, rows + skip, n * sizeof rows[0]);
@@ -62,6 +64,7 @@ void tune_opts_config(const tune_opts_t *t, pdt_tune_config_t *cfg)
     if (t->have_lambda) cfg->lambda = (pdt_real_t)t->lambda;
     if (t->have_ms_max) cfg->ms_max = (pdt_real_t)t->ms_max;
     if (t->have_filter) cfg->deriv_filter = (pdt_real_t)t->deriv_filter;
+    if (t->have_fit_min) cfg->fit_min = (pdt_real_t)t->fit_min;
 }
 
 const char *tune_hint(pdt_status_t st, int rule, const pdt_model_t *m)

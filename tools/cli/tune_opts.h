@@ -11,11 +11,12 @@
 
 typedef struct tune_opts {
     int rule, form; /* pdt_tune_rule_t, pdt_tune_form_t */
-    double tau_c, lambda, ms_max, deriv_filter, u_span, y_span;
-    int have_rule, have_tau_c, have_lambda, have_ms_max, have_filter, have_u_span, have_y_span;
+    double tau_c, lambda, ms_max, deriv_filter, u_span, y_span, fit_min;
+    int have_rule, have_tau_c, have_lambda, have_ms_max, have_filter, have_u_span, have_y_span,
+        have_fit_min;
 } tune_opts_t;
 
-/* Appends the table rows of the tuning options to tab (room for 8);
+/* Appends the table rows of the tuning options to tab (room for 9);
  * without --rule and --form when rule_form is 0. Returns the rows added. */
 size_t tune_opts_table(tune_opts_t *t, cli_opt_t *tab, int rule_form);
 /* "RULE[:FORM]" of identify --tune. */

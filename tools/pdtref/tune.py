@@ -78,7 +78,9 @@ def view(m):
     p = np.roots([1.0, a, b])
     base = {"K": k / b, "Td": Td, "a": a, "b": b, "k": k}
     if a * a < 4.0 * b:
-        return {**base, "shape": "complex", "theta": Td}
+        # half rule on the pair split equally by its real part a / (2 b)
+        re = a / (2.0 * b)
+        return {**base, "shape": "complex", "tau": 1.5 * re, "theta": Td + re / 2}
     T = np.sort(-1.0 / p.real)[::-1]
     T1, T2 = float(T[0]), float(T[1])
     return {**base, "shape": "real", "T1": T1, "T2": T2, "tau": T1 + T2 / 2,
@@ -92,9 +94,7 @@ def simc(v, form, tau_c=0.0):
     tc = tau_c if tau_c > 0 else theta
     if tc + theta <= 0:
         raise TuneError(ARG, "SIMC needs tau_c + theta > 0")
-    if v["shape"] == "complex":
-        if not pid:
-            raise TuneError(NO_FORM, "complex poles, PI")
+    if v["shape"] == "complex" and pid:
         # 2 zeta tau0 / (K (tc + theta)), tauI = 2 zeta tau0, tauD = tau0 / (2 zeta)
         K, a, b = v["K"], v["a"], v["b"]
         tau0 = 1.0 / math.sqrt(b)
@@ -115,8 +115,6 @@ def imc(v, form, lam=0.0):
     """IMC / lambda tuning (Rivera, Morari and Skogestad 1986)."""
     pid = form == PID
     shape = v["shape"]
-    if shape == "complex" and not pid:
-        raise TuneError(NO_FORM, "complex poles, PI")
     if lam <= 0:
         if shape == "integ":
             lam = 3 * v["theta"]
@@ -143,8 +141,6 @@ def imc(v, form, lam=0.0):
 
 def amigo(v, form):
     """AMIGO, Astrom and Hagglund (2006), ch. 7."""
-    if v["shape"] == "complex":
-        raise TuneError(NO_FORM, "complex poles")
     L = v["theta"]
     if L <= 0:
         raise TuneError(ARG, "AMIGO needs dead time")
@@ -348,7 +344,7 @@ def robustness(m, g, npts=200000):
 
 # ---- everything at once ------------------------------------------------------
 
-def compute(m, rule, form, knob=0.0, deriv_filter=10.0, fit=100.0, fit_min=80.0, ms_max=0.0):
+def compute(m, rule, form, knob=0.0, deriv_filter=10.0, fit=100.0, fit_min=0.0, ms_max=0.0):
     """What pdt_tune_compute returns: (status, result dict or None)."""
     try:
         if rule == ZN:

@@ -125,11 +125,8 @@ RULE_FORMS = [(r, f) for r in ("simc", "imc", "amigo", "zn") for f in ("pi", "pi
 def test_every_rule_and_form(rule, form, model):
     args = {"fopdt": FOPDT17, "sopdt": SOPDT17, "underdamped": SOPDT_UNDER}[model]
     res = run(["tune", "--rule", rule, "--form", form, "--ms-max", "0", *args])
-    if model == "underdamped" and (rule == "amigo" or (rule != "zn" and form == "pi")):
-        # Complex poles: of the model rules only the PID ones that cancel
-        # the quadratic apply (ZN needs just the ultimate point).
-        assert_usage_error(res, "cannot tune", "no such form", status=1)
-        return
+    # Complex poles: every rule has a form (the PI rules and AMIGO see the
+    # half rule of the pair split by its real part; docs/tuning.md).
     if form == "pid" and rule == "simc" and model == "fopdt":
         # SIMC gives a FOPDT no derivative action: said on stderr.
         assert "no derivative action" in res.stderr and res.stderr.count("\n") == 1
@@ -193,8 +190,8 @@ def test_gain_margin_null_without_phase_crossover():
 @pytest.mark.parametrize("args,frags", [
     (["--rule", "zn", "--form", "pid", *FOPDT17], ["gains refused", "Ms", "--ms-max 0"]),
     (["--rule", "simc", "--ms-max", "1.2", *FOPDT17], ["gains refused", "exceeds the limit 1.2"]),
-    (["--rule", "amigo", *SOPDT_UNDER], ["cannot tune", "no such form"]),
-    (["--rule", "simc", "--form", "pi", *SOPDT_UNDER], ["cannot tune", "no such form"]),
+    (["--rule", "amigo", *SOPDT_UNDER], ["gains refused", "exceeds the limit 2"]),
+    (["--rule", "simc", "--form", "pi", *SOPDT_UNDER], ["gains refused", "exceeds the limit 2"]),
     (["--rule", "zn", "--model", "fopdt", "--K", "1", "--tau", "1", "--Td", "0"],
      ["cannot tune", "no such form"]),
     (["--rule", "simc", "--model", "fopdt", "--K", "1", "--tau", "1", "--Td", "0"],
@@ -383,7 +380,8 @@ def test_autotune_relay():
     assert out["decimation"] == 4
     r = out["relay"]
     assert list(r) == ["Ku", "Pu", "a", "d", "cycles"]
-    assert r["d"] == 0.5 and r["cycles"] == 3
+    # The relay ends at its first symmetric cycle (relay_settle).
+    assert r["d"] == 0.5 and r["cycles"] == 1
     wu, Ku = ultimate(2.0, 5.0, 1.3)
     # The describing function is an approximation: a few percent on a FOPDT.
     assert r["Pu"] == pytest.approx(2 * math.pi / wu, rel=0.1)
@@ -403,11 +401,11 @@ def test_autotune_reverse_acting_relay():
     assert out["tune"]["Kc"] < 0
 
 
-def test_autotune_refuses_a_poor_fit():
-    out, line = autotune(*FOPDT_PLANT, "--noise", "1.5", status=1)
-    assert out["status"] == POOR_FIT and out["failed_in"] == "tune"
-    assert out["ident"]["fit"] < 80 and out["tune"] is None
-    assert "fits too poorly (in tune)" in line and "fit" in line
+def test_autotune_decides_by_evidence_not_fit():
+    # A low fit alone refuses nothing (fit_min is off by default): the
+    # gains on this noisy record are kept robust by the evidence instead.
+    out = autotune(*FOPDT_PLANT, "--noise", "1.5")
+    assert out["ident"]["fit"] < 80 and out["tune"] is not None
 
 
 def test_autotune_refuses_ms_over_limit():

@@ -171,12 +171,16 @@ def test_ultimate_point(m):
 
 def test_refusals():
     m = M.Fopdt(1.0, 2.5, 1.47)
-    assert T.compute(m, T.SIMC, T.PI, fit=79.0)[0] == T.POOR_FIT
+    assert T.compute(m, T.SIMC, T.PI, fit=79.0)[0] == T.OK  # fit_min off by default
+    assert T.compute(m, T.SIMC, T.PI, fit=79.0, fit_min=80.0)[0] == T.POOR_FIT
     assert T.compute(m, T.ZN, T.PID, ms_max=2.0)[0] == T.POOR_FIT
     assert T.compute(M.Fopdt(1.0, 0.1, 10.0), T.ZN, T.PID)[0] == T.UNSTABLE
-    under = M.sopdt_from_natural(1.0, 1.0, 0.4, 0.5)
+    # complex poles: the half rule of the pair split by its real part
+    under = M.sopdt_from_natural(1.0, 1.0, 0.8, 0.5)
     for rule in (T.SIMC, T.IMC, T.AMIGO):
-        assert T.compute(under, rule, T.PI)[0] == T.NO_FORM
+        assert T.compute(under, rule, T.PI)[0] == T.OK
+    st, r = T.compute(under, T.SIMC, T.PI)
+    assert r["ideal"]["Kc"] == pytest.approx(1.2 / 1.8) and r["ideal"]["tauI"] == pytest.approx(1.2)
     assert T.compute(M.Fopdt(1.0, 1.0, 0.0), T.AMIGO, T.PI)[0] == T.ARG
     assert T.compute(M.Fopdt(1.0, 1.0, 0.0), T.ZN, T.PI)[0] == T.NO_FORM
 

@@ -19,5 +19,6 @@
 #include "pdt/pdt_reduce.h"
 #include "pdt/pdt_status.h"
 #include "pdt/pdt_tune.h"
+#include "pdt/pdt_validate.h"
 
 #endif /* PDT_H */

@@ -30,8 +30,17 @@
  * call prepares the identification (O(n), plus O(N_f log N_f) for the
  * frequency or combined criterion); every other identify call at most
  * evals_per_scan cost evaluations (O(n) each, O(N_f) for the frequency
- * part) plus one GA breeding step (O(P^2)); the tune call, one
- * pdt_tune_compute (a few thousand loop evaluations, see pdt_tune.h).
+ * part) plus one GA breeding step (O(P^2)); one identify call per model
+ * validated (pdt_validate_model: O(n) per parameter, O(20 n) and
+ * O(78 n) for the residual tests); each tune call, one pdt_tune_compute
+ * (a few thousand loop evaluations, see pdt_tune.h) and one
+ * pdt_validate_margin (200 frequencies), at most 9 tune calls.
+ *
+ * Decisions by evidence (docs/autotune.md): the model is validated
+ * against the record (residual tests, parameter covariance), with
+ * order_auto a FOPDT and a SOPDT are identified and the data choose, and
+ * the gains must keep the robust Ms bound at most ms_robust, the knob
+ * raised until they do; else PDT_ERR_MODEL_INVALID or PDT_ERR_UNCERTAIN.
  */
 #ifndef PDT_AUTOTUNE_H
 #define PDT_AUTOTUNE_H
@@ -41,6 +50,7 @@
 #include "pdt/pdt_ident.h"
 #include "pdt/pdt_record.h"
 #include "pdt/pdt_tune.h"
+#include "pdt/pdt_validate.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -91,18 +101,44 @@ typedef struct pdt_autotune_config {
     pdt_ident_config_t ident;
     /* The tuning rule and its refusal limits (fit_min, ms_max). */
     pdt_tune_config_t tune;
+    /* Model order. true: a FOPDT and a SOPDT (which covers the
+     * underdamped and the integrating process) are identified on the
+     * record and pdt_ident_select_order picks one; ident.model is then
+     * ignored. false: ident.model only, the caller's explicit choice.
+     * Default false (set it: docs/autotune.md) */
+    bool order_auto;
+    /* The decision by evidence (pdt_validate.h). The gains must keep the
+     * robust bound of the true loop's Ms (pdt_validate_margin: the model
+     * error the residual shows and the parameters' confidence region)
+     * at most ms_robust, > 1, or 0 for no such check; tau_c (SIMC) or
+     * lambda (IMC) is raised in steps until they do. Default 2.0. With
+     * 0 and order_auto false the model is not validated (has_valid false)
+     * and the workspace is the identification's alone */
+    pdt_real_t ms_robust;
+    /* A relay test's Ku and Pu and the model's must agree within this
+     * factor, >= 1, or 0 for no check. Default 2 */
+    pdt_real_t relay_agree;
 } pdt_autotune_config_t;
 
 typedef struct pdt_autotune_result {
     pdt_status_t status;      /* PDT_OK, or why it failed: an abort
                                * (PDT_ERR_PV_LIMIT, ...), data that could
                                * not support a model, or refused gains
-                               * (PDT_ERR_POOR_FIT, PDT_ERR_UNSTABLE) */
+                               * (PDT_ERR_MODEL_INVALID, PDT_ERR_UNCERTAIN,
+                               * PDT_ERR_POOR_FIT, PDT_ERR_UNSTABLE) */
     pdt_autotune_phase_t failed_in; /* the phase that failed (when it did) */
     bool has_model;           /* the identification finished */
     pdt_ident_result_t ident; /* the model, fit and operating point */
     bool has_gains;           /* gains passed the refusal rules */
     pdt_tune_result_t tune;   /* the gains and their robustness */
+    bool has_valid;           /* the model was validated */
+    pdt_validate_result_t valid; /* residual tests, parameter std and
+                               * covariance of the model kept (its dead
+                               * time before the decimation shift) */
+    pdt_real_t bic_other;     /* order_auto: BIC of the model not kept */
+    pdt_real_t ms_robust;     /* robust Ms bound of the gains kept */
+    pdt_real_t detune;        /* factor on the rule's knob (tau_c,
+                               * lambda) the evidence asked for, >= 1 */
     bool has_relay;           /* the experiment was a relay test */
     pdt_excite_relay_t relay; /* Ku, Pu measured by the relay */
     size_t samples;           /* samples recorded */
@@ -124,6 +160,11 @@ typedef struct pdt_autotune {
     size_t tail_end;          /* samples recorded when the tail is complete */
     bool excite_over;         /* the excitation has ended */
     bool ident_started;       /* pdt_ident_init has run */
+    uint32_t stage;           /* identify: models done and validated */
+    uint32_t tune_try;        /* tune: knob factors tried */
+    pdt_ident_result_t first; /* order_auto: the FOPDT */
+    pdt_validate_result_t first_valid;
+    pdt_status_t tune_why;    /* why the last knob factor was refused */
     pdt_excite_t gen;
     pdt_record_t rec;
     pdt_ident_t ident;
@@ -135,7 +176,9 @@ typedef struct pdt_autotune {
 void pdt_autotune_config_default(pdt_autotune_config_t *cfg);
 
 /* Workspace bytes for cfg: 2 capacity reals for the record plus the
- * identification's workspace for capacity samples. 0 when cfg is NULL or
+ * larger of the identification's workspace for capacity samples (either
+ * model with order_auto) and the validation's (pdt_validate.h: 5 capacity
+ * reals; asked for only with order_auto or ms_robust > 0). 0 when cfg is NULL or
  * not valid (init then says why). */
 size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
 
@@ -143,7 +186,10 @@ size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
  * samples and a GA population of pop (PDT_IDENT_POPULATION_SOPDT covers both
  * automatic populations), any configuration: for static arrays. */
 #define PDT_AUTOTUNE_WORKSPACE_SIZE(capacity, pop) \
-    (2u * (size_t)(capacity) * sizeof(pdt_real_t) + PDT_IDENT_WORKSPACE_SIZE(capacity, pop))
+    (2u * (size_t)(capacity) * sizeof(pdt_real_t) + \
+     (PDT_IDENT_WORKSPACE_SIZE(capacity, pop) > PDT_VALIDATE_WORKSPACE_SIZE(capacity) \
+          ? PDT_IDENT_WORKSPACE_SIZE(capacity, pop) \
+          : PDT_VALIDATE_WORKSPACE_SIZE(capacity)))
 
 /* Prepares at for an autotune starting from the output u_now, which is
  * taken as the operating point: the process must be at rest there. work is

@@ -68,7 +68,15 @@ typedef enum pdt_status {
     /* The data hold a gross outlier: a sample many orders of magnitude off
      * the rest of its signal (a logger's bad-value marker such as 1e20 or
      * -3e38). pdt_cost_outlier names it. */
-    PDT_ERR_OUTLIER = -18
+    PDT_ERR_OUTLIER = -18,
+    /* Gains refused: the data contradict the model. Its residuals are
+     * explained by the input beyond what any safe retuning can absorb, or
+     * the model disagrees with a point the experiment measured directly
+     * (a relay's ultimate gain and period). */
+    PDT_ERR_MODEL_INVALID = -19,
+    /* Gains refused: the data do not determine the model's parameters well
+     * enough for any gains to be robust over their confidence region. */
+    PDT_ERR_UNCERTAIN = -20
 } pdt_status_t;
 
 /* A short, static, English name of a status ("bad argument", ...). Never

@@ -25,8 +25,10 @@
  *  - real poles (a^2 >= 4 b > 0): time constants T1 >= T2; rules that need
  *    a FOPDT get Skogestad's half rule, tau = T1 + T2 / 2,
  *    theta = Td + T2 / 2;
- *  - complex poles (a^2 < 4 b): only the PID rules that cancel the
- *    quadratic (SIMC and IMC PID) apply; the others return PDT_ERR_NO_FORM;
+ *  - complex poles (a^2 < 4 b): the PID rules that cancel the quadratic
+ *    (SIMC and IMC PID) keep it; the others get the half rule with the
+ *    pair split equally by its real part re = a / (2 b): tau = 1.5 re,
+ *    theta = Td + re / 2 (continuous with the real pair at zeta = 1);
  *  - b = 0, the integrator with a lag (k / a) e^{-Td s} / (s (s / a + 1)):
  *    each family's rule for integrating processes, with the lag turned
  *    into dead time (half rule) for PI and AMIGO, cancelled by the
@@ -79,12 +81,17 @@ typedef struct pdt_tune_config {
                             * means max(tau, 3 theta) of the time constant
                             * and dead time the rule uses (3 theta for an
                             * integrating model). Default 0 */
+    pdt_real_t detune;     /* factor on the knob (tau_c or lambda, given
+                            * or default), >= 1, or 0 for 1: a slower,
+                            * more robust loop. Default 0 */
     pdt_real_t deriv_filter; /* N: the derivative is filtered with
                               * Tf = tauD / N (tauD of the form the rule
                               * is stated in); >= 1, or 0 for no filter.
                               * Default 10 */
     pdt_real_t fit_min;    /* refuse when the fit is below this, percent,
-                            * finite. Default 80 */
+                            * finite; 0 (the default) refuses nothing:
+                            * the autotune decides by the evidence of
+                            * pdt_validate.h instead */
     pdt_real_t ms_max;     /* refuse when Ms exceeds this; > 1, or 0 for no
                             * limit. Default 2.0 */
 } pdt_tune_config_t;
@@ -143,9 +150,9 @@ void pdt_tune_config_default(pdt_tune_config_t *cfg);
  *                   fit_min not finite, a zero gain, or a rule that needs
  *                   dead time given none: SIMC with tau_c + theta = 0,
  *                   AMIGO with theta = 0;
- *  PDT_ERR_NO_FORM  the rule has no form for this model: complex SOPDT
- *                   poles with SIMC PI, IMC PI, AMIGO; ZN on a model whose
- *                   phase never reaches -180 degrees (no dead time);
+ *  PDT_ERR_NO_FORM  the rule has no form for this model: ZN on a model
+ *                   whose phase never reaches -180 degrees (no dead
+ *                   time);
  *  PDT_ERR_POOR_FIT fit < fit_min;
  *  PDT_ERR_UNSTABLE the loop is unstable;
  *  PDT_ERR_POOR_FIT Ms > ms_max (ms_max != 0).
