@@ -67,13 +67,16 @@ def module_deps():
     """{module: set of modules it uses} from lib/'s sources and headers: a
     module uses another when it calls a function, names a type or a
     constant that the other's header declares."""
-    heads = sorted((ROOT / "lib/include/pdt").glob("pdt_*.h")) + sorted((ROOT / "lib/src").glob("pdt_*.h"))
-    mods = {h.stem[len("pdt_"):] for h in heads} - {"internal"}
+    public = sorted((ROOT / "lib/include/pdt").glob("pdt_*.h"))
+    heads = public + sorted((ROOT / "lib/src").glob("pdt_*.h"))
+    # A private header or source named after a public module (pdt_cost_kernel.h,
+    # pdt_ident_ga.c) is part of it; one that is not (pdt_ga.h) is a
+    # private module of its own.
+    mods = {h.stem[len("pdt_"):] for h in public}
 
     def module_of(stem):
         name = stem[len("pdt_"):]
-        best = max((m for m in mods if name == m or name.startswith(m + "_")), key=len, default=name)
-        return best
+        return max((m for m in mods if name == m or name.startswith(m + "_")), key=len, default=name)
 
     decl = {}
     for h in heads:
