@@ -15,6 +15,8 @@
 
 #include "pid_vectors.h"
 
+#include "target/pid_cases.h"
+
 #define R(x) ((pdt_real_t)(x))
 
 #if PDT_REAL_DOUBLE
@@ -22,26 +24,6 @@
 #else
 #define REAL_BIG (FLT_MAX / 4.0f)
 #endif
-
-static pdt_pid_config_t cfg_from(const double *v)
-{
-    pdt_pid_config_t c;
-    c.Ts = R(v[0]);
-    c.form = (pdt_pid_form_t)(int)v[1];
-    c.Kc = R(v[2]);
-    c.Ti = R(v[3]);
-    c.Td = R(v[4]);
-    c.Tf = R(v[5]);
-    c.N = R(v[6]);
-    c.b = R(v[7]);
-    c.c = R(v[8]);
-    c.u_min = R(v[9]);
-    c.u_max = R(v[10]);
-    c.rate_max = R(v[11]);
-    c.antiwindup = (pdt_pid_antiwindup_t)(int)v[12];
-    c.Tt = R(v[13]);
-    return c;
-}
 
 static pdt_pid_config_t pi_config(void)
 {
@@ -74,34 +56,12 @@ static void test_scenarios(void **state)
 {
     (void)state;
     for (size_t s = 0; s < PID_SC_COUNT; s++) {
-        pdt_pid_config_t c1 = cfg_from(&pid_sc_cfg[(2u * s) * PID_CFG_N]);
-        pdt_pid_config_t c2 = cfg_from(&pid_sc_cfg[(2u * s + 1u) * PID_CFG_N]);
-        pdt_pid_t pid;
-        assert_int_equal(pdt_pid_init(&pid, &c1, R(pid_sc_u0[s])), PDT_OK);
-        double scale = 1.0;
-        for (size_t k = 0; k < PID_SC_STEPS; k++) {
-            scale = fmax(scale, fabs(pid_sc_out[s * PID_SC_STEPS + k]));
-        }
-        double worst = 0.0;
-        for (size_t k = 0; k < PID_SC_STEPS; k++) {
-            size_t j = s * PID_SC_STEPS + k;
-            const double *in = &pid_sc_in[3u * j];
-            pdt_real_t u = R(-999.0);
-            if (pid_sc_op[j] == 1) {
-                assert_int_equal(pdt_pid_track(&pid, R(in[0]), R(in[1]), R(in[2])), PDT_OK);
-                u = pid.u;
-            } else {
-                if (pid_sc_op[j] == 2) {
-                    assert_int_equal(pdt_pid_set_config(&pid, &c2), PDT_OK);
-                }
-                assert_int_equal(pdt_pid_update(&pid, R(in[0]), R(in[1]), &u), PDT_OK);
-            }
-            double err = fabs((double)u - pid_sc_out[j]) / scale;
-            worst = fmax(worst, err);
-            if (!(err <= 20.0 * TEST_RTOL)) {
-                fail_msg("scenario %zu step %zu: u = %.9g, want %.9g", s, k, (double)u,
-                         pid_sc_out[j]);
-            }
+        double worst;
+        size_t bad;
+        assert_int_equal(pid_case_run(s, 20.0 * TEST_RTOL, &worst, &bad), PDT_OK);
+        if (bad != PID_SC_STEPS) {
+            fail_msg("scenario %zu: step %zu off the reference (largest error %.3g)", s, bad,
+                     worst);
         }
         print_message("scenario %zu: largest error %.2e of the output range\n", s, worst);
     }
@@ -111,7 +71,7 @@ static void test_scenarios(void **state)
  * under test), pdt_pid as the controller; y at the grid points into y. */
 static void run_loop(size_t i, double *y)
 {
-    pdt_pid_config_t c = cfg_from(&pid_cl_cfg[i * PID_CFG_N]);
+    pdt_pid_config_t c = pid_case_config(&pid_cl_cfg[i * PID_CFG_N]);
     const double *pl = &pid_cl_plant[i * 10u];
     const double *Phi = pl;
     const double *G0 = pl + 4;
