@@ -10,6 +10,10 @@
  * the Abort input, re-trigger after Done, an instance moved while busy, the
  * size-checked glue entry points, the instance's size, layout and
  * workspace, and that nothing is written past the instance (canaries).
+ * The PID: the handover at Done without a bump, set-point and load steps in
+ * automatic, manual/automatic transfers both ways without a bump, a failed
+ * sensor holding the output, a refused PID parameter, a refused start that
+ * leaves the PID in service, and a new autotune while in automatic.
  */
 #include "test_util.h"
 
@@ -34,6 +38,7 @@ typedef struct plant {
     unsigned l;
     double x;            /* deviation state: pv - PLANT_PV0 */
     double hist[64];     /* past outputs, hist[0] the newest */
+    double load;         /* disturbance added to the output, output units */
     uint32_t lcg;
 } plant_t;
 
@@ -54,6 +59,7 @@ static void plant_init(plant_t *p, double u_rest)
     for (size_t i = 0; i < 64; i++) {
         p->hist[i] = u_rest;
     }
+    p->load = 0.0;
     p->lcg = 12345u;
 }
 
@@ -71,7 +77,7 @@ static void plant_apply(plant_t *p, double u)
     for (size_t i = 63; i > 0; i--) {
         p->hist[i] = p->hist[i - 1];
     }
-    p->hist[0] = u;
+    p->hist[0] = u + p->load;
     /* hist[j] is u(k - j) after the shift: y(k+1) needs u(k-l), u(k-1-l). */
     p->x = p->a * p->x + p->b1 * p->hist[p->l] + p->b2 * p->hist[p->l + 1];
 }
@@ -121,8 +127,8 @@ static int teardown(void **state)
     return 0;
 }
 
-/* One PLC cycle: read pv, call the block, apply its output while busy (the
- * manual output otherwise). */
+/* One PLC cycle: read pv, call the block, apply its output while busy or
+ * in automatic (the manual output otherwise). */
 static void cycle(harness_t *h)
 {
     pdt_fb_autotune_t *fb = &h->fb;
@@ -134,12 +140,13 @@ static void cycle(harness_t *h)
         h->worst_s = dt;
     }
     h->cycles++;
-    double u = fb->xBusy ? (double)fb->rOutput : (double)fb->rOutputNow;
+    double u = fb->xBusy || fb->xAutoActive ? (double)fb->rOutput : (double)fb->rOutputNow;
     plant_apply(&h->plant, u);
     /* The end flags exclude each other and Busy. */
     int ends = (int)fb->xDone + (int)fb->xError + (int)fb->xCommandAborted;
     assert_true(ends <= 1);
     assert_false(fb->xBusy && ends != 0);
+    assert_false(fb->xBusy && fb->xAutoActive);
     assert_true(fb->sStatus[PDT_FB_AUTOTUNE_STATUS_LEN - 1u] == '\0');
     if (!fb->xError) {
         assert_int_equal(fb->iErrorID, 0);
@@ -185,6 +192,11 @@ static void test_null_and_init(void **state)
     assert_int_equal(fb->iForm, PDT_TUNE_PI);
     assert_true(fb->rFitMin == R(80.0));
     assert_true(fb->rMsMax == R(2.0));
+    assert_false(fb->xAuto || fb->xAutoActive || fb->xLimited);
+    assert_true(fb->rSpWeightP == R(1.0) && fb->rSpWeightD == R(0.0) &&
+                fb->rRateMax == R(0.0) && fb->rTrackTime == R(0.0));
+    assert_int_equal(fb->iAntiWindup, PDT_PID_AW_BACK_CALC);
+    assert_int_equal(fb->iPidStatus, 0);
     assert_true(fb->rOutMax == R(100.0));
     assert_int_equal(fb->iPhase, 0);
     assert_int_equal(fb->iErrorID, 0);
@@ -220,14 +232,15 @@ static void test_instance_size(void **state)
         size_t off, size;
         const char *name;
     } fields[] = {
-        F(xExecute), F(xAbort), F(rPV), F(rSetpoint), F(rOutputNow), F(rScanPeriod),
+        F(xExecute), F(xAbort), F(xAuto), F(rPV), F(rSetpoint), F(rOutputNow), F(rScanPeriod),
         F(udiDecimation), F(udiSamples), F(udiSettle), F(udiEvalsPerScan), F(iExperiment),
         F(iModel), F(rAmplitude), F(rExciteTime), F(rFrequency), F(rHysteresis), F(rOutMin),
         F(rOutMax), F(rPvMin), F(rPvMax), F(rTimeLimit), F(iRule), F(iForm), F(rFitMin),
-        F(rMsMax), F(rOutput), F(xBusy), F(xDone), F(xError), F(xCommandAborted),
+        F(rMsMax), F(rSpWeightP), F(rSpWeightD), F(rRateMax), F(rTrackTime),
+        F(iAntiWindup), F(rOutput), F(xBusy), F(xDone), F(xError), F(xCommandAborted),
         F(iErrorID), F(iPhase), F(sStatus), F(xModelValid), F(xGainsValid), F(xIntegrating),
         F(rGain), F(rTau1), F(rTau2), F(rZeta), F(rDeadTime), F(rFit), F(rKc), F(rTi),
-        F(rTd), F(rTf), F(rMs), F(internal),
+        F(rTd), F(rTf), F(rMs), F(xAutoActive), F(xLimited), F(iPidStatus), F(internal),
     };
 #undef F
     size_t next = 0u;
@@ -677,6 +690,176 @@ static void test_prbs_sopdt_pid(void **state)
                   (double)fb->rTd, (double)fb->rTf, (double)fb->rMs, h->cycles);
 }
 
+/* Cycles in automatic; returns the largest |pv - rSetpoint| over the last
+ * `tail` of them, and the largest pv - rSetpoint overall in *over. */
+static double run_auto(harness_t *h, int cycles, int tail, double *over)
+{
+    pdt_fb_autotune_t *fb = &h->fb;
+    double worst_tail = 0.0;
+    double o = -1e30;
+    for (int i = 0; i < cycles; i++) {
+        cycle(h);
+        assert_true(fb->xAutoActive);
+        assert_int_equal(fb->iPidStatus, 0);
+        assert_true(fb->rOutput >= fb->rOutMin && fb->rOutput <= fb->rOutMax);
+        double e = (double)fb->rPV - (double)fb->rSetpoint;
+        o = fmax(o, e);
+        if (i >= cycles - tail) {
+            worst_tail = fmax(worst_tail, fabs(e));
+        }
+    }
+    if (over != NULL) {
+        *over = o;
+    }
+    return worst_tail;
+}
+
+/* Done hands the gains to the PID at the operating point; automatic then
+ * follows a set-point step and rejects a load step, and the transfers
+ * between manual and automatic do not bump the output. */
+static void test_pid_after_done(void **state)
+{
+    harness_t *h = *state;
+    pdt_fb_autotune_t *fb = &h->fb;
+    /* Automatic requested before any gains: nothing happens. */
+    fb->xAuto = true;
+    for (int i = 0; i < 5; i++) {
+        cycle(h);
+        assert_false(fb->xAutoActive);
+        assert_true(fb->rOutput == fb->rOutputNow);
+    }
+    fb->xAuto = false;
+    start_edge(h);
+    run_until_idle(h, MAX_CYCLES);
+    assert_true(fb->xDone && fb->xGainsValid);
+    fb->xExecute = false;
+    /* Manual: the PID tracks the output in service (U0) at the set-point
+     * the operator has entered (a set-point changed in the cycle of the
+     * switch would move the output by the P term, b = 1). */
+    fb->rSetpoint = R(PLANT_PV0 + PLANT_K * U0);
+    for (int i = 0; i < 20; i++) {
+        cycle(h);
+        assert_false(fb->xAutoActive);
+        assert_int_equal(fb->iPidStatus, 0);
+    }
+    fb->xAuto = true;
+    cycle(h);
+    assert_true(fb->xAutoActive);
+    assert_close(fb->rOutput, U0, 0.0, 0.05);
+    double e = run_auto(h, 100, 100, NULL);
+    assert_true(e < 0.1);
+    /* A set-point step of +5: settles without much overshoot (SIMC PI). */
+    double sp0 = (double)fb->rSetpoint;
+    fb->rSetpoint = R(sp0 + 5.0);
+    double over;
+    e = run_auto(h, 600, 100, &over);
+    print_message("set-point step +5: overshoot %.3f, |e| over the last 10 s %.4f\n", over, e);
+    assert_true(e < 0.05);
+    assert_true(over < 0.5);
+    /* A load step of -3 output units: pv dips and comes back. */
+    h->plant.load = -3.0;
+    double dip = 0.0;
+    for (int i = 0; i < 100; i++) {
+        cycle(h);
+        dip = fmax(dip, (double)fb->rSetpoint - (double)fb->rPV);
+    }
+    e = run_auto(h, 500, 100, NULL);
+    print_message("load step -3: largest dip %.3f, |e| over the last 10 s %.4f, output %.3f\n",
+                  dip, e, (double)fb->rOutput);
+    assert_true(dip > 1.0);
+    assert_true(e < 0.05);
+    assert_close(fb->rOutput, U0 + 2.5 + 3.0, 0.0, 0.1);
+    /* Automatic to manual: the program takes the last output as its manual
+     * output; the block's output holds. */
+    pdt_real_t last = fb->rOutput;
+    fb->rOutputNow = last;
+    fb->xAuto = false;
+    cycle(h);
+    assert_false(fb->xAutoActive);
+    assert_true(fb->rOutput == last);
+    /* Manual ramp, then automatic again: it continues from the manual output. */
+    for (int i = 0; i < 50; i++) {
+        fb->rOutputNow = R((double)last + 0.1 * i);
+        cycle(h);
+        assert_false(fb->xAutoActive);
+    }
+    pdt_real_t manual = fb->rOutputNow;
+    fb->xAuto = true;
+    cycle(h);
+    assert_true(fb->xAutoActive);
+    print_message("manual to automatic: manual %.4f, first automatic output %.4f\n",
+                  (double)manual, (double)fb->rOutput);
+    /* No bump: only one scan's control action on a pv still moving from
+     * the ramp (Kc times its change, plus one integral increment). */
+    assert_close(fb->rOutput, manual, 0.0, 0.25);
+    e = run_auto(h, 600, 100, NULL);
+    assert_true(e < 0.05);
+}
+
+/* In automatic: a failed sensor holds the output; a bad PID parameter keeps
+ * the loop in manual until fixed; a refused start leaves the PID running;
+ * a new autotune takes over and hands back to the PID at its end. */
+static void test_pid_faults_and_retune(void **state)
+{
+    harness_t *h = *state;
+    pdt_fb_autotune_t *fb = &h->fb;
+    start_edge(h);
+    run_until_idle(h, MAX_CYCLES);
+    fb->xExecute = false;
+    cycle(h);
+    fb->rSetpoint = R(PLANT_PV0 + PLANT_K * U0);
+    fb->xAuto = true;
+    (void)run_auto(h, 100, 1, NULL);
+    pdt_real_t held = fb->rOutput;
+    pdt_real_t inf = R(1.0) / R(0.0);
+    fb->rPV = inf - inf;
+    assert_int_equal(pdt_fb_autotune(fb), PDT_OK);
+    assert_int_equal(fb->iPidStatus, PDT_ERR_NONFINITE);
+    assert_true(fb->xAutoActive);
+    assert_true(fb->rOutput == held);
+    cycle(h);
+    assert_int_equal(fb->iPidStatus, 0);
+    /* A bad parameter at the edge into automatic. */
+    fb->xAuto = false;
+    fb->rOutputNow = fb->rOutput;
+    cycle(h);
+    fb->iAntiWindup = 9;
+    fb->xAuto = true;
+    for (int i = 0; i < 3; i++) {
+        cycle(h);
+        assert_false(fb->xAutoActive);
+        assert_int_equal(fb->iPidStatus, PDT_ERR_ARG);
+    }
+    fb->iAntiWindup = (int16_t)PDT_PID_AW_BOTH;
+    cycle(h);
+    assert_true(fb->xAutoActive);
+    assert_int_equal(fb->internal.pid.cfg.antiwindup, PDT_PID_AW_BOTH);
+    (void)run_auto(h, 50, 1, NULL);
+    /* A refused start (bad scan period) does not stop the loop. */
+    fb->rScanPeriod = R(-1.0);
+    start_edge(h);
+    assert_true(fb->xError);
+    assert_false(fb->xBusy);
+    assert_true(fb->xAutoActive);
+    fb->xExecute = false;
+    fb->rScanPeriod = R(SCAN);
+    (void)run_auto(h, 20, 1, NULL);
+    /* A new autotune from automatic: the output in service is its operating
+     * point; at Done the PID resumes from there. */
+    fb->rOutputNow = fb->rOutput;
+    start_edge(h);
+    assert_true(fb->xBusy);
+    assert_false(fb->xAutoActive);
+    run_until_idle(h, MAX_CYCLES);
+    assert_true(fb->xDone);
+    pdt_real_t op = fb->rOutput;
+    cycle(h);
+    assert_true(fb->xAutoActive);
+    assert_close(fb->rOutput, op, 0.0, 1e-6);
+    double e = run_auto(h, 400, 100, NULL);
+    assert_true(e < 0.05);
+}
+
 static void test_relay(void **state)
 {
     harness_t *h = *state;
@@ -783,6 +966,8 @@ int main(void)
         T(test_nonfinite_pv),
         T(test_refused_tuning),
         T(test_prbs_sopdt_pid),
+        T(test_pid_after_done),
+        T(test_pid_faults_and_retune),
         T(test_relay),
         T(test_ext_entry_points),
         T(test_moved_while_busy),

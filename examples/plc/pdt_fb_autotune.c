@@ -1,7 +1,8 @@
 /*
- * pdt_fb_autotune: the PLC function block over pdt_autotune. This file only
- * maps the block's inputs to the autotune's config, keeps the PLCopen edge
- * and handshake rules, and copies the result to the outputs.
+ * pdt_fb_autotune: the PLC function block over pdt_autotune and pdt_pid.
+ * This file only maps the block's inputs to the autotune's and the PID's
+ * configs, keeps the PLCopen edge and handshake rules, copies the result to
+ * the outputs, and switches the PID between tracking and automatic.
  */
 #include "pdt_fb_autotune.h"
 
@@ -157,6 +158,69 @@ static void make_config(const pdt_fb_autotune_t *fb, pdt_autotune_config_t *c)
     c->tune.ms_max = fb->rMsMax;
 }
 
+/* The PID's configuration from the parameters; its gains are set apart. */
+static void make_pid_config(const pdt_fb_autotune_t *fb, pdt_pid_config_t *c)
+{
+    pdt_pid_config_default(c);
+    c->Ts = fb->rScanPeriod;
+    c->u_min = fb->rOutMin;
+    c->u_max = fb->rOutMax;
+    c->b = fb->rSpWeightP;
+    c->c = fb->rSpWeightD;
+    c->rate_max = fb->rRateMax;
+    c->Tt = fb->rTrackTime;
+    /* An unknown value is kept: the PID refuses it. */
+    c->antiwindup = (pdt_pid_antiwindup_t)fb->iAntiWindup;
+}
+
+/* The tuned gains into the PID, starting from the output in service u0:
+ * the handover from the autotune without a bump. */
+static void pid_load(pdt_fb_autotune_t *fb, const pdt_tune_gains_t *g, pdt_real_t u0)
+{
+    pdt_pid_config_t c;
+    make_pid_config(fb, &c);
+    pdt_status_t st = pdt_pid_init_from_gains(&fb->internal.pid, &c, g, PDT_PID_IDEAL, u0);
+    fb->internal.xPidReady = st == PDT_OK;
+    fb->iPidStatus = (int16_t)st;
+}
+
+/* An idle cycle with gains: automatic (update) or manual (track). */
+static void pid_cycle(pdt_fb_autotune_t *fb, bool auto_edge)
+{
+    pdt_pid_t *pid = &fb->internal.pid;
+    pdt_status_t st = PDT_OK;
+    if (fb->xAuto && auto_edge) {
+        /* Parameters changed while in manual apply now, bumplessly. */
+        pdt_pid_config_t c;
+        make_pid_config(fb, &c);
+        c.form = pid->cfg.form;
+        c.Kc = pid->cfg.Kc;
+        c.Ti = pid->cfg.Ti;
+        c.Td = pid->cfg.Td;
+        c.Tf = pid->cfg.Tf;
+        c.N = pid->cfg.N;
+        st = pdt_pid_set_config(pid, &c);
+        if (st != PDT_OK) {
+            /* A bad parameter keeps the loop in manual; tried again next
+             * cycle, so that fixing it starts automatic. */
+            fb->internal.xAutoPrev = false;
+        }
+    }
+    if (fb->xAuto && st == PDT_OK) {
+        pdt_real_t u = fb->rOutput;
+        st = pdt_pid_update(pid, fb->rSetpoint, fb->rPV, &u);
+        fb->rOutput = u; /* held on an error */
+        fb->xAutoActive = true;
+        fb->xLimited = pid->limited && st == PDT_OK;
+    } else {
+        pdt_status_t track = pdt_pid_track(pid, fb->rSetpoint, fb->rPV, fb->rOutputNow);
+        st = st != PDT_OK ? st : track;
+        fb->xAutoActive = false;
+        fb->xLimited = false;
+    }
+    fb->iPidStatus = (int16_t)st;
+}
+
 static void clear_results(pdt_fb_autotune_t *fb)
 {
     fb->xModelValid = false;
@@ -235,6 +299,9 @@ static void finish(pdt_fb_autotune_t *fb, pdt_status_t st)
         }
         if (r.has_gains) {
             copy_gains(fb, &r.tune);
+            if (st == PDT_OK) {
+                pid_load(fb, &r.tune.ideal, fb->rOutput);
+            }
         }
     }
     fb->xBusy = false;
@@ -286,6 +353,12 @@ static void start(pdt_fb_autotune_t *fb)
     fb->internal.rStartOutput = fb->rOutputNow;
     fb->internal.self = fb;
     fb->xBusy = true;
+    /* The autotune drives the output now; the PID waits for new gains. A
+     * refused start above left a running PID in service. */
+    fb->internal.xPidReady = false;
+    fb->xAutoActive = false;
+    fb->xLimited = false;
+    fb->iPidStatus = 0;
 }
 
 void pdt_fb_autotune_init(pdt_fb_autotune_t *fb)
@@ -312,6 +385,7 @@ void pdt_fb_autotune_init(pdt_fb_autotune_t *fb)
     fb->iForm = (int16_t)PDT_TUNE_PI;
     fb->rFitMin = FB_R(80.0);
     fb->rMsMax = FB_R(2.0);
+    fb->rSpWeightP = FB_R(1.0);
     text_set(fb->sStatus, NULL, "idle");
 }
 
@@ -323,8 +397,10 @@ pdt_status_t pdt_fb_autotune(pdt_fb_autotune_t *fb)
     pdt_fb_autotune_internal_t *in = &fb->internal;
     bool exec_edge = fb->xExecute && !in->xExecutePrev;
     bool abort_edge = fb->xAbort && !in->xAbortPrev;
+    bool auto_edge = fb->xAuto && !in->xAutoPrev;
     in->xExecutePrev = fb->xExecute;
     in->xAbortPrev = fb->xAbort;
+    in->xAutoPrev = fb->xAuto;
 
     /* PLCopen: the end flags follow xExecute; set below in the cycle a
      * command ends, they are seen for this one cycle at least. */
@@ -343,6 +419,9 @@ pdt_status_t pdt_fb_autotune(pdt_fb_autotune_t *fb)
             if (fb->iPhase == 0) {
                 /* Never started, or refused: nothing to hold. */
                 fb->rOutput = fb->rOutputNow;
+            }
+            if (in->xPidReady) {
+                pid_cycle(fb, auto_edge);
             }
             return PDT_OK;
         }

@@ -1,7 +1,8 @@
 /*
  * pdt_fb_autotune: an IEC 61131-3-style function block over pdtfit's
- * autotune (pdt/pdt_autotune.h), for PLC runtimes that call C function
- * blocks, and for MCU firmware written in the same style.
+ * autotune (pdt/pdt_autotune.h) and the PID that runs its gains
+ * (pdt/pdt_pid.h), for PLC runtimes that call C function blocks, and for
+ * MCU firmware written in the same style.
  *
  * The instance struct is the function block: its fields are, in order,
  * the VAR_INPUT, VAR_OUTPUT and VAR sections of the Structured Text
@@ -21,8 +22,11 @@
  *   fbTune.rPV = read_pv();
  *   fbTune.rOutputNow = output_in_service;
  *   fbTune.xExecute = start_button;
+ *   fbTune.xAuto = auto_requested;          // PID once gains exist
+ *   fbTune.rSetpoint = setpoint;
  *   (void)pdt_fb_autotune(&fbTune);
- *   if (fbTune.xBusy) write_output(fbTune.rOutput);
+ *   if (fbTune.xBusy || fbTune.xAutoActive) write_output(fbTune.rOutput);
+ *   else write_output(manual_output);       // and rOutputNow = it
  *
  * Behaviour (PLCopen conventions; docs/plc.md has the cycle-by-cycle
  * detail):
@@ -46,6 +50,17 @@
  *  - rOutput: rOutputNow before the first start and after a refused start;
  *    the experiment while busy; the operating point once the command has
  *    ended, held until the next start.
+ *  - The PID (docs/pid.md): when a command ends with Done, the block
+ *    loads the gains into its PID, starting from the operating point.
+ *    While xAuto is TRUE, gains are valid and no autotune runs, the PID
+ *    drives rOutput (xAutoActive), with rSetpoint as its set-point. While
+ *    xAuto is FALSE the PID tracks rOutputNow, so that switching xAuto on
+ *    continues from the output in service without a bump; the PID
+ *    parameters are taken at Done and on every rising edge of xAuto (a
+ *    bumpless change). Switching xAuto off leaves rOutput at the last PID
+ *    output. A new start clears the gains and the PID until its Done. A
+ *    NaN or infinite pv in automatic holds rOutput (iPidStatus
+ *    PDT_ERR_NONFINITE).
  *  - The running autotune keeps pointers into the instance. An instance
  *    moved while busy (e.g. by a runtime's online change) is detected on
  *    its next cycle: it ends with PDT_ERR_STATE and rOutput = the output at
@@ -64,6 +79,7 @@
 #include <stdint.h>
 
 #include "pdt/pdt_autotune.h"
+#include "pdt/pdt_pid.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -89,8 +105,11 @@ typedef struct pdt_fb_autotune_internal {
     bool xExecutePrev;        /* xExecute of the last cycle (edge memory) */
     bool xAbortPrev;          /* xAbort of the last cycle */
     pdt_real_t rStartOutput;  /* rOutputNow at the start */
+    bool xAutoPrev;           /* xAuto of the last cycle */
+    bool xPidReady;           /* pid holds the last Done's gains */
     const void *self;         /* the instance's address at the start: the
                                * autotune points into the instance */
+    pdt_pid_t pid;            /* the PID with the tuned gains */
     pdt_autotune_t at;        /* the autotune, valid while xBusy and after */
     pdt_real_t work[PDT_FB_AUTOTUNE_WORK_REALS]; /* its workspace */
 } pdt_fb_autotune_internal_t;
@@ -99,11 +118,15 @@ typedef struct pdt_fb_autotune {
     /* VAR_INPUT: commands and process signals, read every cycle. */
     bool xExecute;            /* rising edge: start an autotune */
     bool xAbort;              /* rising edge: stop it (safe output) */
+    bool xAuto;               /* TRUE: the PID drives rOutput once there
+                               * are gains (automatic); FALSE: manual */
     pdt_real_t rPV;           /* process value read this cycle, pv units */
-    pdt_real_t rSetpoint;     /* relay experiment: pv it switches around */
+    pdt_real_t rSetpoint;     /* the PID's set-point, and the pv the relay
+                               * experiment switches around, pv units */
     pdt_real_t rOutputNow;    /* output in service, output units: the
-                               * operating point at the start, and rOutput
-                               * before the first start */
+                               * operating point at the start, rOutput
+                               * before the first start, and what the PID
+                               * tracks in manual */
     /* VAR_INPUT: parameters, latched at the start (initial values are set
      * by pdt_fb_autotune_init). */
     pdt_real_t rScanPeriod;   /* s between two calls (the task cycle), > 0.
@@ -143,6 +166,17 @@ typedef struct pdt_fb_autotune {
     pdt_real_t rFitMin;       /* refuse gains below this fit, %. Init 80 */
     pdt_real_t rMsMax;        /* refuse gains above this Ms; 0: no limit,
                                * else > 1. Init 2 */
+    /* VAR_INPUT: PID parameters, taken at Done and on a rising edge of
+     * xAuto (the PID also uses rScanPeriod, rOutMin, rOutMax). */
+    pdt_real_t rSpWeightP;    /* set-point weight b of the P term, >= 0.
+                               * Init 1 */
+    pdt_real_t rSpWeightD;    /* set-point weight c of the D term, >= 0;
+                               * 0: derivative on the measurement. Init 0 */
+    pdt_real_t rRateMax;      /* output units per s, 0: no limit. Init 0 */
+    pdt_real_t rTrackTime;    /* anti-windup tracking time Tt, s; 0: the
+                               * default rule. Init 0 */
+    int16_t iAntiWindup;      /* pdt_pid_antiwindup_t: 0 back-calculation,
+                               * 1 conditional, 2 both, 3 none. Init 0 */
 
     /* VAR_OUTPUT */
     pdt_real_t rOutput;       /* output to apply this cycle, output units */
@@ -173,6 +207,12 @@ typedef struct pdt_fb_autotune {
     pdt_real_t rTd;           /* of rKc is the controller's action (negative: */
     pdt_real_t rTf;           /* direct acting) */
     pdt_real_t rMs;           /* maximum sensitivity of the loop with the model */
+    bool xAutoActive;         /* the PID drives rOutput this cycle */
+    bool xLimited;            /* the PID's output is at a limit (range,
+                               * rate) */
+    int16_t iPidStatus;       /* pdt_status_t of the PID's last call: 0, or
+                               * e.g. PDT_ERR_NONFINITE (pv failed, output
+                               * held), PDT_ERR_ARG (a PID parameter) */
 
     /* VAR */
     pdt_fb_autotune_internal_t internal;
@@ -185,11 +225,13 @@ typedef struct pdt_fb_autotune {
 void pdt_fb_autotune_init(pdt_fb_autotune_t *fb);
 
 /* One task cycle: reads the inputs, acts on edges, advances a running
- * autotune by one scan, writes the outputs (see the top of this file).
+ * autotune by one scan or runs (or tracks) the PID, writes the outputs
+ * (see the top of this file).
  * Returns PDT_ERR_ARG for NULL (nothing written), else PDT_OK: the
  * outcome of the command is in the outputs, not in the return value.
  * Work: one pdt_autotune_scan (see pdt_autotune.h), plus on a start one
- * pdt_autotune_init (O(1)). */
+ * pdt_autotune_init (O(1)); when idle, one pdt_pid_update or
+ * pdt_pid_track (O(1)). */
 pdt_status_t pdt_fb_autotune(pdt_fb_autotune_t *fb);
 
 /* Entry points for a PLC runtime's external-function glue, where the

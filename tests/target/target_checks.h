@@ -18,4 +18,7 @@ int target_check_cost(void);
 int target_check_ident(void);
 int target_check_cost_work(void);
 
+/* check_pid.c: the PID's scenarios and the work of one update. */
+int target_check_pid(void);
+
 #endif /* PDT_TARGET_CHECKS_H */

@@ -99,6 +99,7 @@ static const target_check_t target_checks[] = {
     {"cost work at N=2000", target_check_cost_work},
     {"identification", target_check_ident},
     {"autotune", target_check_autotune},
+    {"pid", target_check_pid},
     {"port counter across a wrap", check_port_wrap},
 };
 
