@@ -1,7 +1,8 @@
 /*
  * A minimal firmware loop running one pdtfit autotune on a heater: FOPDT
- * model, PRBS experiment, SIMC PI gains. The three board functions at the
- * bottom stand for the application's own I/O and timer; replace them.
+ * model, PRBS experiment, SIMC PI gains, then the PID (pdt_pid) that runs
+ * them, taking over without a bump. The board functions at the bottom
+ * stand for the application's own I/O, set-point and timer; replace them.
  * Built (not run) by tests/CMakeLists.txt so that it keeps compiling.
  */
 #include "pdt/pdt.h"
@@ -16,8 +17,10 @@ static pdt_real_t work[PDT_IDENT_WORKSPACE_SIZE(CAPACITY, PDT_IDENT_POPULATION_S
                            sizeof(pdt_real_t) +
                        2u * CAPACITY + 1u];
 static pdt_autotune_t at;
+static pdt_pid_t pid;
 
 float board_read_temperature(void);
+float board_setpoint(void);
 void board_write_heater(float percent);
 void board_wait_next_scan(void);
 
@@ -50,13 +53,23 @@ int main(void)
     }
 
     pdt_autotune_result_t res;
+    bool tuned = false;
     for (;;) {
         float u;
         pdt_status_t st = pdt_autotune_scan(&at, board_read_temperature(), &u);
         board_write_heater(u); /* always apply it, also after a failure */
         if (st == PDT_OK) {
             (void)pdt_autotune_result(&at, &res);
-            /* res.tune.ideal.Kc, .tauI: hand them to the PI controller */
+            /* The PID takes over from the output in service (u): the
+             * integral starts where the autotune left the heater, so the
+             * first automatic output equals it (no bump). */
+            pdt_pid_config_t pc;
+            pdt_pid_config_default(&pc);
+            pc.Ts = SCAN_PERIOD_S;
+            pc.u_min = cfg.u_min;
+            pc.u_max = cfg.u_max;
+            tuned = pdt_pid_init_from_gains(&pid, &pc, &res.tune.ideal, PDT_PID_IDEAL, u) ==
+                    PDT_OK;
             break;
         }
         if (st != PDT_RUNNING) {
@@ -68,7 +81,15 @@ int main(void)
         board_wait_next_scan();
     }
     for (;;) {
-        board_wait_next_scan(); /* the application's normal control */
+        board_wait_next_scan();
+        if (tuned) {
+            float u;
+            /* On a failed sensor (NaN) the PID refuses and u keeps the last
+             * output: hold it. */
+            if (pdt_pid_update(&pid, board_setpoint(), board_read_temperature(), &u) == PDT_OK) {
+                board_write_heater(u);
+            }
+        }
     }
 }
 
@@ -76,6 +97,11 @@ int main(void)
 float board_read_temperature(void)
 {
     return 40.0f;
+}
+
+float board_setpoint(void)
+{
+    return 45.0f;
 }
 
 void board_write_heater(float percent)
