@@ -493,73 +493,33 @@ int pdtpy_reduce(int method, int kind, double gain, const double *lags, size_t n
 
 /* ------------------------------------------------------------ CSV */
 
-/* The sampling period from a time column, uniform within 1 % as the
- * command line requires; 0 when it is not. */
-static double uniform_ts(const double *t, size_t n, char *err, size_t errlen, const char *path)
-{
-    for (size_t k = 1; k < n; k++)
-        if (!(t[k] > t[k - 1])) {
-            snprintf(err, errlen, "%s:%zu: t does not increase (%.9g after %.9g)", path, k + 2,
-                     t[k], t[k - 1]);
-            return 0.0;
-        }
-    double Ts = (t[n - 1] - t[0]) / (double)(n - 1);
-    for (size_t k = 0; k < n && Ts > 0.0; k++)
-        if (fabs(t[k] - (t[0] + (double)k * Ts)) > 0.01 * Ts) {
-            snprintf(err, errlen, "%s:%zu: t is not uniformly sampled (Ts = %.9g s)", path,
-                     k + 2, Ts);
-            return 0.0;
-        }
-    return Ts;
-}
-
-/*
- * GLUE: the CSV reader. When the command line's reader lands this body
- * becomes a pdtcli_csv_opts_default + the options copied from *o +
- * pdtcli_csv_read_series(path, &opts, &series, err, errlen), its u, y, n
- * and Ts moved into *out. The present reader knows only the columns t, u
- * and y, so other column names are refused here.
- */
+/* The command line's reader, with the binding's options (a field-for-field
+ * mirror, so that Python needs no layout of pdtcli_csv_opts_t); the
+ * largest cell accepted is the library real type's. */
 int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o, pdtpy_series_t *out,
                       char *err, size_t errlen)
 {
+    pdtcli_csv_opts_t co;
+    pdtcli_series_t se;
+    pdtcli_csv_opts_default(&co);
+    co.t_col = o->t_col;
+    co.u_col = o->u_col;
+    co.y_col = o->y_col;
+    co.sep = o->sep;
+    co.decimal = o->decimal;
+    co.skip = o->skip;
+    co.time_unit = o->time_unit;
+    co.resample = o->resample;
+    co.fs = o->fs;
+    co.max_abs = sizeof(pdt_real_t) == sizeof(float) ? (double)FLT_MAX : DBL_MAX;
     memset(out, 0, sizeof *out);
-    if ((o->t_col && strcmp(o->t_col, "t") != 0) || (o->u_col && strcmp(o->u_col, "u") != 0) ||
-        (o->y_col && strcmp(o->y_col, "y") != 0) || o->sep || (o->decimal && o->decimal != '.') ||
-        o->skip || o->time_unit || o->resample) {
-        snprintf(err, errlen, "%s: this reader takes the columns t, u, y only", path);
-        return -1;
-    }
-    FILE *in = fopen(path, "rb");
-    if (!in) {
-        snprintf(err, errlen, "cannot open %s", path);
-        return -1;
-    }
-    const double max_abs = sizeof(pdt_real_t) == sizeof(float) ? (double)FLT_MAX : DBL_MAX;
-    csv_table_t tab;
-    int rc = csv_read_tuy(in, path, max_abs, &tab, err, errlen);
-    fclose(in);
-    if (rc != 0) return -1;
-    double Ts = o->fs > 0.0 ? 1.0 / o->fs : 0.0;
-    if (tab.t && tab.rows >= 2) {
-        double Tt = uniform_ts(tab.t, tab.rows, err, errlen, path);
-        if (Tt <= 0.0) rc = -1;
-        if (Ts == 0.0) Ts = Tt;
-    }
-    if (rc == 0 && !(Ts > 0.0)) {
-        snprintf(err, errlen, "%s: no t column: give the sampling frequency fs", path);
-        rc = -1;
-    }
-    free(tab.t);
-    if (rc != 0) {
-        free(tab.u);
-        free(tab.y);
-        return -1;
-    }
-    out->u = tab.u;
-    out->y = tab.y;
-    out->n = tab.rows;
-    out->Ts = Ts;
+    if (pdtcli_csv_read_series(path, &co, &se, err, errlen) != 0) return -1;
+    out->u = se.u;
+    out->y = se.y;
+    out->n = se.n;
+    out->Ts = se.Ts;
+    out->jitter_warn = se.jitter_warn;
+    out->filled = se.filled;
     return 0;
 }
 
