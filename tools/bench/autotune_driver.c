@@ -376,6 +376,58 @@ static void closed_loop(plant_t *p, const pdt_tune_gains_t *g, long n_sp, long n
     }
 }
 
+/* What an `at` run identified and validated, one "key value" a line. */
+static void print_at_result(const pdt_autotune_result_t *r)
+{
+    if (r->has_relay) {
+        printf("relay_Ku %.9g\nrelay_Pu %.9g\n", (double)r->relay.Ku, (double)r->relay.Pu);
+    }
+    if (r->has_model) {
+        print_model("model", &r->ident.model);
+        printf("fit %.9g\n", (double)r->ident.fit);
+    }
+    if (r->has_valid) {
+        const pdt_validate_result_t *vr = &r->valid;
+        printf("white %d\nindependent %d\nsigma %.9g\nbic %.9g\nbic_other %.9g\n", (int)vr->white,
+               (int)vr->independent, (double)vr->sigma, (double)vr->bic, (double)r->bic_other);
+        printf("white_stat %.9g\ncross_stat %.9g\ninflation %.9g\n", (double)vr->white_stat,
+               (double)vr->cross_stat, (double)vr->inflation);
+        for (uint32_t i = 0; i < vr->std.count; i++) {
+            printf("std%u %.9g\n", (unsigned)i, (double)vr->std.std[i]);
+        }
+    }
+}
+
+/* The experiment of an `at` request: its kind's fields from v. */
+static void at_experiment(pdt_autotune_config_t *cfg, pdt_excite_kind_t kind, const double *v)
+{
+    pdt_excite_config_default(&cfg->excite, kind);
+    cfg->excite.amplitude = (pdt_real_t)v[5];
+    switch (kind) {
+    case PDT_EXCITE_PULSE:
+        cfg->excite.t_on = (pdt_real_t)v[6];
+        cfg->excite.t_off = (pdt_real_t)v[7];
+        cfg->excite.count = 1u;
+        break;
+    case PDT_EXCITE_STEP:
+        cfg->excite.duration = (pdt_real_t)v[6];
+        break;
+    case PDT_EXCITE_PRBS:
+        cfg->excite.prbs_hold = (uint32_t)v[6];
+        cfg->excite.prbs_bits = (uint32_t)v[7];
+        break;
+    default:
+        cfg->excite.d = (pdt_real_t)v[5];
+        cfg->excite.eps = (pdt_real_t)v[18];
+        cfg->excite.relay_skip = (uint32_t)v[19];
+        cfg->excite.relay_cycles = (uint32_t)v[20];
+        cfg->excite.relay_settle = (pdt_real_t)v[24];
+        cfg->excite.setpoint = RL(0.0);
+        cfg->move = PDT_RECORD_MOVE_ANY;
+        break;
+    }
+}
+
 /* at: the autotune with any experiment and the evidence options, then its
  * gains in closed loop on the same plant. */
 static int run_at(void)
@@ -400,31 +452,7 @@ static int run_at(void)
     cfg.capacity = (size_t)v[2];
     cfg.settle = (uint32_t)v[3];
     cfg.tail = (uint32_t)v[4];
-    pdt_excite_config_default(&cfg.excite, kinds[kind]);
-    cfg.excite.amplitude = (pdt_real_t)v[5];
-    switch (kinds[kind]) {
-    case PDT_EXCITE_PULSE:
-        cfg.excite.t_on = (pdt_real_t)v[6];
-        cfg.excite.t_off = (pdt_real_t)v[7];
-        cfg.excite.count = 1u;
-        break;
-    case PDT_EXCITE_STEP:
-        cfg.excite.duration = (pdt_real_t)v[6];
-        break;
-    case PDT_EXCITE_PRBS:
-        cfg.excite.prbs_hold = (uint32_t)v[6];
-        cfg.excite.prbs_bits = (uint32_t)v[7];
-        break;
-    default:
-        cfg.excite.d = (pdt_real_t)v[5];
-        cfg.excite.eps = (pdt_real_t)v[18];
-        cfg.excite.relay_skip = (uint32_t)v[19];
-        cfg.excite.relay_cycles = (uint32_t)v[20];
-        cfg.excite.relay_settle = (pdt_real_t)v[24];
-        cfg.excite.setpoint = RL(0.0);
-        cfg.move = PDT_RECORD_MOVE_ANY;
-        break;
-    }
+    at_experiment(&cfg, kinds[kind], v);
     cfg.u_min = (pdt_real_t)v[8];
     cfg.u_max = (pdt_real_t)v[9];
     cfg.pv_min = (pdt_real_t)v[10];
@@ -448,23 +476,7 @@ static int run_at(void)
         free(p.ubuf);
         return 0;
     }
-    if (r.has_relay) {
-        printf("relay_Ku %.9g\nrelay_Pu %.9g\n", (double)r.relay.Ku, (double)r.relay.Pu);
-    }
-    if (r.has_model) {
-        print_model("model", &r.ident.model);
-        printf("fit %.9g\n", (double)r.ident.fit);
-    }
-    if (r.has_valid) {
-        const pdt_validate_result_t *vr = &r.valid;
-        printf("white %d\nindependent %d\nsigma %.9g\nbic %.9g\nbic_other %.9g\n", (int)vr->white,
-               (int)vr->independent, (double)vr->sigma, (double)vr->bic, (double)r.bic_other);
-        printf("white_stat %.9g\ncross_stat %.9g\ninflation %.9g\n", (double)vr->white_stat,
-               (double)vr->cross_stat, (double)vr->inflation);
-        for (uint32_t i = 0; i < vr->std.count; i++) {
-            printf("std%u %.9g\n", (unsigned)i, (double)vr->std.std[i]);
-        }
-    }
+    print_at_result(&r);
     if (r.has_gains) {
         print_gains("at", &r.tune.ideal);
         printf("at_Ms_model %.9g\nms_robust %.9g\ndetune %.9g\n", (double)r.tune.fig.Ms,
