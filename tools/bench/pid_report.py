@@ -21,11 +21,10 @@ import sys
 import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "tools"))
 
-from pdtref import models as M  # noqa: E402
-from pdtref import pid as P  # noqa: E402
-from pdtref import tune as T  # noqa: E402
+from pdtref import models as M
+from pdtref import pid as P
+from pdtref import tune as T
 
 T_END = 25.0
 GRID = 0.1

@@ -4,18 +4,15 @@ against the closed-form closed loop of a delay-free plant (scipy.signal),
 the discrete loop's first-order convergence to the continuous one, and the
 series form against tune.series_to_ideal."""
 import math
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 from scipy import signal
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
-from pdtref import models as M  # noqa: E402
-from pdtref import pid as P  # noqa: E402
-from pdtref import tune as T  # noqa: E402
+from pdtref import models as M
+from pdtref import pid as P
+from pdtref import tune as T
 
 
 def _inputs(n, seed=3):

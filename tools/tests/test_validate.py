@@ -1,17 +1,14 @@
 """The validation reference (tools/pdtref/validate.py) against textbook facts."""
-import pathlib
-import sys
 
 import numpy as np
 import pytest
 from scipy import stats
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
-from pdtref import discrete as D  # noqa: E402
-from pdtref import models as M  # noqa: E402
-from pdtref import tune as T  # noqa: E402
-from pdtref import validate as V  # noqa: E402
+from pdtref import discrete as D
+from pdtref import models as M
+from pdtref import tune as T
+from pdtref import validate as V
 
 
 def record(m, noise, seed, n=400, Ts=0.5):

@@ -5,7 +5,7 @@ pdtref.cost, over record lengths up to 10^4 samples and data scales from
 
 The records are not stored: each is rebuilt by the C test from a few
 numbers with the same double arithmetic (no fused operations): an LCG
-(vectorgen._lcg.Lcg) draws a +-1 input held `hold` samples, a first-order
+(pdtsupport.rng.Lcg32) draws a +-1 input held `hold` samples, a first-order
 plant x(k) = a x(k-1) + b u(k-1-l) runs on it in double, LCG noise (sums
 of four uniforms) is added, and both signals are mapped to su u + uoff and
 sy y + yoff and rounded to float32. The reference works on those float32
@@ -19,7 +19,7 @@ import numpy as np
 from pdtref import cost as ref
 
 from . import _emit
-from ._lcg import Lcg
+from pdtsupport.rng import Lcg32 as Lcg
 from . import cost as base
 
 FILE = "cost_accuracy_vectors.h"

@@ -29,7 +29,7 @@ from pdtref import pid as P
 from pdtref import tune as T
 
 from . import _emit
-from ._lcg import Lcg
+from pdtsupport.rng import Lcg32 as Lcg
 
 FILE = "pid_vectors.h"
 STEPS = 80

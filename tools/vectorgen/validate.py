@@ -20,7 +20,7 @@ from pdtref import tune as T
 from pdtref import validate as V
 
 from . import _emit
-from ._lcg import Lcg
+from pdtsupport.rng import Lcg32 as Lcg
 
 FILE = "validate_vectors.h"
 N = 300
