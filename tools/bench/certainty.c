@@ -27,7 +27,10 @@
  *
  * Loops: a relay with hysteresis around a set-point (levels u0 + bias +/- d
  * as pdt_excite's relay, hysteresis three noise deviations) started after
- * a rest; or a PI controller (SIMC, tau_c = 2 theta, on the plant's
+ * a rest: asymmetric (u0 + 10 / u0 - 5, the set-point away from rest) or
+ * symmetric (u0 +/- 10 around the rest point, as a relay autotuner run
+ * at the operating point: little information on the static gain); or a
+ * PI controller (SIMC, tau_c = 2 theta, on the plant's
  * half-rule FOPDT) following set-point steps up, down and back.
  *
  * When pdt_ident.h defines PDT_IDENT_FLAG_AT_BOUND, the result's `flags`
@@ -49,7 +52,7 @@
 #define AMP 10.0
 
 enum plant_kind { PLANT_FOPDT, PLANT_SOPDT, PLANT_INTEG };
-enum loop_kind { LOOP_RELAY, LOOP_PI };
+enum loop_kind { LOOP_RELAY, LOOP_PI, LOOP_RELAY_SYM };
 
 typedef struct bcase {
     const char *name;
@@ -83,6 +86,12 @@ static const bcase_t cases[] = {
     {"PI set-point steps, SOPDT zeta = 1.5", LOOP_PI, PLANT_SOPDT, 1.2, 0.5, 1.5, 1.03, 120.0,
      1200},
     {"PI set-point steps, SOPDT zeta = 0.7", LOOP_PI, PLANT_SOPDT, 1.2, 0.8, 0.7, 1.03, 80.0,
+     1200},
+    {"symmetric relay FOPDT, tau/Td = 2", LOOP_RELAY_SYM, PLANT_FOPDT, 1.0, 2.0, 0.0, 1.03, 40.0,
+     1200},
+    {"symmetric relay SOPDT, zeta = 0.7", LOOP_RELAY_SYM, PLANT_SOPDT, 1.2, 0.8, 0.7, 1.03, 50.0,
+     1200},
+    {"symmetric relay SOPDT, zeta = 1.5", LOOP_RELAY_SYM, PLANT_SOPDT, 1.2, 0.5, 1.5, 1.03, 80.0,
      1200},
 };
 #define NCASES (sizeof cases / sizeof cases[0])
@@ -279,12 +288,13 @@ static void loop_record(const bcase_t *c, const dplant_t *d, double Ts, double s
         y[k] = Y0 + ym;
         du[k] = 0.0;
         if (k >= k0) {
-            if (c->loop == LOOP_RELAY) {
-                const double err = s * (step - ym);
+            if (c->loop != LOOP_PI) {
+                const int sym = c->loop == LOOP_RELAY_SYM;
+                const double err = s * ((sym ? 0.0 : step) - ym);
                 if (err > hyst)
                     level = 1.0;
                 else if (err < -hyst)
-                    level = -0.5;
+                    level = sym ? -1.0 : -0.5;
                 du[k] = AMP * level;
             } else {
                 double sp = step;
@@ -406,7 +416,7 @@ static void print_cases(void)
         json_str(c->name);
         printf(",\"loop\":\"%s\",\"plant\":\"%s\",\"model\":\"%s\",\"p\":[%.10g,%.10g,%.10g],"
                "\"Td\":%.10g,\"T\":%.10g,\"n\":%zu,\"Ts\":%.17g,\"snr_db\":%g}\n",
-               c->loop == LOOP_RELAY ? "relay" : "pi", plant_names[c->plant],
+               c->loop == LOOP_PI ? "pi" : (c->loop == LOOP_RELAY ? "relay" : "relay-sym"), plant_names[c->plant],
                c->plant == PLANT_FOPDT ? "fopdt" : "sopdt", c->p1, c->p2, c->p3, c->Td, c->T, c->n,
                c->T / (double)c->n, SNR_DB);
     }

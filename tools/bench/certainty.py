@@ -8,7 +8,8 @@ Usage (from the repository root):
                                                       # into build/bench/certainty-smoke.md
     options: --seeds N (closed-loop and hard cases), --set-seeds N (the other
     benchmark sets), --jobs N (worker processes, default: all cores),
-    --out FILE, --json FILE (every run's line, for later study)
+    --out FILE, --json FILE (every run's verdict, one line each, written as
+    the batches finish)
 
 It builds tools/bench/certainty.c (the driver: closed-loop records of known
 plants, pdt_identify with the library's defaults) into build/bench, then,
@@ -16,8 +17,8 @@ for every case and seed, one record (the seed sets the noise) identified
 once (the same seed is the search's seed), and judges each answer against a
 reference optimum of the same criterion found independently of pdtfit:
 
-- the cases: relay and PI closed loops of FOPDT, SOPDT and integrating
-  plants (certainty.c), the three hard cases of the reliability section of
+- the cases: relay (asymmetric, and symmetric around the rest point) and
+  PI closed loops of FOPDT, SOPDT and integrating plants (certainty.c), the three hard cases of the reliability section of
   docs/benchmarks.md, and every accuracy set of run_ident_bench.py, their
   records made by benchlib exactly as there (with the noise seed varying);
 - the reference optimum: the least cost of fastref.FastRef's nine-start
@@ -253,7 +254,10 @@ loop's output over 10^(25/20)); the controller sees the noisy output.
 *Relay*: after a rest of 5 % of the record, a relay with hysteresis (three
 noise deviations) switches u between u0 + 10 and u0 - 5 around a set-point
 0.3 x 10 x K above y0 (the sign follows K; an integrator's K is taken as
-its output change over a quarter of the record). *PI*: a PI controller
+its output change over a quarter of the record). *Symmetric relay*: u
+between u0 + 10 and u0 - 10 around the rest point y0 itself, as a relay
+autotuner started at the operating point: the record says little about
+the static gain, which makes it the hardest of these for the search. *PI*: a PI controller
 tuned by SIMC with tau_c = 2 theta on the plant's half-rule FOPDT follows
 set-point steps of 0.3 x 10 x K at 5 %, to -0.5 of that at 40 % and back to
 0 at 70 % of the record. FOPDT plants are identified as FOPDT, the others as
@@ -290,42 +294,9 @@ pdtfit's answer).
 """
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--seeds", type=int, default=1000)
-    ap.add_argument("--set-seeds", type=int, default=None,
-                    help="seeds of the accuracy sets (default: --seeds)")
-    ap.add_argument("--smoke", action="store_true")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--out")
-    ap.add_argument("--json")
-    a = ap.parse_args()
-    seeds = 20 if a.smoke else a.seeds
-    set_seeds = seeds if a.set_seeds is None else a.set_seeds
-    if a.smoke:
-        set_seeds = min(set_seeds, 10)
-    out = pathlib.Path(a.out) if a.out else (
-        BUILD / "certainty-smoke.md" if a.smoke else ROOT / "docs" / "certainty.md")
-    t_start = time.time()
-    build()
-    cases = driver_cases()
-    bcs = bench_cases(a.smoke)
-    tasks = []
-    for ci in range(len(cases)):
-        tasks += [("closed", ci, s0, cnt) for s0, cnt in batches(seeds)]
-    for bi, bc in enumerate(bcs):
-        ns = seeds if bc[5] else set_seeds
-        tasks += [("bench", bi, s0, cnt, a.smoke) for s0, cnt in batches(ns)]
-    results = []
-    done = 0
-    with mp.Pool(a.jobs) as pool:
-        for rs in pool.imap_unordered(run_task, tasks, chunksize=1):
-            results += rs
-            done += 1
-            if done % 20 == 0 or done == len(tasks):
-                print(f"{done}/{len(tasks)} batches, {time.time() - t_start:.0f} s", flush=True)
-    elapsed = time.time() - t_start
-
+def write_doc(out, results, cases, bcs, run):
+    """docs/certainty.md from the verdicts; run: seeds, set_seeds, smoke,
+    jobs, elapsed (s)."""
     def rows_of(kind, i):
         return sorted((r for k, j, r in results if k == kind and j == i), key=lambda r: r["seed"])
 
@@ -337,13 +308,15 @@ def main():
     doc.append("## Run\n")
     mach = rb.machine()
     doc.append(f"- Command: `python3 tools/bench/certainty.py"
-               f"{' --smoke' if a.smoke else ''} --seeds {seeds} --set-seeds {set_seeds}`")
+               f"{' --smoke' if run['smoke'] else ''} --seeds {run['seeds']} "
+               f"--set-seeds {run['set_seeds']}`")
     doc.append(f"- CPU: {mach['cpu']} ({mach['cores']} cores visible); {mach['compiler']}, "
                f"`-O2`, float build; Python {mach['python']}, numpy {mach['numpy']}, "
                f"scipy {mach['scipy']}")
-    doc.append(f"- The script ran {elapsed / 60:.1f} min with {a.jobs} worker processes.\n")
+    doc.append(f"- The script ran {run['elapsed'] / 60:.1f} min with {run['jobs']} worker "
+               f"processes.\n")
     doc.append("## Summary\n")
-    lines_all, tot_all = table(closed + hard + sets)
+    _, tot_all = table(closed + hard + sets)
     doc.append(f"**{tot_all['wrong']} wrong answers with status OK in {tot_all['n']} "
                f"identifications** over {len(closed) + len(hard) + len(sets)} cases.\n")
     for title, groups in (("Closed-loop records", closed),
@@ -361,10 +334,70 @@ def main():
         doc.append("")
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(doc) + "\n")
-    if a.json:
-        with open(a.json, "w") as f:
-            for k, i, r in results:
-                f.write(json.dumps({"kind": k, "case": i, **r}) + "\n")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", type=int, default=1000)
+    ap.add_argument("--set-seeds", type=int, default=None,
+                    help="seeds of the accuracy sets (default: --seeds)")
+    ap.add_argument("--smoke", action="store_true")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--out")
+    ap.add_argument("--json")
+    ap.add_argument("--from-json", metavar="FILE",
+                    help="write the document from the verdicts a run saved with --json")
+    a = ap.parse_args()
+    seeds = 20 if a.smoke else a.seeds
+    set_seeds = seeds if a.set_seeds is None else a.set_seeds
+    if a.smoke:
+        set_seeds = min(set_seeds, 10)
+    out = pathlib.Path(a.out) if a.out else (
+        BUILD / "certainty-smoke.md" if a.smoke else ROOT / "docs" / "certainty.md")
+    t_start = time.time()
+    build()
+    cases = driver_cases()
+    bcs = bench_cases(a.smoke)
+    if a.from_json:
+        results, run = [], None
+        for line in open(a.from_json):
+            j = json.loads(line)
+            kind = j.pop("kind")
+            if kind == "meta":
+                run = j
+            else:
+                results.append((kind, j.pop("case"), j))
+        if run is None:
+            sys.exit(f"{a.from_json} holds no finished run")
+        write_doc(out, results, cases, bcs, run)
+        print(f"wrote {out}")
+        return
+    tasks = []
+    for ci in range(len(cases)):
+        tasks += [("closed", ci, s0, cnt) for s0, cnt in batches(seeds)]
+    for bi, bc in enumerate(bcs):
+        ns = seeds if bc[5] else set_seeds
+        tasks += [("bench", bi, s0, cnt, a.smoke) for s0, cnt in batches(ns)]
+    results = []
+    done = 0
+    jf = open(a.json, "w") if a.json else None
+    with mp.Pool(a.jobs) as pool:
+        for rs in pool.imap_unordered(run_task, tasks, chunksize=1):
+            results += rs
+            done += 1
+            if jf:
+                for k, i, r in rs:
+                    jf.write(json.dumps({"kind": k, "case": i, **r}) + "\n")
+                jf.flush()
+            if done % 20 == 0 or done == len(tasks):
+                print(f"{done}/{len(tasks)} batches, {time.time() - t_start:.0f} s", flush=True)
+    elapsed = time.time() - t_start
+    run = {"seeds": seeds, "set_seeds": set_seeds, "smoke": a.smoke, "jobs": a.jobs,
+           "elapsed": elapsed}
+    if jf:
+        jf.write(json.dumps({"kind": "meta", **run}) + "\n")
+        jf.close()
+    write_doc(out, results, cases, bcs, run)
     print(f"wrote {out} in {elapsed:.0f} s")
 
 
