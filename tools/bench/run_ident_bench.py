@@ -6,6 +6,8 @@ Usage (from the repository root):
     python3 tools/bench/run_ident_bench.py            # full: about 10-15 min on 2 cores
     python3 tools/bench/run_ident_bench.py --quick    # a few cases, under a minute,
                                                       # into build/bench/benchmarks-quick.md
+    python3 tools/bench/run_ident_bench.py --update-certainty
+                                                      # section 6 only, from docs/certainty.md
     options: --jobs N (worker processes, default: all cores), --out FILE
 
 It configures and builds the float library, the `pdtfit` command line and
@@ -613,10 +615,19 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--out")
+    ap.add_argument("--update-certainty", action="store_true",
+                    help="only replace section 6 of the document with docs/certainty.md's "
+                         "summary (after a run of certainty.py)")
     a = ap.parse_args()
     quick = a.quick
     out = pathlib.Path(a.out) if a.out else (
         BUILD / "benchmarks-quick.md" if quick else ROOT / "docs" / "benchmarks.md")
+    if a.update_certainty:
+        text = out.read_text()
+        head = text.split("## 6. Certainty of the global search")[0].rstrip("\n")
+        out.write_text(head + "\n\n" + "\n".join(certainty_section()) + "\n")
+        print(f"updated section 6 of {out}")
+        return
     t_start = time.time()
     build()
     mach = machine()
