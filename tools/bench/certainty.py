@@ -215,9 +215,10 @@ def table(groups):
         s = summarise(rows)
         tot["n"] += s["n"]
         tot["wrong"] += s["wrong"]
+        worst = "-" if math.isnan(s["worst"]) else f"{s['worst']:.3g}"
         lines.append(f"| {label} | {s['n']} | {s['right']} | **{s['wrong']}** | "
                      f"{s['flagged_right']} | {s['flagged_wrong']} | {s['refused']} | "
-                     f"{s['worst']:.3g} | {s['ev_med']} | {s['ref9_missed']} / "
+                     f"{worst} | {s['ev_med']} | {s['ref9_missed']} / "
                      f"{s['search_missed']} |")
     return lines, tot
 
@@ -313,8 +314,12 @@ def write_doc(out, results, cases, bcs, run):
     doc.append(f"- CPU: {mach['cpu']} ({mach['cores']} cores visible); {mach['compiler']}, "
                f"`-O2`, float build; Python {mach['python']}, numpy {mach['numpy']}, "
                f"scipy {mach['scipy']}")
-    doc.append(f"- The script ran {run['elapsed'] / 60:.1f} min with {run['jobs']} worker "
-               f"processes.\n")
+    if run["elapsed"] is None:
+        doc.append("- **The run was interrupted**: the tables count the seeds it finished "
+                   "(the seeds column).\n")
+    else:
+        doc.append(f"- The script ran {run['elapsed'] / 60:.1f} min with {run['jobs']} worker "
+                   f"processes.\n")
     doc.append("## Summary\n")
     _, tot_all = table(closed + hard + sets)
     doc.append(f"**{tot_all['wrong']} wrong answers with status OK in {tot_all['n']} "
@@ -367,8 +372,9 @@ def main():
                 run = j
             else:
                 results.append((kind, j.pop("case"), j))
-        if run is None:
-            sys.exit(f"{a.from_json} holds no finished run")
+        if run is None:     # an interrupted run: the counts of what it finished
+            run = {"seeds": seeds, "set_seeds": set_seeds, "smoke": a.smoke,
+                   "jobs": a.jobs, "elapsed": None}
         write_doc(out, results, cases, bcs, run)
         print(f"wrote {out}")
         return
