@@ -319,7 +319,8 @@ def write_doc(out, results, cases, bcs, run):
                    "(the seeds column).\n")
     else:
         doc.append(f"- The script ran {run['elapsed'] / 60:.1f} min with {run['jobs']} worker "
-                   f"processes.\n")
+                   f"processes" + (" (the part after a resume)" if run.get("resumed") else "") +
+                   ".\n")
     doc.append("## Summary\n")
     _, tot_all = table(closed + hard + sets)
     doc.append(f"**{tot_all['wrong']} wrong answers with status OK in {tot_all['n']} "
@@ -350,6 +351,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--out")
     ap.add_argument("--json")
+    ap.add_argument("--resume", metavar="FILE",
+                    help="keep the verdicts an interrupted run saved with --json and run "
+                         "only the batches it did not finish (same seeds options)")
     ap.add_argument("--from-json", metavar="FILE",
                     help="write the document from the verdicts a run saved with --json")
     a = ap.parse_args()
@@ -378,15 +382,29 @@ def main():
         write_doc(out, results, cases, bcs, run)
         print(f"wrote {out}")
         return
-    tasks = []
-    for ci in range(len(cases)):
-        tasks += [("closed", ci, s0, cnt) for s0, cnt in batches(seeds)]
+    # Round-robin over the cases, batch by batch, the closed-loop and hard
+    # cases first: a run cut short still has every case at about the same
+    # number of seeds.
+    queues = [[("closed", ci, s0, cnt) for s0, cnt in batches(seeds)]
+              for ci in range(len(cases))]
+    queues += [[("bench", bi, s0, cnt, a.smoke) for s0, cnt in batches(seeds)]
+               for bi, bc in enumerate(bcs) if bc[5]]
+    tasks = [q[b] for b in range(max(len(q) for q in queues)) for q in queues if b < len(q)]
     for bi, bc in enumerate(bcs):
-        ns = seeds if bc[5] else set_seeds
-        tasks += [("bench", bi, s0, cnt, a.smoke) for s0, cnt in batches(ns)]
+        if not bc[5]:
+            tasks += [("bench", bi, s0, cnt, a.smoke) for s0, cnt in batches(set_seeds)]
     results = []
+    if a.resume:    # keep the verdicts of an interrupted run, do the rest
+        for line in open(a.resume):
+            j = json.loads(line)
+            kind = j.pop("kind")
+            if kind != "meta":
+                results.append((kind, j.pop("case"), j))
+        have = {(k, i, r["seed"]) for k, i, r in results}
+        tasks = [t for t in tasks if (t[0], t[1], t[2]) not in have]
+        print(f"resuming: {len(results)} verdicts kept, {len(tasks)} batches to run", flush=True)
     done = 0
-    jf = open(a.json, "w") if a.json else None
+    jf = open(a.json, "a" if a.resume and a.resume == a.json else "w") if a.json else None
     with mp.Pool(a.jobs) as pool:
         for rs in pool.imap_unordered(run_task, tasks, chunksize=1):
             results += rs
@@ -399,7 +417,7 @@ def main():
                 print(f"{done}/{len(tasks)} batches, {time.time() - t_start:.0f} s", flush=True)
     elapsed = time.time() - t_start
     run = {"seeds": seeds, "set_seeds": set_seeds, "smoke": a.smoke, "jobs": a.jobs,
-           "elapsed": elapsed}
+           "elapsed": elapsed, "resumed": bool(a.resume)}
     if jf:
         jf.write(json.dumps({"kind": "meta", **run}) + "\n")
         jf.close()
