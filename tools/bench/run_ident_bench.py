@@ -8,6 +8,8 @@ Usage (from the repository root):
                                                       # into build/bench/benchmarks-quick.md
     python3 tools/bench/run_ident_bench.py --update-certainty
                                                       # section 6 only, from docs/certainty.md
+    python3 tools/bench/run_ident_bench.py --update-speed
+                                                      # sections 4 to 6 only (a few minutes)
     options: --jobs N (worker processes, default: all cores), --out FILE
 
 It configures and builds the float library, the `pdtfit` command line and
@@ -550,6 +552,73 @@ def certainty_section():
     return doc
 
 
+def speed_memory_doc(speed, mem, load_before, load_after):
+    """Sections 4 and 5 of the document."""
+    doc = []
+    doc.append("## 4. Speed\n")
+    doc.append("In-process: `tools/bench/ident_speed.c` calls `pdt_identify` with the default "
+               "configuration on a PRBS record (SNR 30 dB; FOPDT F2 and SOPDT S2 of section 1, "
+               "the record lengthened at the same Ts), one core, `clock_gettime` around each "
+               "call, median of the repeats. *Instructions*: one `pdt_identify` call counted "
+               "by `valgrind --tool=callgrind` (collection toggled on `pdt_identify` only), "
+               "in all and divided by the evaluations and N; they include the set-up, the "
+               "breeding and the result. **The reference of this section** is the fast "
+               "scipy fit of `tools/bench/fastref.py`, timed on the same record right after "
+               "pdtfit (median of at least three runs): output error, nine starts (dead "
+               "times spread over [0, T/3]; a time constant of T/20; a SOPDT's 1/zeta "
+               "cycling 2.5, 1, 0.5), each polished by a bounded Levenberg-Marquardt "
+               "iteration; one `scipy.signal.lfilter` of the exact ZOH model with its "
+               "fractional dead time per evaluation (the dead time as a shift), gain and "
+               "offset in closed form, so that the search is over (log tau, Td) or "
+               "(log a, 1/zeta, Td) only. *Ref. cost*: its cost over pdtfit's on the same "
+               "record (1 = the same optimum; above 1, the nine starts missed it). "
+               "*Ratio*: the reference's wall time over pdtfit's. Targets (one host core): "
+               "a FOPDT of N = 2000 in at most 1 ms, a SOPDT in at most 5 ms. The 1-minute "
+               "load average of "
+               f"the machine was {load_before:.2f} before and {load_after:.2f} after these "
+               "timings (above 1 means other processes shared the cores).\n")
+    doc.append("| model | N | evaluations | pdtfit median ms | instructions (M) | "
+               "instr./(sample x eval) | reference ms (evaluations) | ref. cost | ratio |")
+    doc.append("|---|---|---|---|---|---|---|---|---|")
+    for r in speed:
+        ir = r.get("ir_per_sample_eval")
+        rc = r.get("ref_cost_ratio")
+        tot = "-" if not r.get("Ir") else f"{r['Ir'] / 1e6:.1f}"
+        doc.append(f"| {r['model']} | {r['N']} | {r['evaluations']} | "
+                   f"{1e3 * r['median_s']:.2f} | "
+                   f"{tot} | "
+                   f"{'-' if ir is None else f'{ir:.1f}'} | "
+                   f"{1e3 * r['ref_s']:.1f} ({r['ref_nfev']}) | "
+                   f"{'-' if rc is None else f'{rc:.3g}'} | "
+                   f"{r['ref_s'] / r['median_s']:.1f} x |")
+    doc.append("")
+    for model, lim in (("fopdt", 1.0), ("sopdt", 5.0)):
+        r = [x for x in speed if x["model"] == model and x["N"] == 2000]
+        if r:
+            r = r[0]
+            ms = 1e3 * r["median_s"]
+            su = r["ref_s"] / r["median_s"]
+            doc.append(f"- {model.upper()} at N = 2000: {ms:.2f} ms against the {lim:g} ms "
+                       f"target: **{'met' if ms <= lim else 'missed'}**; {su:.1f} x faster "
+                       f"than the fast reference.")
+    doc.append("")
+
+    doc.append("## 5. Memory\n")
+    doc.append(f"`pdt_ident_workspace_size` (float build, {mem[0]['real_bytes']}-byte reals) "
+               f"in bytes, default configuration (automatic population), plus the context "
+               f"`pdt_ident_t` of {mem[0]['ctx']} bytes. The double build doubles the "
+               f"real-valued parts.\n")
+    doc.append("| model | criterion | N = 500 | N = 2000 | N = 8000 |")
+    doc.append("|---|---|---|---|---|")
+    for model in ("fopdt", "sopdt"):
+        for c in ("prediction", "simulation", "frequency", "combined"):
+            doc.append(f"| {model} | {c} | " +
+                       " | ".join(str(m[f"{model}_{c}"]) for m in mem) + " |")
+    doc.append("")
+
+    return doc
+
+
 # ------------------------------------------------------------------ document
 
 INTRO = """# Identification benchmarks
@@ -615,6 +684,9 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--out")
+    ap.add_argument("--update-speed", action="store_true",
+                    help="only rerun sections 4 and 5 (speed, memory) and replace sections "
+                         "4 to 6 of the document, keeping sections 1 to 3")
     ap.add_argument("--update-certainty", action="store_true",
                     help="only replace section 6 of the document with docs/certainty.md's "
                          "summary (after a run of certainty.py)")
@@ -622,6 +694,22 @@ def main():
     quick = a.quick
     out = pathlib.Path(a.out) if a.out else (
         BUILD / "benchmarks-quick.md" if quick else ROOT / "docs" / "benchmarks.md")
+    if a.update_speed:
+        build()
+        text = out.read_text()
+        head = text.split("## 4. Speed")[0].rstrip("\n")
+        load_before = os.getloadavg()[0]
+        with tempfile.TemporaryDirectory() as tmp:
+            speed, mem = speed_section(False, tmp)
+        load_after = os.getloadavg()[0]
+        note = [f"Sections 4 to 6 were regenerated on their own "
+                f"(`run_ident_bench.py --update-speed`, {time.strftime('%Y-%m-%d')}); sections "
+                f"1 to 3 come from the full run described under Machine.\n"]
+        sm = speed_memory_doc(speed, mem, load_before, load_after)
+        doc = [head, ""] + sm[:1] + note + sm[1:] + certainty_section()
+        out.write_text("\n".join(doc) + "\n")
+        print(f"updated sections 4 to 6 of {out}")
+        return
     if a.update_certainty:
         text = out.read_text()
         head = text.split("## 6. Certainty of the global search")[0].rstrip("\n")
@@ -765,68 +853,7 @@ def main():
                    f"({r9[4]} evaluations) | {sum(map(ok, r1))}/{len(r1)} |")
     doc.append("")
 
-    # ---- 4
-    doc.append("## 4. Speed\n")
-    doc.append("In-process: `tools/bench/ident_speed.c` calls `pdt_identify` with the default "
-               "configuration on a PRBS record (SNR 30 dB; FOPDT F2 and SOPDT S2 of section 1, "
-               "the record lengthened at the same Ts), one core, `clock_gettime` around each "
-               "call, median of the repeats. *Instructions*: one `pdt_identify` call counted "
-               "by `valgrind --tool=callgrind` (collection toggled on `pdt_identify` only), "
-               "in all and divided by the evaluations and N; they include the set-up, the "
-               "breeding and the result. **The reference of this section** is the fast "
-               "scipy fit of `tools/bench/fastref.py`, timed on the same record right after "
-               "pdtfit (median of at least three runs): output error, nine starts (dead "
-               "times spread over [0, T/3]; a time constant of T/20; a SOPDT's 1/zeta "
-               "cycling 2.5, 1, 0.5), each polished by a bounded Levenberg-Marquardt "
-               "iteration; one `scipy.signal.lfilter` of the exact ZOH model with its "
-               "fractional dead time per evaluation (the dead time as a shift), gain and "
-               "offset in closed form, so that the search is over (log tau, Td) or "
-               "(log a, 1/zeta, Td) only. *Ref. cost*: its cost over pdtfit's on the same "
-               "record (1 = the same optimum; above 1, the nine starts missed it). "
-               "*Ratio*: the reference's wall time over pdtfit's. Targets (one host core): "
-               "a FOPDT of N = 2000 in at most 1 ms, a SOPDT in at most 5 ms. The 1-minute "
-               "load average of "
-               f"the machine was {load_before:.2f} before and {load_after:.2f} after these "
-               "timings (above 1 means other processes shared the cores).\n")
-    doc.append("| model | N | evaluations | pdtfit median ms | instructions (M) | "
-               "instr./(sample x eval) | reference ms (evaluations) | ref. cost | ratio |")
-    doc.append("|---|---|---|---|---|---|---|---|---|")
-    for r in speed:
-        ir = r.get("ir_per_sample_eval")
-        rc = r.get("ref_cost_ratio")
-        tot = "-" if not r.get("Ir") else f"{r['Ir'] / 1e6:.1f}"
-        doc.append(f"| {r['model']} | {r['N']} | {r['evaluations']} | "
-                   f"{1e3 * r['median_s']:.2f} | "
-                   f"{tot} | "
-                   f"{'-' if ir is None else f'{ir:.1f}'} | "
-                   f"{1e3 * r['ref_s']:.1f} ({r['ref_nfev']}) | "
-                   f"{'-' if rc is None else f'{rc:.3g}'} | "
-                   f"{r['ref_s'] / r['median_s']:.1f} x |")
-    doc.append("")
-    for model, lim in (("fopdt", 1.0), ("sopdt", 5.0)):
-        r = [x for x in speed if x["model"] == model and x["N"] == 2000]
-        if r:
-            r = r[0]
-            ms = 1e3 * r["median_s"]
-            su = r["ref_s"] / r["median_s"]
-            doc.append(f"- {model.upper()} at N = 2000: {ms:.2f} ms against the {lim:g} ms "
-                       f"target: **{'met' if ms <= lim else 'missed'}**; {su:.1f} x faster "
-                       f"than the fast reference.")
-    doc.append("")
-
-    # ---- 5
-    doc.append("## 5. Memory\n")
-    doc.append(f"`pdt_ident_workspace_size` (float build, {mem[0]['real_bytes']}-byte reals) "
-               f"in bytes, default configuration (automatic population), plus the context "
-               f"`pdt_ident_t` of {mem[0]['ctx']} bytes. The double build doubles the "
-               f"real-valued parts.\n")
-    doc.append("| model | criterion | N = 500 | N = 2000 | N = 8000 |")
-    doc.append("|---|---|---|---|---|")
-    for model in ("fopdt", "sopdt"):
-        for c in ("prediction", "simulation", "frequency", "combined"):
-            doc.append(f"| {model} | {c} | " +
-                       " | ".join(str(m[f"{model}_{c}"]) for m in mem) + " |")
-    doc.append("")
+    doc += speed_memory_doc(speed, mem, load_before, load_after)
 
     # ---- 6
     doc += certainty_section()
