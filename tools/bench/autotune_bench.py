@@ -31,12 +31,13 @@ import math
 import multiprocessing as mp
 import pathlib
 import subprocess
-import sys
 
 import numpy as np
 import scipy.linalg as sla
 import scipy.optimize as so
 import scipy.signal as ss
+
+from pdtsupport.status import NAMES
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 BUILD = ROOT / "build" / "autotune-bench"
@@ -61,10 +62,8 @@ DFILT = 10.0               # derivative filter N (Tf = tauD / N)
 SIM_STEPS = 400            # simulation steps per time scale
 SIM_SPAN = 40.0            # simulated time, time scales
 
-STATUS = {0: "ok", -1: "bad argument", -3: "no memory", -5: "too short",
-          -7: "no form", -8: "no excitation", -10: "pv limit",
-          -11: "output limit", -12: "timeout", -14: "refused (fit or Ms)",
-          -15: "unstable", -16: "aborted", -19: "model invalid", -20: "uncertain"}
+# Status labels from the C header (pdtsupport.status), in words.
+STATUS = {code: name.lower().replace("_", " ") for code, name in NAMES.items()}
 PHASE = {0: "-", 1: "settle", 2: "excite", 3: "identify", 4: "tune", 5: "done",
          6: "failed"}
 
@@ -863,10 +862,7 @@ NOISES = (0.0, 0.01, 0.03)
 SEEDS = (1, 2, 3)
 RELAY_NEW = (0, 3, 0.1)    # relay_skip, relay_cycles, relay_settle: the defaults
 RELAY_OLD = (1, 3, 0.0)    # the relay as it was
-EV_STATUS = {0: "ok", -5: "too short", -7: "no form", -8: "no excitation",
-             -10: "pv limit", -11: "output limit", -12: "timeout",
-             -14: "poor fit / Ms on model", -15: "unstable", -17: "not at rest",
-             -19: "model invalid", -20: "uncertain"}
+EV_STATUS = STATUS
 
 
 def ev_experiment(p, scale, exp):

@@ -6,6 +6,10 @@ Usage (from the repository root):
     python3 tools/bench/run_ident_bench.py            # full: about 10-15 min on 2 cores
     python3 tools/bench/run_ident_bench.py --quick    # a few cases, under a minute,
                                                       # into build/bench/benchmarks-quick.md
+    python3 tools/bench/run_ident_bench.py --update-certainty
+                                                      # section 6 only, from docs/certainty.md
+    python3 tools/bench/run_ident_bench.py --update-speed
+                                                      # sections 4 to 6 only (a few minutes)
     options: --jobs N (worker processes, default: all cores), --out FILE
 
 It configures and builds the float library, the `pdtfit` command line and
@@ -15,9 +19,11 @@ the timing program tools/bench/ident_speed.c into build/bench (-O2), then:
    output-error least-squares reference written with scipy;
 2. FOPDT/SOPDT approximations of the Astrom-Hagglund test batch;
 3. reliability of the global search over 100 seeds on hard cases;
-4. speed (in-process timing, callgrind instruction counts, the reference
-   timed on the same data);
-5. workspace memory.
+4. speed (in-process timing, callgrind instruction counts, the fast scipy
+   reference of fastref.py timed on the same data);
+5. workspace memory;
+6. the certainty battery's counts, copied from docs/certainty.md (written by
+   tools/bench/certainty.py, which takes longer and is run on its own).
 
 Everything is seeded; the same machine and versions give the same document
 (the timings apart).
@@ -42,6 +48,7 @@ import scipy
 
 from pdtbench import benchlib as bl
 from pdtbench.benchlib import ROOT
+from pdtbench import fastref
 
 BUILD = ROOT / "build" / "bench"
 PDTFIT = BUILD / "tools" / "pdtfit"
@@ -456,8 +463,20 @@ def write_bin(path, u, y):
     np.concatenate([np.asarray(u, "<f8"), np.asarray(y, "<f8")]).tofile(path)
 
 
+def time_reference(u, y, Ts, model, reps):
+    """The fast nine-start reference (fastref.FastRef.fit) on one record:
+    its median wall time over reps runs, evaluations and cost."""
+    times = []
+    for _ in range(reps):
+        ref = fastref.FastRef(u, y, Ts, model)
+        t0 = time.perf_counter()
+        c, _ = ref.fit()
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times)), ref.nfev, c
+
+
 def speed_section(quick, tmp):
-    Ns = (500, 2000) if quick else (500, 1000, 2000, 4000, 8000)
+    Ns = (500, 2000) if quick else (500, 1000, 1200, 2000, 4000, 8000)
     reps = 3 if quick else 9
     cases = [("fopdt", bl.fopdt_truth("F2", 2.0, 3.0, 3.03)),
              ("sopdt", bl.sopdt_truth("S2", 0.8, 0.5, 0.3, 2.33))]
@@ -473,6 +492,13 @@ def speed_section(quick, tmp):
                                              str(reps)], capture_output=True, text=True,
                                             check=True).stdout)
             row = {"model": model, "N": N, **res}
+            # the reference right after pdtfit, on the same record and core
+            row["ref_s"], row["ref_nfev"], ref_cost = time_reference(u, y, Ts, model,
+                                                                     max(3, reps // 3))
+            j = bl.run_pdtfit(PDTFIT, u, y, Ts, model)
+            if "error" not in j:
+                m, _ = bl.model_from_json(j)
+                row["ref_cost_ratio"] = ref_cost / profiled_cost(m, u, y, Ts)
             if have_vg and (not quick or N == 2000):
                 out = pathlib.Path(tmp) / f"cg_{model}_{N}.out"
                 subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}",
@@ -485,11 +511,6 @@ def speed_section(quick, tmp):
                         ir = int(line.split()[1])
                 row["Ir"] = ir
                 row["ir_per_sample_eval"] = ir / (res["evaluations"] * N) if ir else None
-            t0 = time.perf_counter()
-            ref = bl.Reference(u, y, Ts, model)
-            ref.fit()
-            row["ref_s"] = time.perf_counter() - t0
-            row["ref_nfev"] = ref.nfev
             rows.append(row)
     mem = []
     for N in (500, 2000, 8000):
@@ -497,6 +518,105 @@ def speed_section(quick, tmp):
                                              capture_output=True, text=True,
                                              check=True).stdout))
     return rows, mem
+
+
+# ------------------------------------------------------------------ 6. certainty
+
+def certainty_section():
+    """The summary of docs/certainty.md (its run and its tables), headings
+    moved one level down; a pointer when it has not been generated."""
+    doc = ["## 6. Certainty of the global search\n"]
+    path = ROOT / "docs" / "certainty.md"
+    if not path.exists():
+        return doc + ["Not measured: run `python3 tools/bench/certainty.py` "
+                      "(docs/certainty.md).\n"]
+    text = path.read_text()
+    doc.append("Copied from docs/certainty.md, which `python3 tools/bench/certainty.py` "
+               "generates (a separate run: about 45 minutes on two shared cores with 1000 seeds "
+               "per closed-loop and hard case and 100 per accuracy set). Every case is "
+               "a known plant; each seed is one record (its noise) and one identification "
+               "with the library's defaults (its search seed); an answer is *wrong* when "
+               "its output-error cost exceeds the reference optimum, found independently "
+               "of pdtfit by tools/bench/fastref.py, by more than 1 %. docs/certainty.md "
+               "describes the records and the reference.\n")
+    keep = False
+    for line in text.splitlines():
+        if line.startswith("## Run"):
+            keep = True
+            continue
+        if line.startswith("### Examples"):
+            keep = False
+        if not keep or line.startswith("## Summary"):
+            continue
+        doc.append("#" + line if line.startswith("###") else line)
+    return doc
+
+
+def speed_memory_doc(speed, mem, load_before, load_after):
+    """Sections 4 and 5 of the document."""
+    doc = []
+    doc.append("## 4. Speed\n")
+    doc.append("In-process: `tools/bench/ident_speed.c` calls `pdt_identify` with the default "
+               "configuration on a PRBS record (SNR 30 dB; FOPDT F2 and SOPDT S2 of section 1, "
+               "the record lengthened at the same Ts), one core, `clock_gettime` around each "
+               "call, median of the repeats. *Instructions*: one `pdt_identify` call counted "
+               "by `valgrind --tool=callgrind` (collection toggled on `pdt_identify` only), "
+               "in all and divided by the evaluations and N; they include the set-up, the "
+               "breeding and the result. **The reference of this section** is the fast "
+               "scipy fit of `tools/bench/fastref.py`, timed on the same record right after "
+               "pdtfit (median of at least three runs): output error, nine starts (dead "
+               "times spread over [0, T/3]; a time constant of T/20; a SOPDT's 1/zeta "
+               "cycling 2.5, 1, 0.5), each polished by a bounded Levenberg-Marquardt "
+               "iteration; one `scipy.signal.lfilter` of the exact ZOH model with its "
+               "fractional dead time per evaluation (the dead time as a shift), gain and "
+               "offset in closed form, so that the search is over (log tau, Td) or "
+               "(log a, 1/zeta, Td) only. *Ref. cost*: its cost over pdtfit's on the same "
+               "record (1 = the same optimum; above 1, the nine starts missed it). "
+               "*Ratio*: the reference's wall time over pdtfit's. Targets (one host core): "
+               "a FOPDT of N = 2000 in at most 1 ms, a SOPDT in at most 5 ms. The 1-minute "
+               "load average of "
+               f"the machine was {load_before:.2f} before and {load_after:.2f} after these "
+               "timings (above 1 means other processes shared the cores).\n")
+    doc.append("| model | N | evaluations | pdtfit median ms | instructions (M) | "
+               "instr./(sample x eval) | reference ms (evaluations) | ref. cost | ratio |")
+    doc.append("|---|---|---|---|---|---|---|---|---|")
+    for r in speed:
+        ir = r.get("ir_per_sample_eval")
+        rc = r.get("ref_cost_ratio")
+        tot = "-" if not r.get("Ir") else f"{r['Ir'] / 1e6:.1f}"
+        doc.append(f"| {r['model']} | {r['N']} | {r['evaluations']} | "
+                   f"{1e3 * r['median_s']:.2f} | "
+                   f"{tot} | "
+                   f"{'-' if ir is None else f'{ir:.1f}'} | "
+                   f"{1e3 * r['ref_s']:.1f} ({r['ref_nfev']}) | "
+                   f"{'-' if rc is None else f'{rc:.3g}'} | "
+                   f"{r['ref_s'] / r['median_s']:.1f} x |")
+    doc.append("")
+    for model, lim in (("fopdt", 1.0), ("sopdt", 5.0)):
+        r = [x for x in speed if x["model"] == model and x["N"] == 2000]
+        if r:
+            r = r[0]
+            ms = 1e3 * r["median_s"]
+            su = r["ref_s"] / r["median_s"]
+            doc.append(f"- {model.upper()} at N = 2000: {ms:.2f} ms against the {lim:g} ms "
+                       f"target: **{'met' if ms <= lim else 'missed'}**; {su:.1f} x faster "
+                       f"than the fast reference.")
+    doc.append("")
+
+    doc.append("## 5. Memory\n")
+    doc.append(f"`pdt_ident_workspace_size` (float build, {mem[0]['real_bytes']}-byte reals) "
+               f"in bytes, default configuration (automatic population), plus the context "
+               f"`pdt_ident_t` of {mem[0]['ctx']} bytes. The double build doubles the "
+               f"real-valued parts.\n")
+    doc.append("| model | criterion | N = 500 | N = 2000 | N = 8000 |")
+    doc.append("|---|---|---|---|---|")
+    for model in ("fopdt", "sopdt"):
+        for c in ("prediction", "simulation", "frequency", "combined"):
+            doc.append(f"| {model} | {c} | " +
+                       " | ".join(str(m[f"{model}_{c}"]) for m in mem) + " |")
+    doc.append("")
+
+    return doc
 
 
 # ------------------------------------------------------------------ document
@@ -564,10 +684,38 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--out")
+    ap.add_argument("--update-speed", action="store_true",
+                    help="only rerun sections 4 and 5 (speed, memory) and replace sections "
+                         "4 to 6 of the document, keeping sections 1 to 3")
+    ap.add_argument("--update-certainty", action="store_true",
+                    help="only replace section 6 of the document with docs/certainty.md's "
+                         "summary (after a run of certainty.py)")
     a = ap.parse_args()
     quick = a.quick
     out = pathlib.Path(a.out) if a.out else (
         BUILD / "benchmarks-quick.md" if quick else ROOT / "docs" / "benchmarks.md")
+    if a.update_speed:
+        build()
+        text = out.read_text()
+        head = text.split("## 4. Speed")[0].rstrip("\n")
+        load_before = os.getloadavg()[0]
+        with tempfile.TemporaryDirectory() as tmp:
+            speed, mem = speed_section(False, tmp)
+        load_after = os.getloadavg()[0]
+        note = [f"Sections 4 to 6 were regenerated on their own "
+                f"(`run_ident_bench.py --update-speed`, {time.strftime('%Y-%m-%d')}); sections "
+                f"1 to 3 come from the full run described under Machine.\n"]
+        sm = speed_memory_doc(speed, mem, load_before, load_after)
+        doc = [head, ""] + sm[:1] + note + sm[1:] + certainty_section()
+        out.write_text("\n".join(doc) + "\n")
+        print(f"updated sections 4 to 6 of {out}")
+        return
+    if a.update_certainty:
+        text = out.read_text()
+        head = text.split("## 6. Certainty of the global search")[0].rstrip("\n")
+        out.write_text(head + "\n\n" + "\n".join(certainty_section()) + "\n")
+        print(f"updated section 6 of {out}")
+        return
     t_start = time.time()
     build()
     mach = machine()
@@ -705,55 +853,10 @@ def main():
                    f"({r9[4]} evaluations) | {sum(map(ok, r1))}/{len(r1)} |")
     doc.append("")
 
-    # ---- 4
-    doc.append("## 4. Speed\n")
-    doc.append("In-process: `tools/bench/ident_speed.c` calls `pdt_identify` with the default "
-               "configuration on a PRBS record (SNR 30 dB; FOPDT F2 and SOPDT S2 of section 1, "
-               "the record lengthened at the same Ts), one core, `clock_gettime` around each "
-               "call, median of the repeats. *Instr./(sample x eval)*: instructions of one "
-               "`pdt_identify` call counted by `valgrind --tool=callgrind` (collection "
-               "toggled on `pdt_identify` only), divided by the evaluations and N; it "
-               "includes the set-up, the breeding and the result. The reference is the "
-               "scipy fit of section 1 on the same record, timed once. Targets: FOPDT at "
-               "N = 2000 under 10 ms, SOPDT under 50 ms; at least 10 x (FOPDT) and "
-               "100 x (SOPDT) faster than the reference. The 1-minute load average of "
-               f"the machine was {load_before:.2f} before and {load_after:.2f} after these "
-               "timings (above 1 means other processes shared the cores).\n")
-    doc.append("| model | N | evaluations | pdtfit median ms | evaluations/s | "
-               "instr./(sample x eval) | reference s (evaluations) | speed-up |")
-    doc.append("|---|---|---|---|---|---|---|---|")
-    for r in speed:
-        ir = r.get("ir_per_sample_eval")
-        doc.append(f"| {r['model']} | {r['N']} | {r['evaluations']} | "
-                   f"{1e3 * r['median_s']:.2f} | {r['evals_per_s']:.3g} | "
-                   f"{'-' if ir is None else f'{ir:.1f}'} | {r['ref_s']:.2f} ({r['ref_nfev']}) | "
-                   f"{r['ref_s'] / r['median_s']:.0f} x |")
-    doc.append("")
-    for model, lim, fac in (("fopdt", 10.0, 10), ("sopdt", 50.0, 100)):
-        r = [x for x in speed if x["model"] == model and x["N"] == 2000]
-        if r:
-            r = r[0]
-            ms = 1e3 * r["median_s"]
-            su = r["ref_s"] / r["median_s"]
-            doc.append(f"- {model.upper()} at N = 2000: {ms:.2f} ms against the {lim:g} ms "
-                       f"target: **{'met' if ms < lim else 'missed'}**; {su:.0f} x faster "
-                       f"than the reference against {fac} x: "
-                       f"**{'met' if su >= fac else 'missed'}**.")
-    doc.append("")
+    doc += speed_memory_doc(speed, mem, load_before, load_after)
 
-    # ---- 5
-    doc.append("## 5. Memory\n")
-    doc.append(f"`pdt_ident_workspace_size` (float build, {mem[0]['real_bytes']}-byte reals) "
-               f"in bytes, default configuration (automatic population), plus the context "
-               f"`pdt_ident_t` of {mem[0]['ctx']} bytes. The double build doubles the "
-               f"real-valued parts.\n")
-    doc.append("| model | criterion | N = 500 | N = 2000 | N = 8000 |")
-    doc.append("|---|---|---|---|---|")
-    for model in ("fopdt", "sopdt"):
-        for c in ("prediction", "simulation", "frequency", "combined"):
-            doc.append(f"| {model} | {c} | " +
-                       " | ".join(str(m[f"{model}_{c}"]) for m in mem) + " |")
-    doc.append("")
+    # ---- 6
+    doc += certainty_section()
 
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(doc) + "\n")

@@ -1,0 +1,437 @@
+#!/usr/bin/env python3
+"""Certainty battery of pdtfit's identification: writes docs/certainty.md.
+
+Usage (from the repository root):
+
+    python3 tools/bench/certainty.py                  # 1000 seeds per case
+    python3 tools/bench/certainty.py --smoke          # 20 seeds, a few sets,
+                                                      # into build/bench/certainty-smoke.md
+    options: --seeds N (closed-loop and hard cases), --set-seeds N (the other
+    benchmark sets), --jobs N (worker processes, default: all cores),
+    --out FILE, --json FILE (every run's verdict, one line each, written as
+    the batches finish)
+
+It builds tools/bench/certainty.c (the driver: closed-loop records of known
+plants, pdt_identify with the library's defaults) into build/bench, then,
+for every case and seed, one record (the seed sets the noise) identified
+once (the same seed is the search's seed), and judges each answer against a
+reference optimum of the same criterion found independently of pdtfit:
+
+- the cases: relay (asymmetric, and symmetric around the rest point) and
+  PI closed loops of FOPDT, SOPDT and integrating plants (certainty.c), the three hard cases of the reliability section of
+  docs/benchmarks.md, and every accuracy set of run_ident_bench.py, their
+  records made by benchlib exactly as there (with the noise seed varying);
+- the reference optimum: the least cost of fastref.FastRef's nine-start
+  output-error fit, its dense dead-time grid with polish, its polish from
+  the true parameters and its polish from pdtfit's answer (a better optimum
+  near pdtfit's answer still counts against pdtfit's answer);
+- a run is *wrong* when its cost exceeds the reference optimum by more than
+  1 %; refused (a status other than OK) and flagged (a nonzero result flag,
+  when the library has them) runs are counted apart.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import multiprocessing as mp
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from pdtbench import benchlib as bl
+from pdtbench import fastref
+from pdtbench import run_ident_bench as rb
+from pdtbench.benchlib import ROOT, models
+
+BUILD = ROOT / "build" / "bench"
+DRIVER = BUILD / "tools" / "bench" / "pdt_certainty"
+WRONG = 1.01          # cost ratio to the reference optimum that counts as wrong
+FAR = 1.1             # ... and as clearly another basin rather than a short polish
+BATCH = 25            # seeds per driver call
+
+
+def build():
+    cfg = ["cmake", "-S", str(ROOT), "-B", str(BUILD), "-G", "Ninja",
+           "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_C_FLAGS_RELEASE=-O2 -DNDEBUG",
+           "-DPDT_BUILD_TESTS=OFF", "-DPDT_REAL_DOUBLE=OFF"]
+    subprocess.run(cfg, check=True, stdout=subprocess.DEVNULL)
+    r = subprocess.run(["cmake", "--build", str(BUILD), "--target", "pdt_certainty"],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit("build failed:\n" + r.stdout[-3000:] + r.stderr[-3000:])
+
+
+# ------------------------------------------------------------------ cases
+
+def driver_cases():
+    out = subprocess.run([str(DRIVER), "cases"], capture_output=True, text=True, check=True)
+    return [json.loads(line) for line in out.stdout.splitlines()]
+
+
+def truth_model(c):
+    """pdtref model of a driver case's plant."""
+    p = c["p"]
+    if c["plant"] == "fopdt":
+        return models.Fopdt(p[0], p[1], c["Td"])
+    if c["plant"] == "sopdt":
+        return models.sopdt_from_natural(p[0], p[1], p[2], c["Td"])
+    return models.sopdt_from_integ(p[0], p[1], c["Td"])
+
+
+def bench_cases(smoke):
+    """The reliability section's hard cases (SNR 30 dB) and the accuracy
+    sets of run_ident_bench.py: (label, truth index or truth, excitation,
+    snr, quantised, hard)."""
+    out = []
+    for name, truth, exc in rb.rel_cases(False):
+        out.append((f"benchmark hard case: {name}, 30 dB", truth, exc, 30, False, True))
+    T = rb.truths()
+    sets = rb.accuracy_sets(False)
+    if smoke:
+        sets = [s for s in sets if s[1] == "relay" and s[2] == 20][:2]
+    for ti, exc, snr, quant in sets:
+        out.append((f"benchmark set {T[ti].name}: {rb.set_label((ti, exc, snr, quant))}",
+                    T[ti], exc, snr, quant, False))
+    return out
+
+
+def model_of_line(j):
+    if j["model"] == "fopdt":
+        return models.Fopdt(j["K"], j["tau"], j["Td"])
+    return models.Sopdt(j["k"], j["a"], j["b"], j["Td"])
+
+
+def describe(m):
+    if isinstance(m, models.Fopdt):
+        return f"FOPDT K {m.K:.3g}, tau {m.tau:.3g}, Td {m.Td:.3g}"
+    if m.b <= 0:
+        return f"integrator Ki {m.k / m.a:.3g}, T {1 / m.a:.3g}, Td {m.Td:.3g}"
+    n = models.to_natural(m)
+    return f"SOPDT K {n.K:.3g}, wn {n.wn:.3g}, zeta {n.zeta:.3g}, Td {m.Td:.3g}"
+
+
+def judge(u, y, Ts, kind, truth, line):
+    """One run's verdict: the driver's line plus the reference optimum and
+    the cost ratio."""
+    out = {"seed": line["seed"], "status": line["status"],
+           "evaluations": line.get("evaluations"), "seconds": line.get("seconds")}
+    if line["status"] != 0:
+        out["verdict"] = "refused"
+        out["status_name"] = line.get("status_name")
+        return out
+    out["flags"] = line.get("flags", 0)
+    ref = fastref.FastRef(u, y, Ts, kind)
+    m = model_of_line(line)
+    c_p = ref.cost_of(m)
+    c9, _ = ref.fit()
+    cg, _ = ref.grid_fit(ntd=96)
+    c_t, _ = ref.polish(ref.x_of(truth))
+    c_pp, _ = ref.polish(ref.x_of(m))
+    c_ref = min(c9, cg, c_t, c_pp, c_p)
+    ratio = c_p / c_ref if c_ref > 0 else 1.0
+    out.update({"cost": c_p, "ref": c_ref, "ratio": ratio,
+                "ref9_missed": bool(c9 > WRONG * c_ref),
+                "search_missed": bool(min(c9, cg) > WRONG * c_ref),
+                "fit": line.get("fit"), "model": describe(m)})
+    wrong = not (ratio <= WRONG)
+    out["verdict"] = ("flagged-" if out["flags"] else "") + ("wrong" if wrong else "right")
+    return out
+
+
+def closed_task(args):
+    ci, s0, count = args
+    c = driver_cases()[ci]
+    n = c["n"]
+    with tempfile.NamedTemporaryFile(suffix=".bin", delete=False) as f:
+        dump = f.name
+    try:
+        res = subprocess.run([str(DRIVER), "run", str(ci), str(s0), str(count), dump],
+                             capture_output=True, text=True, check=True)
+        recs = np.fromfile(dump, dtype=np.float64).reshape(count, 3, n)
+    finally:
+        os.unlink(dump)
+    lines = [json.loads(x) for x in res.stdout.splitlines()]
+    truth = truth_model(c)
+    return [("closed", ci, judge(recs[j, 0], recs[j, 1], c["Ts"], c["model"], truth, lines[j]))
+            for j in range(count)]
+
+
+def bench_task(args):
+    bi, s0, count, smoke = args
+    label, truth, exc, snr, quant, hard = bench_cases(smoke)[bi]
+    Ts = rb.record_ts(truth)
+    kind = rb.model_name(truth)
+    recs = [bl.make_record(truth, exc, rb.N_REC, Ts, snr, quant, s)[:2]
+            for s in range(s0, s0 + count)]
+    with tempfile.NamedTemporaryFile(suffix=".bin", delete=False) as f:
+        path = f.name
+        for u, y in recs:
+            f.write(np.concatenate([u, y]).astype("<f8").tobytes())
+    try:
+        res = subprocess.run([str(DRIVER), "file", path, str(rb.N_REC), f"{Ts:.17g}", kind,
+                              str(s0)], capture_output=True, text=True, check=True)
+    finally:
+        os.unlink(path)
+    lines = [json.loads(x) for x in res.stdout.splitlines()]
+    return [("bench", bi, judge(u, y, Ts, kind, truth.model(), line))
+            for (u, y), line in zip(recs, lines)]
+
+
+def run_task(t):
+    return closed_task(t[1:]) if t[0] == "closed" else bench_task(t[1:])
+
+
+def batches(n_seeds):
+    return [(s, min(BATCH, n_seeds + 1 - s)) for s in range(1, n_seeds + 1, BATCH)]
+
+
+# ------------------------------------------------------------------ report
+
+def summarise(rows):
+    v = [r["verdict"] for r in rows]
+    ev = [r["evaluations"] for r in rows if r.get("evaluations")]
+    return {"n": len(rows), "right": v.count("right"), "wrong": v.count("wrong"),
+            "far": sum(1 for r in rows if r["verdict"] == "wrong" and r["ratio"] > FAR),
+            "flagged_right": v.count("flagged-right"), "flagged_wrong": v.count("flagged-wrong"),
+            "refused": v.count("refused"),
+            "ref9_missed": sum(1 for r in rows if r.get("ref9_missed")),
+            "search_missed": sum(1 for r in rows if r.get("search_missed")),
+            "ev_med": int(np.median(ev)) if ev else 0,
+            "worst": max((r["ratio"] for r in rows if "ratio" in r), default=math.nan)}
+
+
+def table(groups):
+    lines = ["| case | seeds | OK, right | **OK, wrong** (of which cost > 1.1 x) | "
+             "flagged, right | flagged, wrong | "
+             "refused | worst cost ratio | evaluations median | reference: 9 starts / both searches "
+             "missed |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    tot = {"n": 0, "wrong": 0, "far": 0}
+    for label, rows in groups:
+        s = summarise(rows)
+        for k in tot:
+            tot[k] += s[k]
+        worst = "-" if math.isnan(s["worst"]) else f"{s['worst']:.3g}"
+        lines.append(f"| {label} | {s['n']} | {s['right']} | **{s['wrong']}** ({s['far']}) | "
+                     f"{s['flagged_right']} | {s['flagged_wrong']} | {s['refused']} | "
+                     f"{worst} | {s['ev_med']} | {s['ref9_missed']} / "
+                     f"{s['search_missed']} |")
+    return lines, tot
+
+
+def examples(groups, limit=12):
+    out = []
+    for label, rows in groups:
+        for r in rows:
+            if r["verdict"] == "wrong" and len(out) < limit:
+                out.append(f"- {label}, seed {r['seed']}: {r['model']}; cost "
+                           f"{r['ratio']:.3g} x the optimum, fit {r['fit']:.1f} %, "
+                           f"{r['evaluations']} evaluations")
+    return out
+
+
+INTRO = """# Certainty of the identification
+
+Generated by `python3 tools/bench/certainty.py` (tools/bench/); do not edit
+by hand: rerun the script. Records and searches are seeded: the same
+versions give the same counts.
+
+## What is measured, and how
+
+Each case is a known plant and a way of exciting it. For every seed, one
+record is made (the seed sets the noise realisation) and identified once by
+`pdt_identify` with the library's defaults (output-error criterion, default
+budget; the same seed is the search's seed), in-process, float build.
+
+**Closed-loop cases** (`tools/bench/certainty.c`): the plant is simulated
+exactly (zero-order hold, fractional dead time, in double), from rest at
+u0 = 40, y0 = 350, {n} samples per record, white Gaussian noise on the
+measured output at 25 dB SNR (the deviation is that of the noise-free
+loop's output over 10^(25/20)); the controller sees the noisy output.
+*Relay*: after a rest of 5 % of the record, a relay with hysteresis (three
+noise deviations) switches u between u0 + 10 and u0 - 5 around a set-point
+0.3 x 10 x K above y0 (the sign follows K; an integrator's K is taken as
+its output change over a quarter of the record). *Symmetric relay*: u
+between u0 + 10 and u0 - 10 around the rest point y0 itself, as a relay
+autotuner started at the operating point: the record says little about
+the static gain, which makes it the hardest of these for the search. *PI*: a PI controller
+tuned by SIMC with tau_c = 2 theta on the plant's half-rule FOPDT follows
+set-point steps of 0.3 x 10 x K at 5 %, to -0.5 of that at 40 % and back to
+0 at 70 % of the record. FOPDT plants are identified as FOPDT, the others as
+SOPDT (integrating allowed).
+
+**Benchmark sets**: the three hard cases of the reliability section of
+docs/benchmarks.md and every accuracy set of `run_ident_bench.py` (1500
+samples), their records made by `benchlib.make_record` as there, with the
+noise seed varying.
+
+**Verdict.** The criterion is pdtfit's: the mean square over the whole
+record of `y - g x - c`, x the simulated unit-gain response to `u - u[0]`
+from rest, g and c fitted by least squares, so that the shape and the dead
+time alone decide. Every answer is scored by this criterion in double by
+`tools/bench/fastref.py`, independently of the C code. The *reference
+optimum* of a record is the least cost of: fastref's nine-start fit (dead
+times spread over [0, T/3], bounded Levenberg-Marquardt from each);
+fastref's grid search (96 dead times over [0, T/3] times a coarse grid of
+shapes, one evaluation each, then a polish of the best point of each of the
+four best dead-time neighbourhoods); a polish from the true plant's
+parameters; a polish from pdtfit's answer; and pdtfit's answer itself, all
+within pdtfit's default search bounds. A
+run is **wrong** when its cost exceeds the reference optimum by more than
+1 %, **right** otherwise. *Refused*: a status other than OK. *Flagged*: the
+result carries a nonzero flag (read when `pdt_ident.h` defines
+`PDT_IDENT_FLAG_AT_BOUND`; always 0 before). **OK, wrong** is the count that
+must be 0. In brackets, those whose cost is more than 1.1 x the optimum:
+clearly another basin (a dead time one relay period off, a gain of the
+wrong sign); the others stopped within 10 % of the optimum, usually in its
+basin but short of its bottom (near an integrator, for example), which the
+1 % rule also counts. *Reference: 9 starts / both searches missed*: how often the
+nine-start fit alone, and the better of the nine-start fit and the grid
+search, were more than 1 % above the optimum: a check of the reference, not
+of pdtfit (the nine starts alone are misled by relay records, whose cost
+has a local minimum at every relay period of dead time; the second count
+says how often the optimum came only from the starts at the truth or at
+pdtfit's answer).
+"""
+
+
+def write_doc(out, results, cases, bcs, run):
+    """docs/certainty.md from the verdicts; run: seeds, set_seeds, smoke,
+    jobs, elapsed (s)."""
+    def rows_of(kind, i):
+        return sorted((r for k, j, r in results if k == kind and j == i), key=lambda r: r["seed"])
+
+    closed = [(c["name"], rows_of("closed", i)) for i, c in enumerate(cases)]
+    hard = [(bc[0], rows_of("bench", i)) for i, bc in enumerate(bcs) if bc[5]]
+    sets = [(bc[0], rows_of("bench", i)) for i, bc in enumerate(bcs) if not bc[5]]
+
+    doc = [INTRO.replace("{n}", str(cases[0]["n"]))]
+    doc.append("## Run\n")
+    mach = rb.machine()
+    doc.append(f"- Command: `python3 tools/bench/certainty.py"
+               f"{' --smoke' if run['smoke'] else ''} --seeds {run['seeds']} "
+               f"--set-seeds {run['set_seeds']}`")
+    doc.append(f"- CPU: {mach['cpu']} ({mach['cores']} cores visible); {mach['compiler']}, "
+               f"`-O2`, float build; Python {mach['python']}, numpy {mach['numpy']}, "
+               f"scipy {mach['scipy']}")
+    if run["elapsed"] is None:
+        doc.append("- **The run was interrupted**: the tables count the seeds it finished "
+                   "(the seeds column).\n")
+    else:
+        doc.append(f"- The script ran {run['elapsed'] / 60:.1f} min with {run['jobs']} worker "
+                   f"processes" + (" (the part after a resume)" if run.get("resumed") else "") +
+                   ".\n")
+    doc.append("## Summary\n")
+    _, tot_all = table(closed + hard + sets)
+    doc.append(f"**{tot_all['wrong']} wrong answers with status OK in {tot_all['n']} "
+               f"identifications** over {len(closed) + len(hard) + len(sets)} cases; "
+               f"{tot_all['far']} of them more than 1.1 x the optimum's cost.\n")
+    for title, groups in (("Closed-loop records", closed),
+                          ("Hard cases of the benchmark's reliability section", hard),
+                          ("Accuracy sets of the benchmark", sets)):
+        lines, tot = table(groups)
+        doc.append(f"### {title}\n")
+        doc.append(f"{tot['wrong']} wrong with status OK in {tot['n']} runs "
+                   f"({tot['far']} more than 1.1 x the optimum's cost).\n")
+        doc += lines
+        doc.append("")
+    ex = examples(closed + hard + sets)
+    if ex:
+        doc.append("### Examples of wrong answers (the first few)\n")
+        doc += ex
+        doc.append("")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text("\n".join(doc) + "\n")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", type=int, default=1000)
+    ap.add_argument("--set-seeds", type=int, default=None,
+                    help="seeds of the accuracy sets (default: --seeds)")
+    ap.add_argument("--smoke", action="store_true")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--out")
+    ap.add_argument("--json")
+    ap.add_argument("--resume", metavar="FILE",
+                    help="keep the verdicts an interrupted run saved with --json and run "
+                         "only the batches it did not finish (same seeds options)")
+    ap.add_argument("--from-json", metavar="FILE",
+                    help="write the document from the verdicts a run saved with --json")
+    a = ap.parse_args()
+    seeds = 20 if a.smoke else a.seeds
+    set_seeds = seeds if a.set_seeds is None else a.set_seeds
+    if a.smoke:
+        set_seeds = min(set_seeds, 10)
+    out = pathlib.Path(a.out) if a.out else (
+        BUILD / "certainty-smoke.md" if a.smoke else ROOT / "docs" / "certainty.md")
+    t_start = time.time()
+    build()
+    cases = driver_cases()
+    bcs = bench_cases(a.smoke)
+    if a.from_json:
+        results, run = [], None
+        for line in open(a.from_json):
+            j = json.loads(line)
+            kind = j.pop("kind")
+            if kind == "meta":
+                run = j
+            else:
+                results.append((kind, j.pop("case"), j))
+        if run is None:     # an interrupted run: the counts of what it finished
+            run = {"seeds": seeds, "set_seeds": set_seeds, "smoke": a.smoke,
+                   "jobs": a.jobs, "elapsed": None}
+        write_doc(out, results, cases, bcs, run)
+        print(f"wrote {out}")
+        return
+    # Round-robin over the cases, batch by batch, the closed-loop and hard
+    # cases first: a run cut short still has every case at about the same
+    # number of seeds.
+    queues = [[("closed", ci, s0, cnt) for s0, cnt in batches(seeds)]
+              for ci in range(len(cases))]
+    queues += [[("bench", bi, s0, cnt, a.smoke) for s0, cnt in batches(seeds)]
+               for bi, bc in enumerate(bcs) if bc[5]]
+    tasks = [q[b] for b in range(max(len(q) for q in queues)) for q in queues if b < len(q)]
+    for bi, bc in enumerate(bcs):
+        if not bc[5]:
+            tasks += [("bench", bi, s0, cnt, a.smoke) for s0, cnt in batches(set_seeds)]
+    results = []
+    if a.resume:    # keep the verdicts of an interrupted run, do the rest
+        for line in open(a.resume):
+            j = json.loads(line)
+            kind = j.pop("kind")
+            if kind != "meta":
+                results.append((kind, j.pop("case"), j))
+        have = {(k, i, r["seed"]) for k, i, r in results}
+        tasks = [t for t in tasks if (t[0], t[1], t[2]) not in have]
+        print(f"resuming: {len(results)} verdicts kept, {len(tasks)} batches to run", flush=True)
+    done = 0
+    jf = open(a.json, "a" if a.resume and a.resume == a.json else "w") if a.json else None
+    with mp.Pool(a.jobs) as pool:
+        for rs in pool.imap_unordered(run_task, tasks, chunksize=1):
+            results += rs
+            done += 1
+            if jf:
+                for k, i, r in rs:
+                    jf.write(json.dumps({"kind": k, "case": i, **r}) + "\n")
+                jf.flush()
+            if done % 20 == 0 or done == len(tasks):
+                print(f"{done}/{len(tasks)} batches, {time.time() - t_start:.0f} s", flush=True)
+    elapsed = time.time() - t_start
+    run = {"seeds": seeds, "set_seeds": set_seeds, "smoke": a.smoke, "jobs": a.jobs,
+           "elapsed": elapsed, "resumed": bool(a.resume)}
+    if jf:
+        jf.write(json.dumps({"kind": "meta", **run}) + "\n")
+        jf.close()
+    write_doc(out, results, cases, bcs, run)
+    print(f"wrote {out} in {elapsed:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
