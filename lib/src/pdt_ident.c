@@ -63,7 +63,8 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
     cfg->zeta_min = PDT_R(0.2);
     cfg->integrating = true;
     cfg->population = 0u;
-    cfg->max_evaluations = 3000u;
+    cfg->max_evaluations = 9000u;
+    cfg->searches = 0u;
     cfg->refine_evaluations = 300u;
     cfg->tolerance = PDT_R(1e-4);
     cfg->stall_generations = 10u;
@@ -237,6 +238,32 @@ static uint32_t late_reserve(const pdt_ident_config_t *cfg)
     return r;
 }
 
+/* The least budget of one search: one population (two with the CONTROL
+ * weighting, which scores it once per cost), one simplex and the late
+ * reserve. */
+static uint64_t search_need(const pdt_ident_config_t *cfg)
+{
+    const uint64_t populations = control_band(cfg) ? 2u : 1u;
+    return populations * population_of(cfg) + cfg->refine_evaluations + late_reserve(cfg);
+}
+
+/* Independent searches: the time criteria only (the frequency criteria
+ * re-centre their spectra during a search); as asked, or as many as the
+ * budget gives each a whole search, up to PDT_IDENT_MAX_SEARCHES. 0 when
+ * the budget does not cover the searches asked for. */
+static uint32_t searches_of(const pdt_ident_config_t *cfg)
+{
+    const uint64_t need = search_need(cfg);
+    if (uses_frequency(cfg->cost)) {
+        return cfg->max_evaluations >= need ? 1u : 0u;
+    }
+    if (cfg->searches != 0u) {
+        return (uint64_t)cfg->max_evaluations >= need * cfg->searches ? cfg->searches : 0u;
+    }
+    uint64_t k = (uint64_t)cfg->max_evaluations / need;
+    return (uint32_t)(k > PDT_IDENT_MAX_SEARCHES ? PDT_IDENT_MAX_SEARCHES : k);
+}
+
 /* The weighting and the criterion's weights, checked here so that the size
  * query refuses what init would. */
 static pdt_status_t check_weight(const pdt_ident_config_t *cfg)
@@ -299,11 +326,9 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     }
     /* The refinement needs at least one simplex: genes + 1 evaluations;
      * the CONTROL weighting scores the population twice (once per cost). */
-    const uint64_t populations = control_band(cfg) ? 2u : 1u;
     if (cfg->elite >= P || cfg->stall_generations == 0u ||
         cfg->refine_evaluations < genes_of(cfg->model) + 1u ||
-        cfg->max_evaluations <
-            populations * P + cfg->refine_evaluations + late_reserve(cfg)) {
+        cfg->searches > PDT_IDENT_MAX_SEARCHES || searches_of(cfg) == 0u) {
         return PDT_ERR_ARG;
     }
     if (!(cfg->eta_c > PDT_R(0.0)) || !(cfg->eta_m > PDT_R(0.0)) || !pdt_finite(cfg->eta_c) ||
@@ -393,6 +418,43 @@ static bool ends_at_rest(const pdt_ident_data_t *d, pdt_real_t y_start, pdt_real
     }
     return pdt_fabs(su / (pdt_real_t)tail) <= REST_TOLERANCE * u_range &&
            pdt_fabs(sy / (pdt_real_t)tail) <= REST_TOLERANCE * y_range;
+}
+
+/* A search from scratch, its random stream the search's own: a Latin
+ * hypercube start (each gene's range cut into P strata, one individual per
+ * stratum, strata paired across genes at random, so the first generation
+ * covers every gene's range evenly; the offspring area holds the
+ * permutation meanwhile) and the GA's state reset. */
+static void search_start(pdt_ident_t *c)
+{
+    const size_t P = c->cfg.population, G = c->genes;
+    pdt_rng_t rng;
+    pdt_rng_seed(&rng, c->cfg.seed, 0x5eed5eedu + c->search);
+    for (size_t j = 0; j < G; j++) {
+        pdt_real_t *perm = c->off;
+        for (size_t i = 0; i < P; i++) {
+            perm[i] = (pdt_real_t)i;
+        }
+        for (size_t i = P - 1u; i > 0u; i--) {
+            size_t k = pdt_rng_below(&rng, (uint32_t)(i + 1u));
+            pdt_real_t t = perm[i];
+            perm[i] = perm[k];
+            perm[k] = t;
+        }
+        for (size_t i = 0; i < P; i++) {
+            pdt_real_t f = (perm[i] + pdt_rng_uniform(&rng)) / (pdt_real_t)P;
+            c->pop[i * G + j] = c->lo[j] + (c->hi[j] - c->lo[j]) * f;
+        }
+    }
+    c->rng_state = rng.state;
+    c->rng_inc = rng.inc;
+    c->next = 0u;
+    c->search_base = c->evaluations;
+    c->stall = 0u;
+    c->best_cost = PDT_REAL_MAX;
+    c->best_history = PDT_REAL_MAX;
+    c->stage = control_band(&c->cfg) ? 1u : 0u;
+    c->phase = PH_INIT_POP;
 }
 
 pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
@@ -512,34 +574,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     }
     c.td_offset = td_offset(cfg, &b);
 
-    /* Latin hypercube start: each gene's range cut into P strata, one
-     * individual per stratum, strata paired across genes at random, so the
-     * first generation covers every gene's range evenly. The offspring
-     * area holds the permutation meanwhile. */
-    pdt_rng_t rng;
-    pdt_rng_seed(&rng, cfg->seed, 0x5eed5eedu);
-    for (size_t j = 0; j < G; j++) {
-        pdt_real_t *perm = c.off;
-        for (size_t i = 0; i < P; i++) {
-            perm[i] = (pdt_real_t)i;
-        }
-        for (size_t i = P - 1u; i > 0u; i--) {
-            size_t k = pdt_rng_below(&rng, (uint32_t)(i + 1u));
-            pdt_real_t t = perm[i];
-            perm[i] = perm[k];
-            perm[k] = t;
-        }
-        for (size_t i = 0; i < P; i++) {
-            pdt_real_t f = (perm[i] + pdt_rng_uniform(&rng)) / (pdt_real_t)P;
-            c.pop[i * G + j] = c.lo[j] + (c.hi[j] - c.lo[j]) * f;
-        }
-    }
-    c.rng_state = rng.state;
-    c.rng_inc = rng.inc;
-    c.best_cost = PDT_REAL_MAX;
-    c.best_history = PDT_REAL_MAX;
-    c.stage = control_band(cfg) ? 1u : 0u;
-    c.phase = PH_INIT_POP;
+    c.searches = searches_of(cfg);
+    c.search_budget = cfg->max_evaluations / c.searches;
+    search_start(&c);
     c.magic = IDENT_MAGIC;
     *ctx = c;
     return PDT_OK;
@@ -757,13 +794,13 @@ static bool ga_continues(pdt_ident_t *c)
     } else {
         c->stall++;
     }
-    uint32_t ga_budget = c->cfg.max_evaluations - c->cfg.refine_evaluations - late_reserve(&c->cfg);
+    uint32_t ga_budget = c->search_budget - c->cfg.refine_evaluations - late_reserve(&c->cfg);
     if (c->stage == 1u) {
         /* The time-cost stage of the CONTROL weighting gets half. */
         ga_budget /= 2u;
     }
     return c->stall < c->cfg.stall_generations &&
-           c->evaluations + c->cfg.population <= ga_budget;
+           (c->evaluations - c->search_base) + c->cfg.population <= ga_budget;
 }
 
 /* Where the search goes when the GA stops. */
@@ -849,8 +886,8 @@ static void nm_start(pdt_ident_t *c)
     }
     c->nm_state = NM_VERTEX;
     c->nm_index = 0u;
-    uint32_t left = c->cfg.max_evaluations - late_reserve(&c->cfg);
-    left = left > c->evaluations ? left - c->evaluations : 0u;
+    uint32_t left = c->search_budget - late_reserve(&c->cfg);
+    left = left > c->evaluations - c->search_base ? left - (c->evaluations - c->search_base) : 0u;
     if (c->start_i == 0u) {
         /* Fewer starts when half the budget cannot give each a whole
          * simplex; the first always fits (refine_evaluations >= genes + 1). */
@@ -1184,6 +1221,134 @@ static void scan_advance(pdt_ident_t *c)
 }
 
 /* The final model in engineering units, its operating point and its fit. */
+/* ---- Independent searches: they must agree. */
+
+/* Costs closer than this (relative) are one basin; a different structure
+ * this close is an ambiguity. */
+#define AGREE_RTOL PDT_R(0.01)
+#define AMBIGUOUS_RTOL PDT_R(0.05)
+/* A gene this close to its bound (normalised) lies on it. */
+#define BOUND_TOL PDT_R(1e-3)
+
+static pdt_real_t model_gain(const pdt_model_t *m)
+{
+    return m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
+}
+
+/* The same structure: the gain's sign and, for a SOPDT, whether it
+ * integrates. */
+static bool same_structure(const pdt_model_t *a, const pdt_model_t *b)
+{
+    if ((model_gain(a) < PDT_R(0.0)) != (model_gain(b) < PDT_R(0.0))) {
+        return false;
+    }
+    return a->kind != PDT_MODEL_SOPDT ||
+           ((a->p.sopdt.b > PDT_R(0.0)) == (b->p.sopdt.b > PDT_R(0.0)));
+}
+
+/* Cost b within rtol of cost a (normalised costs: the record lies in
+ * (-1, 1), so a few ulps of 1 are the floor of an exact fit). */
+static bool cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol)
+{
+    pdt_real_t lo = a < b ? a : b;
+    pdt_real_t d = a < b ? b - a : a - b;
+    return d <= rtol * lo + PDT_R(64.0) * PDT_REAL_EPS * PDT_REAL_EPS;
+}
+
+static bool on_bound(const pdt_ident_t *c, const pdt_real_t *g)
+{
+    for (uint32_t j = 0; j < c->genes; j++) {
+        const pdt_real_t t = (g[j] - c->lo[j]) / (c->hi[j] - c->lo[j]);
+        const bool at_lo = t < BOUND_TOL, at_hi = t > PDT_R(1.0) - BOUND_TOL;
+        /* Td at 0 and 1/zeta at 0 (an integrator) are answers, not bounds. */
+        if (at_hi || (at_lo && j == 0u)) {
+            return true;
+        }
+    }
+    return false;
+}
+
+static bool gain_on_bound(const pdt_ident_t *c, pdt_real_t K)
+{
+    const pdt_real_t lo = c->cfg.K_min, hi = c->cfg.K_max;
+    if (!(hi > lo)) {
+        return false;
+    }
+    const pdt_real_t tol = BOUND_TOL * (hi - lo);
+    return K <= lo + tol || K >= hi - tol;
+}
+
+/* The answer of all searches: the least cost; confirmed by another search
+ * in its basin, flagged otherwise, the runner-up basin's cost ratio. */
+static void searches_conclude(pdt_ident_t *c)
+{
+    uint32_t best = 0u;
+    for (uint32_t i = 1u; i < c->search; i++) {
+        if (c->found_cost[i] < c->found_cost[best]) {
+            best = i;
+        }
+    }
+    const pdt_real_t cb = c->found_cost[best];
+    bool confirmed = c->search < 2u;
+    uint32_t flags = 0u;
+    pdt_real_t runner = PDT_R(0.0);
+    for (uint32_t i = 0u; i < c->search; i++) {
+        if (i == best) {
+            continue;
+        }
+        const bool same = same_structure(&c->found[i], &c->found[best]);
+        if (same && cost_close(cb, c->found_cost[i], AGREE_RTOL)) {
+            confirmed = true;
+            continue;
+        }
+        if (!same && cost_close(cb, c->found_cost[i], AMBIGUOUS_RTOL)) {
+            flags |= PDT_IDENT_FLAG_AMBIGUOUS;
+        }
+        const pdt_real_t ratio = cb > PDT_R(0.0) ? c->found_cost[i] / cb : PDT_REAL_MAX;
+        if (runner == PDT_R(0.0) || ratio < runner) {
+            runner = ratio;
+        }
+    }
+    if (!confirmed) {
+        flags |= PDT_IDENT_FLAG_UNCONFIRMED;
+    }
+    if (on_bound(c, c->found_genes[best]) || gain_on_bound(c, model_gain(&c->found[best]))) {
+        flags |= PDT_IDENT_FLAG_AT_BOUND;
+    }
+    c->model = c->found[best];
+    c->y0 = c->found_y0[best];
+    c->fit = c->found_fit[best];
+    c->best_cost = cb;
+    c->flags = flags;
+    c->runner_up = runner;
+    c->phase = PH_DONE;
+}
+
+/* A search ended: keep what it found, then another search or the answer.
+ * The second always runs; the third only when the first two disagree. */
+static void search_end(pdt_ident_t *c)
+{
+    const uint32_t k = c->search;
+    c->found[k] = c->model;
+    c->found_cost[k] = c->best_cost;
+    c->found_y0[k] = c->y0;
+    c->found_fit[k] = c->fit;
+    for (uint32_t j = 0; j < c->genes; j++) {
+        c->found_genes[k][j] = c->best[j];
+    }
+    c->search = k + 1u;
+    bool agreed = false;
+    for (uint32_t i = 0u; i < k; i++) {
+        agreed = agreed || (same_structure(&c->found[i], &c->found[k]) &&
+                            cost_close(c->found_cost[i], c->found_cost[k], AGREE_RTOL));
+    }
+    if (c->search < c->searches && (c->search < 2u || !agreed)) {
+        search_start(c);
+        return;
+    }
+    searches_conclude(c);
+}
+
 static void finish(pdt_ident_t *c)
 {
     pdt_model_t m;
@@ -1229,7 +1394,7 @@ static void finish(pdt_ident_t *c)
     if (pdt_cost_fit(&c->cost, &m, c->best_offset, c->scratch, &c->fit) != PDT_OK) {
         c->fit = PDT_R(0.0);
     }
-    c->phase = PH_DONE;
+    search_end(c);
 }
 
 pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
@@ -1317,8 +1482,8 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
             if (c->nm_state == NM_END && c->start_i < c->nstarts) {
                 /* Next niche, then the polish of the best (start_i ==
                  * nstarts), if a whole simplex still fits. */
-                uint32_t left = c->cfg.max_evaluations - late_reserve(&c->cfg);
-                left = left > c->evaluations ? left - c->evaluations : 0u;
+                uint32_t left = c->search_budget - late_reserve(&c->cfg);
+                left = left > c->evaluations - c->search_base ? left - (c->evaluations - c->search_base) : 0u;
                 c->start_i++;
                 if (left >= c->genes + 1u) {
                     nm_start(c);
@@ -1378,6 +1543,9 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.evaluations = ctx->evaluations;
     r.generations = ctx->generations;
     r.f_band = ctx->f_band;
+    r.flags = ctx->flags;
+    r.searches = ctx->search;
+    r.runner_up = ctx->runner_up;
     *out = r;
     return PDT_OK;
 }

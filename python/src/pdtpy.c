@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "csv.h"
+#include "json.h"
 #include "pdt/pdt.h"
 #include "pdt/pdt_ident.h"
 #include "pdt/pdt_ls.h"
@@ -68,80 +69,7 @@ static void jkey(jbuf_t *b, const char *key, double v)
 
 static int jdone(const jbuf_t *b) { return b->overflow ? -1 : (int)b->used; }
 
-/* The model object of `pdtfit identify` (r set) and `pdtfit reduce` (r
- * NULL), key for key. */
-static void json_model(jbuf_t *b, const pdt_model_t *model, const pdt_ident_result_t *r)
-{
-    const double nan = (double)NAN;
-    if (model->kind == PDT_MODEL_FOPDT) {
-        const pdt_model_fopdt_t *m = &model->p.fopdt;
-        jprintf(b, "{\"model\":\"fopdt\"");
-        jkey(b, "K", (double)m->K);
-        jkey(b, "tau", (double)m->tau);
-        jkey(b, "Td", (double)m->Td);
-        if (r) {
-            jkey(b, "y0", (double)r->y0);
-            jkey(b, "u0", (double)r->u0);
-        }
-    } else {
-        const pdt_model_sopdt_t *m = &model->p.sopdt;
-        pdt_model_natural_t nat;
-        pdt_model_tc_t tc;
-        pdt_model_integ_t integ;
-        double K = nan, Ki = nan, wn = nan, zeta = nan, tau1 = nan, tau2 = nan;
-        int integrating = 0;
-        if (pdt_model_sopdt_to_natural(m, &nat) == PDT_OK) {
-            K = (double)nat.K;
-            wn = (double)nat.wn;
-            zeta = (double)nat.zeta;
-            if (pdt_model_sopdt_to_tc(m, &tc) == PDT_OK && !tc.complex) {
-                tau1 = (double)tc.T1;
-                tau2 = (double)tc.T2;
-            }
-        } else if (pdt_model_sopdt_to_integ(m, &integ) == PDT_OK) {
-            integrating = 1;
-            Ki = (double)integ.Ki;
-            wn = 0.0;
-            tau2 = (double)integ.T;
-        }
-        jprintf(b, "{\"model\":\"sopdt\"");
-        jkey(b, "K", K);
-        if (integrating) jkey(b, "Ki", Ki);
-        jkey(b, "wn", wn);
-        jkey(b, "zeta", zeta);
-        jkey(b, "Td", (double)m->Td);
-        if (r) {
-            jkey(b, "y0", (double)r->y0);
-            jkey(b, "u0", (double)r->u0);
-        }
-        jkey(b, "tau1", tau1);
-        jkey(b, "tau2", tau2);
-        jkey(b, "a", (double)m->a);
-        jkey(b, "b", (double)m->b);
-    }
-    if (r) {
-        jkey(b, "cost", (double)r->cost);
-        jkey(b, "fit", (double)r->fit);
-        jprintf(b, ",\"evaluations\":%lu", (unsigned long)r->evaluations);
-        if (r->f_band > (pdt_real_t)0) jkey(b, "f_band", (double)r->f_band);
-    }
-    jprintf(b, "}");
-}
 
-/*
- * GLUE: the identify JSON. When the command line's JSON module lands this
- * body becomes `return pdtcli_ident_json(r, Ts, n, buf, len);` (which also
- * prints "Ts" and "n").
- */
-static int pdtpy_ident_json(const pdt_ident_result_t *r, double Ts, size_t n, char *buf,
-                            size_t len)
-{
-    (void)Ts;
-    (void)n;
-    jbuf_t b = {buf, len, 0, 0};
-    json_model(&b, &r->model, r);
-    return jdone(&b);
-}
 
 /* ------------------------------------------------------------ models */
 
@@ -219,9 +147,7 @@ int pdtpy_model_json(const double *model, char *buf, size_t len)
 {
     pdt_model_t m;
     if (model_in(model, &m) != PDT_OK) return -1;
-    jbuf_t b = {buf, len, 0, 0};
-    json_model(&b, &m, NULL);
-    return jdone(&b);
+    return pdtcli_model_json(&m, buf, len);
 }
 
 /* ------------------------------------------------------------ identify */
@@ -343,7 +269,7 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
         int rc = ur && yr ? identify_ls(ur, yr, n, Ts, o, &res) : PDTPY_ERR_NOMEM;
         if (rc == PDT_OK) {
             model_out(&res.model, model);
-            if (pdtpy_ident_json(&res, Ts, n, json, json_len) < 0) rc = PDTPY_ERR_NOMEM;
+            if (pdtcli_ident_json(&res, Ts, n, json, json_len) < 0) rc = PDTPY_ERR_NOMEM;
         }
         free(yr);
         free(ur);
@@ -360,7 +286,7 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
         st = pdt_identify(ctx, &cfg, &data, work, work_len, &res);
         if (st == PDT_OK) {
             model_out(&res.model, model);
-            if (pdtpy_ident_json(&res, Ts, n, json, json_len) < 0) st = PDTPY_ERR_NOMEM;
+            if (pdtcli_ident_json(&res, Ts, n, json, json_len) < 0) st = PDTPY_ERR_NOMEM;
         }
     }
     free(work);
@@ -481,9 +407,7 @@ int pdtpy_reduce(int method, int kind, double gain, const double *lags, size_t n
                          : pdt_reduce_sung(&plant, &cfg, &out, NULL);
         if (st == PDT_OK) {
             model_out(&out, model);
-            jbuf_t b = {json, json_len, 0, 0};
-            json_model(&b, &out, NULL);
-            if (jdone(&b) < 0) st = PDTPY_ERR_NOMEM;
+            if (pdtcli_model_json(&out, json, json_len) < 0) st = PDTPY_ERR_NOMEM;
         }
     }
     free(z);

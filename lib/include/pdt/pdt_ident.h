@@ -96,8 +96,14 @@ typedef struct pdt_ident_config {
     uint32_t population;      /* individuals, 4 .. PDT_IDENT_MAX_POPULATION,
                                * even; 0: PDT_IDENT_POPULATION_FOPDT or
                                * _SOPDT by the model. Default 0 */
-    uint32_t max_evaluations; /* cost evaluations in all (GA + refinement).
-                               * Default 3000 */
+    uint32_t max_evaluations; /* cost evaluations in all, every search
+                               * included. Default 9000 */
+    uint32_t searches;        /* independent searches that must agree, 1 .. 3
+                               * (time criteria; the frequency criteria run
+                               * one): each gets max_evaluations / searches,
+                               * the third runs only when the first two
+                               * disagree. 0: as many as the budget allows,
+                               * up to 3 (the default) */
     uint32_t refine_evaluations; /* of those, kept for the refinement, at
                                   * least genes + 1. Default 300: up to
                                   * three niches' runs share half of what
@@ -139,7 +145,30 @@ typedef struct pdt_ident_result {
     pdt_real_t f_band;        /* CONTROL weighting: the band's upper edge,
                                * Hz; 0 when the criterion has no frequency
                                * part or another weighting */
+    uint32_t flags;           /* PDT_IDENT_FLAG_*: what the search could not
+                               * settle; 0 for an answer it is sure of */
+    uint32_t searches;        /* independent searches run */
+    pdt_real_t runner_up;     /* cost of the best answer of another basin
+                               * that a search ended in, over the answer's
+                               * (> 1.01); 0 when every search agreed */
 } pdt_ident_result_t;
+
+/* pdt_ident_result_t.flags. An answer with any flag set is the best the
+ * search found, but firmware should not act on it unattended
+ * (docs/ident-engine.md):
+ *  UNCONFIRMED  no two independent searches ended in the answer's basin
+ *               (same structure, cost within 1 %);
+ *  AMBIGUOUS    a structurally different model (the other gain sign, an
+ *               integrator for a lag or back) fits within 5 % of its cost;
+ *  AT_BOUND     a parameter lies on its search bound (a time constant,
+ *               the dead time's upper bound, the least damping, a gain
+ *               bound): the optimum may lie outside. */
+#define PDT_IDENT_FLAG_UNCONFIRMED 0x1u
+#define PDT_IDENT_FLAG_AMBIGUOUS 0x2u
+#define PDT_IDENT_FLAG_AT_BOUND 0x4u
+
+/* Most independent searches. */
+#define PDT_IDENT_MAX_SEARCHES 3u
 
 /* The identification context. Fields are private. */
 typedef struct pdt_ident {
@@ -200,6 +229,18 @@ typedef struct pdt_ident {
     pdt_model_t model;
     pdt_real_t y0;
     pdt_real_t fit;
+    /* Independent searches: how many, their budget, what each found. */
+    uint32_t searches;
+    uint32_t search;          /* searches finished */
+    uint32_t search_budget;
+    uint32_t search_base;     /* evaluations before this search */
+    pdt_model_t found[PDT_IDENT_MAX_SEARCHES];
+    pdt_real_t found_cost[PDT_IDENT_MAX_SEARCHES]; /* normalised */
+    pdt_real_t found_y0[PDT_IDENT_MAX_SEARCHES];
+    pdt_real_t found_fit[PDT_IDENT_MAX_SEARCHES];
+    pdt_real_t found_genes[PDT_IDENT_MAX_SEARCHES][3];
+    uint32_t flags;
+    pdt_real_t runner_up;
 } pdt_ident_t;
 
 /* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */
