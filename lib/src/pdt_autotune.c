@@ -437,6 +437,13 @@ static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
         if (!relay_agrees(at)) {
             return fail(at, PDT_ERR_MODEL_INVALID, u);
         }
+        /* The search itself was not sure (searches that disagree, another
+         * structure as good, a parameter on its bound): gains from such a
+         * model could have the wrong sign or scale. */
+        if ((at->res.ident.flags & (PDT_IDENT_FLAG_UNCONFIRMED | PDT_IDENT_FLAG_AMBIGUOUS |
+                                    PDT_IDENT_FLAG_AT_BOUND)) != 0u) {
+            return fail(at, PDT_ERR_UNCERTAIN, u);
+        }
     }
     const bool knob = tc->rule == PDT_TUNE_SIMC || tc->rule == PDT_TUNE_IMC;
     pdt_tune_config_t c = *tc;

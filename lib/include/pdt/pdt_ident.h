@@ -5,10 +5,11 @@
  * bounded work so that a PLC or MCU task can spread it over scan cycles.
  *
  * The search. The dead time makes the cost non-convex, so a global search
- * runs over the model's shape: for a FOPDT the genes are log(tau) and Td,
- * for a SOPDT log(1/a), 1/zeta and Td (form (2) with b = (a / (2 zeta))^2,
- * which covers overdamped, critically damped, underdamped and, at 1/zeta =
- * 0, the integrating process). The gain and the output offset are not
+ * runs over the model's shape: for a FOPDT the genes are log(tau) and
+ * log(Td + c0), for a SOPDT log(1/a), 1/zeta and log(Td + c0) (form (2)
+ * with b = (a / (2 zeta))^2, which covers overdamped, critically damped,
+ * underdamped and, at 1/zeta = 0, the integrating process; c0 is a
+ * sixteenth of the dead-time range, so the gene is linear near 0). The gain and the output offset are not
  * searched: for a given shape the cost is quadratic in them, so each
  * evaluation solves for them in closed form and writes the gain back into
  * the individual (see pdt_cost_profile). Selection is a binary tournament
@@ -17,6 +18,11 @@
  * survive each generation, and the random numbers come from the library's
  * own PCG32 seeded by the caller: the same seed, data and build give the
  * same result.
+ *
+ * Certainty. With a time criterion, up to three independent searches
+ * (each its own random stream) run one after the other; the answer is the
+ * best one, confirmed when another search ended in its basin, and the
+ * result's flags say what could not be settled (docs/ident-engine.md).
  *
  * Data as it comes from plants: u and y in engineering units around an
  * operating point. The record must start at steady state; the input
