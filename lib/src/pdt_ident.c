@@ -1227,6 +1227,9 @@ static void scan_advance(pdt_ident_t *c)
  * this close is an ambiguity. */
 #define AGREE_RTOL PDT_R(0.01)
 #define AMBIGUOUS_RTOL PDT_R(0.05)
+/* Answers this close in normalised genes are one basin whatever their
+ * costs (an exact fit's cost is all rounding, its ratios meaningless). */
+#define AGREE_GENES PDT_R(0.01)
 /* A gene this close to its bound (normalised) lies on it. */
 #define BOUND_TOL PDT_R(1e-3)
 
@@ -1255,13 +1258,23 @@ static bool cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol)
     return d <= rtol * lo + PDT_R(64.0) * PDT_REAL_EPS * PDT_REAL_EPS;
 }
 
+/* Searches i and j ended in one basin: the same structure, and costs
+ * within 1 % or genes within AGREE_GENES. */
+static bool same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
+{
+    return same_structure(&c->found[i], &c->found[j]) &&
+           (cost_close(c->found_cost[i], c->found_cost[j], AGREE_RTOL) ||
+            gene_distance(c, c->found_genes[i], c->found_genes[j]) < AGREE_GENES);
+}
+
 static bool on_bound(const pdt_ident_t *c, const pdt_real_t *g)
 {
     for (uint32_t j = 0; j < c->genes; j++) {
         const pdt_real_t t = (g[j] - c->lo[j]) / (c->hi[j] - c->lo[j]);
-        const bool at_lo = t < BOUND_TOL, at_hi = t > PDT_R(1.0) - BOUND_TOL;
-        /* Td at 0 and 1/zeta at 0 (an integrator) are answers, not bounds. */
-        if (at_hi || (at_lo && j == 0u)) {
+        /* Only the upper bounds: a time constant below a quarter sample
+         * (a lag too short to matter, or a SOPDT's second lag vanishing),
+         * no dead time and 1/zeta = 0 (an integrator) are answers. */
+        if (t > PDT_R(1.0) - BOUND_TOL) {
             return true;
         }
     }
@@ -1297,7 +1310,7 @@ static void searches_conclude(pdt_ident_t *c)
             continue;
         }
         const bool same = same_structure(&c->found[i], &c->found[best]);
-        if (same && cost_close(cb, c->found_cost[i], AGREE_RTOL)) {
+        if (same_basin(c, i, best)) {
             confirmed = true;
             continue;
         }
@@ -1339,8 +1352,7 @@ static void search_end(pdt_ident_t *c)
     c->search = k + 1u;
     bool agreed = false;
     for (uint32_t i = 0u; i < k; i++) {
-        agreed = agreed || (same_structure(&c->found[i], &c->found[k]) &&
-                            cost_close(c->found_cost[i], c->found_cost[k], AGREE_RTOL));
+        agreed = agreed || same_basin(c, i, k);
     }
     if (c->search < c->searches && (c->search < 2u || !agreed)) {
         search_start(c);

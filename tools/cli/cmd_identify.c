@@ -303,9 +303,9 @@ static int on_bound(double v, double b)
     return b > 0.0 && fabs(v - b) <= 1e-3 * b;
 }
 
-/* A model the search could not place: a time constant or the dead time on
- * a bound of the search, or a fit below that of a constant. Returns 1 when
- * warned. */
+/* A model that is probably wrong: a fit below that of a constant; for the
+ * GA the search's flags, for the scans a dead time on the scan's bound.
+ * Returns 1 when warned. */
 static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
                    size_t delay_max)
 {
@@ -319,26 +319,34 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
                  (double)r->fit);
         warned = 1;
     }
-    const double td_hi = a->method != METHOD_GA ? (double)delay_max * Ts
-                         : a->have_td_max       ? a->td_max
-                                                : T / 3.0;
-    if (Td > 0.0 && on_bound(Td, td_hi)) {
-        cli_warn("identify: the dead time %.4g s sits on the search's bound %.4g s (--td-max): it "
-                 "is probably wrong",
-                 Td, td_hi);
-        warned = 1;
-    }
-    if (a->method == METHOD_GA) {
-        const double lo = Ts / 4.0, hi = 2.0 * T;
-        const double tau =
-            m->kind == PDT_MODEL_FOPDT ? (double)m->p.fopdt.tau : 1.0 / (double)m->p.sopdt.a;
-        const double tlo = m->kind == PDT_MODEL_FOPDT ? lo : lo / 2.0;
-        if (on_bound(tau, tlo) || on_bound(tau, hi)) {
-            cli_warn("identify: the time constant %.4g s sits on the search's bound %.4g s: the "
-                     "record is too short or too coarse for it",
-                     tau, on_bound(tau, hi) ? hi : tlo);
+    if (a->method != METHOD_GA) {
+        const double td_hi = (double)delay_max * Ts;
+        if (Td > 0.0 && on_bound(Td, td_hi)) {
+            cli_warn("identify: the dead time %.4g s sits on the scan's bound %.4g s (--td-max): "
+                     "it is probably wrong",
+                     Td, td_hi);
             warned = 1;
         }
+        return warned;
+    }
+    /* The search's own verdict (docs/ident-engine.md). */
+    if (r->flags & PDT_IDENT_FLAG_AT_BOUND) {
+        cli_warn("identify: a parameter sits on its search bound (a time constant at %.4g s, "
+                 "the dead time at %.4g s, or the least damping): the optimum may lie outside; "
+                 "record longer or widen --td-max",
+                 2.0 * T, a->have_td_max ? a->td_max : T / 3.0);
+        warned = 1;
+    }
+    if (r->flags & PDT_IDENT_FLAG_UNCONFIRMED) {
+        cli_warn("identify: the independent searches did not agree (runner-up cost ratio %.4g): "
+                 "the model may be a wrong basin; try more --evaluations or a richer excitation",
+                 (double)r->runner_up);
+        warned = 1;
+    }
+    if (r->flags & PDT_IDENT_FLAG_AMBIGUOUS) {
+        cli_warn("identify: another structure (the other gain sign, or an integrator for a lag) "
+                 "fits about as well: the record cannot tell them apart");
+        warned = 1;
     }
     return warned;
 }

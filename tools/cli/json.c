@@ -114,6 +114,28 @@ static void sopdt_keys(pdtcli_jbuf_t *jb, const pdt_model_sopdt_t *m, const pdt_
     pdtcli_jb_key(jb, "b", (double)m->b);
 }
 
+/* How sure the search is (a GA result): its searches, the runner-up
+ * basin's cost ratio and the flags by name (docs/ident-engine.md). */
+static void certainty_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
+{
+    static const struct {
+        uint32_t bit;
+        const char *name;
+    } flags[] = {{PDT_IDENT_FLAG_UNCONFIRMED, "unconfirmed"},
+                 {PDT_IDENT_FLAG_AMBIGUOUS, "ambiguous"},
+                 {PDT_IDENT_FLAG_AT_BOUND, "at_bound"}};
+    pdtcli_jb_uint(jb, "searches", (unsigned long)r->searches);
+    pdtcli_jb_key(jb, "runner_up", (double)r->runner_up);
+    pdtcli_jb_raw(jb, ",\"flags\":[");
+    const char *sep = "";
+    for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++) {
+        if ((r->flags & flags[i].bit) == 0u) continue;
+        pdtcli_jb_printf(jb, "%s\"%s\"", sep, flags[i].name);
+        sep = ",";
+    }
+    pdtcli_jb_raw(jb, "]");
+}
+
 void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r)
 {
     if (m->kind == PDT_MODEL_FOPDT)
@@ -125,6 +147,7 @@ void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_re
         pdtcli_jb_key(jb, "fit", (double)r->fit);
         pdtcli_jb_uint(jb, "evaluations", (unsigned long)r->evaluations);
         if (r->f_band > (pdt_real_t)0) pdtcli_jb_key(jb, "f_band", (double)r->f_band);
+        if (r->searches > 0u) certainty_keys(jb, r);
     }
 }
 

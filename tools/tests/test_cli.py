@@ -406,7 +406,7 @@ def test_weight_control_reports_band(at_rest_csv):
     """The band's edge is half the phase crossover of the model the time
     cost finds first: the truth's within 1 % on this record."""
     out = parse_output(identify_rest(at_rest_csv, "--weight", "control"))
-    assert list(out) == FOPDT_KEYS[:-2] + ["f_band", "Ts", "n"]
+    assert list(out) == FOPDT_KEYS[:-5] + ["f_band", "searches", "runner_up", "flags", "Ts", "n"]
     assert out["f_band"] == pytest.approx(half_crossover_hz(5.0, 1.3), rel=0.01)
     assert out["f_band"] <= 0.5 / TS
     assert out["K"] == pytest.approx(2.0, rel=0.02)

@@ -197,7 +197,7 @@ def test_ls_nonsense_on_a_step_test_warned(tmp_path):
 def test_ga_on_a_bound_warned(tmp_path, rec_csv):
     res = run(["identify", "--model", "fopdt", "--td-max", "0.5", rec_csv])
     assert res.returncode == 3
-    assert "dead time 0.5 s sits on the search's bound" in res.stderr
+    assert "sits on its search bound" in res.stderr and "dead time at 0.5 s" in res.stderr
 
 
 def test_budget_minimum(rec_csv):

@@ -11,7 +11,7 @@ import json
 import numpy as np
 import pytest
 
-from pdtsupport.cli import FOPDT_KEYS, SOPDT_KEYS, assert_usage_error, parse_output, run, \
+from pdtsupport.cli import LS_FOPDT_KEYS, LS_SOPDT_KEYS, assert_usage_error, parse_output, run, \
     write_csv
 from pdtsupport.rng import Lcg64
 
@@ -217,7 +217,7 @@ def float_build():
 @pytest.mark.parametrize("method", ["elms", "eiv"])
 def test_ls_fopdt_exact(fopdt_csv, method):
     out = parse_output(run(["identify", "--model", "fopdt", "--method", method, fopdt_csv]))
-    assert list(out) == FOPDT_KEYS
+    assert list(out) == LS_FOPDT_KEYS
     rtol = 2e-3 if float_build() else 1e-6
     assert out["K"] == pytest.approx(2.0, rel=rtol)
     assert out["tau"] == pytest.approx(5.0, rel=rtol)
@@ -236,7 +236,7 @@ def test_ls_fopdt_exact(fopdt_csv, method):
 @pytest.mark.parametrize("method", ["elms", "eiv"])
 def test_ls_sopdt_exact(sopdt_csv, method):
     out = parse_output(run(["identify", "--model", "sopdt", "--method", method, sopdt_csv]))
-    assert list(out) == SOPDT_KEYS
+    assert list(out) == LS_SOPDT_KEYS
     rtol = 2e-2 if float_build() else 1e-5
     assert out["K"] == pytest.approx(1.5, rel=rtol)
     assert out["tau1"] == pytest.approx(4.0, rel=rtol)

@@ -166,9 +166,9 @@ typedef struct pdt_ident_result {
  *               (same structure, cost within 1 %);
  *  AMBIGUOUS    a structurally different model (the other gain sign, an
  *               integrator for a lag or back) fits within 5 % of its cost;
- *  AT_BOUND     a parameter lies on its search bound (a time constant,
- *               the dead time's upper bound, the least damping, a gain
- *               bound): the optimum may lie outside. */
+ *  AT_BOUND     a parameter lies on an upper search bound (a time
+ *               constant, the dead time, the least damping) or a gain
+ *               bound: the optimum may lie outside. */
 #define PDT_IDENT_FLAG_UNCONFIRMED 0x1u
 #define PDT_IDENT_FLAG_AMBIGUOUS 0x2u
 #define PDT_IDENT_FLAG_AT_BOUND 0x4u
