@@ -269,7 +269,7 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
         int rc = ur && yr ? identify_ls(ur, yr, n, Ts, o, &res) : PDTPY_ERR_NOMEM;
         if (rc == PDT_OK) {
             model_out(&res.model, model);
-            if (pdtcli_ident_json(&res, Ts, n, json, json_len) < 0) rc = PDTPY_ERR_NOMEM;
+            if (pdtcli_ident_json(&res, ur, yr, Ts, n, json, json_len) < 0) rc = PDTPY_ERR_NOMEM;
         }
         free(yr);
         free(ur);
@@ -286,7 +286,7 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
         st = pdt_identify(ctx, &cfg, &data, work, work_len, &res);
         if (st == PDT_OK) {
             model_out(&res.model, model);
-            if (pdtcli_ident_json(&res, Ts, n, json, json_len) < 0) st = PDTPY_ERR_NOMEM;
+            if (pdtcli_ident_json(&res, ur, yr, Ts, n, json, json_len) < 0) st = PDTPY_ERR_NOMEM;
         }
     }
     free(work);

@@ -15,10 +15,15 @@ static const char *const unit_names[] = {"s", "ms", "us", NULL};
 
 #define GA CLI_GA_ONLY
 
+/* --model: the two models, or auto (both identified, the order chosen by
+ * the evidence, pdt_ident_select_order). */
+static const char *const ident_model_names[] = {"fopdt", "sopdt", "auto", NULL};
+#define MODEL_AUTO (PDT_MODEL_SOPDT + 1)
+
 static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
 {
     const cli_opt_t rows[] = {
-        {"--model", OPT_CHOICE, &a->model, &a->have_model, 0, PDT_MODEL_FOPDT, 0, cli_model_names,
+        {"--model", OPT_CHOICE, &a->model, &a->have_model, 0, PDT_MODEL_FOPDT, 0, ident_model_names,
          "model", 0},
         {"--method", OPT_CHOICE, &a->method, NULL, 0, 0, 0, method_names, "method", 0},
         {"--td-max", OPT_REAL, &a->td_max, &a->have_td_max, CHK_GE0, 0, 0, NULL,
@@ -88,7 +93,9 @@ static char one_char(const char *opt, const char *v, const char *allowed)
 
 static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
 {
-    if (!a->have_model) cli_fail(EXIT_USAGE, "identify: --model fopdt|sopdt is required");
+    if (!a->have_model) cli_fail(EXIT_USAGE, "identify: --model fopdt|sopdt|auto is required");
+    if (a->model == MODEL_AUTO && a->method != METHOD_GA)
+        cli_fail(EXIT_USAGE, "identify: --model auto needs --method ga");
     const int band = a->have_weight && weight_kinds[a->weight] == PDT_WEIGHT_BAND;
     if (band && !a->band) cli_fail(EXIT_USAGE, "identify: --weight band needs --band F_LO:F_HI");
     if (a->band && !band) cli_fail(EXIT_USAGE, "identify: --band goes with --weight band");
@@ -235,10 +242,12 @@ static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
     if (a->have_phi_f) cfg->phi_f = (pdt_real_t)a->phi_f;
 }
 
-static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_result_t *res)
+static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind,
+                          pdt_ident_result_t *res)
 {
     pdt_ident_config_t cfg;
     ga_config(a, d->s.Ts, &cfg);
+    cfg.model = (pdt_model_kind_t)kind;
     const size_t n = d->s.n;
     /* A size of 0 means the configuration is refused; pdt_identify then
      * says why, so it is still called. */
@@ -261,6 +270,40 @@ static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_
         cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
     free(work);
     free(ctx);
+}
+
+/* The model validated on its record (pdt_validate_model), for the order. */
+static void validate(const ident_data_t *d, const pdt_ident_result_t *r, pdt_validate_result_t *v)
+{
+    const pdt_ident_data_t data = {d->u, d->y, d->s.n};
+    const size_t wlen = pdt_validate_workspace_size(d->s.n);
+    void *work = wlen ? malloc(wlen) : NULL;
+    if (!work) cli_fail(EXIT_REFUSED, "out of memory");
+    const pdt_status_t st =
+        pdt_validate_model(&r->model, &data, (pdt_real_t)d->s.Ts, r->y0, work, wlen, v);
+    free(work);
+    if (st != PDT_OK)
+        cli_fail(EXIT_REFUSED, "cannot identify: --model auto: validation: %s", pdt_status_str(st));
+}
+
+/* --model auto: a FOPDT and a SOPDT, and the order the evidence supports. */
+static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_result_t *res)
+{
+    if (a->model != MODEL_AUTO) {
+        identify_kind(a, d, a->model, res);
+        return;
+    }
+    pdt_ident_result_t fo, so;
+    pdt_validate_result_t vf, vs;
+    pdt_model_kind_t kind;
+    identify_kind(a, d, PDT_MODEL_FOPDT, &fo);
+    identify_kind(a, d, PDT_MODEL_SOPDT, &so);
+    validate(d, &fo, &vf);
+    validate(d, &so, &vs);
+    const pdt_status_t st = pdt_ident_select_order(&vf, &vs, &kind);
+    if (st != PDT_OK)
+        cli_fail(EXIT_REFUSED, "cannot identify: --model auto: %s", pdt_status_str(st));
+    *res = kind == PDT_MODEL_SOPDT ? so : fo;
 }
 
 /* --method elms|eiv: the least-squares delay scan, as a GA result. */
@@ -354,7 +397,7 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
 static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r)
 {
     char buf[4096];
-    int len = pdtcli_ident_json(r, d->s.Ts, d->s.n, buf, sizeof buf);
+    int len = pdtcli_ident_json(r, d->u, d->y, d->s.Ts, d->s.n, buf, sizeof buf);
     if (len < 0) cli_fail(EXIT_REFUSED, "result too long");
     if (a->tune) {
         pdt_tune_result_t tr;

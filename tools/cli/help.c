@@ -5,7 +5,7 @@
 #include "cli.h"
 
 const char cli_usage[] =
-    "usage: pdtfit identify --model fopdt|sopdt [--method ga|elms|eiv] [options] FILE.csv\n"
+    "usage: pdtfit identify --model fopdt|sopdt|auto [--method ga|elms|eiv] [options] FILE.csv\n"
     "       pdtfit reduce --method skogestad|sung --model fopdt|sopdt --gain K\n"
     "                     --lags T1,T2,... [--zeros Z1,...] [--delay D] [--h H]\n"
     "       pdtfit tune --rule simc|imc|amigo|zn [--form pi|pid] --model fopdt|sopdt\n"
@@ -21,9 +21,11 @@ static const char *const identify_text[] = {
     "identify: a first- or second-order-plus-dead-time model of a process from\n"
     "one recorded test (Yang and Seested 2013: a genetic-algorithm search\n"
     "followed by a local refinement), printed as one JSON object.\n"
-    "  --model fopdt|sopdt   the model (required):\n"
+    "  --model fopdt|sopdt|auto  the model (required):\n"
     "                          fopdt  K e^(-Td s) / (tau s + 1)\n"
     "                          sopdt  K wn^2 e^(-Td s) / (s^2 + 2 zeta wn s + wn^2)\n"
+    "                          auto   both, and the one the evidence supports\n"
+    "                                 (residual tests, uncertainty, BIC; ga only)\n"
     "  --method ga|elms|eiv  how (default ga):\n"
     "                          ga    genetic-algorithm search and local refinement\n"
     "                                of the criterion --cost\n"

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 void pdtcli_jb_init(pdtcli_jbuf_t *jb, char *buf, size_t len)
@@ -151,12 +152,42 @@ void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_re
     }
 }
 
-int pdtcli_ident_json(const pdt_ident_result_t *r, double Ts, size_t n, char *buf, size_t len)
+/* "std": the standard deviations of the model's parameters (form (2) for a
+ * SOPDT: k, a, b) and of y0; null where the record does not determine one,
+ * or the whole key null when they cannot be computed. */
+static void std_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r, const pdt_real_t *u,
+                     const pdt_real_t *y, double Ts, size_t n)
+{
+    static const char *const fo[] = {"K", "tau", "Td", "y0"};
+    static const char *const so[] = {"k", "a", "b", "Td", "y0"};
+    const char *const *names = r->model.kind == PDT_MODEL_FOPDT ? fo : so;
+    const pdt_ident_data_t d = {u, y, n};
+    const size_t wlen = pdt_validate_workspace_size(n);
+    pdt_real_t *work = wlen ? malloc(wlen) : NULL;
+    pdt_ident_std_t sd;
+    if (!work ||
+        pdt_ident_uncertainty(&r->model, &d, (pdt_real_t)Ts, r->y0, work, wlen, &sd) != PDT_OK) {
+        pdtcli_jb_raw(jb, ",\"std\":null");
+        free(work);
+        return;
+    }
+    free(work);
+    pdtcli_jb_raw(jb, ",\"std\":{");
+    for (uint32_t i = 0; i < sd.count; i++) {
+        pdtcli_jb_printf(jb, "%s\"%s\":", i ? "," : "", names[i]);
+        pdtcli_jb_num(jb, (double)sd.std[i]);
+    }
+    pdtcli_jb_raw(jb, "}");
+}
+
+int pdtcli_ident_json(const pdt_ident_result_t *r, const pdt_real_t *u, const pdt_real_t *y,
+                      double Ts, size_t n, char *buf, size_t len)
 {
     pdtcli_jbuf_t jb;
     if (!r || !buf) return -1;
     pdtcli_jb_init(&jb, buf, len);
     pdtcli_jb_model(&jb, &r->model, r);
+    if (u && y) std_keys(&jb, r, u, y, Ts, n);
     pdtcli_jb_key(&jb, "Ts", Ts);
     pdtcli_jb_uint(&jb, "n", (unsigned long)n);
     pdtcli_jb_raw(&jb, "}");

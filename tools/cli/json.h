@@ -16,11 +16,15 @@ extern "C" {
 #endif
 
 /* An identification result as one JSON object, no line end:
- * {"model":"fopdt","K",...,"evaluations"[,"f_band"],"Ts","n"}, the keys of
- * docs/cli.md. Ts: the sampling period, s; n: the samples identified.
+ * {"model":"fopdt","K",...,"evaluations"[,"f_band"][,"searches","runner_up",
+ * "flags"][,"std"],"Ts","n"}, the keys of docs/cli.md. Ts: the sampling
+ * period, s; n: the samples identified. With the record (u, y, not NULL)
+ * it adds "std", the parameters' standard deviations from the output
+ * error's Fisher information (pdt_ident_uncertainty).
  * Returns the characters written (without the NUL), or -1 when len is too
  * small (buf then holds a truncated, NUL-terminated text). */
-int pdtcli_ident_json(const pdt_ident_result_t *r, double Ts, size_t n, char *buf, size_t len);
+int pdtcli_ident_json(const pdt_ident_result_t *r, const pdt_real_t *u, const pdt_real_t *y,
+                      double Ts, size_t n, char *buf, size_t len);
 
 /* A model alone ({"model",..} without operating point, cost, fit and
  * evaluations), as `pdtfit reduce` prints it. Returns as above. */

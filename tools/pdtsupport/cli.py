@@ -40,17 +40,18 @@ MISSING = None if BIN is not None and BIN.is_file() else (
 
 # The keys of identify's JSON: the model, then (GA only) how sure the search
 # is, then the record's Ts and n.
-LS_FOPDT_KEYS = ["model", "K", "tau", "Td", "y0", "u0", "cost", "fit", "evaluations", "Ts", "n"]
+LS_FOPDT_KEYS = ["model", "K", "tau", "Td", "y0", "u0", "cost", "fit", "evaluations", "std",
+                 "Ts", "n"]
 LS_SOPDT_KEYS = ["model", "K", "wn", "zeta", "Td", "y0", "u0", "tau1", "tau2", "a", "b",
-                 "cost", "fit", "evaluations", "Ts", "n"]
+                 "cost", "fit", "evaluations", "std", "Ts", "n"]
 CERTAINTY_KEYS = ["searches", "runner_up", "flags"]
-FOPDT_KEYS = LS_FOPDT_KEYS[:-2] + CERTAINTY_KEYS + ["Ts", "n"]
-SOPDT_KEYS = LS_SOPDT_KEYS[:-2] + CERTAINTY_KEYS + ["Ts", "n"]
+FOPDT_KEYS = LS_FOPDT_KEYS[:-3] + CERTAINTY_KEYS + ["std", "Ts", "n"]
+SOPDT_KEYS = LS_SOPDT_KEYS[:-3] + CERTAINTY_KEYS + ["std", "Ts", "n"]
 # The keys of `pdtfit tune`'s JSON.
 TUNE_KEYS = ["rule", "form", "Kc", "tauI", "tauD", "Tf", "Ms", "gain_margin",
              "phase_margin_deg", "w_ms", "w_pc", "w_gc", "series", "parallel", "stated_in"]
-# The keys of a model inside autotune-sim's JSON: no Ts, n.
-MODEL_KEYS = {"fopdt": FOPDT_KEYS[:-2], "sopdt": SOPDT_KEYS[:-2]}
+# The keys of a model inside autotune-sim's JSON: no std, Ts, n.
+MODEL_KEYS = {"fopdt": FOPDT_KEYS[:-3], "sopdt": SOPDT_KEYS[:-3]}
 
 
 def run(args, stdin=None):

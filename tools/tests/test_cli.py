@@ -406,7 +406,8 @@ def test_weight_control_reports_band(at_rest_csv):
     """The band's edge is half the phase crossover of the model the time
     cost finds first: the truth's within 1 % on this record."""
     out = parse_output(identify_rest(at_rest_csv, "--weight", "control"))
-    assert list(out) == FOPDT_KEYS[:-5] + ["f_band", "searches", "runner_up", "flags", "Ts", "n"]
+    assert list(out) == FOPDT_KEYS[:-6] + ["f_band", "searches", "runner_up", "flags", "std",
+                                           "Ts", "n"]
     assert out["f_band"] == pytest.approx(half_crossover_hz(5.0, 1.3), rel=0.01)
     assert out["f_band"] <= 0.5 / TS
     assert out["K"] == pytest.approx(2.0, rel=0.02)
@@ -513,3 +514,29 @@ def test_bad_value_cell_is_named(tmp_path, fopdt_record):
     path = write_csv(tmp_path / "bad.csv", {"t": t, "u": u, "y": y})
     res = run(["identify", "--model", "fopdt", path])
     assert_usage_error(res, "gross outlier", "y = -3e+38 in data row 124", status=1)
+
+
+def test_model_auto_chooses_the_order(tmp_path):
+    """--model auto identifies both models and prints the one the evidence
+    supports: a FOPDT for a first-order process, a SOPDT for two lags."""
+    u = multistep_input(N, U0, 5.0, 25, 60, 20, seed=7)
+    y1 = Y0 + simulate([2.0], [5.0, 1.0], 1.3, u - U0, TS) + noise(N, 0.02, 11)
+    y2 = Y0 + simulate([2.0], [5.0, 6.0, 1.0], 1.3, u - U0, TS) + noise(N, 0.02, 11)
+    t = np.arange(N) * TS
+    p1 = write_csv(tmp_path / "one.csv", {"t": t, "u": u, "y": y1})
+    p2 = write_csv(tmp_path / "two.csv", {"t": t, "u": u, "y": y2})
+    assert parse_output(run(["identify", "--model", "auto", p1]))["model"] == "fopdt"
+    out = parse_output(run(["identify", "--model", "auto", p2]))
+    assert out["model"] == "sopdt" and out["tau1"] == pytest.approx(5.0, rel=0.05)
+    assert_usage_error(run(["identify", "--model", "auto", "--method", "elms", p1]),
+                       "--model auto needs --method ga")
+
+
+def test_std_matches_the_spread(fopdt_csv):
+    """The reported standard deviations are of the size of the parameters'
+    errors: the true values lie within four of them."""
+    out = parse_output(run(["identify", "--model", "fopdt", fopdt_csv]))
+    sd = out["std"]
+    assert list(sd) == ["K", "tau", "Td", "y0"] and all(v > 0 for v in sd.values())
+    for key, true in (("K", 2.0), ("tau", 5.0), ("Td", 1.3)):
+        assert abs(out[key] - true) < 4 * sd[key] + 1e-6, key
