@@ -8,10 +8,8 @@
  * and the fields of pdt_model_fopdt_t (K, tau, Td) or pdt_model_sopdt_t
  * (k, a, b, Td) in the real type's precision.
  *
- * Two functions stand in for the command line's shared layer until it is
- * a library of its own: pdtpy_read_series (the CSV reader) and
- * pdtpy_ident_json (the identify JSON). Each is the only place that would
- * change to call pdtcli_csv_read_series / pdtcli_ident_json instead.
+ * The CSV reader and every JSON text are the command line's shared layer
+ * (tools/cli/csv.h, json.h), compiled into the same shared object.
  *
  * Host code: it allocates and uses stdio, unlike the library.
  */
@@ -31,43 +29,8 @@
 #include "pdt/pdt_ls.h"
 #include "pdt/pdt_reduce.h"
 
-/* ------------------------------------------------------------ JSON text */
-
-/* An output buffer that remembers overflow instead of writing past it. */
-typedef struct jbuf {
-    char *p;
-    size_t len, used;
-    int overflow;
-} jbuf_t;
-
-static void jprintf(jbuf_t *b, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    size_t room = b->used < b->len ? b->len - b->used : 0;
-    int w = vsnprintf(room ? b->p + b->used : NULL, room, fmt, ap);
-    va_end(ap);
-    if (w < 0 || (size_t)w >= room) b->overflow = 1;
-    if (w > 0) b->used += (size_t)w;
-}
-
-/* Numbers as the command line prints them: 9 significant digits, null
- * where the value does not exist. */
-static void jnum(jbuf_t *b, double v)
-{
-    if (isfinite(v))
-        jprintf(b, "%.9g", v);
-    else
-        jprintf(b, "null");
-}
-
-static void jkey(jbuf_t *b, const char *key, double v)
-{
-    jprintf(b, ",\"%s\":", key);
-    jnum(b, v);
-}
-
-static int jdone(const jbuf_t *b) { return b->overflow ? -1 : (int)b->used; }
+/* The JSON texts are the command line's (tools/cli/json.h), so that a
+ * result's as_dict() equals the program's output. */
 
 
 
@@ -315,45 +278,10 @@ int pdtpy_simulate(const double *model, double Ts, const double *u, const double
     return st;
 }
 
-/* ------------------------------------------------------------ tune */
+
 
 static const char *const rule_names[] = {"simc", "imc", "amigo", "zn"};
 static const char *const form_names[] = {"pi", "pid"};
-
-static void json_gains(jbuf_t *b, const pdt_tune_gains_t *g)
-{
-    jprintf(b, "\"Kc\":");
-    jnum(b, (double)g->Kc);
-    jkey(b, "tauI", (double)g->tauI);
-    jkey(b, "tauD", (double)g->tauD);
-    jkey(b, "Tf", (double)g->Tf);
-}
-
-/* The object `pdtfit tune` prints for a model, key for key. */
-static void json_tune(jbuf_t *b, const pdt_tune_config_t *cfg, const pdt_tune_result_t *r)
-{
-    const pdt_tune_figures_t *f = &r->fig;
-    jprintf(b, "{\"rule\":\"%s\",\"form\":\"%s\",", rule_names[cfg->rule], form_names[cfg->form]);
-    json_gains(b, &r->ideal);
-    jkey(b, "Ms", (double)f->Ms);
-    jkey(b, "gain_margin", (double)f->gain_margin);
-    jkey(b, "phase_margin_deg", (double)f->phase_margin_deg);
-    jkey(b, "w_ms", (double)f->w_ms);
-    jkey(b, "w_pc", f->w_pc > 0 ? (double)f->w_pc : (double)NAN);
-    jkey(b, "w_gc", (double)f->w_gc);
-    jprintf(b, ",\"series\":");
-    if (r->series_exists || r->series_rule) {
-        jprintf(b, "{");
-        json_gains(b, &r->series);
-        jprintf(b, "}");
-    } else {
-        jprintf(b, "null");
-    }
-    jprintf(b, ",\"stated_in\":\"%s\"", r->series_rule ? "series" : "ideal");
-    if (cfg->rule == PDT_TUNE_SIMC) jkey(b, "tau_c", (double)r->knob);
-    if (cfg->rule == PDT_TUNE_IMC) jkey(b, "lambda", (double)r->knob);
-    jprintf(b, "}");
-}
 
 int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refused,
                char *json, size_t json_len)
@@ -382,9 +310,11 @@ int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refus
                                                                        : (double)NAN;
     }
     if (st != PDT_OK) return st;
-    jbuf_t b = {json, json_len, 0, 0};
-    json_tune(&b, &cfg, &r);
-    return jdone(&b) < 0 ? PDTPY_ERR_NOMEM : PDT_OK;
+    pdtcli_jbuf_t jb;
+    pdtcli_jb_init(&jb, json, json_len);
+    pdtcli_jb_tune(&jb, rule_names[cfg.rule], form_names[cfg.form], cfg.rule == PDT_TUNE_SIMC,
+                   cfg.rule == PDT_TUNE_IMC, &r, &r.fig, (double)NAN, (double)NAN, (double)NAN);
+    return pdtcli_jb_done(&jb) < 0 ? PDTPY_ERR_NOMEM : PDT_OK;
 }
 
 /* ------------------------------------------------------------ reduce */

@@ -6,11 +6,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "loop_sim.h"
 #include "sim_plant.h"
 #include "sim_rng.h"
 #include "tune_opts.h"
 
 #define PI_VALUE 3.14159265358979323846
+
+/* --model auto: the autotune's order_auto (both orders, the one the
+ * evidence supports). */
+static const char *const at_model_names[] = {"fopdt", "sopdt", "auto", NULL};
+#define AT_MODEL_AUTO (PDT_MODEL_SOPDT + 1)
 
 static const char *const kind_names[] = {"step", "pulse", "chirp", "prbs", "relay", NULL};
 static const char *const phase_names[] = {"settle", "excite", "identify", "tune"};
@@ -20,8 +26,8 @@ static const char *const failed_names[] = {"init", "settle", "excite", "identify
 typedef struct at_args {
     tune_opts_t t;
     cli_list_t lags, zeros;
-    int have_gain, have_lags, have_ts, have_sp, model, kind;
-    double gain, delay, amplitude, Ts, noise, u0, y0, sp;
+    int have_gain, have_lags, have_ts, have_sp, model, kind, integrating, have_wn;
+    double gain, delay, amplitude, Ts, noise, u0, y0, sp, wn, zeta;
     int have_lim[4];
     double lim[4]; /* pv_min, pv_max, u_min, u_max */
     uint64_t seed, decimation, capacity, evaluations;
@@ -38,6 +44,10 @@ static void parse(at_args_t *a, int argc, char **argv)
         {"--plant-zeros", OPT_LIST, &a->zeros, NULL, CHK_NONZERO, 0, 0, NULL,
          "a zero time constant cannot be 0", 0},
         {"--plant-delay", OPT_REAL, &a->delay, NULL, CHK_GE0, 0, 0, NULL, "a dead time >= 0 s", 0},
+        {"--plant-wn", OPT_REAL, &a->wn, &a->have_wn, CHK_GT0, 0, 0, NULL,
+         "a natural frequency > 0 rad/s", 0},
+        {"--plant-zeta", OPT_REAL, &a->zeta, NULL, CHK_GT0, 0, 0, NULL, "a damping > 0", 0},
+        {"--plant-integrating", OPT_FLAG, &a->integrating, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--experiment", OPT_CHOICE, &a->kind, NULL, 0, PDT_EXCITE_STEP, 0, kind_names,
          "experiment", 0},
         {"--amplitude", OPT_REAL, &a->amplitude, NULL, CHK_NONZERO, 0, 0, NULL,
@@ -47,8 +57,7 @@ static void parse(at_args_t *a, int argc, char **argv)
          "a whole number 1 .. 1000000", 0},
         {"--capacity", OPT_UINT, &a->capacity, NULL, 0, 1, 100000000, NULL,
          "a whole number 1 .. 100000000", 0},
-        {"--model", OPT_CHOICE, &a->model, NULL, 0, PDT_MODEL_FOPDT, 0, cli_model_names, "model",
-         0},
+        {"--model", OPT_CHOICE, &a->model, NULL, 0, PDT_MODEL_FOPDT, 0, at_model_names, "model", 0},
         {"--evaluations", OPT_UINT, &a->evaluations, NULL, 0, 1, UINT32_MAX, NULL,
          "a whole number >= 1", 0},
         {"--noise", OPT_REAL, &a->noise, NULL, CHK_GE0, 0, 0, NULL, "a standard deviation >= 0", 0},
@@ -74,10 +83,17 @@ static void check_args(const at_args_t *a)
 {
     const char *cmd = "autotune-sim";
     if (!a->have_gain) cli_fail(EXIT_USAGE, "%s: --plant-gain K is required", cmd);
-    if (!a->have_lags) cli_fail(EXIT_USAGE, "%s: --plant-lags T1,T2,... is required", cmd);
-    if (a->zeros.n > a->lags.n)
-        cli_fail(EXIT_USAGE, "%s: more zeros (%d) than lags (%d): the plant is improper", cmd,
-                 a->zeros.n, a->lags.n);
+    const int poles = a->lags.n + (a->have_wn ? 2 : 0) + (a->integrating ? 1 : 0);
+    if (!a->have_lags && !a->have_wn && !a->integrating)
+        cli_fail(EXIT_USAGE,
+                 "%s: --plant-lags T1,T2,... (or --plant-wn, --plant-integrating) is "
+                 "required",
+                 cmd);
+    if (a->zeros.n > poles)
+        cli_fail(EXIT_USAGE, "%s: more zeros (%d) than poles (%d): the plant is improper", cmd,
+                 a->zeros.n, poles);
+    if (a->have_wn && !(a->zeta > 0.0))
+        cli_fail(EXIT_USAGE, "%s: --plant-wn needs --plant-zeta Z > 0", cmd);
     if (a->have_sp && a->kind != PDT_EXCITE_RELAY)
         cli_fail(EXIT_USAGE, "%s: --setpoint is an option of --experiment relay only", cmd);
     if ((a->have_lim[0] && a->have_lim[1] && a->lim[0] > a->lim[1]) ||
@@ -97,18 +113,42 @@ static sim_plant_desc_t plant_desc(const at_args_t *a)
     d.zeros = a->zeros.v;
     d.n_zeros = (size_t)a->zeros.n;
     d.delay = a->delay;
+    d.wn = a->have_wn ? a->wn : 0.0;
+    d.zeta = a->have_wn ? a->zeta : 0.0;
+    d.integrating = a->integrating != 0;
     return d;
 }
 
-/* The experiment's settings from the plant's time scales; returns the
- * experiment's time after the settle window, s. */
-static double experiment_config(const at_args_t *a, double Ts_id, pdt_excite_config_t *ec)
+/* The plant's time scales: the sum of its lags (a complex pair counts
+ * 2 zeta / wn, its a / b; an integrator the sum again, at least 1 s) and
+ * the largest. */
+static void time_scales(const at_args_t *a, double *sum_out, double *T1_out)
 {
     double sum = 0.0, T1 = 0.0;
     for (int k = 0; k < a->lags.n; k++) {
         sum += a->lags.v[k];
         if (a->lags.v[k] > T1) T1 = a->lags.v[k];
     }
+    if (a->have_wn) {
+        const double Tp = 2.0 * a->zeta / a->wn > 1.0 / a->wn ? 2.0 * a->zeta / a->wn : 1.0 / a->wn;
+        sum += Tp;
+        T1 = Tp > T1 ? Tp : T1;
+    }
+    if (a->integrating) {
+        const double Ti = sum > 1.0 ? sum : 1.0;
+        sum += Ti;
+        T1 = Ti > T1 ? Ti : T1;
+    }
+    *sum_out = sum;
+    *T1_out = T1;
+}
+
+/* The experiment's settings from the plant's time scales; returns the
+ * experiment's time after the settle window, s. */
+static double experiment_config(const at_args_t *a, double Ts_id, pdt_excite_config_t *ec)
+{
+    double sum, T1;
+    time_scales(a, &sum, &T1);
     const double T_scale = sum + a->delay, T_settle = 4.0 * sum + a->delay;
     const sim_plant_desc_t desc = plant_desc(a);
     const double wu = sim_plant_ultimate_w(&desc, T_scale);
@@ -161,8 +201,8 @@ static double experiment_config(const at_args_t *a, double Ts_id, pdt_excite_con
 
 static void autotune_config(at_args_t *a, pdt_autotune_config_t *cfg)
 {
-    double sum = 0.0;
-    for (int k = 0; k < a->lags.n; k++) sum += a->lags.v[k];
+    double sum, T1;
+    time_scales(a, &sum, &T1);
     if (!a->have_ts) a->Ts = (sum + a->delay) / 200.0;
     if (!a->decimation) a->decimation = 4u;
     const uint32_t settle = 20;
@@ -180,7 +220,8 @@ static void autotune_config(at_args_t *a, pdt_autotune_config_t *cfg)
     if (a->have_lim[1]) cfg->pv_max = (pdt_real_t)a->lim[1];
     if (a->have_lim[2]) cfg->u_min = (pdt_real_t)a->lim[2];
     if (a->have_lim[3]) cfg->u_max = (pdt_real_t)a->lim[3];
-    cfg->ident.model = (pdt_model_kind_t)a->model;
+    cfg->order_auto = a->model == AT_MODEL_AUTO;
+    cfg->ident.model = cfg->order_auto ? PDT_MODEL_FOPDT : (pdt_model_kind_t)a->model;
     cfg->ident.seed = a->seed;
     if (a->evaluations) cfg->ident.max_evaluations = (uint32_t)a->evaluations;
     tune_opts_config(&a->t, &cfg->tune);
@@ -194,6 +235,8 @@ typedef struct at_run {
     int initialised;
     uint32_t phase_scans[4];
     uint64_t scans;
+    int has_loop;
+    loop_figs_t loop;
 } at_run_t;
 
 static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, sim_plant_t *plant,
@@ -284,6 +327,24 @@ static void experiment_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_
     pdtcli_jb_raw(jb, "}");
 }
 
+/* "loop": the gains run by pdt_pid on the true plant, beside the model's
+ * Ms; null without gains. */
+static void loop_json(pdtcli_jbuf_t *jb, const at_run_t *run)
+{
+    pdtcli_jb_raw(jb, ",\"loop\":");
+    if (!run->has_loop) {
+        pdtcli_jb_raw(jb, "null");
+        return;
+    }
+    pdtcli_jb_printf(jb, "{\"Ms_true\":");
+    pdtcli_jb_num(jb, run->loop.Ms);
+    pdtcli_jb_key(jb, "Ms_model", (double)run->res.tune.fig.Ms);
+    pdtcli_jb_key(jb, "iae_setpoint", run->loop.iae_sp);
+    pdtcli_jb_key(jb, "overshoot_pct", run->loop.overshoot);
+    pdtcli_jb_key(jb, "iae_load", run->loop.iae_load);
+    pdtcli_jb_raw(jb, run->loop.stable ? ",\"stable\":true}" : ",\"stable\":false}");
+}
+
 static void results_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *run)
 {
     const pdt_autotune_result_t *res = &run->res;
@@ -303,6 +364,7 @@ static void results_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *
         tune_json(jb, &a->t, &res->tune, &res->tune.fig, (double)NAN, (double)NAN);
     else
         pdtcli_jb_raw(jb, "null");
+    loop_json(jb, run);
     if (a->kind != PDT_EXCITE_RELAY) return;
     pdtcli_jb_raw(jb, ",\"relay\":");
     if (!res->has_relay) {
@@ -368,6 +430,22 @@ static void fail_run(const at_run_t *run)
     cli_fail(EXIT_REFUSED, "autotune-sim: %s (in %s)", pdt_status_str(st), where);
 }
 
+/* After gains: the same plant under pdt_pid, a set-point step of the
+ * experiment's size in output units and a load step, noise-free. */
+static void close_loop(const at_args_t *a, at_run_t *run)
+{
+    if (run->st != PDT_OK || !run->res.has_gains) return;
+    double sum, T1;
+    time_scales(a, &sum, &T1);
+    const sim_plant_desc_t d = plant_desc(a);
+    const double t_scale = sum + a->delay;
+    const double step = fabs(a->gain) * fabs(a->amplitude) * (a->integrating ? t_scale : 1.0);
+    const double horizon = 20.0 * t_scale > 10.0 * a->Ts ? 20.0 * t_scale : 10.0 * a->Ts;
+    loop_sim_run(&d, a->Ts, &run->res.tune.ideal, a->u0, a->y0, (double)run->cfg.u_min,
+                 (double)run->cfg.u_max, step, horizon, &run->loop);
+    run->has_loop = 1;
+}
+
 int cmd_autotune_sim(int argc, char **argv)
 {
     at_args_t a;
@@ -382,6 +460,7 @@ int cmd_autotune_sim(int argc, char **argv)
     if (!run) cli_fail(EXIT_REFUSED, "out of memory");
     autotune_config(&a, &run->cfg);
     simulate(&a, run);
+    close_loop(&a, run);
     print_run(&a, run);
     if (run->st != PDT_OK) fail_run(run);
     free(run);

@@ -203,3 +203,81 @@ int pdtcli_model_json(const pdt_model_t *m, char *buf, size_t len)
     pdtcli_jb_raw(&jb, "}");
     return pdtcli_jb_done(&jb);
 }
+
+static void gains_json(pdtcli_jbuf_t *jb, const pdt_tune_gains_t *g)
+{
+    pdtcli_jb_raw(jb, "{\"Kc\":");
+    pdtcli_jb_num(jb, (double)g->Kc);
+    pdtcli_jb_key(jb, "tauI", (double)g->tauI);
+    pdtcli_jb_key(jb, "tauD", (double)g->tauD);
+    pdtcli_jb_key(jb, "Tf", (double)g->Tf);
+    pdtcli_jb_raw(jb, "}");
+}
+
+/* Kp + Ki / s + Kd s / (Tf s + 1): what most PID blocks and libraries
+ * take; scale converts to percent of span. */
+static void parallel_json(pdtcli_jbuf_t *jb, const pdt_tune_gains_t *g, double scale)
+{
+    const double Kc = (double)g->Kc * scale;
+    pdtcli_jb_raw(jb, "{\"Kp\":");
+    pdtcli_jb_num(jb, Kc);
+    pdtcli_jb_key(jb, "Ki", g->tauI > (pdt_real_t)0 ? Kc / (double)g->tauI : 0.0);
+    pdtcli_jb_key(jb, "Kd", Kc * (double)g->tauD);
+    pdtcli_jb_key(jb, "Tf", (double)g->Tf);
+    pdtcli_jb_raw(jb, "}");
+}
+
+static void figures_json(pdtcli_jbuf_t *jb, const pdt_tune_figures_t *fig)
+{
+    const double nan = (double)NAN;
+    pdtcli_jb_key(jb, "Ms", fig ? (double)fig->Ms : nan);
+    pdtcli_jb_key(jb, "gain_margin", fig ? (double)fig->gain_margin : nan);
+    pdtcli_jb_key(jb, "phase_margin_deg", fig ? (double)fig->phase_margin_deg : nan);
+    pdtcli_jb_key(jb, "w_ms", fig ? (double)fig->w_ms : nan);
+    pdtcli_jb_key(jb, "w_pc", fig && fig->w_pc > 0 ? (double)fig->w_pc : nan);
+    pdtcli_jb_key(jb, "w_gc", fig ? (double)fig->w_gc : nan);
+}
+
+/* The tuning object of `pdtfit tune` (docs/cli.md): rule and form by
+ * name, the ideal gains, the figures (fig NULL: null), series, parallel
+ * and, with a finite span ratio y_span / u_span, percent-of-span gains,
+ * the knob (tau_c for SIMC, lambda for IMC), and Ku, Pu when finite. */
+void pdtcli_jb_tune(pdtcli_jbuf_t *jb, const char *rule, const char *form, int knob_tau_c,
+                    int knob_lambda, const pdt_tune_result_t *r, const pdt_tune_figures_t *fig,
+                    double span, double Ku, double Pu)
+{
+    pdtcli_jb_raw(jb, "{\"rule\":\"");
+    pdtcli_jb_raw(jb, rule);
+    pdtcli_jb_raw(jb, "\"");
+    pdtcli_jb_str(jb, "form", form);
+    pdtcli_jb_key(jb, "Kc", (double)r->ideal.Kc);
+    pdtcli_jb_key(jb, "tauI", (double)r->ideal.tauI);
+    pdtcli_jb_key(jb, "tauD", (double)r->ideal.tauD);
+    pdtcli_jb_key(jb, "Tf", (double)r->ideal.Tf);
+    figures_json(jb, fig);
+    pdtcli_jb_raw(jb, ",\"series\":");
+    if (r->series_exists || r->series_rule)
+        gains_json(jb, &r->series);
+    else
+        pdtcli_jb_raw(jb, "null");
+    /* The pdt_pid settings whose loop has these figures (docs/pid.md). */
+    pdtcli_jb_raw(jb, ",\"pid\":{\"form\":\"ideal\",\"Kc\":");
+    pdtcli_jb_num(jb, (double)r->ideal.Kc);
+    pdtcli_jb_key(jb, "Ti", (double)r->ideal.tauI);
+    pdtcli_jb_key(jb, "Td", (double)r->ideal.tauD);
+    pdtcli_jb_key(jb, "Tf", (double)r->ideal.Tf);
+    pdtcli_jb_raw(jb, ",\"N\":0}");
+    pdtcli_jb_raw(jb, ",\"parallel\":");
+    parallel_json(jb, &r->ideal, 1.0);
+    if (isfinite(span)) {
+        /* Output % per process-value %: Kc (y_span / 100) / (u_span / 100). */
+        pdtcli_jb_raw(jb, ",\"percent\":");
+        parallel_json(jb, &r->ideal, span);
+    }
+    pdtcli_jb_str(jb, "stated_in", r->series_rule ? "series" : "ideal");
+    if (knob_tau_c) pdtcli_jb_key(jb, "tau_c", (double)r->knob);
+    if (knob_lambda) pdtcli_jb_key(jb, "lambda", (double)r->knob);
+    if (isfinite(Ku)) pdtcli_jb_key(jb, "Ku", Ku);
+    if (isfinite(Pu)) pdtcli_jb_key(jb, "Pu", Pu);
+    pdtcli_jb_raw(jb, "}");
+}

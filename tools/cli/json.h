@@ -55,6 +55,10 @@ void pdtcli_jb_uint(pdtcli_jbuf_t *jb, const char *key, unsigned long v);
 /* The model object; r NULL: the model's keys only. */
 void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r);
 int pdtcli_jb_done(const pdtcli_jbuf_t *jb);
+/* The tuning object of `pdtfit tune` into jb (see json.c). */
+void pdtcli_jb_tune(pdtcli_jbuf_t *jb, const char *rule, const char *form, int knob_tau_c,
+                    int knob_lambda, const pdt_tune_result_t *r, const pdt_tune_figures_t *fig,
+                    double span, double Ku, double Pu);
 
 #ifdef __cplusplus
 }

@@ -49,7 +49,7 @@ FOPDT_KEYS = LS_FOPDT_KEYS[:-3] + CERTAINTY_KEYS + ["std", "Ts", "n"]
 SOPDT_KEYS = LS_SOPDT_KEYS[:-3] + CERTAINTY_KEYS + ["std", "Ts", "n"]
 # The keys of `pdtfit tune`'s JSON.
 TUNE_KEYS = ["rule", "form", "Kc", "tauI", "tauD", "Tf", "Ms", "gain_margin",
-             "phase_margin_deg", "w_ms", "w_pc", "w_gc", "series", "parallel", "stated_in"]
+             "phase_margin_deg", "w_ms", "w_pc", "w_gc", "series", "pid", "parallel", "stated_in"]
 # The keys of a model inside autotune-sim's JSON: no std, Ts, n.
 MODEL_KEYS = {"fopdt": FOPDT_KEYS[:-3], "sopdt": SOPDT_KEYS[:-3]}
 

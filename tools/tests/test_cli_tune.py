@@ -272,7 +272,7 @@ def test_help_mentions_the_commands():
 # pdt_status_t values (lib/include/pdt/pdt_status.h).
 PV_LIMIT, OUTPUT_LIMIT, POOR_FIT = "PDT_ERR_PV_LIMIT", "PDT_ERR_OUTPUT_LIMIT", "PDT_ERR_POOR_FIT"
 AT_KEYS = ["status", "reason", "scan_period", "decimation", "capacity", "samples", "scans",
-           "experiment", "phases", "ident", "tune"]
+           "experiment", "phases", "ident", "tune", "loop"]
 FOPDT_PLANT = ["--plant-gain", "2", "--plant-lags", "5", "--plant-delay", "1.3"]
 
 
@@ -305,6 +305,10 @@ def check_run(out, kind):
                     "lambda" if t["rule"] == "imc" else None)
     for k in ("Kc", "tauI", "Ms", "gain_margin", "phase_margin_deg"):
         assert math.isfinite(t[k]), k
+    loop = out["loop"]
+    assert list(loop) == ["Ms_true", "Ms_model", "iae_setpoint", "overshoot_pct", "iae_load",
+                          "stable"]
+    assert loop["stable"] and loop["Ms_model"] == t["Ms"] and loop["Ms_true"] < 3.0
 
 
 def test_autotune_fopdt_prbs():
@@ -509,3 +513,28 @@ def test_simulator_against_scipy(tmp_path, lags, zeros, delay, Ts, sub):
 ])
 def test_autotune_usage_errors(args, frag):
     assert_usage_error(run(["autotune-sim", *args]), frag)
+
+
+def test_autotune_closes_the_loop_on_the_true_plant():
+    """The gains run by pdt_pid on the simulated plant: its Ms agrees with
+    the model's on a process the model fits exactly, and the loop follows
+    a set-point step and rejects a load step."""
+    out = autotune(*FOPDT_PLANT)
+    loop = out["loop"]
+    assert loop["Ms_true"] == pytest.approx(loop["Ms_model"], rel=0.03)
+    assert loop["stable"] and loop["overshoot_pct"] < 20.0
+    assert 0 < loop["iae_setpoint"] < 20.0 and 0 < loop["iae_load"] < 20.0
+
+
+@pytest.mark.parametrize("plant", [
+    ["--plant-gain", "1.2", "--plant-wn", "0.8", "--plant-zeta", "0.7", "--plant-delay", "1"],
+    ["--plant-gain", "0.1", "--plant-lags", "2", "--plant-integrating", "--plant-delay", "1"],
+])
+def test_autotune_complex_and_integrating_plants(plant):
+    """--plant-wn/--plant-zeta add a complex pair, --plant-integrating an
+    integrator; --model auto lets the autotune choose the order."""
+    out = autotune(*plant, "--model", "auto")
+    assert out["status"] == "PDT_OK" and out["ident"]["model"] == "sopdt"
+    assert out["loop"]["stable"] and out["loop"]["Ms_true"] < 2.5
+    if "--plant-integrating" in plant:
+        assert out["ident"]["b"] == 0 and out["ident"]["Ki"] == pytest.approx(0.1, rel=0.05)
