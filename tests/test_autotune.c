@@ -12,6 +12,7 @@
  * output of scan k is applied, as the autotune's header says.
  */
 #include "test_util.h"
+#include "sim_rng.h"
 
 #include "pdt/pdt_autotune.h"
 #include "pdt/pdt_discrete.h"
@@ -33,22 +34,6 @@ typedef struct plant {
     double disturb;       /* added to pv (a test's upset) */
     uint32_t mark;        /* a test's bookmark (scan number) */
 } plant_t;
-
-static uint32_t lcg_next(uint32_t *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return *s;
-}
-
-/* Approximately standard normal: twelve uniforms of 24 bits, centred. */
-static double lcg_normal(uint32_t *s)
-{
-    double sum = 0.0;
-    for (int i = 0; i < 12; i++) {
-        sum += (double)(lcg_next(s) >> 8) / 16777216.0;
-    }
-    return sum - 6.0;
-}
 
 static pdt_model_t fopdt(double K, double tau, double Td)
 {
@@ -96,7 +81,7 @@ static void plant_init(plant_t *p, const pdt_model_t *m, double Ts, double u0, d
 /* The process value read at this scan. */
 static pdt_real_t plant_pv(plant_t *p)
 {
-    double n = p->noise_sd > 0.0 ? p->noise_sd * lcg_normal(&p->seed) : 0.0;
+    double n = p->noise_sd > 0.0 ? p->noise_sd * sim_rng_normal(&p->seed) : 0.0;
     return (pdt_real_t)(p->y0 + p->y1 + n + p->disturb);
 }
 

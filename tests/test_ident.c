@@ -17,6 +17,8 @@
  */
 #include "test_util.h"
 
+#include "sim_rng.h"
+
 #define NMAX 1200u
 #define POP_MAX 64u
 #define WORK_REALS (PDT_IDENT_WORKSPACE_SIZE(NMAX, POP_MAX) / sizeof(pdt_real_t) + 1u)
@@ -30,48 +32,19 @@ static pdt_real_t g_work2[WORK_REALS + CANARY_COUNT];
 static pdt_ident_t g_ctx;
 static pdt_ident_t g_ctx2;
 
-/* ---- Data ------------------------------------------------------------- */
-
-/* Numerical Recipes' 32-bit LCG: the test's own random numbers. */
-typedef struct lcg {
-    uint32_t s;
-} lcg_t;
-
-static uint32_t lcg_next(lcg_t *r)
-{
-    r->s = r->s * 1664525u + 1013904223u;
-    return r->s;
-}
-
-/* Uniform in [0, 1) from the top 24 bits. */
-static double lcg_uniform(lcg_t *r)
-{
-    return (double)(lcg_next(r) >> 8) / 16777216.0;
-}
-
-/* Approximately standard normal: the sum of 12 uniforms, centred. */
-static double lcg_normal(lcg_t *r)
-{
-    double s = 0.0;
-    for (int i = 0; i < 12; i++) {
-        s += lcg_uniform(r);
-    }
-    return s - 6.0;
-}
-
 /* Random binary signal of amplitude +-1 (deviation): 0 for the first
  * `quiet` samples, then a level held for `hold` samples, flipped with
  * probability 1/2 at each change. */
 static void make_prbs(pdt_real_t *u, size_t n, size_t quiet, size_t hold, uint32_t seed)
 {
-    lcg_t r = {seed};
+    sim_rng_t r = seed;
     pdt_real_t level = (pdt_real_t)1.0;
     for (size_t k = 0; k < n; k++) {
         if (k < quiet) {
             u[k] = (pdt_real_t)0.0;
             continue;
         }
-        if ((k - quiet) % hold == 0u && (lcg_next(&r) >> 31) != 0u) {
+        if ((k - quiet) % hold == 0u && (sim_rng_next(&r) >> 31) != 0u) {
             level = -level;
         }
         u[k] = level;
@@ -135,9 +108,9 @@ static double make_record(const record_spec_t *s)
     }
     double sd = s->snr_db > 0.0 ? sqrt(var / (double)s->n) * pow(10.0, -s->snr_db / 20.0) : 0.0;
     double q = 0.01 * (hi - lo);
-    lcg_t r = {s->noise_seed};
+    sim_rng_t r = s->noise_seed;
     for (size_t k = 0; k < s->n; k++) {
-        double y = s->y0 + (double)g_sim[k] + sd * lcg_normal(&r);
+        double y = s->y0 + (double)g_sim[k] + sd * sim_rng_normal(&r);
         if (s->quantise) {
             y = floor(y / q + 0.5) * q;
         }

@@ -11,6 +11,7 @@
  * pdt_discrete_simulate, an operating point and noise from a small LCG.
  */
 #include "test_util.h"
+#include "sim_rng.h"
 
 #define NMAX 1000u
 
@@ -22,21 +23,6 @@ static pdt_real_t g_work[PDT_IDENT_WORKSPACE_SIZE(NMAX, PDT_IDENT_POPULATION_SOP
                             sizeof(pdt_real_t) + CANARY_COUNT];
 static pdt_ident_t g_ctx;
 
-static uint32_t lcg_next(uint32_t *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return *s;
-}
-
-static double lcg_normal(uint32_t *s)
-{
-    double sum = 0.0;
-    for (int i = 0; i < 12; i++) {
-        sum += (double)(lcg_next(s) >> 8) / 16777216.0;
-    }
-    return sum - 6.0;
-}
-
 /* g_u, g_y: u0 + random binary input (+-1, held `hold` samples, at rest
  * for the first 10), y0 + the response of m + noise at 30 dB. */
 static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t hold,
@@ -46,7 +32,7 @@ static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t ho
     uint32_t r = seed * 7919u + 1u;
     pdt_real_t level = (pdt_real_t)1.0;
     for (size_t k = 0; k < n; k++) {
-        if (k >= 10u && (k - 10u) % hold == 0u && (lcg_next(&r) >> 31) != 0u) {
+        if (k >= 10u && (k - 10u) % hold == 0u && (sim_rng_next(&r) >> 31) != 0u) {
             level = -level;
         }
         g_dev[k] = k < 10u ? (pdt_real_t)0.0 : level;
@@ -64,7 +50,7 @@ static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t ho
     double sd = sqrt(var / (double)n) * pow(10.0, -30.0 / 20.0);
     for (size_t k = 0; k < n; k++) {
         g_u[k] = (pdt_real_t)(10.0 + (double)g_dev[k]);
-        g_y[k] = (pdt_real_t)(20.0 + (double)g_sim[k] + sd * lcg_normal(&r));
+        g_y[k] = (pdt_real_t)(20.0 + (double)g_sim[k] + sd * sim_rng_normal(&r));
     }
 }
 

@@ -5,6 +5,8 @@
  * choice, the robust bound, and the statuses.
  */
 #include "test_util.h"
+
+#include "sim_rng.h"
 #include "validate_vectors.h"
 
 #define N 400u
@@ -16,24 +18,6 @@ static pdt_real_t g_dev[N];
 static pdt_real_t g_clean[N];
 static pdt_real_t g_work[5u * N + CANARY_COUNT];
 static unsigned char g_idwork[PDT_IDENT_WORKSPACE_SIZE(N, PDT_IDENT_POPULATION_SOPDT)];
-
-typedef struct rng {
-    uint64_t s;
-} rng_t;
-
-static double rng_uniform(rng_t *r)
-{
-    r->s ^= r->s >> 12;
-    r->s ^= r->s << 25;
-    r->s ^= r->s >> 27;
-    return ((double)((r->s * 2685821657736338717ull) >> 11) + 0.5) / 9007199254740992.0;
-}
-
-static double rng_normal(rng_t *r)
-{
-    double a = rng_uniform(r), b = rng_uniform(r);
-    return sqrt(-2.0 * log(a)) * cos(6.283185307179586 * b);
-}
 
 static pdt_model_t fopdt(double K, double tau, double Td)
 {
@@ -60,10 +44,10 @@ static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
  * at rest for the first 10 samples. */
 static void make_input(uint64_t seed)
 {
-    rng_t r = {seed * 0x9E3779B97F4A7C15ull + 1u};
+    sim_rng_t r = (sim_rng_t)(seed * 0x9E3779B97F4A7C15ull + 1u);
     pdt_real_t level = (pdt_real_t)1.0;
     for (size_t k = 0; k < N; k++) {
-        if (k >= 10u && (k - 10u) % 8u == 0u && rng_uniform(&r) < 0.5) {
+        if (k >= 10u && (k - 10u) % 8u == 0u && sim_rng_uniform(&r) < 0.5) {
             level = -level;
         }
         g_dev[k] = k < 10u ? (pdt_real_t)0.0 : level;
@@ -78,9 +62,9 @@ static void make_output(const pdt_model_t *m, double sd, uint64_t seed)
     pdt_discrete_t d;
     assert_int_equal(pdt_discrete_init(m, (pdt_real_t)TS, &d), PDT_OK);
     assert_int_equal(pdt_discrete_simulate(&d, g_dev, N, g_clean), PDT_OK);
-    rng_t r = {seed * 0xD1B54A32D192ED03ull + 7u};
+    sim_rng_t r = (sim_rng_t)(seed * 0xD1B54A32D192ED03ull + 7u);
     for (size_t k = 0; k < N; k++) {
-        g_y[k] = (pdt_real_t)(5.0 + (double)g_clean[k] + sd * rng_normal(&r));
+        g_y[k] = (pdt_real_t)(5.0 + (double)g_clean[k] + sd * sim_rng_normal(&r));
     }
 }
 
@@ -133,9 +117,9 @@ static void test_wrong_model_rejected(void **state)
     make_output(&a, 0.0, 1u);
     memcpy(ya, g_clean, sizeof ya);
     make_output(&b, 0.0, 1u);
-    rng_t r = {99u};
+    sim_rng_t r = (sim_rng_t)(99u);
     for (size_t k = 0; k < N; k++) {
-        g_y[k] = (pdt_real_t)(5.0 + (double)ya[k] + (double)g_clean[k] + 0.01 * rng_normal(&r));
+        g_y[k] = (pdt_real_t)(5.0 + (double)ya[k] + (double)g_clean[k] + 0.01 * sim_rng_normal(&r));
     }
     /* The FOPDT a least-squares fit would give is close to this one. */
     pdt_model_t m = fopdt(1.0, 3.0, 0.6);

@@ -10,21 +10,18 @@
 #include <stddef.h>
 #include <stdint.h>
 
-typedef struct sim_rng {
-    uint32_t s;
-} sim_rng_t;
+/* The state: the seed is any value, its stream the LCG's from there. */
+typedef uint32_t sim_rng_t;
 
 static inline sim_rng_t sim_rng_seed(uint32_t seed)
 {
-    sim_rng_t r;
-    r.s = seed;
-    return r;
+    return seed;
 }
 
 static inline uint32_t sim_rng_next(sim_rng_t *r)
 {
-    r->s = r->s * 1664525u + 1013904223u;
-    return r->s;
+    *r = *r * 1664525u + 1013904223u;
+    return *r;
 }
 
 /* Uniform in [0, 1) from the top 24 bits (the low bits of an LCG are

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "target_checks.h"
+#include "sim_rng.h"
 #include "target_util.h"
 
 #include "pdt_port.h"
@@ -39,24 +40,9 @@ typedef struct at_plant {
     double noise_sd;
 } at_plant_t;
 
-static uint32_t at_lcg(uint32_t *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return *s;
-}
-
-static double at_normal(uint32_t *s)
-{
-    double sum = 0.0;
-    for (int i = 0; i < 12; i++) {
-        sum += (double)(at_lcg(s) >> 8) / 16777216.0;
-    }
-    return sum - 6.0;
-}
-
 static pdt_real_t at_pv(at_plant_t *p)
 {
-    return (pdt_real_t)(p->y0 + p->y1 + p->noise_sd * at_normal(&p->seed));
+    return (pdt_real_t)(p->y0 + p->y1 + p->noise_sd * sim_rng_normal(&p->seed));
 }
 
 static void at_apply(at_plant_t *p, pdt_real_t u)

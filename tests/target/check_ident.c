@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "target_checks.h"
+#include "sim_rng.h"
 #include "target_util.h"
 
 #include "pdt_port.h"
@@ -27,23 +28,6 @@ static pdt_ident_t g_ctx;
 
 /* ---- Data (as tests/test_ident.c makes it) ----------------------------- */
 
-/* Numerical Recipes' 32-bit LCG. */
-static uint32_t lcg_next(uint32_t *s)
-{
-    *s = *s * 1664525u + 1013904223u;
-    return *s;
-}
-
-/* Approximately standard normal: the sum of 12 uniforms of 24 bits, centred. */
-static double lcg_normal(uint32_t *s)
-{
-    double sum = 0.0;
-    for (int i = 0; i < 12; i++) {
-        sum += (double)(lcg_next(s) >> 8) / 16777216.0;
-    }
-    return sum - 6.0;
-}
-
 /* Random binary deviation of +-amp: 0 for `quiet` samples, then a level
  * held `hold` samples, flipped with probability 1/2 at each change. */
 static void make_prbs(size_t n, size_t quiet, size_t hold, uint32_t seed, double amp)
@@ -55,7 +39,7 @@ static void make_prbs(size_t n, size_t quiet, size_t hold, uint32_t seed, double
             g_dev[k] = (pdt_real_t)0.0;
             continue;
         }
-        if ((k - quiet) % hold == 0u && (lcg_next(&s) >> 31) != 0u) {
+        if ((k - quiet) % hold == 0u && (sim_rng_next(&s) >> 31) != 0u) {
             level = -level;
         }
         g_dev[k] = (pdt_real_t)(amp * level);
@@ -95,7 +79,7 @@ static bool make_record(record_t *r)
     uint32_t s = r->noise_seed;
     for (size_t k = 0; k < r->n; k++) {
         g_u[k] = (pdt_real_t)(r->u0 + (double)g_dev[k]);
-        g_y[k] = (pdt_real_t)(r->y0 + (double)g_sim[k] + sd * lcg_normal(&s));
+        g_y[k] = (pdt_real_t)(r->y0 + (double)g_sim[k] + sd * sim_rng_normal(&s));
     }
     return true;
 }
