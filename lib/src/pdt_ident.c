@@ -352,6 +352,15 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     return PDT_OK;
 }
 
+/* Whole samples in a time t >= 0 at period Ts, at most cap: a ratio past
+ * the record (or past size_t) is the record's end, never a float-to-size
+ * overflow. */
+static size_t samples_in(pdt_real_t t, pdt_real_t Ts, size_t cap)
+{
+    const pdt_real_t q = t / Ts;
+    return (q >= PDT_R(0.0) && q < (pdt_real_t)cap) ? (size_t)q : cap;
+}
+
 /* Layout of the workspace after the cost's own part, in reals. */
 static size_t own_reals(uint32_t pop, uint32_t genes, size_t n)
 {
@@ -367,7 +376,7 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
         resolve_bounds(cfg, n, &b) != PDT_OK || gene_bounds(cfg, &b, lo, hi) != PDT_OK) {
         return 0u;
     }
-    cost_config(cfg, PDT_R(0.0), PDT_R(0.0), (size_t)(b.Td_max / cfg->Ts) + 2u, &cc);
+    cost_config(cfg, PDT_R(0.0), PDT_R(0.0), samples_in(b.Td_max, cfg->Ts, n) + 2u, &cc);
     size_t cost_bytes = pdt_cost_workspace_size(&cc, n);
     if (cc.use_frequency && cost_bytes == 0u) {
         return 0u;
@@ -494,7 +503,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         return PDT_ERR_NO_EXCITATION;
     }
     if (uses_frequency(cfg->cost) &&
-        !ends_at_rest(data, initial_level(data, (size_t)(b.Td_min / cfg->Ts)), umax - umin,
+        !ends_at_rest(data, initial_level(data, samples_in(b.Td_min, cfg->Ts, data->n)), umax - umin,
                       ymax - ymin)) {
         return PDT_ERR_NOT_AT_REST;
     }
@@ -525,7 +534,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     c.cfg.population = population_of(cfg);
     c.data = *data;
     c.genes = genes_of(cfg->model);
-    pdt_real_t y0 = initial_level(data, (size_t)(b.Td_min / cfg->Ts));
+    pdt_real_t y0 = initial_level(data, samples_in(b.Td_min, cfg->Ts, data->n));
     pdt_cost_config_t cc;
     cost_config(cfg, data->u[0], y0, delay_max, &cc);
     size_t cost_bytes = pdt_cost_workspace_size(&cc, data->n);
