@@ -18,9 +18,9 @@ extern "C" {
 
 /* The one version number of pdtfit; CMake reads it from here. */
 #define PDT_VERSION_MAJOR 0
-#define PDT_VERSION_MINOR 1
+#define PDT_VERSION_MINOR 2
 #define PDT_VERSION_PATCH 0
-#define PDT_VERSION_STRING "0.1.0"
+#define PDT_VERSION_STRING "0.2.0"
 
 #if PDT_REAL_DOUBLE
 typedef double pdt_real_t;
