@@ -6,6 +6,7 @@
 
 #include "pdt_cost_kernel.h"
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 #if PDT_REAL_DOUBLE
 #define pdt_ldexp ldexp
@@ -853,18 +854,6 @@ static inline pdt_real_t bsum_get(const bsum_t *s)
     return s->total + s->block;
 }
 
-/* |G(j w)| of a model, dead time aside. */
-static inline pdt_real_t model_mag(const pdt_model_t *m, pdt_real_t w)
-{
-    if (m->kind == PDT_MODEL_FOPDT) {
-        pdt_real_t wt = w * m->p.fopdt.tau;
-        return pdt_fabs(m->p.fopdt.K) / pdt_sqrt(PDT_R(1.0) + wt * wt);
-    }
-    pdt_real_t re = m->p.sopdt.b - w * w;
-    pdt_real_t im = m->p.sopdt.a * w;
-    return pdt_fabs(m->p.sopdt.k) / pdt_sqrt(re * re + im * im);
-}
-
 /* J(K) = a (K - kt)^2 + b (|K| - kf)^2 up to constants: the profiled
  * combined cost's dependence on the gain. */
 static pdt_real_t gain_objective(pdt_real_t a, pdt_real_t kt, pdt_real_t b, pdt_real_t kf,
@@ -1080,7 +1069,7 @@ static void freq_summary(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real
     bsum_t sgg = {PDT_R(0.0), PDT_R(0.0), 0u}, syg = {PDT_R(0.0), PDT_R(0.0), 0u};
     size_t k;
     for (k = c->k_first; k <= c->k_last; k++) {
-        pdt_real_t g = model_mag(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
+        pdt_real_t g = pdt_model_magnitude_at(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
         pdt_real_t wg = c->wgt[k - 1u] * g;
         bsum_add(&sgg, wg * g);
         bsum_add(&syg, wg * c->ymag[k - 1u]);
@@ -1100,7 +1089,7 @@ static pdt_real_t freq_at(const pdt_cost_t *c, const pdt_model_t *shape, pdt_rea
     pdt_real_t gabs = pdt_fabs(gain);
     size_t k;
     for (k = c->k_first; k <= c->k_last; k++) {
-        pdt_real_t g = model_mag(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
+        pdt_real_t g = pdt_model_magnitude_at(shape, (pdt_real_t)k * c->w_step) * c->umag[k - 1u];
         pdt_real_t e = c->ymag[k - 1u] - gabs * g;
         bsum_add(&s2, c->wgt[k - 1u] * e * e);
     }

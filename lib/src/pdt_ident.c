@@ -8,6 +8,7 @@
 #include "pdt/pdt_discrete.h"
 #include "pdt_ga.h"
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 #define IDENT_MAGIC PDT_MAGIC('P', 'D', 'I', 'D')
 
@@ -1050,39 +1051,6 @@ static void nm_advance(pdt_ident_t *c)
 
 static void finish(pdt_ident_t *c);
 
-/* The phase of a model (gain sign aside) at w rad/s. */
-static pdt_real_t model_phase(const pdt_model_t *m, pdt_real_t w)
-{
-    if (m->kind == PDT_MODEL_FOPDT) {
-        return -w * m->p.fopdt.Td - pdt_atan(w * m->p.fopdt.tau);
-    }
-    return -w * m->p.sopdt.Td - pdt_atan2(m->p.sopdt.a * w, m->p.sopdt.b - w * w);
-}
-
-/* Phase crossover (rad/s) of a model with a dead time: the phase falls
- * monotonically and the dead time alone reaches -pi at pi / Td, so
- * bisection on [0, pi / Td] finds it. 0 without a dead time. */
-static pdt_real_t phase_crossover(const pdt_model_t *m)
-{
-    pdt_real_t Td = pdt_model_dead_time(m);
-    if (!(Td > PDT_R(0.0))) {
-        return PDT_R(0.0);
-    }
-    pdt_real_t lo = PDT_R(0.0), hi = PDT_PI / Td;
-    for (uint32_t i = 0; i < 48u; i++) {
-        pdt_real_t mid = PDT_R(0.5) * (lo + hi);
-        if (mid <= lo || mid >= hi) {
-            break;
-        }
-        if (model_phase(m, mid) <= -PDT_PI) {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    return PDT_R(0.5) * (lo + hi);
-}
-
 /* CONTROL weighting, between the stages: the band up to half the phase
  * crossover of the time model (the whole spectrum if it has none below
  * the Nyquist frequency, at least one bin), Cf scaled by the bins' share,
@@ -1095,7 +1063,7 @@ static void band_start(pdt_ident_t *c)
     shape_of(c, c->best, &m);
     const pdt_real_t Ts = c->cfg.Ts;
     const size_t nf = c->cost.nf, nb = nf / 2u;
-    pdt_real_t f = PDT_R(0.5) * phase_crossover(&m) / (PDT_R(2.0) * PDT_PI);
+    pdt_real_t f = PDT_R(0.5) * pdt_model_phase_crossover(&m) / (PDT_R(2.0) * PDT_PI);
     pdt_real_t f_nyq = PDT_R(0.5) / Ts, f_bin = PDT_R(1.0) / ((pdt_real_t)nf * Ts);
     if (!(f > PDT_R(0.0)) || f > f_nyq) {
         f = f_nyq;

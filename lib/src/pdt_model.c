@@ -8,6 +8,7 @@
 #include "pdt/pdt_model.h"
 
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 /* ---- validity checks ---------------------------------------------------- */
 
@@ -404,40 +405,66 @@ pdt_status_t pdt_model_freq(const pdt_model_t *m, const pdt_real_t *w, size_t n,
     if (negative) {
         return PDT_ERR_ARG;
     }
+    const bool negative_gain =
+        (m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k) < PDT_R(0.0);
     for (size_t i = 0; i < n; i++) {
-        pdt_real_t wi = w[i];
-        pdt_real_t mg;
-        pdt_real_t ph;
-        if (m->kind == PDT_MODEL_FOPDT) {
-            const pdt_model_fopdt_t *p = &m->p.fopdt;
-            pdt_real_t wt = wi * p->tau;
-            mg = pdt_fabs(p->K) / pdt_hypot(PDT_R(1.0), wt);
-            ph = -pdt_atan(wt) - wi * p->Td - (p->K < PDT_R(0.0) ? PDT_PI : PDT_R(0.0));
-        } else {
-            const pdt_model_sopdt_t *p = &m->p.sopdt;
-            if (p->b == PDT_R(0.0)) {
-                /* k / (jw (jw + a)): the pole at 0 gives -pi/2, also at w = 0 */
-                pdt_real_t den = wi * pdt_hypot(wi, p->a);
-                if (den > PDT_R(0.0) || p->k == PDT_R(0.0)) {
-                    mg = den > PDT_R(0.0) ? pdt_fabs(p->k) / den : PDT_R(0.0);
-                } else {
-                    mg = (pdt_real_t)INFINITY;
-                }
-                ph = -PDT_R(0.5) * PDT_PI - pdt_atan2(wi, p->a);
-            } else {
-                pdt_real_t re = p->b - wi * wi;
-                pdt_real_t im = p->a * wi;
-                mg = pdt_fabs(p->k) / pdt_hypot(re, im);
-                ph = -pdt_atan2(im, re);
-            }
-            ph = ph - wi * p->Td - (p->k < PDT_R(0.0) ? PDT_PI : PDT_R(0.0));
-        }
         if (mag != NULL) {
-            mag[i] = mg;
+            mag[i] = pdt_model_magnitude_at(m, w[i]);
         }
         if (phase != NULL) {
-            phase[i] = ph;
+            phase[i] = pdt_model_shape_phase(m, w[i]) - (negative_gain ? PDT_PI : PDT_R(0.0));
         }
     }
     return PDT_OK;
+}
+
+pdt_real_t pdt_model_magnitude_at(const pdt_model_t *m, pdt_real_t w)
+{
+    if (m->kind == PDT_MODEL_FOPDT) {
+        return pdt_fabs(m->p.fopdt.K) / pdt_hypot(PDT_R(1.0), w * m->p.fopdt.tau);
+    }
+    const pdt_model_sopdt_t *p = &m->p.sopdt;
+    if (p->b == PDT_R(0.0)) {
+        /* k / (jw (jw + a)) */
+        pdt_real_t den = w * pdt_hypot(w, p->a);
+        if (den > PDT_R(0.0) || p->k == PDT_R(0.0)) {
+            return den > PDT_R(0.0) ? pdt_fabs(p->k) / den : PDT_R(0.0);
+        }
+        return (pdt_real_t)INFINITY;
+    }
+    return pdt_fabs(p->k) / pdt_hypot(p->b - w * w, p->a * w);
+}
+
+pdt_real_t pdt_model_shape_phase(const pdt_model_t *m, pdt_real_t w)
+{
+    if (m->kind == PDT_MODEL_FOPDT) {
+        return -pdt_atan(w * m->p.fopdt.tau) - w * m->p.fopdt.Td;
+    }
+    const pdt_model_sopdt_t *p = &m->p.sopdt;
+    if (p->b == PDT_R(0.0)) {
+        /* the pole at 0 gives -pi/2, also at w = 0 */
+        return -PDT_R(0.5) * PDT_PI - pdt_atan2(w, p->a) - w * p->Td;
+    }
+    return -pdt_atan2(p->a * w, p->b - w * w) - w * p->Td;
+}
+
+pdt_real_t pdt_model_phase_crossover(const pdt_model_t *m)
+{
+    const pdt_real_t Td = pdt_model_dead_time(m);
+    if (!(Td > PDT_R(0.0))) {
+        return PDT_R(0.0);
+    }
+    pdt_real_t lo = PDT_R(0.0), hi = PDT_PI / Td;
+    for (uint32_t i = 0; i < 64u; i++) {
+        const pdt_real_t mid = PDT_R(0.5) * (lo + hi);
+        if (mid <= lo || mid >= hi) {
+            break;
+        }
+        if (pdt_model_shape_phase(m, mid) <= -PDT_PI) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    return PDT_R(0.5) * (lo + hi);
 }

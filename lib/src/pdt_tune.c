@@ -5,6 +5,7 @@
 #include "pdt/pdt_tune.h"
 
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 /* Decades the frequency range may grow each way beyond its first guess. */
 #define TUNE_WIDEN 8
@@ -795,45 +796,17 @@ static pdt_status_t rule_amigo(const tune_view_t *v, const pdt_tune_config_t *cf
     return PDT_OK;
 }
 
-/* The model's phase, for a positive gain, at w. */
-static pdt_real_t model_phase(const pdt_model_t *m, pdt_real_t w)
-{
-    if (m->kind == PDT_MODEL_FOPDT) {
-        return -pdt_atan(w * m->p.fopdt.tau) - w * m->p.fopdt.Td;
-    }
-    const pdt_model_sopdt_t *p = &m->p.sopdt;
-    return -pdt_atan2(p->a * w, p->b - w * w) - w * p->Td;
-}
-
 static pdt_status_t rule_zn(const pdt_model_t *m, const pdt_tune_config_t *cfg, tune_out_t *o)
 {
     pdt_real_t Td = pdt_model_dead_time(m);
     if (!(Td > PDT_R(0.0))) {
         return PDT_ERR_NO_FORM;
     }
-    /* The phase falls monotonically from above -pi to below it at pi / Td. */
-    pdt_real_t lo = PDT_R(0.0);
-    pdt_real_t hi = PDT_PI / Td;
-    for (int i = 0; i < TUNE_BISECT_STEPS; i++) {
-        pdt_real_t mid = PDT_R(0.5) * (lo + hi);
-        if (mid == lo || mid == hi) {
-            break;
-        }
-        if (model_phase(m, mid) > -PDT_PI) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    pdt_real_t wu = PDT_R(0.5) * (lo + hi);
-    pdt_real_t mag;
-    if (m->kind == PDT_MODEL_FOPDT) {
-        pdt_real_t x = wu * m->p.fopdt.tau;
-        mag = m->p.fopdt.K / pdt_sqrt(PDT_R(1.0) + x * x);
-    } else {
-        const pdt_model_sopdt_t *p = &m->p.sopdt;
-        mag = p->k / pdt_hypot(p->b - wu * wu, p->a * wu);
-    }
+    const pdt_real_t wu = pdt_model_phase_crossover(m);
+    /* Ku carries the gain's sign: the rule's Kc has it. */
+    const pdt_real_t gain = m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
+    pdt_real_t mag = pdt_model_magnitude_at(m, wu);
+    mag = gain < PDT_R(0.0) ? -mag : mag;
     pdt_real_t Ku = PDT_R(1.0) / mag;
     pdt_real_t Pu = PDT_R(2.0) * PDT_PI / wu;
     if (pdt_tune_ziegler_nichols(Ku, Pu, cfg->form, &o->g) != PDT_OK) {
