@@ -18,6 +18,22 @@ static bool gains_ok(const pdt_tune_gains_t *g)
            g->tauD >= (pdt_real_t)0.0 && isfinite((double)g->Tf) && g->Tf >= (pdt_real_t)0.0;
 }
 
+/* What an output holds before a call: no call returns these gains. */
+static const pdt_tune_gains_t g_pattern = {(pdt_real_t)-7.0, (pdt_real_t)-7.0, (pdt_real_t)-7.0,
+                                           (pdt_real_t)-7.0};
+
+/* The contract of a call that returns gains into *o: valid gains on OK,
+ * *o untouched on error. Resets *o to the pattern for the next call. */
+static void check_gains_out(pdt_status_t st, pdt_tune_gains_t *o)
+{
+    if (st == PDT_OK) {
+        FZ_CHECK(gains_ok(o));
+    } else {
+        FZ_CHECK(st < 0 && memcmp(o, &g_pattern, sizeof *o) == 0);
+    }
+    *o = g_pattern;
+}
+
 static bool figures_ok(const pdt_tune_figures_t *fg)
 {
     return fg->Ms >= (pdt_real_t)1.0 && !isnan((double)fg->gain_margin) &&
@@ -75,30 +91,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FZ_CHECK(st < 0 && memcmp(&fg, &fg0, sizeof fg) == 0);
     }
 
-    pdt_tune_gains_t o, o0;
-    memset(&o, 0x7C, sizeof o);
-    o0 = o;
-    st = pdt_tune_to_series(&g, &o);
-    if (st == PDT_OK) {
-        FZ_CHECK(gains_ok(&o));
-    } else {
-        FZ_CHECK(st < 0 && memcmp(&o, &o0, sizeof o) == 0);
-    }
-    o = o0;
-    st = pdt_tune_to_ideal(&g, &o);
-    if (st == PDT_OK) {
-        FZ_CHECK(gains_ok(&o));
-    } else {
-        FZ_CHECK(st < 0 && memcmp(&o, &o0, sizeof o) == 0);
-    }
-    o = o0;
+    pdt_tune_gains_t o = g_pattern;
+    check_gains_out(pdt_tune_to_series(&g, &o), &o);
+    check_gains_out(pdt_tune_to_ideal(&g, &o), &o);
     pdt_real_t Ku = fz_real(&f);
     pdt_real_t Pu = fz_real(&f);
-    st = pdt_tune_ziegler_nichols(Ku, Pu, (pdt_tune_form_t)fz_enum(&f, 2), &o);
-    if (st == PDT_OK) {
-        FZ_CHECK(gains_ok(&o));
-    } else {
-        FZ_CHECK(st < 0 && memcmp(&o, &o0, sizeof o) == 0);
-    }
+    pdt_tune_form_t form = (pdt_tune_form_t)fz_enum(&f, 2);
+    check_gains_out(pdt_tune_ziegler_nichols(Ku, Pu, form, &o), &o);
     return 0;
 }
