@@ -4,7 +4,8 @@
  * negative status and leaves ctx and the workspace untouched on error;
  * nothing is written past the workspace; each step uses at most the
  * evaluations it was given and the whole search at most max_evaluations
- * (bounded work); step ends in OK; the result's model is valid and its
+ * (bounded work); step ends in OK; the result's model is valid, of the
+ * configured kind, with its dead time within the bounds given, and its
  * figures are not NaN.
  */
 #include "fuzz_util.h"
@@ -136,6 +137,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FZ_CHECK(fz_canary_ok(g_work + len));
     FZ_CHECK(fz_model_sane(&r.model));
     FZ_CHECK(r.model.kind == cfg.model);
+    if (cfg.Td_min != (pdt_real_t)0.0 || cfg.Td_max != (pdt_real_t)0.0) {
+        /* Bounds the caller gave hold, up to the rounding of the dead-time
+         * gene's log scale. */
+        double Td = (double)pdt_model_dead_time(&r.model);
+        double slack = 1e-4 * ((double)cfg.Td_max - (double)cfg.Td_min) + 1e-6 * (double)cfg.Td_max;
+        FZ_CHECK(Td >= (double)cfg.Td_min - slack && Td <= (double)cfg.Td_max + slack);
+    }
     if (fz_moderate(g_u, n) && fz_moderate(g_y, n)) {
         FZ_CHECK(!isnan((double)r.cost) && !isnan((double)r.fit));
     }
