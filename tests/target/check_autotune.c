@@ -222,11 +222,11 @@ static int check_fopdt(void)
         return t_verdict(false, &l);
     }
     const pdt_model_fopdt_t *g = &r.res.ident.model.p.fopdt;
-    double eK = t_rel_err((double)g->K, 2.0);
-    double etau = t_rel_err((double)g->tau, 10.0);
+    double eK = rel_err((double)g->K, 2.0);
+    double etau = rel_err((double)g->tau, 10.0);
     double eTd = fabs((double)g->Td - 3.0) / 10.0;
-    double eKc = t_rel_err((double)r.res.tune.ideal.Kc, 10.0 / (2.0 * 6.0));
-    double etI = t_rel_err((double)r.res.tune.ideal.tauI, 10.0);
+    double eKc = rel_err((double)r.res.tune.ideal.Kc, 10.0 / (2.0 * 6.0));
+    double etI = rel_err((double)r.res.tune.ideal.tauI, 10.0);
     ok = eK <= 0.03 && etau <= 0.03 && eTd <= 0.03 && eKc <= 0.06 && etI <= 0.03 &&
          r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;
     tl_str(&l, "K ");
@@ -270,8 +270,8 @@ static int check_sopdt(void)
         tl_str(&l, pdt_status_str(r.st));
         return t_verdict(false, &l);
     }
-    double eK = t_rel_err((double)gtc.K, 1.5);
-    double eT = t_rel_err((double)gtc.T1 + (double)gtc.T2, 11.0);
+    double eK = rel_err((double)gtc.K, 1.5);
+    double eT = rel_err((double)gtc.T1 + (double)gtc.T2, 11.0);
     double eTd = fabs((double)gtc.Td - 2.0);
     ok = !gtc.complex && eK <= 0.03 && eT <= 0.05 && eTd <= 0.3 &&
          r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;

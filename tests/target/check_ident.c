@@ -169,8 +169,8 @@ static int check_fopdt(void)
     double eK = 1.0, etau = 1.0, eTd = 1.0, ey0 = 1.0;
     if (ok) {
         const pdt_model_fopdt_t *g = &res.model.p.fopdt;
-        eK = t_rel_err((double)g->K, 2.0);
-        etau = t_rel_err((double)g->tau, 12.0);
+        eK = rel_err((double)g->K, 2.0);
+        etau = rel_err((double)g->tau, 12.0);
         eTd = fabs((double)g->Td - 4.37) / 12.0;
         ey0 = fabs((double)res.y0 - r.y0) / 2.0;
         ok = eK <= 0.015 && etau <= 0.02 && eTd <= 0.02 && ey0 <= 0.005 &&
@@ -233,12 +233,12 @@ static int check_sopdt(void)
          pdt_model_sopdt_to_tc(&res.model.p.sopdt, &gtc) == PDT_OK && !gtc.complex;
     double eK = 1.0, ewn = 1.0, ez = 1.0, eTd = 1.0, eT1 = 1.0, eT2 = 1.0;
     if (ok) {
-        eK = t_rel_err((double)g.K, (double)w.K);
-        ewn = t_rel_err((double)g.wn, (double)w.wn);
-        ez = t_rel_err((double)g.zeta, (double)w.zeta);
+        eK = rel_err((double)g.K, (double)w.K);
+        ewn = rel_err((double)g.wn, (double)w.wn);
+        ez = rel_err((double)g.zeta, (double)w.zeta);
         eTd = fabs((double)g.Td - (double)w.Td) * (double)w.wn;
-        eT1 = t_rel_err((double)gtc.T1, 10.0);
-        eT2 = t_rel_err((double)gtc.T2, 2.0);
+        eT1 = rel_err((double)gtc.T1, 10.0);
+        eT2 = rel_err((double)gtc.T2, 2.0);
         ok = eK <= 0.015 && ewn <= 0.04 && ez <= 0.04 && eTd <= 0.05 && eT1 <= 0.03 &&
              eT2 <= 0.10 && (double)res.fit >= 90.0;
     }
@@ -353,7 +353,7 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
     tl_num(&l, (double)v, 4);
     if (kind == PDT_COST_COMBINED) {
         ok = ok && pdt_cost_frequency(&c, &r->m, &cf) == PDT_OK;
-        double e = t_rel_err((double)v, ct + (double)cf);
+        double e = rel_err((double)v, ct + (double)cf);
         ok = ok && e <= 1e-4;
         tl_str(&l, " = Ct + Cf to ");
         tl_num(&l, e, 2);
