@@ -10,6 +10,9 @@
 #   4. the Cortex-M4F build of lib/ (float and double) under -Werror, a check
 #      that it references no allocator, stdio or (float build) double-precision
 #      symbol, and its size per module;
+#   4a. the proven stack bound of every public function (tools/stack_bound.py),
+#      the MISRA C:2012 check of lib/ (tools/misra_check.py) and every fuzz
+#      target for a few seconds (tests/fuzz, clang);
 #   5. pdtfit consumed as a subproject, as a moved install (CMake package,
 #      pkg-config) and in Cortex-M0+/M7 firmware builds; the PlatformIO,
 #      Arduino, ESP-IDF and Zephyr manifests, and the Arduino example built;
@@ -40,6 +43,11 @@ have arm-none-eabi-gcc || apt_missing+=(gcc-arm-none-eabi)
 have qemu-system-arm || apt_missing+=(qemu-system-arm)
 have pkg-config || apt_missing+=(pkg-config)
 have clang-format || apt_missing+=(clang-format)
+have clang || apt_missing+=(clang)
+# libFuzzer's runtime (tests/fuzz) is packaged apart from clang on Debian.
+ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 ||
+    apt_missing+=(libclang-rt-14-dev)
+have cppcheck || apt_missing+=(cppcheck)
 if ((${#apt_missing[@]})); then
     if [ "$(id -u)" = 0 ] && have apt-get; then
         apt-get update -q
@@ -103,6 +111,18 @@ step "Cortex-M4F build of lib/ (float and double), symbols, size per module"
 python3 tools/size_report.py --check
 tools/check_symbols.sh "$out/size-cm4-float/lib/libpdtfit.a" --float
 tools/check_symbols.sh "$out/size-cm4-double/lib/libpdtfit.a"
+
+step "stack bound of every public function on the Cortex-M4F (float and double)"
+python3 tools/stack_bound.py --check
+
+step "MISRA C:2012 check of lib/ (cppcheck), against tools/misra_deviations.txt"
+python3 tools/misra_check.py
+
+step "fuzz targets (clang, libFuzzer, ASan + UBSan), a few seconds each"
+CC=clang cmake -S "$root" -B "$out/test-fuzz" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DPDT_BUILD_FUZZERS=ON -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_INSTALL=OFF >/dev/null
+cmake --build "$out/test-fuzz" -j "$jobs"
+tests/fuzz/run.sh "$out/test-fuzz" 5
 
 step "consumers (add_subdirectory, moved install, find_package, pkg-config, Cortex-M0+/M7) and package manifests"
 bash tools/check_consumers.sh

@@ -74,6 +74,9 @@ static pdt_status_t check_config(const pdt_autotune_config_t *cfg)
     if (cfg->u_min > cfg->u_max || cfg->pv_min > cfg->pv_max) {
         return PDT_ERR_BOUNDS;
     }
+    if (cfg->capacity > PDT_MAX_SAMPLES) {
+        return PDT_ERR_LENGTH;
+    }
     if (cfg->capacity < (size_t)cfg->settle + PDT_MIN_SAMPLES) {
         return PDT_ERR_TOO_SHORT;
     }

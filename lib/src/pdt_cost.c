@@ -1295,6 +1295,12 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     r.ct = cost_units(c, ct);
     r.cf = cost_units(c, cf);
     r.gain = pdt_ldexp(K, c->y_exp - c->u_exp);
+    /* A bound near the end of the real range does not map exactly into the
+     * normalised units (underflow, or clamped at the largest real): the
+     * gain returned keeps the caller's bounds exactly. */
+    if (bounded) {
+        r.gain = r.gain < gain_min ? gain_min : (r.gain > gain_max ? gain_max : r.gain);
+    }
     r.offset = pdt_ldexp(off, c->y_exp);
     *out = r;
 }

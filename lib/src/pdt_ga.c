@@ -7,7 +7,7 @@
 
 #include "pdt_internal.h"
 
-#define PDT_PCG_MULT 6364136223846793005ull
+#define PDT_PCG_MULT 6364136223846793005ULL
 
 /* Parents closer than this fraction of the range are not crossed. Relative
  * to the range, it also bounds the spread factor beta below 1 + 2e14, so

@@ -41,7 +41,7 @@ pdt_status_t pdt_record_init(pdt_record_t *rec, const pdt_record_config_t *cfg, 
     if (rec == NULL || cfg == NULL || u == NULL || y == NULL) {
         return PDT_ERR_ARG;
     }
-    if ((capacity > 0u && overlap(u, y, capacity)) || cfg->decimation == 0u || cfg->settle == 0u
+    if ((capacity > 0u && capacity <= PDT_MAX_SAMPLES && overlap(u, y, capacity)) || cfg->decimation == 0u || cfg->settle == 0u
         || !pdt_finite(cfg->u_min) || !pdt_finite(cfg->u_max) || !pdt_finite(cfg->pv_min)
         || !pdt_finite(cfg->pv_max) || !pdt_finite(cfg->settle_band)
         || cfg->settle_band < PDT_R(0.0)) {
@@ -56,6 +56,9 @@ pdt_status_t pdt_record_init(pdt_record_t *rec, const pdt_record_config_t *cfg, 
     }
     if (cfg->u_min > cfg->u_max || cfg->pv_min > cfg->pv_max) {
         return PDT_ERR_BOUNDS;
+    }
+    if (capacity > PDT_MAX_SAMPLES) {
+        return PDT_ERR_LENGTH;
     }
     if (capacity <= cfg->settle) {
         return PDT_ERR_TOO_SHORT;
@@ -75,7 +78,6 @@ pdt_status_t pdt_record_init(pdt_record_t *rec, const pdt_record_config_t *cfg, 
     r.pend_sum = PDT_R(0.0);
     r.win_min = PDT_R(0.0);
     r.win_max = PDT_R(0.0);
-    r.sum_u = PDT_R(0.0);
     r.sum_y = PDT_R(0.0);
     r.u0 = PDT_R(0.0);
     r.y0 = PDT_R(0.0);
@@ -117,7 +119,6 @@ static void settle_sample(pdt_record_t *rec, pdt_real_t us, pdt_real_t ys)
     if (rec->n == 0u) {
         rec->win_min = ys;
         rec->win_max = ys;
-        rec->sum_u = PDT_R(0.0);
         rec->sum_y = PDT_R(0.0);
     } else {
         rec->win_min = ys < rec->win_min ? ys : rec->win_min;
@@ -126,9 +127,10 @@ static void settle_sample(pdt_record_t *rec, pdt_real_t us, pdt_real_t ys)
     rec->u[rec->n] = us;
     rec->y[rec->n] = ys;
     rec->n++;
-    rec->sum_u += us;
     rec->sum_y += ys;
-    rec->u0 = rec->sum_u / (pdt_real_t)rec->n;
+    /* A running mean, so that an output held constant comes back exactly
+     * (a sum divided by the count can be 1 ulp off it). */
+    rec->u0 = rec->n == 1u ? us : rec->u0 + (us - rec->u0) / (pdt_real_t)rec->n;
     rec->y0 = rec->sum_y / (pdt_real_t)rec->n;
     rec->u_safe = rec->u0;
     if (rec->n == c->settle) {
@@ -168,22 +170,21 @@ pdt_status_t pdt_record_push(pdt_record_t *rec, pdt_real_t u_applied, pdt_real_t
         rec->scans++;
     }
     if (rec->pend == 0u) {
-        rec->pend_u = PDT_R(0.0);
+        rec->pend_u = u_applied;
         rec->pend_sum = PDT_R(0.0);
     }
     /* Both signals are averaged over the interval: an input that changes
      * inside it (a relay switching, a hold that is not a multiple of the
      * decimation) then keeps its area, where its first value would move
      * the change to the interval's start. */
-    rec->pend_u += u_applied;
-    rec->pend_sum += pv;
     rec->pend++;
+    rec->pend_u += (u_applied - rec->pend_u) / (pdt_real_t)rec->pend;
+    rec->pend_sum += pv;
     if (rec->pend < c->decimation) {
         return PDT_RUNNING;
     }
     rec->pend = 0u;
     pdt_real_t ys = rec->pend_sum / (pdt_real_t)c->decimation;
-    rec->pend_u /= (pdt_real_t)c->decimation;
     if (!rec->settled) {
         settle_sample(rec, rec->pend_u, ys);
         if (rec->settled

@@ -450,6 +450,9 @@ pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_c
     if (out == NULL || (c.model == PDT_MODEL_SOPDT && c.n_freq < 2u)) {
         return PDT_ERR_ARG;
     }
+    if (c.n_freq > PDT_REDUCE_MAX_FREQ) {
+        return PDT_ERR_LENGTH;
+    }
     if (plant->k == PDT_R(0.0)) {
         return PDT_ERR_NO_FORM;
     }

@@ -389,6 +389,11 @@ pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g
     for (int i = 0; i < TUNE_WIDEN && abs2(loop_eval(&lp, w_hi)) >= top * top; i++) {
         w_hi *= PDT_R(10.0);
     }
+    if (!(w_lo > PDT_R(0.0)) || !pdt_finite(w_hi)) {
+        /* The time scales lie so far apart that the range the scan needs
+         * leaves the real type: nothing below could be trusted. */
+        return PDT_ERR_ARG;
+    }
 
     tune_scan_t s;
     s.npeaks = 0;
@@ -425,7 +430,7 @@ pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g
             pdt_real_t turn_d = (wa - wb) * lp.Td;
             pdt_real_t turn_l = pdt_fabs(wrap_pi(arg_of(Lb) - arg_of(La)));
             pdt_real_t turn_s = pdt_fabs(wrap_pi(arg_1p(Lb) - arg_1p(La)));
-            if (turn_d > (pdt_real_t)TUNE_SPLIT_MAX * eighth) {
+            if (!(turn_d <= (pdt_real_t)TUNE_SPLIT_MAX * eighth)) {
                 /* Unresolvable: a loop gain near 1 where the dead time
                  * spins the phase this fast cannot be shown stable. */
                 if (mag2 >= top_big * top_big) {
@@ -523,9 +528,12 @@ pdt_status_t pdt_tune_to_series(const pdt_tune_gains_t *ideal, pdt_tune_gains_t 
     pdt_real_t ti = PDT_R(0.5) * ideal->tauI * (PDT_R(1.0) + pdt_sqrt(disc));
     pdt_tune_gains_t r;
     r.tauI = ti;
-    r.tauD = ideal->tauI * ideal->tauD / ti;
-    r.Kc = ideal->Kc * ti / ideal->tauI;
+    r.tauD = ideal->tauD * (ideal->tauI / ti);
+    r.Kc = ideal->Kc * (ti / ideal->tauI);
     r.Tf = ideal->Tf;
+    if (!gains_valid(&r)) {
+        return PDT_ERR_ARG;
+    }
     *series = r;
     return PDT_OK;
 }

@@ -71,8 +71,11 @@ typedef struct pdt_autotune_config {
                                * identification runs at Ts * decimation.
                                * Default 1 */
     size_t capacity;          /* most samples recorded (identification rate),
-                               * PDT_MIN_SAMPLES + settle .. ; sizes the
-                               * workspace. Default 0 (must be set) */
+                               * PDT_MIN_SAMPLES + settle ..
+                               * PDT_MAX_SAMPLES (pdt_config.h, 2^20 by
+                               * default; a scan's work grows with it);
+                               * sizes the workspace. Default 0 (must be
+                               * set) */
     uint32_t settle;          /* identification samples at u0 before the
                                * excitation, to measure the operating point.
                                * Default 20 */
@@ -198,8 +201,8 @@ size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
  * Returns PDT_ERR_ARG (NULL, a bad value in cfg or in the identification's
  * config, u_now not finite, misaligned work), PDT_ERR_BOUNDS (limits
  * inverted), PDT_ERR_OUTPUT_LIMIT (u_now or the experiment's levels outside
- * the output limits), PDT_ERR_TOO_SHORT (capacity below settle +
- * PDT_MIN_SAMPLES), PDT_ERR_NOMEM (work NULL or too small), or what
+ * the output limits), PDT_ERR_LENGTH (capacity above PDT_MAX_SAMPLES),
+ * PDT_ERR_TOO_SHORT (capacity below settle + PDT_MIN_SAMPLES), PDT_ERR_NOMEM (work NULL or too small), or what
  * pdt_excite_init / pdt_record_init return for the experiment's config; at
  * is untouched on error. O(1). */
 pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,

@@ -52,6 +52,28 @@
 #error "PDT_REDUCE_MAX_LAGS must be between 1 and 1024"
 #endif
 
+/* Most frequencies pdt_reduce_sung fits (pdt_reduce_config_t.n_freq): its
+ * work grows with n_freq times the plant's order, so the bound keeps one
+ * call's work bounded. Larger n_freq is refused with PDT_ERR_LENGTH. */
+#ifndef PDT_REDUCE_MAX_FREQ
+#define PDT_REDUCE_MAX_FREQ 4096u
+#endif
+#if (PDT_REDUCE_MAX_FREQ < 2) || (PDT_REDUCE_MAX_FREQ > 1048576)
+#error "PDT_REDUCE_MAX_FREQ must be between 2 and 1048576"
+#endif
+
+/* Most samples a record may hold: the capacity of pdt_record_init and of
+ * pdt_autotune_config_t. One autotune scan evaluates the cost over the
+ * whole record, so this bounds a scan's work (and keeps every byte count
+ * derived from a capacity far from overflowing size_t). Larger capacities
+ * are refused with PDT_ERR_LENGTH. */
+#ifndef PDT_MAX_SAMPLES
+#define PDT_MAX_SAMPLES 1048576u
+#endif
+#if (PDT_MAX_SAMPLES < 64) || (PDT_MAX_SAMPLES > 134217728)
+#error "PDT_MAX_SAMPLES must be between 64 and 2^27"
+#endif
+
 /* Checks of programmer errors that cost time on every call. By default they
  * compile to nothing; define PDT_ASSERT(x) to your handler to enable them,
  * for example to the port's handler (port/pdt_port.h), in a user config

@@ -110,12 +110,11 @@ typedef struct pdt_record {
     bool settled;
     uint32_t scans;         /* scans accepted */
     uint32_t pend;          /* scans in the open interval */
-    pdt_real_t pend_u;      /* sum of its outputs */
+    pdt_real_t pend_u;      /* mean of its outputs so far */
     pdt_real_t pend_sum;    /* sum of its process values */
     pdt_real_t win_min;     /* y extremes of the settle window */
     pdt_real_t win_max;
-    pdt_real_t sum_u;       /* sums of u and y over the settle window */
-    pdt_real_t sum_y;
+    pdt_real_t sum_y;       /* sum of y over the settle window */
     pdt_real_t u0;
     pdt_real_t y0;
     pdt_real_t u_safe;
@@ -133,6 +132,8 @@ void pdt_record_config_default(pdt_record_config_t *cfg);
  *                    settle_band negative; unknown move; setpoint not
  *                    finite with move other than ANY;
  *  PDT_ERR_BOUNDS    u_min > u_max or pv_min > pv_max;
+ *  PDT_ERR_LENGTH    capacity > PDT_MAX_SAMPLES (pdt_config.h, 2^20 by
+ *                    default);
  *  PDT_ERR_TOO_SHORT capacity <= settle (no room for the excitation).
  * Checked in that order; rec is untouched on error. O(1). */
 pdt_status_t pdt_record_init(pdt_record_t *rec, const pdt_record_config_t *cfg, pdt_real_t *u,

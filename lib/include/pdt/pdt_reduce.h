@@ -64,7 +64,9 @@ typedef struct pdt_reduce_config {
     uint32_t n_freq;        /* Sung: frequencies M of the least squares,
                              * evenly spaced in (0, w_u]; 0 means
                              * PDT_REDUCE_N_FREQ_DEFAULT (10, the grid that
-                             * reproduces the paper); SOPDT needs >= 2.
+                             * reproduces the paper); SOPDT needs >= 2;
+                             * at most PDT_REDUCE_MAX_FREQ (pdt_config.h,
+                             * 4096 by default).
                              * Not used by the half rule. Default 0 */
 } pdt_reduce_config_t;
 
@@ -149,7 +151,8 @@ pdt_status_t pdt_reduce_ultimate(const pdt_reduce_plant_t *plant, pdt_real_t *w_
  * pdt_reduce_half_rule.
  * Work: that of pdt_reduce_ultimate plus O(M (n_lags + n_zeros)).
  * Returns PDT_OK; PDT_ERR_ARG, PDT_ERR_NONFINITE, PDT_ERR_LENGTH as for
- * pdt_reduce_ultimate, and PDT_ERR_ARG also for n_freq = 1 with a SOPDT;
+ * pdt_reduce_ultimate, and PDT_ERR_ARG also for n_freq = 1 with a SOPDT,
+ * PDT_ERR_LENGTH also for n_freq > PDT_REDUCE_MAX_FREQ;
  * PDT_ERR_NO_FORM when there is no ultimate frequency, k = 0 (nothing to
  * fit), or the magnitude does not fall below |k| on the grid (tau^2 <= 0). */
 pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_config_t *cfg,

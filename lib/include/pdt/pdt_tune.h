@@ -189,7 +189,9 @@ pdt_status_t pdt_tune_compute(const pdt_model_t *m, pdt_real_t fit, const pdt_tu
  * r >= 1, else Ms is at least 1 / (1 - r) and the gain margin at most 1 / r
  * (the limit, reported with w = +infinity).
  * Returns PDT_ERR_ARG (NULL, invalid model, a gain outside its domain as
- * documented on pdt_tune_gains_t), PDT_ERR_UNSTABLE (the closed loop is
+ * documented on pdt_tune_gains_t, or time scales of model and controller
+ * so far apart that the widened frequency range leaves the real type, e.g.
+ * K = 1e10, tau = 1e-30 in float), PDT_ERR_UNSTABLE (the closed loop is
  * unstable; then the figures mean nothing and *fig is untouched). */
 pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g,
                                  pdt_tune_figures_t *fig);
@@ -207,8 +209,10 @@ pdt_status_t pdt_tune_ziegler_nichols(pdt_real_t Ku, pdt_real_t Pu, pdt_tune_for
 
 /* The series form of ideal-form gains, when it exists (tauI >= 4 tauD):
  * the larger root of x^2 - tauI x + tauI tauD as the series tauI, the
- * smaller as tauD, Kc scaled by tauI_series / tauI; Tf copied. Returns
- * PDT_ERR_ARG (NULL, gains outside their domain), PDT_ERR_NO_FORM
+ * smaller as tauD, Kc scaled by tauI_series / tauI (a factor in
+ * [1/2, 1], so finite gains stay finite); Tf copied. Returns
+ * PDT_ERR_ARG (NULL, gains outside their domain, series gains that would
+ * leave it, e.g. a subnormal Kc halved to 0), PDT_ERR_NO_FORM
  * (tauI < 4 tauD: complex zeros); *series untouched then. O(1). */
 pdt_status_t pdt_tune_to_series(const pdt_tune_gains_t *ideal, pdt_tune_gains_t *series);
 
