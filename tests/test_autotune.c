@@ -25,14 +25,14 @@
 
 typedef struct plant {
     pdt_discrete_t d;
-    double u0, y0;        /* operating point */
-    double uh[HIST];      /* input deviations, ring */
-    double y1, y2;        /* output deviations at k and k - 1 */
-    size_t k;             /* scans applied */
+    double u0, y0;   /* operating point */
+    double uh[HIST]; /* input deviations, ring */
+    double y1, y2;   /* output deviations at k and k - 1 */
+    size_t k;        /* scans applied */
     double noise_sd;
     uint32_t seed;
-    double disturb;       /* added to pv (a test's upset) */
-    uint32_t mark;        /* a test's bookmark (scan number) */
+    double disturb; /* added to pv (a test's upset) */
+    uint32_t mark;  /* a test's bookmark (scan number) */
 } plant_t;
 
 static pdt_model_t fopdt(double K, double tau, double Td)
@@ -167,15 +167,15 @@ static void base_config(pdt_autotune_config_t *c, double Ts, uint32_t dec, size_
 typedef void (*upset_fn)(plant_t *p, pdt_autotune_phase_t phase, uint32_t scan);
 
 typedef struct run {
-    pdt_status_t st;             /* status of the last call */
+    pdt_status_t st; /* status of the last call */
     pdt_autotune_result_t res;
     uint32_t scans;              /* calls made */
     pdt_autotune_phase_t seq[8]; /* phases seen, in order, without repeats */
     int nseq;
-    uint32_t phase_scans[7];     /* calls made in each phase */
-    uint32_t max_evals;          /* most cost evaluations in one call */
+    uint32_t phase_scans[7]; /* calls made in each phase */
+    uint32_t max_evals;      /* most cost evaluations in one call */
     pdt_real_t u_last;
-    double u_err;                /* largest output error against the expected */
+    double u_err; /* largest output error against the expected */
 } run_t;
 
 /*
@@ -320,11 +320,11 @@ static void report(const char *name, const run_t *r)
     }
     print_message(" fit %.4g%%, %u evaluations, %u scans (%u identifying, at most %u "
                   "evaluations per call), Kc %.4g tauI %.4g Ms %.3g GM %.3g PM %.3g\n",
-                  (double)r->res.ident.fit, (unsigned)r->res.ident.evaluations,
-                  (unsigned)r->scans, (unsigned)r->phase_scans[PDT_AUTOTUNE_IDENTIFY],
-                  (unsigned)r->max_evals, (double)r->res.tune.ideal.Kc,
-                  (double)r->res.tune.ideal.tauI, (double)r->res.tune.fig.Ms,
-                  (double)r->res.tune.fig.gain_margin, (double)r->res.tune.fig.phase_margin_deg);
+                  (double)r->res.ident.fit, (unsigned)r->res.ident.evaluations, (unsigned)r->scans,
+                  (unsigned)r->phase_scans[PDT_AUTOTUNE_IDENTIFY], (unsigned)r->max_evals,
+                  (double)r->res.tune.ideal.Kc, (double)r->res.tune.ideal.tauI,
+                  (double)r->res.tune.fig.Ms, (double)r->res.tune.fig.gain_margin,
+                  (double)r->res.tune.fig.phase_margin_deg);
 }
 
 static void assert_fopdt(const run_t *r, double K, double tau, double Td, double rtol)
@@ -802,22 +802,70 @@ static void test_poor_fit(void **state)
 /* ---- Bad inputs ---------------------------------------------------------- */
 
 typedef void (*spoil_fn)(pdt_autotune_config_t *c);
-static void sp_ts0(pdt_autotune_config_t *c) { c->Ts = R(0.0); }
-static void sp_ts_nan(pdt_autotune_config_t *c) { c->Ts = (pdt_real_t)NAN; }
-static void sp_dec0(pdt_autotune_config_t *c) { c->decimation = 0u; }
-static void sp_settle0(pdt_autotune_config_t *c) { c->settle = 0u; }
-static void sp_evals0(pdt_autotune_config_t *c) { c->evals_per_scan = 0u; }
-static void sp_umin_inf(pdt_autotune_config_t *c) { c->u_min = (pdt_real_t)-INFINITY; }
-static void sp_pvmax_nan(pdt_autotune_config_t *c) { c->pv_max = (pdt_real_t)NAN; }
-static void sp_model(pdt_autotune_config_t *c) { c->ident.model = (pdt_model_kind_t)7; }
-static void sp_pop(pdt_autotune_config_t *c) { c->ident.population = 3u; }
-static void sp_amp0(pdt_autotune_config_t *c) { c->excite.amplitude = R(0.0); }
-static void sp_kind(pdt_autotune_config_t *c) { c->excite.kind = (pdt_excite_kind_t)9; }
-static void sp_msrob(pdt_autotune_config_t *c) { c->ms_robust = R(1.0); }
-static void sp_agree(pdt_autotune_config_t *c) { c->relay_agree = R(0.5); }
-static void sp_u_inv(pdt_autotune_config_t *c) { c->u_min = R(101.0); }
-static void sp_pv_inv(pdt_autotune_config_t *c) { c->pv_min = R(2000.0); }
-static void sp_cap(pdt_autotune_config_t *c) { c->capacity = c->settle + PDT_MIN_SAMPLES - 1u; }
+static void sp_ts0(pdt_autotune_config_t *c)
+{
+    c->Ts = R(0.0);
+}
+static void sp_ts_nan(pdt_autotune_config_t *c)
+{
+    c->Ts = (pdt_real_t)NAN;
+}
+static void sp_dec0(pdt_autotune_config_t *c)
+{
+    c->decimation = 0u;
+}
+static void sp_settle0(pdt_autotune_config_t *c)
+{
+    c->settle = 0u;
+}
+static void sp_evals0(pdt_autotune_config_t *c)
+{
+    c->evals_per_scan = 0u;
+}
+static void sp_umin_inf(pdt_autotune_config_t *c)
+{
+    c->u_min = (pdt_real_t)-INFINITY;
+}
+static void sp_pvmax_nan(pdt_autotune_config_t *c)
+{
+    c->pv_max = (pdt_real_t)NAN;
+}
+static void sp_model(pdt_autotune_config_t *c)
+{
+    c->ident.model = (pdt_model_kind_t)7;
+}
+static void sp_pop(pdt_autotune_config_t *c)
+{
+    c->ident.population = 3u;
+}
+static void sp_amp0(pdt_autotune_config_t *c)
+{
+    c->excite.amplitude = R(0.0);
+}
+static void sp_kind(pdt_autotune_config_t *c)
+{
+    c->excite.kind = (pdt_excite_kind_t)9;
+}
+static void sp_msrob(pdt_autotune_config_t *c)
+{
+    c->ms_robust = R(1.0);
+}
+static void sp_agree(pdt_autotune_config_t *c)
+{
+    c->relay_agree = R(0.5);
+}
+static void sp_u_inv(pdt_autotune_config_t *c)
+{
+    c->u_min = R(101.0);
+}
+static void sp_pv_inv(pdt_autotune_config_t *c)
+{
+    c->pv_min = R(2000.0);
+}
+static void sp_cap(pdt_autotune_config_t *c)
+{
+    c->capacity = c->settle + PDT_MIN_SAMPLES - 1u;
+}
 
 static void test_bad_inputs(void **state)
 {
@@ -826,12 +874,12 @@ static void test_bad_inputs(void **state)
         spoil_fn spoil;
         pdt_status_t want;
     } cases[] = {
-        {sp_ts0, PDT_ERR_ARG},        {sp_ts_nan, PDT_ERR_ARG},   {sp_dec0, PDT_ERR_ARG},
-        {sp_settle0, PDT_ERR_ARG},    {sp_evals0, PDT_ERR_ARG},   {sp_umin_inf, PDT_ERR_ARG},
-        {sp_pvmax_nan, PDT_ERR_ARG},  {sp_model, PDT_ERR_ARG},    {sp_pop, PDT_ERR_ARG},
-        {sp_amp0, PDT_ERR_ARG},       {sp_kind, PDT_ERR_ARG},     {sp_u_inv, PDT_ERR_BOUNDS},
-        {sp_pv_inv, PDT_ERR_BOUNDS},  {sp_cap, PDT_ERR_TOO_SHORT},
-        {sp_msrob, PDT_ERR_ARG},      {sp_agree, PDT_ERR_ARG},
+        {sp_ts0, PDT_ERR_ARG},       {sp_ts_nan, PDT_ERR_ARG},    {sp_dec0, PDT_ERR_ARG},
+        {sp_settle0, PDT_ERR_ARG},   {sp_evals0, PDT_ERR_ARG},    {sp_umin_inf, PDT_ERR_ARG},
+        {sp_pvmax_nan, PDT_ERR_ARG}, {sp_model, PDT_ERR_ARG},     {sp_pop, PDT_ERR_ARG},
+        {sp_amp0, PDT_ERR_ARG},      {sp_kind, PDT_ERR_ARG},      {sp_u_inv, PDT_ERR_BOUNDS},
+        {sp_pv_inv, PDT_ERR_BOUNDS}, {sp_cap, PDT_ERR_TOO_SHORT}, {sp_msrob, PDT_ERR_ARG},
+        {sp_agree, PDT_ERR_ARG},
     };
     pdt_autotune_config_t good, c;
     plant_t p;
@@ -844,8 +892,9 @@ static void test_bad_inputs(void **state)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         c = good;
         cases[i].spoil(&c);
-        assert_int_equal(pdt_autotune_init(&at, &c, R(30.0), g_work, WORK_REALS * sizeof(pdt_real_t)),
-                         cases[i].want);
+        assert_int_equal(
+            pdt_autotune_init(&at, &c, R(30.0), g_work, WORK_REALS * sizeof(pdt_real_t)),
+            cases[i].want);
         assert_memory_equal(&at, &pattern, sizeof at);
         /* the ident's config errors and the experiment's are found at init;
          * the size query says 0 for what it checks itself */
@@ -862,8 +911,7 @@ static void test_bad_inputs(void **state)
     assert_int_equal(pdt_autotune_init(&at, &good, R(30.0), NULL, need), PDT_ERR_NOMEM);
     assert_int_equal(pdt_autotune_init(&at, &good, R(30.0), g_work, need - 1u), PDT_ERR_NOMEM);
     assert_int_equal(pdt_autotune_init(&at, &good, R(30.0), g_work, 0u), PDT_ERR_NOMEM);
-    assert_int_equal(pdt_autotune_init(&at, &good, R(30.0), (char *)g_work + 1, need),
-                     PDT_ERR_ARG);
+    assert_int_equal(pdt_autotune_init(&at, &good, R(30.0), (char *)g_work + 1, need), PDT_ERR_ARG);
     assert_memory_equal(&at, &pattern, sizeof at);
     canary_check(g_work, WORK_REALS + CANARY_COUNT); /* nothing written to work */
 
@@ -887,8 +935,7 @@ static void test_bad_inputs(void **state)
                      2u * c.capacity * sizeof(pdt_real_t) + (only > val ? only : val));
     /* No validation asked for: the identification's share alone. */
     c.ms_robust = R(0.0);
-    assert_int_equal(pdt_autotune_workspace_size(&c),
-                     2u * c.capacity * sizeof(pdt_real_t) + only);
+    assert_int_equal(pdt_autotune_workspace_size(&c), 2u * c.capacity * sizeof(pdt_real_t) + only);
     ic.Ts = good.Ts;
     only = pdt_ident_workspace_size(&ic, good.capacity);
     assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) + (only > val ? only : val));

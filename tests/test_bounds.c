@@ -185,8 +185,8 @@ static void test_record_exact_operating_point(void **state)
 }
 
 #define AT_CAP 400u
-static pdt_real_t g_work[PDT_AUTOTUNE_WORKSPACE_SIZE(AT_CAP, PDT_IDENT_POPULATION_SOPDT) /
-                         sizeof(pdt_real_t)];
+static pdt_real_t
+    g_work[PDT_AUTOTUNE_WORKSPACE_SIZE(AT_CAP, PDT_IDENT_POPULATION_SOPDT) / sizeof(pdt_real_t)];
 
 /* After the experiment the autotune holds the operating point it started
  * from, bit for bit, through identification, tuning and the end. */

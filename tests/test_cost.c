@@ -18,11 +18,11 @@
 #define COST_RTOL 1e-4
 #endif
 
-#define COST_NMAX 600u
-#define COST_NSETS (sizeof cost_vec_sets / sizeof cost_vec_sets[0])
+#define COST_NMAX       600u
+#define COST_NSETS      (sizeof cost_vec_sets / sizeof cost_vec_sets[0])
 #define COST_WORK_REALS (PDT_COST_WORKSPACE_SIZE(COST_NMAX) / sizeof(pdt_real_t))
 /* Long enough that N_f exceeds 2^PDT_FFT_MAX_LOG2 with delay_max = 0. */
-#define COST_NLONG (((size_t)1u << PDT_FFT_MAX_LOG2) / 2u + 2u)
+#define COST_NLONG      (((size_t)1u << PDT_FFT_MAX_LOG2) / 2u + 2u)
 
 static pdt_real_t g_u[COST_NMAX];
 static pdt_real_t g_y[COST_NMAX];
@@ -119,17 +119,17 @@ static void test_vectors_time(void **state)
                 pdt_real_t v[CANARY_COUNT + 1];
                 canary_fill(v + 1, CANARY_COUNT);
                 assert_int_equal(pdt_cost_prediction(&c, &df, v), PDT_OK);
-                check_cost(v[0], want[COST_COL_PRED_FRAC + ofs], COST_RTOL, &g_worst_time,
-                           s->name, i, "prediction frac");
+                check_cost(v[0], want[COST_COL_PRED_FRAC + ofs], COST_RTOL, &g_worst_time, s->name,
+                           i, "prediction frac");
                 assert_int_equal(pdt_cost_simulation(&c, &df, v), PDT_OK);
-                check_cost(v[0], want[COST_COL_SIM_FRAC + ofs], COST_RTOL, &g_worst_time,
-                           s->name, i, "simulation frac");
+                check_cost(v[0], want[COST_COL_SIM_FRAC + ofs], COST_RTOL, &g_worst_time, s->name,
+                           i, "simulation frac");
                 assert_int_equal(pdt_cost_prediction(&c, &di, v), PDT_OK);
-                check_cost(v[0], want[COST_COL_PRED_INT + ofs], COST_RTOL, &g_worst_time,
-                           s->name, i, "prediction int");
+                check_cost(v[0], want[COST_COL_PRED_INT + ofs], COST_RTOL, &g_worst_time, s->name,
+                           i, "prediction int");
                 assert_int_equal(pdt_cost_simulation(&c, &di, v), PDT_OK);
-                check_cost(v[0], want[COST_COL_SIM_INT + ofs], COST_RTOL, &g_worst_time,
-                           s->name, i, "simulation int");
+                check_cost(v[0], want[COST_COL_SIM_INT + ofs], COST_RTOL, &g_worst_time, s->name, i,
+                           "simulation int");
                 canary_check(v + 1, CANARY_COUNT);
             }
         }
@@ -188,12 +188,10 @@ typedef struct eval_case {
 static void test_vectors_eval(void **state)
 {
     static const eval_case_t cases[] = {
-        {PDT_COST_COMBINED, PDT_COST_SIMULATION, PDT_DELAY_FRACTIONAL, true, true,
-         COST_PHI_A_T, COST_PHI_A_F, PDT_WEIGHT_UNIFORM, COST_COL_COMB_A, COST_RTOL,
-         "combined A"},
-        {PDT_COST_COMBINED, PDT_COST_PREDICTION, PDT_DELAY_INTEGER, false, true,
-         COST_PHI_B_T, COST_PHI_B_F, PDT_WEIGHT_BAND, COST_COL_COMB_B, COST_RTOL,
-         "combined B"},
+        {PDT_COST_COMBINED, PDT_COST_SIMULATION, PDT_DELAY_FRACTIONAL, true, true, COST_PHI_A_T,
+         COST_PHI_A_F, PDT_WEIGHT_UNIFORM, COST_COL_COMB_A, COST_RTOL, "combined A"},
+        {PDT_COST_COMBINED, PDT_COST_PREDICTION, PDT_DELAY_INTEGER, false, true, COST_PHI_B_T,
+         COST_PHI_B_F, PDT_WEIGHT_BAND, COST_COL_COMB_B, COST_RTOL, "combined B"},
         {PDT_COST_SIMULATION, PDT_COST_SIMULATION, PDT_DELAY_FRACTIONAL, true, false, 1.0, 1.0,
          PDT_WEIGHT_UNIFORM, COST_COL_SIM_FRAC_OFS, COST_RTOL, "simulation frac"},
         {PDT_COST_SIMULATION, PDT_COST_SIMULATION, PDT_DELAY_INTEGER, false, false, 1.0, 1.0,
@@ -236,8 +234,8 @@ static void test_vectors_eval(void **state)
                 canary_fill(v + 1, CANARY_COUNT);
                 assert_int_equal(pdt_cost_eval(&c, &m, v), PDT_OK);
                 canary_check(v + 1, CANARY_COUNT);
-                check_cost(v[0], s->cost[COST_NCOL * i + (size_t)e->col], e->rtol,
-                           &g_worst_eval, s->name, i, e->what);
+                check_cost(v[0], s->cost[COST_NCOL * i + (size_t)e->col], e->rtol, &g_worst_eval,
+                           s->name, i, e->what);
             }
         }
     }
@@ -262,8 +260,8 @@ static void make_input(pdt_real_t *u, size_t n, pdt_real_t u0, uint32_t seed)
 }
 
 /* y = y0 + simulation of d from rest on u - u0, direct form in double. */
-static void simulate_ref(const pdt_discrete_t *d, const pdt_real_t *u, pdt_real_t u0,
-                         pdt_real_t y0, size_t n, pdt_real_t *y)
+static void simulate_ref(const pdt_discrete_t *d, const pdt_real_t *u, pdt_real_t u0, pdt_real_t y0,
+                         size_t n, pdt_real_t *y)
 {
     double y1 = 0.0;
     double y2 = 0.0;
@@ -399,8 +397,8 @@ static double time_cost_double(const pdt_discrete_t *d, const pdt_real_t *u, con
             r = ((double)y[k] - y0) - (1.0 - (double)d->d[0]) * ((double)y[k - 1] - y0) - bu;
         } else {
             double y1 = (double)y[k - 1] - y0, y2 = (double)y[k - 2] - y0;
-            r = ((double)y[k] - y0) - (2.0 - (double)d->d[0]) * y1
-                - ((double)d->d[0] - 1.0 - (double)d->d[1]) * y2 - bu;
+            r = ((double)y[k] - y0) - (2.0 - (double)d->d[0]) * y1 -
+                ((double)d->d[0] - 1.0 - (double)d->d[1]) * y2 - bu;
         }
         s1 += r;
         s2 += r * r;
@@ -441,18 +439,17 @@ static void test_long_record_accuracy(void **state)
         for (int ofs = 0; ofs < 2; ofs++) {
             pdt_cost_t c;
             cfg.estimate_offset = (ofs != 0);
-            assert_int_equal(pdt_cost_init(&c, &cfg, g_ubig, g_ybig, COST_NBIG, g_workbig,
-                                            sizeof g_workbig),
-                             PDT_OK);
+            assert_int_equal(
+                pdt_cost_init(&c, &cfg, g_ubig, g_ybig, COST_NBIG, g_workbig, sizeof g_workbig),
+                PDT_OK);
             for (int which = 0; which < 4; which++) {
                 const pdt_discrete_t *d = (which & 1) ? &off : &truth;
                 bool sim = (which & 2) != 0;
                 pdt_real_t v;
-                double want = time_cost_double(d, g_ubig, g_ybig, (double)u0, (double)y0,
-                                               COST_NBIG, lu, sim, ofs != 0);
-                assert_int_equal(sim ? pdt_cost_simulation(&c, d, &v)
-                                     : pdt_cost_prediction(&c, d, &v),
-                                 PDT_OK);
+                double want = time_cost_double(d, g_ubig, g_ybig, (double)u0, (double)y0, COST_NBIG,
+                                               lu, sim, ofs != 0);
+                assert_int_equal(
+                    sim ? pdt_cost_simulation(&c, d, &v) : pdt_cost_prediction(&c, d, &v), PDT_OK);
                 worst = fmax(worst, rel_err((double)v, want));
                 assert_close(v, want, COST_RTOL, 0.0);
             }
@@ -475,7 +472,8 @@ static void test_frequency_ignores_dead_time(void **state)
         pdt_model_t m = model_of(s, i);
         assert_int_equal(pdt_cost_frequency(&c, &m, &v0), PDT_OK);
         for (int j = 0; j < 3; j++) {
-            static const pdt_real_t tds[3] = {((pdt_real_t)0.0), ((pdt_real_t)0.37), ((pdt_real_t)1000.0)};
+            static const pdt_real_t tds[3] = {((pdt_real_t)0.0), ((pdt_real_t)0.37),
+                                              ((pdt_real_t)1000.0)};
             if (m.kind == PDT_MODEL_FOPDT) {
                 m.p.fopdt.Td = tds[j];
             } else {
@@ -613,7 +611,8 @@ static void test_fft_size_and_workspace(void **state)
     assert_int_equal(pdt_cost_fft_size(100, 100), 0);
     assert_int_equal(pdt_cost_fft_size(COST_NLONG - 1u, 0), (size_t)1u << PDT_FFT_MAX_LOG2);
     assert_int_equal(pdt_cost_fft_size(COST_NLONG, 0), 0);
-    assert_int_equal(pdt_cost_fft_size(COST_NLONG, COST_NLONG / 2u), (size_t)1u << PDT_FFT_MAX_LOG2);
+    assert_int_equal(pdt_cost_fft_size(COST_NLONG, COST_NLONG / 2u),
+                     (size_t)1u << PDT_FFT_MAX_LOG2);
     assert_int_equal(PDT_COST_FFT_SIZE_MAX(COST_NLONG - 1u), (size_t)1u << PDT_FFT_MAX_LOG2);
     assert_int_equal(PDT_COST_FFT_SIZE_MAX(COST_NLONG), 0);
 
@@ -723,7 +722,7 @@ static void init_fails(const pdt_cost_config_t *cfg, const pdt_real_t *u, const 
     canary_check(g_work, COST_WORK_REALS + CANARY_COUNT);
 }
 
-#define INIT_FAILS(cfg, n, want) \
+#define INIT_FAILS(cfg, n, want)                                                                   \
     init_fails((cfg), g_u, g_y, (n), g_work, sizeof g_work, (want), __LINE__)
 
 /* pdt_cost_fit: finite for a candidate and for a model far off, refusals
@@ -777,8 +776,7 @@ static void test_init_errors(void **state)
     init_fails(NULL, g_u, g_y, n, g_work, sizeof g_work, PDT_ERR_ARG, __LINE__);
     init_fails(&good, NULL, g_y, n, g_work, sizeof g_work, PDT_ERR_ARG, __LINE__);
     init_fails(&good, g_u, NULL, n, g_work, sizeof g_work, PDT_ERR_ARG, __LINE__);
-    assert_int_equal(pdt_cost_init(NULL, &good, g_u, g_y, n, g_work, sizeof g_work),
-                     PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_init(NULL, &good, g_u, g_y, n, g_work, sizeof g_work), PDT_ERR_ARG);
     {
         static const pdt_real_t bad_ts[4] = {((pdt_real_t)0.0), ((pdt_real_t)-0.1), (pdt_real_t)NAN,
                                              (pdt_real_t)INFINITY};
@@ -853,8 +851,7 @@ static void test_init_errors(void **state)
     cfg.use_frequency = false; /* values unused without spectra */
     init_ok(&c, &cfg, n);
     load_set(s);
-    init_fails(&good, g_u, g_y, n, (char *)g_work + 1, sizeof g_work - 1u, PDT_ERR_ARG,
-               __LINE__);
+    init_fails(&good, g_u, g_y, n, (char *)g_work + 1, sizeof g_work - 1u, PDT_ERR_ARG, __LINE__);
 
     /* PDT_ERR_TOO_SHORT */
     cfg = good;
@@ -921,19 +918,17 @@ static void test_init_errors(void **state)
     for (size_t k = 0; k < COST_NLONG; k++) {
         g_long[k] = (pdt_real_t)(k % 7u);
     }
-    init_fails(&cfg, g_long, g_long, COST_NLONG, g_work, sizeof g_work, PDT_ERR_LENGTH,
-               __LINE__);
+    init_fails(&cfg, g_long, g_long, COST_NLONG, g_work, sizeof g_work, PDT_ERR_LENGTH, __LINE__);
     /* Without spectra a long record needs only its normalised copy. */
     cfg.use_frequency = false;
     assert_int_equal(pdt_cost_workspace_size(&cfg, COST_NLONG),
                      2u * COST_NLONG * sizeof(pdt_real_t));
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_long, g_long, COST_NLONG, NULL, 0),
-                     PDT_ERR_NOMEM);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_long, g_long, COST_NLONG, NULL, 0), PDT_ERR_NOMEM);
 
     /* PDT_ERR_NOMEM */
     init_fails(&good, g_u, g_y, n, NULL, sizeof g_work, PDT_ERR_NOMEM, __LINE__);
-    init_fails(&good, g_u, g_y, n, g_work, pdt_cost_workspace_size(&good, n) - 1u,
-               PDT_ERR_NOMEM, __LINE__);
+    init_fails(&good, g_u, g_y, n, g_work, pdt_cost_workspace_size(&good, n) - 1u, PDT_ERR_NOMEM,
+               __LINE__);
     init_fails(&good, g_u, g_y, n, g_work, 0, PDT_ERR_NOMEM, __LINE__);
 }
 
@@ -967,14 +962,31 @@ static void test_eval_errors(void **state)
     for (int i = 0; i < 8; i++) {
         d = d0;
         switch (i) {
-        case 0: d.order = 0; break;
-        case 1: d.order = 3; break;
-        case 2: d.delay = s->delay_max + 1u; break;
-        case 3: d.delay = 2; break; /* below delay_min = 3 */
-        case 4: d.b[1] = (pdt_real_t)NAN; break;
-        case 5: d.d[0] = (pdt_real_t)INFINITY; break;
-        case 6: d.order = 2; d.d[1] = (pdt_real_t)NAN; break;
-        default: d.delay = (size_t)-1; break;
+        case 0:
+            d.order = 0;
+            break;
+        case 1:
+            d.order = 3;
+            break;
+        case 2:
+            d.delay = s->delay_max + 1u;
+            break;
+        case 3:
+            d.delay = 2;
+            break; /* below delay_min = 3 */
+        case 4:
+            d.b[1] = (pdt_real_t)NAN;
+            break;
+        case 5:
+            d.d[0] = (pdt_real_t)INFINITY;
+            break;
+        case 6:
+            d.order = 2;
+            d.d[1] = (pdt_real_t)NAN;
+            break;
+        default:
+            d.delay = (size_t)-1;
+            break;
         }
         assert_int_equal(pdt_cost_prediction(&c, &d, &v), PDT_ERR_ARG);
         assert_int_equal(pdt_cost_simulation(&c, &d, &v), PDT_ERR_ARG);

@@ -39,7 +39,7 @@
 #else
 #define CAV_RTOL 1e-4
 #endif
-#define CPV_NSETS (sizeof cpv_sets / sizeof cpv_sets[0])
+#define CPV_NSETS      (sizeof cpv_sets / sizeof cpv_sets[0])
 #define CPV_WORK_REALS (PDT_COST_WORKSPACE_SIZE(CPV_NMAX) / sizeof(pdt_real_t))
 
 static pdt_real_t g_u[CPV_NMAX];
@@ -231,16 +231,16 @@ static void test_vectors_profile(void **state)
                     assert_true((double)r.gain >= (double)(pdt_real_t)w->gain_min &&
                                 (double)r.gain <= (double)(pdt_real_t)w->gain_max);
                 }
-                check_val((double)r.cost, w->cost, CPV_RTOL, 0.0, &g_worst[0], s->name, i,
-                          v->name, "cost");
-                check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0,
-                          &g_worst[1], s->name, i, v->name, "gain");
+                check_val((double)r.cost, w->cost, CPV_RTOL, 0.0, &g_worst[0], s->name, i, v->name,
+                          "cost");
+                check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0, &g_worst[1],
+                          s->name, i, v->name, "gain");
                 check_val((double)r.offset, w->offset, CPV_RTOL, ys, &g_worst[2], s->name, i,
                           v->name, "offset");
-                check_val((double)r.ct, w->ct, CPV_RTOL, 0.0, &g_worst[3], s->name, i,
-                          v->name, "ct");
-                check_val((double)r.cf, w->cf, CPV_RTOL, 0.0, &g_worst[4], s->name, i,
-                          v->name, "cf");
+                check_val((double)r.ct, w->ct, CPV_RTOL, 0.0, &g_worst[3], s->name, i, v->name,
+                          "ct");
+                check_val((double)r.cf, w->cf, CPV_RTOL, 0.0, &g_worst[4], s->name, i, v->name,
+                          "cf");
             }
         }
     }
@@ -275,8 +275,8 @@ static void test_vectors_many_and_hints(void **state)
                     hi[k] = (pdt_real_t)w->gain_max;
                 }
                 /* a reference fit far off (the first shape's gain, doubled) */
-                const pdt_cost_hint_t far = {
-                    (pdt_real_t)(2.0 * s->result[i0 * CPV_NCFG + ci].gain), (pdt_real_t)ys, 0};
+                const pdt_cost_hint_t far = {(pdt_real_t)(2.0 * s->result[i0 * CPV_NCFG + ci].gain),
+                                             (pdt_real_t)ys, 0};
                 assert_int_equal(pdt_cost_profile_many(&c, m, cnt, lo, hi, &far, g_scratch, r),
                                  PDT_OK);
                 assert_true(r[cnt].cost == (pdt_real_t)-1.0);
@@ -288,17 +288,17 @@ static void test_vectors_many_and_hints(void **state)
                               v->name, "many cost");
                     check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0, &worst,
                               s->name, i0 + k, v->name, "many gain");
-                    check_val((double)r[k].offset, w->offset, CPV_RTOL, ys, &worst, s->name,
-                              i0 + k, v->name, "many offset");
+                    check_val((double)r[k].offset, w->offset, CPV_RTOL, ys, &worst, s->name, i0 + k,
+                              v->name, "many offset");
                     /* the exact reference and a reference at minus the gain */
                     for (int sgn = -1; sgn <= 1; sgn += 2) {
                         const pdt_cost_hint_t ref = {(pdt_real_t)(sgn * w->gain),
                                                      (pdt_real_t)w->offset, 0};
-                        assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &ref,
-                                                               g_scratch, &h),
-                                         PDT_OK);
-                        check_val((double)h.cost, w->cost, CPV_RTOL, 0.0, &worst, s->name,
-                                  i0 + k, v->name, "hint cost");
+                        assert_int_equal(
+                            pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &ref, g_scratch, &h),
+                            PDT_OK);
+                        check_val((double)h.cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, i0 + k,
+                                  v->name, "hint cost");
                         check_val((double)h.offset, w->offset, CPV_RTOL, ys, &worst, s->name,
                                   i0 + k, v->name, "hint offset");
                         assert_true(fabs((double)h.ncost - (double)r[k].ncost) <=
@@ -308,15 +308,15 @@ static void test_vectors_many_and_hints(void **state)
                      * poor and is scored to the loose bound, in one pass. */
                     const pdt_cost_hint_t poor = {(pdt_real_t)(3.0 * w->gain), 0,
                                                   (pdt_real_t)1e-30};
-                    assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &poor,
-                                                           g_scratch, &h),
-                                     PDT_OK);
+                    assert_int_equal(
+                        pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &poor, g_scratch, &h),
+                        PDT_OK);
                     assert_close(h.cost, w->cost, CPV_RTOL_POOR, 0.0);
                     /* A reference whose residual overflows: as without one. */
                     const pdt_cost_hint_t wild = {(pdt_real_t)1e30, (pdt_real_t)-1e30, 0};
-                    assert_int_equal(pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &wild,
-                                                           g_scratch, &h),
-                                     PDT_OK);
+                    assert_int_equal(
+                        pdt_cost_profile_hint(&c, &m[k], lo[k], hi[k], &wild, g_scratch, &h),
+                        PDT_OK);
                     check_val((double)h.cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, i0 + k,
                               v->name, "wild hint cost");
                 }
@@ -349,10 +349,10 @@ static void test_vectors_many_and_hints(void **state)
                     double gain = w->sign_free ? fabs((double)r[k].gain) : (double)r[k].gain;
                     check_val((double)r[k].cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, idx[k],
                               v->name, "many4 cost");
-                    check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0,
-                              &worst, s->name, idx[k], v->name, "many4 gain");
-                    check_val((double)r[k].offset, w->offset, CPV_RTOL, ys, &worst, s->name,
-                              idx[k], v->name, "many4 offset");
+                    check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0, &worst,
+                              s->name, idx[k], v->name, "many4 gain");
+                    check_val((double)r[k].offset, w->offset, CPV_RTOL, ys, &worst, s->name, idx[k],
+                              v->name, "many4 offset");
                 }
             }
         }
@@ -474,9 +474,9 @@ static void test_accuracy_scales(void **state)
                                          0};
             assert_int_equal(pdt_cost_profile_hint(&c, &m[0], 0, 0, &exact, g_ascratch, &r[1]),
                              PDT_OK);
-            assert_int_equal(pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, &off, g_ascratch,
-                                                   &r[2]),
-                             PDT_OK);
+            assert_int_equal(
+                pdt_cost_profile_many(&c, m, PDT_COST_MANY, lo, hi, &off, g_ascratch, &r[2]),
+                PDT_OK);
             for (size_t k = 0; k < 3u; k++) {
                 cw[0] = fmax(cw[0], rel_err((double)r[k].ncost, ncost));
                 cw[1] = fmax(cw[1], rel_err((double)r[k].gain, v->gain[i]));
@@ -602,9 +602,8 @@ static void test_profile_properties(void **state)
                     m = with_gain(shape, g);
                     assert_int_equal(pdt_cost_eval(&c, &m, &e2), PDT_OK);
                     if (!((double)e2 >= (double)r.cost * (1.0 - CPV_RTOL_REBUILT))) {
-                        fail_msg("%s shape %zu %s: gain %g costs %.9g, %g costs %.9g", s->name,
-                                 i, v->name, (double)r.gain, (double)r.cost, (double)g,
-                                 (double)e2);
+                        fail_msg("%s shape %zu %s: gain %g costs %.9g, %g costs %.9g", s->name, i,
+                                 v->name, (double)r.gain, (double)r.cost, (double)g, (double)e2);
                     }
                 }
                 /* The offset: scoring the time part without the offset fit
@@ -667,8 +666,7 @@ static void test_profile_bounds(void **state)
                      PDT_OK);
     assert_true(rb.gain == (pdt_real_t)1.25);
     /* A range holding the optimum changes nothing. */
-    assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)-10.0, (pdt_real_t)10.0, g_scratch,
-                                      &rb),
+    assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)-10.0, (pdt_real_t)10.0, g_scratch, &rb),
                      PDT_OK);
     assert_true(rb.gain == r.gain && rb.cost == r.cost && rb.offset == r.offset);
 }
@@ -692,14 +690,12 @@ static void test_profile_zero_weights(void **state)
             cfg.phi_t = (pdt_real_t)2.0;
             cfg.phi_f = (pdt_real_t)0.0;
             init_ok(&c, &cfg, s->n);
-            assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0,
-                                              g_scratch, &rc),
-                             PDT_OK);
+            assert_int_equal(
+                pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch, &rc), PDT_OK);
             cfg.kind = (pdt_cost_kind_t)tk;
             init_ok(&c, &cfg, s->n);
-            assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0,
-                                              g_scratch, &rs),
-                             PDT_OK);
+            assert_int_equal(
+                pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch, &rs), PDT_OK);
             assert_close(rc.gain, rs.gain, CPV_RTOL, 0.0);
             assert_close(rc.offset, rs.offset, CPV_RTOL, CPV_RTOL);
             assert_close(rc.ct, rs.ct, CPV_RTOL, 0.0);
@@ -711,13 +707,11 @@ static void test_profile_zero_weights(void **state)
         cfg.phi_t = (pdt_real_t)0.0;
         cfg.phi_f = (pdt_real_t)0.5;
         init_ok(&c, &cfg, s->n);
-        assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch,
-                                          &rc),
+        assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch, &rc),
                          PDT_OK);
         cfg.kind = PDT_COST_FREQUENCY;
         init_ok(&c, &cfg, s->n);
-        assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch,
-                                          &rs),
+        assert_int_equal(pdt_cost_profile(&c, &m, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch, &rs),
                          PDT_OK);
         assert_close(rc.gain, rs.gain, CPV_RTOL, 0.0);
         assert_close(rc.cf, rs.cf, CPV_RTOL, 0.0);
@@ -772,22 +766,26 @@ static void test_whole_record_too_short(void **state)
     cfg.whole_record = false;
     assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max++;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_ERR_TOO_SHORT);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work),
+                     PDT_ERR_TOO_SHORT);
     cfg.whole_record = true;
     assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max = n - 1u;
     assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_OK);
     cfg.delay_max = n;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work), PDT_ERR_TOO_SHORT);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, n, g_work, sizeof g_work),
+                     PDT_ERR_TOO_SHORT);
     /* The shortest records. */
     cfg.delay_max = PDT_MIN_SAMPLES + 1u;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work),
+                     PDT_OK);
     assert_int_equal(c.cfg.delay_max, PDT_MIN_SAMPLES + 1u);
     cfg.delay_max = 0;
     assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 1u, g_work, sizeof g_work),
                      PDT_ERR_TOO_SHORT);
     cfg.whole_record = false;
-    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work), PDT_OK);
+    assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work),
+                     PDT_OK);
     cfg.delay_max = 1;
     assert_int_equal(pdt_cost_init(&c, &cfg, g_u, g_y, PDT_MIN_SAMPLES + 2u, g_work, sizeof g_work),
                      PDT_ERR_TOO_SHORT);
@@ -851,7 +849,7 @@ static void profile_fails(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t 
     canary_check(g_scratch, CPV_NMAX + CANARY_COUNT);
 }
 
-#define PROFILE_FAILS(c, m, lo, hi, want) \
+#define PROFILE_FAILS(c, m, lo, hi, want)                                                          \
     profile_fails((c), (m), (pdt_real_t)(lo), (pdt_real_t)(hi), (want), __LINE__)
 
 static void test_profile_errors(void **state)
@@ -877,9 +875,8 @@ static void test_profile_errors(void **state)
     assert_int_equal(pdt_cost_profile(&c, &m0, (pdt_real_t)0.0, (pdt_real_t)0.0, NULL, &out),
                      PDT_ERR_ARG);
     assert_pattern(&out, sizeof out);
-    assert_int_equal(
-        pdt_cost_profile(&c, &m0, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch, NULL),
-        PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile(&c, &m0, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch, NULL),
+                     PDT_ERR_ARG);
 
     /* bounds */
     PROFILE_FAILS(&c, &m0, 2.0, 1.0, PDT_ERR_BOUNDS);
@@ -998,14 +995,31 @@ static void test_simulate_errors(void **state)
     for (int i = 0; i < 8; i++) {
         d = d0;
         switch (i) {
-        case 0: d.order = 0; break;
-        case 1: d.order = 3; break;
-        case 2: d.b[0] = (pdt_real_t)NAN; break;
-        case 3: d.b[1] = (pdt_real_t)INFINITY; break;
-        case 4: d.b[2] = (pdt_real_t)-INFINITY; break;
-        case 5: d.d[0] = (pdt_real_t)NAN; break;
-        case 6: d.order = 2; d.d[1] = (pdt_real_t)NAN; break;
-        default: d.order = 255; break;
+        case 0:
+            d.order = 0;
+            break;
+        case 1:
+            d.order = 3;
+            break;
+        case 2:
+            d.b[0] = (pdt_real_t)NAN;
+            break;
+        case 3:
+            d.b[1] = (pdt_real_t)INFINITY;
+            break;
+        case 4:
+            d.b[2] = (pdt_real_t)-INFINITY;
+            break;
+        case 5:
+            d.d[0] = (pdt_real_t)NAN;
+            break;
+        case 6:
+            d.order = 2;
+            d.d[1] = (pdt_real_t)NAN;
+            break;
+        default:
+            d.order = 255;
+            break;
         }
         assert_int_equal(pdt_cost_simulate(&c, &d, g_ysim), PDT_ERR_ARG);
     }

@@ -14,13 +14,13 @@
  * polynomial (a near-zero b[2] at f = 0 or tiny f is compared on that
  * scale), and relative per element for the delta form d. */
 #if PDT_REAL_DOUBLE
-#define COEF_RTOL 1e-12
+#define COEF_RTOL  1e-12
 #define SIM_SNR_DB 250.0
-#define STEP_ATOL 1e-11
+#define STEP_ATOL  1e-11
 #else
-#define COEF_RTOL 5e-6
+#define COEF_RTOL  5e-6
 #define SIM_SNR_DB 100.0
-#define STEP_ATOL 2e-5
+#define STEP_ATOL  2e-5
 #endif
 
 static pdt_model_t vec_model(int i, double Td)

@@ -636,16 +636,11 @@ static void test_end(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_defaults),
-        cmocka_unit_test(test_vectors),
-        cmocka_unit_test(test_relay_vectors),
-        cmocka_unit_test(test_prbs_period_balance),
-        cmocka_unit_test(test_chirp_frequency),
-        cmocka_unit_test(test_relay_fopdt),
-        cmocka_unit_test(test_relay_action),
-        cmocka_unit_test(test_bad_config),
-        cmocka_unit_test(test_bad_calls),
-        cmocka_unit_test(test_end),
+        cmocka_unit_test(test_defaults),        cmocka_unit_test(test_vectors),
+        cmocka_unit_test(test_relay_vectors),   cmocka_unit_test(test_prbs_period_balance),
+        cmocka_unit_test(test_chirp_frequency), cmocka_unit_test(test_relay_fopdt),
+        cmocka_unit_test(test_relay_action),    cmocka_unit_test(test_bad_config),
+        cmocka_unit_test(test_bad_calls),       cmocka_unit_test(test_end),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -11,14 +11,14 @@
 #if PDT_REAL_DOUBLE
 #define FFT_MIN_SNR_DB 250.0
 /* Largest error allowed relative to the peak of the compared data. */
-#define FFT_PEAK_RTOL 1e-12
+#define FFT_PEAK_RTOL  1e-12
 #else
 #define FFT_MIN_SNR_DB 100.0
-#define FFT_PEAK_RTOL 1e-5
+#define FFT_PEAK_RTOL  1e-5
 #endif
 
 #define FFT_NMAX_VEC 8192u
-#define FFT_NMAX ((size_t)1u << PDT_FFT_MAX_LOG2)
+#define FFT_NMAX     ((size_t)1u << PDT_FFT_MAX_LOG2)
 
 typedef struct fft_case {
     size_t n;
@@ -92,8 +92,19 @@ static void test_workspace_size(void **state)
         assert_int_equal(pdt_fft_workspace_size(n), n / 2u * sizeof(pdt_real_t));
         assert_int_equal(pdt_fft_workspace_size(n), PDT_FFT_WORKSPACE_SIZE(n));
     }
-    const size_t bad[] = {0u, 1u, 2u, 8u, 15u, 17u, 24u, 48u, 1000u, FFT_NMAX - 1u,
-                          FFT_NMAX + 1u, 2u * FFT_NMAX, 3u * FFT_NMAX / 2u};
+    const size_t bad[] = {0u,
+                          1u,
+                          2u,
+                          8u,
+                          15u,
+                          17u,
+                          24u,
+                          48u,
+                          1000u,
+                          FFT_NMAX - 1u,
+                          FFT_NMAX + 1u,
+                          2u * FFT_NMAX,
+                          3u * FFT_NMAX / 2u};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         assert_int_equal(pdt_fft_workspace_size(bad[i]), 0u);
     }
@@ -307,8 +318,8 @@ static void test_tones(void **state)
     const size_t sizes[] = {16u, 64u, 1024u, FFT_NMAX};
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
         const size_t n = sizes[s];
-        const size_t bins[] = {0u, 1u, 3u, n / 8u + 1u, n / 4u - 1u, n / 4u, n / 4u + 1u,
-                               n / 2u - 1u, n / 2u};
+        const size_t bins[] = {0u,     1u,          3u,          n / 8u + 1u, n / 4u - 1u,
+                               n / 4u, n / 4u + 1u, n / 2u - 1u, n / 2u};
         pdt_fft_t f;
         init_ok(&f, n);
         for (size_t i = 0; i < sizeof bins / sizeof bins[0]; i++) {
@@ -431,18 +442,12 @@ static void test_table_constant(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_workspace_size),
-        cmocka_unit_test(test_forward_vectors),
-        cmocka_unit_test(test_inverse_vectors),
-        cmocka_unit_test(test_round_trip),
-        cmocka_unit_test(test_largest_size),
-        cmocka_unit_test(test_parseval),
-        cmocka_unit_test(test_magnitude_vectors),
-        cmocka_unit_test(test_tones),
-        cmocka_unit_test(test_impulse),
-        cmocka_unit_test(test_init_errors),
-        cmocka_unit_test(test_transform_errors),
-        cmocka_unit_test(test_table_constant),
+        cmocka_unit_test(test_workspace_size),    cmocka_unit_test(test_forward_vectors),
+        cmocka_unit_test(test_inverse_vectors),   cmocka_unit_test(test_round_trip),
+        cmocka_unit_test(test_largest_size),      cmocka_unit_test(test_parseval),
+        cmocka_unit_test(test_magnitude_vectors), cmocka_unit_test(test_tones),
+        cmocka_unit_test(test_impulse),           cmocka_unit_test(test_init_errors),
+        cmocka_unit_test(test_transform_errors),  cmocka_unit_test(test_table_constant),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -46,8 +46,8 @@ static void check_close(err_track_t *t, pdt_real_t got, double want, double lo, 
     t->worst_scaled = fmax(t->worst_scaled, scaled);
     t->worst_plain = fmax(t->worst_plain, plain);
     if (!(scaled <= GA_RTOL)) {
-        fail_msg("%s case %zu: got %.17g, want %.17g (error / scale %.3g)", what, idx,
-                 (double)got, want, scaled);
+        fail_msg("%s case %zu: got %.17g, want %.17g (error / scale %.3g)", what, idx, (double)got,
+                 want, scaled);
     }
 }
 
@@ -192,10 +192,9 @@ static void test_sbx_grid(void **state)
                     pdt_ga_sbx(p1, p2, lo, hi, (pdt_real_t)ga_eta[ei], (pdt_real_t)ga_sbx_u[ui],
                                &c[0], &c[1]);
                     canary_check(c + 2, CANARY_COUNT);
-                    check_close(&t, c[0], ga_sbx_c[2u * idx], ga_lo[bi], ga_hi[bi], "sbx c1",
+                    check_close(&t, c[0], ga_sbx_c[2u * idx], ga_lo[bi], ga_hi[bi], "sbx c1", idx);
+                    check_close(&t, c[1], ga_sbx_c[2u * idx + 1u], ga_lo[bi], ga_hi[bi], "sbx c2",
                                 idx);
-                    check_close(&t, c[1], ga_sbx_c[2u * idx + 1u], ga_lo[bi], ga_hi[bi],
-                                "sbx c2", idx);
                 }
             }
         }
@@ -211,8 +210,8 @@ static void test_sbx_random(void **state)
         const double *row = ga_sbx_rand + 8u * i;
         pdt_real_t c1;
         pdt_real_t c2;
-        pdt_ga_sbx((pdt_real_t)row[0], (pdt_real_t)row[1], (pdt_real_t)row[2],
-                   (pdt_real_t)row[3], (pdt_real_t)row[4], (pdt_real_t)row[5], &c1, &c2);
+        pdt_ga_sbx((pdt_real_t)row[0], (pdt_real_t)row[1], (pdt_real_t)row[2], (pdt_real_t)row[3],
+                   (pdt_real_t)row[4], (pdt_real_t)row[5], &c1, &c2);
         check_close(&t, c1, row[6], row[2], row[3], "sbx random c1", i);
         check_close(&t, c2, row[7], row[2], row[3], "sbx random c2", i);
     }
@@ -221,21 +220,21 @@ static void test_sbx_random(void **state)
 
 /* Largest u the build's uniform numbers can take, and a few in between. */
 #define GA_U_TOP (PDT_R(1.0) - PDT_REAL_EPS * PDT_R(0.5))
-static const pdt_real_t edge_u[] = {PDT_R(0.0), PDT_R(1e-30), PDT_R(1e-7), PDT_R(0.25),
-                                    PDT_R(0.5), PDT_R(0.5000001), PDT_R(0.75), PDT_R(0.999),
+static const pdt_real_t edge_u[] = {PDT_R(0.0),       PDT_R(1e-30),     PDT_R(1e-7), PDT_R(0.25),
+                                    PDT_R(0.5),       PDT_R(0.5000001), PDT_R(0.75), PDT_R(0.999),
                                     PDT_R(0.9999999), GA_U_TOP};
 #define GA_NEDGE_U (sizeof edge_u / sizeof edge_u[0])
 
-static const pdt_real_t edge_eta[] = {PDT_R(1e-3), PDT_R(1.0), PDT_R(2.0), PDT_R(5.0),
-                                      PDT_R(20.0), PDT_R(50.0), PDT_R(100.0), PDT_R(1e6),
-                                      PDT_R(1e30)};
+static const pdt_real_t edge_eta[] = {PDT_R(1e-3),  PDT_R(1.0),  PDT_R(2.0),
+                                      PDT_R(5.0),   PDT_R(20.0), PDT_R(50.0),
+                                      PDT_R(100.0), PDT_R(1e6),  PDT_R(1e30)};
 #define GA_NEDGE_ETA (sizeof edge_eta / sizeof edge_eta[0])
 
 /* Bounds including tiny ranges, a range far from zero and a denormal one. */
-static const pdt_real_t edge_lo[] = {PDT_R(0.0), PDT_R(-1e-30), PDT_R(100.0), PDT_R(-1e6),
-                                     PDT_R(1.0), PDT_R(0.0)};
-static const pdt_real_t edge_hi[] = {PDT_R(1.0), PDT_R(1e-30), PDT_R(100.0001), PDT_R(1e6),
-                                     PDT_R(1.0000005), PDT_R(1e-40)};
+static const pdt_real_t edge_lo[] = {PDT_R(0.0),  PDT_R(-1e-30), PDT_R(100.0),
+                                     PDT_R(-1e6), PDT_R(1.0),    PDT_R(0.0)};
+static const pdt_real_t edge_hi[] = {PDT_R(1.0), PDT_R(1e-30),     PDT_R(100.0001),
+                                     PDT_R(1e6), PDT_R(1.0000005), PDT_R(1e-40)};
 #define GA_NEDGE_B (sizeof edge_lo / sizeof edge_lo[0])
 
 static void test_sbx_edges_finite_inside(void **state)
@@ -243,10 +242,10 @@ static void test_sbx_edges_finite_inside(void **state)
     (void)state;
     /* Parent positions as fractions of the range: on the bounds, equal,
      * one step apart, reversed. */
-    static const pdt_real_t fa[] = {PDT_R(0.0), PDT_R(1.0), PDT_R(0.0), PDT_R(0.5), PDT_R(0.3),
-                                    PDT_R(1.0), PDT_R(0.0), PDT_R(0.999999)};
-    static const pdt_real_t fb[] = {PDT_R(1.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.5), PDT_R(0.3000001),
-                                    PDT_R(1.0), PDT_R(1e-7), PDT_R(1.0)};
+    static const pdt_real_t fa[] = {PDT_R(0.0), PDT_R(1.0), PDT_R(0.0), PDT_R(0.5),
+                                    PDT_R(0.3), PDT_R(1.0), PDT_R(0.0), PDT_R(0.999999)};
+    static const pdt_real_t fb[] = {PDT_R(1.0),       PDT_R(0.0), PDT_R(0.0),  PDT_R(0.5),
+                                    PDT_R(0.3000001), PDT_R(1.0), PDT_R(1e-7), PDT_R(1.0)};
     size_t checked = 0;
     for (size_t bi = 0; bi < GA_NEDGE_B; bi++) {
         pdt_real_t lo = edge_lo[bi];
@@ -265,8 +264,7 @@ static void test_sbx_edges_finite_inside(void **state)
                           c2 <= hi && c1 <= c2)) {
                         fail_msg("sbx p1 %.9g p2 %.9g [%.9g, %.9g] eta %g u %.9g -> %.9g %.9g",
                                  (double)p1, (double)p2, (double)lo, (double)hi,
-                                 (double)edge_eta[ei], (double)edge_u[ui], (double)c1,
-                                 (double)c2);
+                                 (double)edge_eta[ei], (double)edge_u[ui], (double)c1, (double)c2);
                     }
                     checked++;
                 }
@@ -281,15 +279,12 @@ static void test_sbx_equal_parents_copied(void **state)
     (void)state;
     pdt_real_t c1;
     pdt_real_t c2;
-    pdt_ga_sbx(PDT_R(0.25), PDT_R(0.25), PDT_R(0.0), PDT_R(1.0), PDT_R(15.0), PDT_R(0.9), &c1,
-               &c2);
+    pdt_ga_sbx(PDT_R(0.25), PDT_R(0.25), PDT_R(0.0), PDT_R(1.0), PDT_R(15.0), PDT_R(0.9), &c1, &c2);
     assert_true(c1 == PDT_R(0.25) && c2 == PDT_R(0.25));
     /* ordered: c1 the lower parent */
-    pdt_ga_sbx(PDT_R(0.75), PDT_R(0.25), PDT_R(0.0), PDT_R(1.0), PDT_R(15.0), PDT_R(0.0), &c1,
-               &c2);
+    pdt_ga_sbx(PDT_R(0.75), PDT_R(0.25), PDT_R(0.0), PDT_R(1.0), PDT_R(15.0), PDT_R(0.0), &c1, &c2);
     assert_true(c1 == PDT_R(0.5) && c2 == PDT_R(0.5)); /* u = 0: both at the mean */
-    pdt_ga_sbx(PDT_R(0.75), PDT_R(0.25), PDT_R(0.0), PDT_R(1.0), PDT_R(15.0), PDT_R(0.9), &c1,
-               &c2);
+    pdt_ga_sbx(PDT_R(0.75), PDT_R(0.25), PDT_R(0.0), PDT_R(1.0), PDT_R(15.0), PDT_R(0.9), &c1, &c2);
     assert_true(c1 < PDT_R(0.25) && c2 > PDT_R(0.75));
 }
 
@@ -323,7 +318,7 @@ static void test_sbx_spread_grows_as_eta_falls(void **state)
 {
     (void)state;
     static const pdt_real_t etas[] = {PDT_R(100.0), PDT_R(50.0), PDT_R(20.0), PDT_R(15.0),
-                                      PDT_R(5.0), PDT_R(2.0), PDT_R(1.0)};
+                                      PDT_R(5.0),   PDT_R(2.0),  PDT_R(1.0)};
     double prev = 0.0;
     for (size_t e = 0; e < sizeof etas / sizeof etas[0]; e++) {
         double spread = 0.0;
@@ -390,8 +385,8 @@ static void test_mutate_edges_finite_inside(void **state)
                     pdt_real_t y = pdt_ga_mutate(x, lo, hi, edge_eta[ei], edge_u[ui]);
                     if (!(isfinite(y) && y >= lo && y <= hi)) {
                         fail_msg("mutate x %.9g [%.9g, %.9g] eta %g u %.9g -> %.9g", (double)x,
-                                 (double)lo, (double)hi, (double)edge_eta[ei],
-                                 (double)edge_u[ui], (double)y);
+                                 (double)lo, (double)hi, (double)edge_eta[ei], (double)edge_u[ui],
+                                 (double)y);
                     }
                     checked++;
                 }

@@ -19,8 +19,8 @@
 
 #include "sim_rng.h"
 
-#define NMAX 1200u
-#define POP_MAX 64u
+#define NMAX       1200u
+#define POP_MAX    64u
 #define WORK_REALS (PDT_IDENT_WORKSPACE_SIZE(NMAX, POP_MAX) / sizeof(pdt_real_t) + 1u)
 
 static pdt_real_t g_u[NMAX];
@@ -240,8 +240,8 @@ static void check_sopdt(const char *name, const pdt_ident_result_t *res, const p
                   (double)res->fit, (unsigned)res->evaluations);
     if (!(eK <= tol_K && ewn <= tol_wn && ez <= tol_zeta && eTd <= tol_Td)) {
         fail_msg("%s: K %.6g wn %.6g zeta %.6g Td %.6g, want %.6g %.6g %.6g %.6g", name,
-                 (double)g.K, (double)g.wn, (double)g.zeta, (double)g.Td, (double)w.K,
-                 (double)w.wn, (double)w.zeta, (double)w.Td);
+                 (double)g.K, (double)g.wn, (double)g.zeta, (double)g.Td, (double)w.K, (double)w.wn,
+                 (double)w.zeta, (double)w.Td);
     }
 }
 
@@ -281,9 +281,9 @@ static void fopdt_case(const char *name, pdt_model_t truth, double u0, double y0
 /* Tolerances at 30 dB: the errors are those of one noise realisation (the
  * same in both builds, a few tenths of a percent measured), so the bounds
  * are a few times the worst measured: gain 1.5 %, tau 2 %, Td 2 % of tau. */
-#define FO_K 0.015
+#define FO_K   0.015
 #define FO_TAU 0.02
-#define FO_TD 0.02
+#define FO_TD  0.02
 
 static void test_recover_fopdt(void **state)
 {
@@ -295,8 +295,8 @@ static void test_recover_fopdt(void **state)
     fopdt_case("fractional Td", fopdt(2.0, 12.0, 4.37), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
                FO_TD, 95.0);
     /* Long dead time, Td = 3 tau. */
-    fopdt_case("Td = 3 tau", fopdt(1.5, 6.0, 18.0), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
-               FO_TD, 95.0);
+    fopdt_case("Td = 3 tau", fopdt(1.5, 6.0, 18.0), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU, FO_TD,
+               95.0);
     /* Short dead time, Td = 0.1 tau. */
     fopdt_case("Td = 0.1 tau", fopdt(0.8, 25.0, 2.5), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
                FO_TD, 95.0);
@@ -315,10 +315,10 @@ static void test_recover_fopdt(void **state)
 /* SOPDT tolerances at 30 dB, a few times the worst measured (K 0.2 %, wn
  * and zeta 1.3 %, Td 0.01 / wn): the shape of a second-order lag is less
  * well determined by the data than its gain. */
-#define SO_K 0.015
-#define SO_WN 0.04
+#define SO_K    0.015
+#define SO_WN   0.04
 #define SO_ZETA 0.04
-#define SO_TD 0.05
+#define SO_TD   0.05
 
 /* The standard SOPDT record: random binary input held 12 samples, 1000
  * samples of Ts = 0.5 s, 30 dB. */
@@ -378,9 +378,8 @@ static void test_recover_integrating(void **state)
     const pdt_model_sopdt_t *p = &res.model.p.sopdt;
     double bscale = (double)p->a * (double)p->a;
     print_message("    %-22s k %.5g a %.5g b %.3g (b / a^2 %.2e)  Td %.4f  fit %6.2f  evals %u\n",
-                  "integrating", (double)p->k, (double)p->a, (double)p->b,
-                  (double)p->b / bscale, (double)p->Td, (double)res.fit,
-                  (unsigned)res.evaluations);
+                  "integrating", (double)p->k, (double)p->a, (double)p->b, (double)p->b / bscale,
+                  (double)p->Td, (double)res.fit, (unsigned)res.evaluations);
     /* b = 0 exactly, or so small that the slow lag (about a / b) is at
      * least 20 record lengths: in this record that is an integrator (the
      * library itself reports b = 0 from 100 record lengths). */
@@ -749,7 +748,7 @@ static double half_crossover_hz(double tau, double Td)
  * 0.2 s, the last pulse over at 44 s, seven time constants of 5 s
  * before the end. */
 #define CB_TS 0.2
-#define CB_N 400u
+#define CB_N  400u
 
 static void control_record(pdt_model_t truth)
 {
@@ -993,12 +992,12 @@ static void test_errors_config(void **state)
     error_record();
     size_t need = WORK_REALS * sizeof(pdt_real_t);
 
-#define EXPECT_CFG(change, want)                                                \
-    do {                                                                        \
-        cfg = good;                                                             \
-        change;                                                                 \
-        expect_init_error(&cfg, &data, g_work, need, want, #change);            \
-        assert_int_equal(pdt_ident_workspace_size(&cfg, ERR_N), 0u);            \
+#define EXPECT_CFG(change, want)                                                                   \
+    do {                                                                                           \
+        cfg = good;                                                                                \
+        change;                                                                                    \
+        expect_init_error(&cfg, &data, g_work, need, want, #change);                               \
+        assert_int_equal(pdt_ident_workspace_size(&cfg, ERR_N), 0u);                               \
     } while (0)
 
     EXPECT_CFG(cfg.Ts = (pdt_real_t)0.0, PDT_ERR_ARG);
@@ -1212,9 +1211,10 @@ static void test_workspace_size(void **state)
                                  * zero padding. */
                                 cfg.Td_max = (pdt_real_t)0.5;
                             }
-                            uint32_t pop = pops[ip] != 0u ? pops[ip]
-                                           : (model == 2 ? PDT_IDENT_POPULATION_SOPDT
-                                                         : PDT_IDENT_POPULATION_FOPDT);
+                            uint32_t pop = pops[ip] != 0u
+                                               ? pops[ip]
+                                               : (model == 2 ? PDT_IDENT_POPULATION_SOPDT
+                                                             : PDT_IDENT_POPULATION_FOPDT);
                             size_t got = pdt_ident_workspace_size(&cfg, ns[in]);
                             assert_true(got > 0u);
                             assert_true(got % sizeof(pdt_real_t) == 0u);

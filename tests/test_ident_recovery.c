@@ -19,14 +19,14 @@ static pdt_real_t g_u[NMAX];
 static pdt_real_t g_y[NMAX];
 static pdt_real_t g_dev[NMAX];
 static pdt_real_t g_sim[NMAX];
-static pdt_real_t g_work[PDT_IDENT_WORKSPACE_SIZE(NMAX, PDT_IDENT_POPULATION_SOPDT) /
-                            sizeof(pdt_real_t) + CANARY_COUNT];
+static pdt_real_t
+    g_work[PDT_IDENT_WORKSPACE_SIZE(NMAX, PDT_IDENT_POPULATION_SOPDT) / sizeof(pdt_real_t) +
+           CANARY_COUNT];
 static pdt_ident_t g_ctx;
 
 /* g_u, g_y: u0 + random binary input (+-1, held `hold` samples, at rest
  * for the first 10), y0 + the response of m + noise at 30 dB. */
-static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t hold,
-                        uint32_t seed)
+static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t hold, uint32_t seed)
 {
     pdt_discrete_t d;
     uint32_t r = seed * 7919u + 1u;
@@ -104,8 +104,8 @@ static void test_sweep_fopdt(void **state)
                 }
                 if (!(e[0] <= 0.015 && e[1] <= 0.02 && e[2] <= 0.02)) {
                     fail_msg("tau %g Td %g seed %u: K %g tau %g Td %g", taus[i],
-                             (double)m.p.fopdt.Td, (unsigned)seed, (double)g->K,
-                             (double)g->tau, (double)g->Td);
+                             (double)m.p.fopdt.Td, (unsigned)seed, (double)g->K, (double)g->tau,
+                             (double)g->Td);
                 }
             }
         }
@@ -144,8 +144,7 @@ static void test_sweep_sopdt(void **state)
                 fail_msg("zeta %g seed %u: integrating result", zetas[i], (unsigned)seed);
             }
             double e[4] = {rel_err((double)g.K, 1.1), rel_err((double)g.wn, 0.25),
-                           rel_err((double)g.zeta, zetas[i]),
-                           fabs((double)g.Td - 3.1) * 0.25};
+                           rel_err((double)g.zeta, zetas[i]), fabs((double)g.Td - 3.1) * 0.25};
             for (int k = 0; k < 4; k++) {
                 worst[k] = fmax(worst[k], e[k]);
             }

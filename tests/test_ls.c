@@ -26,17 +26,17 @@
  * the curve or LS_COST_FLOOR, the square of the rounding of y = 350
  * (350 eps = 4e-5 in float; measured up to 4e-10). */
 #if PDT_REAL_DOUBLE
-#define LS_RTOL 1e-7
-#define LS_COST_ATOL 1e-12
+#define LS_RTOL       1e-7
+#define LS_COST_ATOL  1e-12
 #define LS_COST_FLOOR 1e-20
 #else
-#define LS_RTOL 1e-3
-#define LS_COST_ATOL 1e-6
+#define LS_RTOL       1e-3
+#define LS_COST_ATOL  1e-6
 #define LS_COST_FLOOR 2e-9
 #endif
 
-#define LS_NMAX 800u
-#define LS_DMAX 40u
+#define LS_NMAX   800u
+#define LS_DMAX   40u
 #define LS_NCASES (sizeof ls_vec_cases / sizeof ls_vec_cases[0])
 
 static pdt_real_t g_u[LS_NMAX];
@@ -84,8 +84,7 @@ static void model_params(const pdt_model_t *m, double p[3])
 }
 
 /* Runs case c by steps of `chunk` delays into res and g_costs. */
-static void run_case(const ls_vec_case_t *c, size_t chunk, pdt_ls_result_t *res,
-                     pdt_real_t *costs)
+static void run_case(const ls_vec_case_t *c, size_t chunk, pdt_ls_result_t *res, pdt_real_t *costs)
 {
     pdt_ls_config_t cfg;
     pdt_ls_t ctx;
@@ -433,7 +432,8 @@ static void test_bad_init(void **state)
     check_init_fails(NULL, g_u, g_y, n, PDT_ERR_ARG);
     check_init_fails(&good, NULL, g_y, n, PDT_ERR_ARG);
     check_init_fails(&good, g_u, NULL, n, PDT_ERR_ARG);
-    const pdt_real_t bad_ts[] = {(pdt_real_t)0, (pdt_real_t)-1, (pdt_real_t)NAN, (pdt_real_t)INFINITY};
+    const pdt_real_t bad_ts[] = {(pdt_real_t)0, (pdt_real_t)-1, (pdt_real_t)NAN,
+                                 (pdt_real_t)INFINITY};
     for (size_t i = 0; i < sizeof bad_ts / sizeof bad_ts[0]; i++) {
         cfg = good;
         cfg.Ts = bad_ts[i];

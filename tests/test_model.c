@@ -92,8 +92,7 @@ static void test_freq_vectors(void **state)
         assert_int_equal(pdt_model_freq(&m, w, MODEL_VEC_NW, only, NULL), PDT_OK);
         assert_memory_equal(only, mag, sizeof only);
     }
-    print_message("freq: worst relative error magnitude %.3g, phase %.3g\n", worst_mag,
-                  worst_ph);
+    print_message("freq: worst relative error magnitude %.3g, phase %.3g\n", worst_mag, worst_ph);
 }
 
 static void test_conversions_vectors(void **state)
@@ -341,22 +340,54 @@ static size_t bad_models(pdt_model_t *out)
     const pdt_real_t inf = (pdt_real_t)INFINITY;
     size_t n = 0;
     pdt_model_t m;
-    m = good_fopdt(); m.p.fopdt.tau = R(0.0); out[n++] = m;
-    m = good_fopdt(); m.p.fopdt.tau = R(-1.0); out[n++] = m;
-    m = good_fopdt(); m.p.fopdt.Td = R(-0.1); out[n++] = m;
-    m = good_fopdt(); m.p.fopdt.K = nan; out[n++] = m;
-    m = good_fopdt(); m.p.fopdt.tau = inf; out[n++] = m;
-    m = good_fopdt(); m.p.fopdt.Td = inf; out[n++] = m;
-    m = good_sopdt(); m.p.sopdt.a = R(0.0); out[n++] = m;
-    m = good_sopdt(); m.p.sopdt.a = R(-1.0); out[n++] = m;
-    m = good_sopdt(); m.p.sopdt.b = R(-0.1); out[n++] = m;
-    m = good_sopdt(); m.p.sopdt.Td = R(-0.1); out[n++] = m;
-    m = good_sopdt(); m.p.sopdt.k = inf; out[n++] = m;
-    m = good_sopdt(); m.p.sopdt.a = nan; out[n++] = m;
-    m = good_sopdt(); m.p.sopdt.b = nan; out[n++] = m;
-    m = good_sopdt(); m.p.sopdt.Td = nan; out[n++] = m;
-    m = good_sopdt(); m.kind = (pdt_model_kind_t)0; out[n++] = m;
-    m = good_sopdt(); m.kind = (pdt_model_kind_t)3; out[n++] = m;
+    m = good_fopdt();
+    m.p.fopdt.tau = R(0.0);
+    out[n++] = m;
+    m = good_fopdt();
+    m.p.fopdt.tau = R(-1.0);
+    out[n++] = m;
+    m = good_fopdt();
+    m.p.fopdt.Td = R(-0.1);
+    out[n++] = m;
+    m = good_fopdt();
+    m.p.fopdt.K = nan;
+    out[n++] = m;
+    m = good_fopdt();
+    m.p.fopdt.tau = inf;
+    out[n++] = m;
+    m = good_fopdt();
+    m.p.fopdt.Td = inf;
+    out[n++] = m;
+    m = good_sopdt();
+    m.p.sopdt.a = R(0.0);
+    out[n++] = m;
+    m = good_sopdt();
+    m.p.sopdt.a = R(-1.0);
+    out[n++] = m;
+    m = good_sopdt();
+    m.p.sopdt.b = R(-0.1);
+    out[n++] = m;
+    m = good_sopdt();
+    m.p.sopdt.Td = R(-0.1);
+    out[n++] = m;
+    m = good_sopdt();
+    m.p.sopdt.k = inf;
+    out[n++] = m;
+    m = good_sopdt();
+    m.p.sopdt.a = nan;
+    out[n++] = m;
+    m = good_sopdt();
+    m.p.sopdt.b = nan;
+    out[n++] = m;
+    m = good_sopdt();
+    m.p.sopdt.Td = nan;
+    out[n++] = m;
+    m = good_sopdt();
+    m.kind = (pdt_model_kind_t)0;
+    out[n++] = m;
+    m = good_sopdt();
+    m.kind = (pdt_model_kind_t)3;
+    out[n++] = m;
     return n;
 }
 
@@ -491,16 +522,11 @@ static void test_bad_conversions(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_step_vectors),
-        cmocka_unit_test(test_freq_vectors),
-        cmocka_unit_test(test_conversions_vectors),
-        cmocka_unit_test(test_conversions_round_trip),
-        cmocka_unit_test(test_dc_gain_and_dead_time),
-        cmocka_unit_test(test_step_properties),
-        cmocka_unit_test(test_negative_gain_phase),
-        cmocka_unit_test(test_bad_models),
-        cmocka_unit_test(test_bad_samples),
-        cmocka_unit_test(test_bad_conversions),
+        cmocka_unit_test(test_step_vectors),          cmocka_unit_test(test_freq_vectors),
+        cmocka_unit_test(test_conversions_vectors),   cmocka_unit_test(test_conversions_round_trip),
+        cmocka_unit_test(test_dc_gain_and_dead_time), cmocka_unit_test(test_step_properties),
+        cmocka_unit_test(test_negative_gain_phase),   cmocka_unit_test(test_bad_models),
+        cmocka_unit_test(test_bad_samples),           cmocka_unit_test(test_bad_conversions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

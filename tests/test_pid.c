@@ -43,10 +43,10 @@ static void test_config_default(void **state)
     pdt_pid_config_default(NULL);
     pdt_pid_config_t c;
     pdt_pid_config_default(&c);
-    assert_true(c.Ts == R(0.1) && c.form == PDT_PID_IDEAL && c.Kc == R(1.0) &&
-                c.Ti == R(10.0) && c.Td == R(0.0) && c.Tf == R(0.0) && c.N == R(10.0) &&
-                c.b == R(1.0) && c.c == R(0.0) && c.u_min == R(0.0) && c.u_max == R(100.0) &&
-                c.rate_max == R(0.0) && c.antiwindup == PDT_PID_AW_BACK_CALC && c.Tt == R(0.0));
+    assert_true(c.Ts == R(0.1) && c.form == PDT_PID_IDEAL && c.Kc == R(1.0) && c.Ti == R(10.0) &&
+                c.Td == R(0.0) && c.Tf == R(0.0) && c.N == R(10.0) && c.b == R(1.0) &&
+                c.c == R(0.0) && c.u_min == R(0.0) && c.u_max == R(100.0) && c.rate_max == R(0.0) &&
+                c.antiwindup == PDT_PID_AW_BACK_CALC && c.Tt == R(0.0));
     pdt_pid_t pid;
     assert_int_equal(pdt_pid_init(&pid, &c, R(0.0)), PDT_OK);
 }
@@ -134,8 +134,7 @@ static void test_closed_loop(void **state)
         print_message("loop %zu (%s, %s step, Ts %.2f s): max |y - discrete ref| %.1e, "
                       "max |y - continuous| %.5f, with Td + Ts/2 %.5f\n",
                       i, pid_cl_l[2u * i + 1u] == 1 ? "FOPDT" : "SOPDT",
-                      pid_cl_rd[2u * i] != 0.0 ? "set-point" : "load", Ts, e_ref, e_cont,
-                      e_half);
+                      pid_cl_rd[2u * i] != 0.0 ? "set-point" : "load", Ts, e_ref, e_cont, e_half);
         /* The discrete reference: the same loop, computed in double. */
         assert_true(e_ref <= 50.0 * TEST_RTOL);
         /* The continuous design: the error is first order in Ts (measured
@@ -244,14 +243,12 @@ static void test_from_tune(void **state)
     /* Gains outside their domain are refused. */
     pdt_tune_gains_t bad = r.ideal;
     bad.tauI = R(0.0);
-    assert_int_equal(pdt_pid_init_from_gains(&pi, &base, &bad, PDT_PID_IDEAL, R(0.0)),
-                     PDT_ERR_ARG);
+    assert_int_equal(pdt_pid_init_from_gains(&pi, &base, &bad, PDT_PID_IDEAL, R(0.0)), PDT_ERR_ARG);
     assert_int_equal(pdt_pid_init_from_gains(&pi, &base, &r.ideal, (pdt_pid_form_t)7, R(0.0)),
                      PDT_ERR_ARG);
     assert_int_equal(pdt_pid_init_from_gains(&pi, NULL, &r.ideal, PDT_PID_IDEAL, R(0.0)),
                      PDT_ERR_ARG);
-    assert_int_equal(pdt_pid_init_from_gains(&pi, &base, NULL, PDT_PID_IDEAL, R(0.0)),
-                     PDT_ERR_ARG);
+    assert_int_equal(pdt_pid_init_from_gains(&pi, &base, NULL, PDT_PID_IDEAL, R(0.0)), PDT_ERR_ARG);
 }
 
 /* Limits and the rate limit hold on every scan; the limited flag says so. */
@@ -322,7 +319,8 @@ static void test_antiwindup_recovery(void **state)
         }
     }
     print_message("scans to leave the upper limit: back-calc %d, conditional %d, both %d, "
-                  "none %d (-1: not within 2000)\n", leave[0], leave[1], leave[2], leave[3]);
+                  "none %d (-1: not within 2000)\n",
+                  leave[0], leave[1], leave[2], leave[3]);
     assert_true(leave[0] == 0 && leave[1] == 0 && leave[2] == 0);
     assert_true(leave[3] < 0);
 }
@@ -341,30 +339,80 @@ static void test_bad_inputs(void **state)
     for (int f = 0; f < 24; f++) {
         pdt_pid_config_t c = good;
         switch (f) {
-        case 0: c.Ts = R(0.0); break;
-        case 1: c.Ts = nan; break;
-        case 2: c.form = (pdt_pid_form_t)2; break;
-        case 3: c.Kc = R(0.0); break;
-        case 4: c.Kc = inf; break;
-        case 5: c.Ti = R(-1.0); break;
-        case 6: c.Td = R(-0.1); break;
-        case 7: c.Tf = R(-0.1); break;
-        case 8: c.N = R(0.5); break;
-        case 9: c.N = R(-1.0); break;
-        case 10: c.b = R(-0.1); break;
-        case 11: c.c = nan; break;
-        case 12: c.u_min = c.u_max; break;
-        case 13: c.u_max = inf; break;
-        case 14: c.rate_max = R(-1.0); break;
-        case 15: c.antiwindup = (pdt_pid_antiwindup_t)4; break;
-        case 16: c.Tt = R(-1.0); break;
-        case 17: c.Ti = nan; break;
-        case 18: c.u_min = nan; break;
-        case 19: c.rate_max = inf; break;
-        case 20: c.Tt = inf; break;
-        case 21: c.Td = inf; break;
-        case 22: c.b = inf; break;
-        default: c.Kc = REAL_BIG; c.Ts = R(1e3); c.Ti = R(1e-3); break; /* ki overflows */
+        case 0:
+            c.Ts = R(0.0);
+            break;
+        case 1:
+            c.Ts = nan;
+            break;
+        case 2:
+            c.form = (pdt_pid_form_t)2;
+            break;
+        case 3:
+            c.Kc = R(0.0);
+            break;
+        case 4:
+            c.Kc = inf;
+            break;
+        case 5:
+            c.Ti = R(-1.0);
+            break;
+        case 6:
+            c.Td = R(-0.1);
+            break;
+        case 7:
+            c.Tf = R(-0.1);
+            break;
+        case 8:
+            c.N = R(0.5);
+            break;
+        case 9:
+            c.N = R(-1.0);
+            break;
+        case 10:
+            c.b = R(-0.1);
+            break;
+        case 11:
+            c.c = nan;
+            break;
+        case 12:
+            c.u_min = c.u_max;
+            break;
+        case 13:
+            c.u_max = inf;
+            break;
+        case 14:
+            c.rate_max = R(-1.0);
+            break;
+        case 15:
+            c.antiwindup = (pdt_pid_antiwindup_t)4;
+            break;
+        case 16:
+            c.Tt = R(-1.0);
+            break;
+        case 17:
+            c.Ti = nan;
+            break;
+        case 18:
+            c.u_min = nan;
+            break;
+        case 19:
+            c.rate_max = inf;
+            break;
+        case 20:
+            c.Tt = inf;
+            break;
+        case 21:
+            c.Td = inf;
+            break;
+        case 22:
+            c.b = inf;
+            break;
+        default:
+            c.Kc = REAL_BIG;
+            c.Ts = R(1e3);
+            c.Ti = R(1e-3);
+            break; /* ki overflows */
         }
         memset(&pid, 0x5a, sizeof pid);
         pdt_pid_t copy;

@@ -24,21 +24,21 @@
 #define R(x) ((pdt_real_t)(x))
 
 /* The plant: K e^{-Td s} / (tau s + 1) around an operating point. */
-#define PLANT_K 2.0
-#define PLANT_TAU 4.0
-#define PLANT_TD 1.55
-#define PLANT_PV0 20.0   /* pv when u = 0 */
-#define SCAN 0.1         /* s */
-#define U0 30.0          /* output in service at the start */
-#define NOISE 0.01       /* half width of the uniform pv noise */
+#define PLANT_K    2.0
+#define PLANT_TAU  4.0
+#define PLANT_TD   1.55
+#define PLANT_PV0  20.0 /* pv when u = 0 */
+#define SCAN       0.1  /* s */
+#define U0         30.0 /* output in service at the start */
+#define NOISE      0.01 /* half width of the uniform pv noise */
 #define MAX_CYCLES 20000
 
 typedef struct plant {
-    double a, b1, b2;    /* y(k) = a y(k-1) + b1 u(k-1-l) + b2 u(k-2-l) */
+    double a, b1, b2; /* y(k) = a y(k-1) + b1 u(k-1-l) + b2 u(k-2-l) */
     unsigned l;
-    double x;            /* deviation state: pv - PLANT_PV0 */
-    double hist[64];     /* past outputs, hist[0] the newest */
-    double load;         /* disturbance added to the output, output units */
+    double x;        /* deviation state: pv - PLANT_PV0 */
+    double hist[64]; /* past outputs, hist[0] the newest */
+    double load;     /* disturbance added to the output, output units */
     uint32_t lcg;
 } plant_t;
 
@@ -87,7 +87,7 @@ typedef struct harness {
     pdt_fb_autotune_t fb;
     pdt_real_t canary[CANARY_COUNT];
     plant_t plant;
-    double worst_s;      /* longest cycle seen, s */
+    double worst_s; /* longest cycle seen, s */
     long cycles;
 } harness_t;
 
@@ -105,7 +105,7 @@ static int setup(void **state)
     pdt_fb_autotune_t *fb = &H->fb;
     fb->rScanPeriod = R(SCAN);
     fb->udiDecimation = 2u;
-    fb->udiSamples = 200u;  /* 40 s at 0.2 s: 10 time constants */
+    fb->udiSamples = 200u; /* 40 s at 0.2 s: 10 time constants */
     fb->udiSettle = 20u;
     fb->iExperiment = (int16_t)PDT_EXCITE_STEP;
     fb->rAmplitude = R(5.0);
@@ -193,8 +193,8 @@ static void test_null_and_init(void **state)
     assert_true(fb->rFitMin == R(80.0));
     assert_true(fb->rMsMax == R(2.0));
     assert_false(fb->xAuto || fb->xAutoActive || fb->xLimited);
-    assert_true(fb->rSpWeightP == R(1.0) && fb->rSpWeightD == R(0.0) &&
-                fb->rRateMax == R(0.0) && fb->rTrackTime == R(0.0));
+    assert_true(fb->rSpWeightP == R(1.0) && fb->rSpWeightD == R(0.0) && fb->rRateMax == R(0.0) &&
+                fb->rTrackTime == R(0.0));
     assert_int_equal(fb->iAntiWindup, PDT_PID_AW_BACK_CALC);
     assert_int_equal(fb->iPidStatus, 0);
     assert_true(fb->rOutMax == R(100.0));
@@ -208,8 +208,8 @@ static void test_null_and_init(void **state)
 static void test_instance_size(void **state)
 {
     harness_t *h = *state;
-    const pdt_cost_kind_t kinds[] = {PDT_COST_SIMULATION, PDT_COST_PREDICTION,
-                                     PDT_COST_FREQUENCY, PDT_COST_COMBINED};
+    const pdt_cost_kind_t kinds[] = {PDT_COST_SIMULATION, PDT_COST_PREDICTION, PDT_COST_FREQUENCY,
+                                     PDT_COST_COMBINED};
     for (int model = 1; model <= 2; model++) {
         for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
             pdt_autotune_config_t c;
@@ -227,20 +227,71 @@ static void test_instance_size(void **state)
     /* The public part is what the ST declaration lists, in its order, each
      * field at the next offset its own alignment allows (as a PLC lays out
      * an FB instance): nothing hidden, nothing reordered. */
-#define F(name) {offsetof(pdt_fb_autotune_t, name), sizeof(((pdt_fb_autotune_t *)0)->name), #name}
+#define F(name)                                                                                    \
+    {                                                                                              \
+        offsetof(pdt_fb_autotune_t, name), sizeof(((pdt_fb_autotune_t *)0)->name), #name           \
+    }
     static const struct {
         size_t off, size;
         const char *name;
     } fields[] = {
-        F(xExecute), F(xAbort), F(xAuto), F(rPV), F(rSetpoint), F(rOutputNow), F(rScanPeriod),
-        F(udiDecimation), F(udiSamples), F(udiSettle), F(udiEvalsPerScan), F(iExperiment),
-        F(iModel), F(rAmplitude), F(rExciteTime), F(rFrequency), F(rHysteresis), F(rOutMin),
-        F(rOutMax), F(rPvMin), F(rPvMax), F(rTimeLimit), F(iRule), F(iForm), F(rFitMin),
-        F(rMsMax), F(rSpWeightP), F(rSpWeightD), F(rRateMax), F(rTrackTime),
-        F(iAntiWindup), F(rOutput), F(xBusy), F(xDone), F(xError), F(xCommandAborted),
-        F(iErrorID), F(iPhase), F(sStatus), F(xModelValid), F(xGainsValid), F(xIntegrating),
-        F(rGain), F(rTau1), F(rTau2), F(rZeta), F(rDeadTime), F(rFit), F(rKc), F(rTi),
-        F(rTd), F(rTf), F(rMs), F(xAutoActive), F(xLimited), F(iPidStatus), F(internal),
+        F(xExecute),
+        F(xAbort),
+        F(xAuto),
+        F(rPV),
+        F(rSetpoint),
+        F(rOutputNow),
+        F(rScanPeriod),
+        F(udiDecimation),
+        F(udiSamples),
+        F(udiSettle),
+        F(udiEvalsPerScan),
+        F(iExperiment),
+        F(iModel),
+        F(rAmplitude),
+        F(rExciteTime),
+        F(rFrequency),
+        F(rHysteresis),
+        F(rOutMin),
+        F(rOutMax),
+        F(rPvMin),
+        F(rPvMax),
+        F(rTimeLimit),
+        F(iRule),
+        F(iForm),
+        F(rFitMin),
+        F(rMsMax),
+        F(rSpWeightP),
+        F(rSpWeightD),
+        F(rRateMax),
+        F(rTrackTime),
+        F(iAntiWindup),
+        F(rOutput),
+        F(xBusy),
+        F(xDone),
+        F(xError),
+        F(xCommandAborted),
+        F(iErrorID),
+        F(iPhase),
+        F(sStatus),
+        F(xModelValid),
+        F(xGainsValid),
+        F(xIntegrating),
+        F(rGain),
+        F(rTau1),
+        F(rTau2),
+        F(rZeta),
+        F(rDeadTime),
+        F(rFit),
+        F(rKc),
+        F(rTi),
+        F(rTd),
+        F(rTf),
+        F(rMs),
+        F(xAutoActive),
+        F(xLimited),
+        F(iPidStatus),
+        F(internal),
     };
 #undef F
     size_t next = 0u;
@@ -253,8 +304,8 @@ static void test_instance_size(void **state)
         }
         next = (next + align - 1u) / align * align;
         if (fields[i].off != next) {
-            fail_msg("%s at %zu, the declaration puts it at %zu", fields[i].name,
-                     fields[i].off, next);
+            fail_msg("%s at %zu, the declaration puts it at %zu", fields[i].name, fields[i].off,
+                     next);
         }
         next += fields[i].size;
     }
@@ -581,19 +632,44 @@ static void test_refused_start(void **state)
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         switch (cases[i].what) {
-        case 0: fb->rScanPeriod = R(0.0); break;
-        case 1: fb->iRule = 7; break;
-        case 2: fb->iForm = -1; break;
-        case 3: fb->iExperiment = 0; break;
-        case 4: fb->iModel = 3; break;
-        case 5: fb->udiSamples = PDT_FB_AUTOTUNE_CAPACITY + 1u; break;
-        case 6: fb->rOutputNow = R(101.0); break;
-        case 7: fb->rAmplitude = R(80.0); break;
-        case 8: fb->rPvMin = R(300.0); break;
-        case 9: fb->rMsMax = R(1.0); break;
-        case 10: fb->rTimeLimit = R(-1.0); break;
-        case 11: fb->udiSamples = 30u; break;
-        default: break;
+        case 0:
+            fb->rScanPeriod = R(0.0);
+            break;
+        case 1:
+            fb->iRule = 7;
+            break;
+        case 2:
+            fb->iForm = -1;
+            break;
+        case 3:
+            fb->iExperiment = 0;
+            break;
+        case 4:
+            fb->iModel = 3;
+            break;
+        case 5:
+            fb->udiSamples = PDT_FB_AUTOTUNE_CAPACITY + 1u;
+            break;
+        case 6:
+            fb->rOutputNow = R(101.0);
+            break;
+        case 7:
+            fb->rAmplitude = R(80.0);
+            break;
+        case 8:
+            fb->rPvMin = R(300.0);
+            break;
+        case 9:
+            fb->rMsMax = R(1.0);
+            break;
+        case 10:
+            fb->rTimeLimit = R(-1.0);
+            break;
+        case 11:
+            fb->udiSamples = 30u;
+            break;
+        default:
+            break;
         }
         start_edge(h);
         assert_false(fb->xBusy);
@@ -764,8 +840,8 @@ static void test_pid_after_done(void **state)
         dip = fmax(dip, (double)fb->rSetpoint - (double)fb->rPV);
     }
     e = run_auto(h, 500, 100, NULL);
-    print_message("load step -3: largest dip %.3f, |e| over the last 10 s %.4f, output %.3f\n",
-                  dip, e, (double)fb->rOutput);
+    print_message("load step -3: largest dip %.3f, |e| over the last 10 s %.4f, output %.3f\n", dip,
+                  e, (double)fb->rOutput);
     assert_true(dip > 1.0);
     assert_true(e < 0.05);
     assert_close(fb->rOutput, U0 + 2.5 + 3.0, 0.0, 0.1);
@@ -787,8 +863,8 @@ static void test_pid_after_done(void **state)
     fb->xAuto = true;
     cycle(h);
     assert_true(fb->xAutoActive);
-    print_message("manual to automatic: manual %.4f, first automatic output %.4f\n",
-                  (double)manual, (double)fb->rOutput);
+    print_message("manual to automatic: manual %.4f, first automatic output %.4f\n", (double)manual,
+                  (double)fb->rOutput);
     /* No bump: only one scan's control action on a pv still moving from
      * the ramp (Kc times its change, plus one integral increment). */
     assert_close(fb->rOutput, manual, 0.0, 0.25);

@@ -12,7 +12,7 @@
 
 #include "excite_record_vectors.h"
 
-#define R(x) ((pdt_real_t)(x))
+#define R(x)    ((pdt_real_t)(x))
 #define CAP_MAX 128
 
 static pdt_real_t lim(double x)
@@ -403,12 +403,9 @@ static void test_step_experiment(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_defaults),
-        cmocka_unit_test(test_vectors),
-        cmocka_unit_test(test_nonfinite_abort),
-        cmocka_unit_test(test_stop),
-        cmocka_unit_test(test_bad_inputs),
-        cmocka_unit_test(test_step_experiment),
+        cmocka_unit_test(test_defaults),        cmocka_unit_test(test_vectors),
+        cmocka_unit_test(test_nonfinite_abort), cmocka_unit_test(test_stop),
+        cmocka_unit_test(test_bad_inputs),      cmocka_unit_test(test_step_experiment),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

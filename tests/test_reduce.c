@@ -14,17 +14,17 @@
 #define R(x) ((pdt_real_t)(x))
 
 #if PDT_REAL_DOUBLE
-#define HALF_RTOL 1e-12
-#define WU_RTOL 1e-10
-#define SUNG_RTOL 1e-9
+#define HALF_RTOL  1e-12
+#define WU_RTOL    1e-10
+#define SUNG_RTOL  1e-9
 #define SUNG2_RTOL 1e-8
 #else
 /* Sums of a handful of float32 numbers. */
-#define HALF_RTOL 2e-6
+#define HALF_RTOL  2e-6
 /* w_u: the phase, a sum of atans, is good to a few float eps of pi; the
  * bisection finds w_u to that over the phase's slope. */
-#define WU_RTOL 1e-5
-#define SUNG_RTOL 2e-5
+#define WU_RTOL    1e-5
+#define SUNG_RTOL  2e-5
 /* The SOPDT normal equations have condition number ~50-1e3 on the default
  * grid, and q2^(1/4), zeta from q1/sqrt(q2) amplify it again. */
 #define SUNG2_RTOL 2e-4
@@ -168,8 +168,7 @@ static void test_half_vectors(void **state)
             assert_false(info.info.fallback);
             assert_true(info.info.w_u == R(0.0));
             assert_int_equal(pdt_model_check(&out.m), PDT_OK);
-            worst = fmax(worst, check_model(&out.m, o + 1, &red_half[4 * row], c.span,
-                                            HALF_RTOL));
+            worst = fmax(worst, check_model(&out.m, o + 1, &red_half[4 * row], c.span, HALF_RTOL));
             compared++;
         }
     }
@@ -238,19 +237,17 @@ static void test_sung_vectors(void **state)
                 fallbacks++;
             }
             double rtol = (kind == 2) ? SUNG2_RTOL : SUNG_RTOL;
-            worst[kind - 1] = fmax(worst[kind - 1], check_model(&out.m, kind,
-                                                                &red_sung[4 * row], c.span,
-                                                                rtol));
+            worst[kind - 1] =
+                fmax(worst[kind - 1], check_model(&out.m, kind, &red_sung[4 * row], c.span, rtol));
         }
     }
     assert_true(fallbacks > 0);
-    print_message("Sung: worst relative error FOPDT %.3g, SOPDT %.3g; %d fallbacks\n",
-                  worst[0], worst[1], fallbacks);
+    print_message("Sung: worst relative error FOPDT %.3g, SOPDT %.3g; %d fallbacks\n", worst[0],
+                  worst[1], fallbacks);
 }
 
 /* The paper's system (17) and its published reductions (Tables 1, 2). */
-static const pdt_real_t lags17[] = {R(2.0),  R(1.0),  R(0.4), R(0.2),
-                                    R(0.05), R(0.05), R(0.05)};
+static const pdt_real_t lags17[] = {R(2.0), R(1.0), R(0.4), R(0.2), R(0.05), R(0.05), R(0.05)};
 static const pdt_real_t zeros17[] = {R(-0.3), R(0.08)};
 
 static pdt_reduce_plant_t plant17(void)
@@ -418,8 +415,7 @@ static void test_invariances(void **state)
         assert_int_equal(pdt_reduce_half_rule(&r, &cfg, &m1, NULL), PDT_OK);
         cfg.h = R(0.25);
         assert_int_equal(pdt_reduce_half_rule(&r, &cfg, &m2, NULL), PDT_OK);
-        assert_close(pdt_model_dead_time(&m2), pdt_model_dead_time(&m1) + 0.125, TEST_RTOL,
-                     0.0);
+        assert_close(pdt_model_dead_time(&m2), pdt_model_dead_time(&m1) + 0.125, TEST_RTOL, 0.0);
         /* theta0 + RHP zero + the lags beyond the order:
          * FOPDT 0.5 + 0.5 + (1/2 + 0.5 + 0.25); SOPDT 0.5 + 0.5 + (0.5/2 + 0.25) */
         assert_close(pdt_model_dead_time(&m1), o ? 1.5 : 2.25, TEST_RTOL, 0.0);
@@ -633,10 +629,10 @@ static void test_bad_inputs(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_config_default), cmocka_unit_test(test_half_vectors),
+        cmocka_unit_test(test_config_default),   cmocka_unit_test(test_half_vectors),
         cmocka_unit_test(test_ultimate_vectors), cmocka_unit_test(test_sung_vectors),
-        cmocka_unit_test(test_paper17),        cmocka_unit_test(test_half_exact),
-        cmocka_unit_test(test_invariances),    cmocka_unit_test(test_sung_exact),
+        cmocka_unit_test(test_paper17),          cmocka_unit_test(test_half_exact),
+        cmocka_unit_test(test_invariances),      cmocka_unit_test(test_sung_exact),
         cmocka_unit_test(test_bad_inputs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

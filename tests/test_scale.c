@@ -11,20 +11,20 @@
 
 #include "pdt/pdt.h"
 
-#define SC_N 600u
-#define SC_TS 0.1
-#define SC_K 2.0
+#define SC_N   600u
+#define SC_TS  0.1
+#define SC_K   2.0
 #define SC_TAU 3.0
-#define SC_TD 1.2
-#define SC_U0 5.0
-#define SC_Y0 10.0
+#define SC_TD  1.2
+#define SC_U0  5.0
+#define SC_Y0  10.0
 
 static double g_ud[SC_N];
 static double g_yd[SC_N];
 static pdt_real_t g_u[SC_N];
 static pdt_real_t g_y[SC_N];
-static pdt_real_t g_work[PDT_IDENT_WORKSPACE_SIZE(SC_N, PDT_IDENT_POPULATION_SOPDT) /
-                         sizeof(pdt_real_t)];
+static pdt_real_t
+    g_work[PDT_IDENT_WORKSPACE_SIZE(SC_N, PDT_IDENT_POPULATION_SOPDT) / sizeof(pdt_real_t)];
 
 /* The unscaled record: a FOPDT (exact ZOH, in double) driven by steps of
  * varying length around SC_U0, with 1 % of deterministic output noise. */
@@ -95,8 +95,8 @@ static void check_scales(pdt_model_kind_t kind)
             assert_int_equal(identify(kind, &r), PDT_OK);
             double Kref = (kind == PDT_MODEL_FOPDT) ? (double)ref.model.p.fopdt.K
                                                     : (double)ref.model.p.sopdt.k;
-            double K = (kind == PDT_MODEL_FOPDT) ? (double)r.model.p.fopdt.K
-                                                 : (double)r.model.p.sopdt.k;
+            double K =
+                (kind == PDT_MODEL_FOPDT) ? (double)r.model.p.fopdt.K : (double)r.model.p.sopdt.k;
             double ek = rel(K, Kref * sy / su);
             worst_k = fmax(worst_k, ek);
             if (ek > 1e-2) {
@@ -104,10 +104,8 @@ static void check_scales(pdt_model_kind_t kind)
             }
             assert_true(ek < 1e-2);
             if (kind == PDT_MODEL_FOPDT) {
-                assert_true(rel((double)r.model.p.fopdt.tau, (double)ref.model.p.fopdt.tau) <
-                            2e-2);
-                assert_true(fabs((double)r.model.p.fopdt.Td - (double)ref.model.p.fopdt.Td) <
-                            0.05);
+                assert_true(rel((double)r.model.p.fopdt.tau, (double)ref.model.p.fopdt.tau) < 2e-2);
+                assert_true(fabs((double)r.model.p.fopdt.Td - (double)ref.model.p.fopdt.Td) < 0.05);
             }
             assert_true(rel((double)r.y0, (double)ref.y0 * sy) < 1e-3);
             assert_true(isfinite((double)r.fit));

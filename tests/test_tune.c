@@ -18,12 +18,12 @@
  * the float32 model through one conversion of form (2)). */
 #if PDT_REAL_DOUBLE
 #define GAIN_RTOL 1e-9
-#define FIG_RTOL 1e-6
-#define WMS_RTOL 1e-3
+#define FIG_RTOL  1e-6
+#define WMS_RTOL  1e-3
 #else
 #define GAIN_RTOL TEST_RTOL
-#define FIG_RTOL 1e-3
-#define WMS_RTOL 2e-2
+#define FIG_RTOL  1e-3
+#define WMS_RTOL  2e-2
 #endif
 /* The frequency of the peak of |S| is a flat maximum: its location is
  * known to about the square root of the value's precision, so it is
@@ -279,13 +279,11 @@ static void test_ziegler_nichols(void **state)
     (void)state;
     guarded_gains_t o;
     canary_fill(o.canary, CANARY_COUNT);
-    assert_int_equal(pdt_tune_ziegler_nichols(TR(4.0), TR(6.0), PDT_TUNE_PI, &o.g),
-                     PDT_OK);
+    assert_int_equal(pdt_tune_ziegler_nichols(TR(4.0), TR(6.0), PDT_TUNE_PI, &o.g), PDT_OK);
     assert_close(o.g.Kc, 1.8, 1e-6, 0.0);
     assert_close(o.g.tauI, 5.0, 1e-6, 0.0);
     assert_true(o.g.tauD == TR(0.0) && o.g.Tf == TR(0.0));
-    assert_int_equal(pdt_tune_ziegler_nichols(TR(-4.0), TR(6.0), PDT_TUNE_PID, &o.g),
-                     PDT_OK);
+    assert_int_equal(pdt_tune_ziegler_nichols(TR(-4.0), TR(6.0), PDT_TUNE_PID, &o.g), PDT_OK);
     canary_check(o.canary, CANARY_COUNT);
     assert_close(o.g.Kc, -2.4, 1e-6, 0.0);
     assert_close(o.g.tauI, 3.0, 1e-6, 0.0);
@@ -323,17 +321,28 @@ static void test_ziegler_nichols(void **state)
         int form = PDT_TUNE_PI;
         pdt_tune_gains_t *out = &o.g;
         switch (bad) {
-        case 0: k = TR(0.0); break;
-        case 1: k = (pdt_real_t)NAN; break;
-        case 2: p = TR(0.0); break;
-        case 3: p = (pdt_real_t)INFINITY; break;
-        case 4: form = 7; break;
-        default: out = NULL; break;
+        case 0:
+            k = TR(0.0);
+            break;
+        case 1:
+            k = (pdt_real_t)NAN;
+            break;
+        case 2:
+            p = TR(0.0);
+            break;
+        case 3:
+            p = (pdt_real_t)INFINITY;
+            break;
+        case 4:
+            form = 7;
+            break;
+        default:
+            out = NULL;
+            break;
         }
         memset(&o.g, 0x5a, sizeof o.g);
         pdt_tune_gains_t before = o.g;
-        assert_int_equal(pdt_tune_ziegler_nichols(k, p, (pdt_tune_form_t)form, out),
-                         PDT_ERR_ARG);
+        assert_int_equal(pdt_tune_ziegler_nichols(k, p, (pdt_tune_form_t)form, out), PDT_ERR_ARG);
         assert_memory_equal(&o.g, &before, sizeof before);
     }
 }
@@ -383,8 +392,8 @@ static void test_figures_by_definition(void **state)
             double im;
             loop_at(&ms[i], &r.ideal, (double)r.fig.w_gc, &re, &im);
             assert_close(hypot(re, im), 1.0, 1e-4, 0.0);
-            assert_close(180.0 + atan2(im, re) * 180.0 / 3.14159265358979,
-                         r.fig.phase_margin_deg, 1e-3, 0.0);
+            assert_close(180.0 + atan2(im, re) * 180.0 / 3.14159265358979, r.fig.phase_margin_deg,
+                         1e-3, 0.0);
             loop_at(&ms[i], &r.ideal, (double)r.fig.w_pc, &re, &im);
             assert_true(re < 0.0);
             assert_close(im / re, 0.0, 0.0, 1e-4);
@@ -546,20 +555,48 @@ static void test_bad_inputs(void **state)
     for (int bad = 0; bad < 14; bad++) {
         pdt_tune_config_t c = good;
         switch (bad) {
-        case 0: c.rule = (pdt_tune_rule_t)9; break;
-        case 1: c.form = (pdt_tune_form_t)-1; break;
-        case 2: c.tau_c = TR(-0.1); break;
-        case 3: c.tau_c = (pdt_real_t)NAN; break;
-        case 4: c.lambda = TR(-1.0); break;
-        case 5: c.lambda = (pdt_real_t)INFINITY; break;
-        case 6: c.deriv_filter = TR(0.5); break;
-        case 7: c.deriv_filter = TR(-10.0); break;
-        case 8: c.deriv_filter = (pdt_real_t)NAN; break;
-        case 9: c.fit_min = (pdt_real_t)NAN; break;
-        case 10: c.ms_max = TR(1.0); break;
-        case 11: c.ms_max = TR(-2.0); break;
-        case 12: c.ms_max = (pdt_real_t)INFINITY; break;
-        default: c.fit_min = (pdt_real_t)-INFINITY; break;
+        case 0:
+            c.rule = (pdt_tune_rule_t)9;
+            break;
+        case 1:
+            c.form = (pdt_tune_form_t)-1;
+            break;
+        case 2:
+            c.tau_c = TR(-0.1);
+            break;
+        case 3:
+            c.tau_c = (pdt_real_t)NAN;
+            break;
+        case 4:
+            c.lambda = TR(-1.0);
+            break;
+        case 5:
+            c.lambda = (pdt_real_t)INFINITY;
+            break;
+        case 6:
+            c.deriv_filter = TR(0.5);
+            break;
+        case 7:
+            c.deriv_filter = TR(-10.0);
+            break;
+        case 8:
+            c.deriv_filter = (pdt_real_t)NAN;
+            break;
+        case 9:
+            c.fit_min = (pdt_real_t)NAN;
+            break;
+        case 10:
+            c.ms_max = TR(1.0);
+            break;
+        case 11:
+            c.ms_max = TR(-2.0);
+            break;
+        case 12:
+            c.ms_max = (pdt_real_t)INFINITY;
+            break;
+        default:
+            c.fit_min = (pdt_real_t)-INFINITY;
+            break;
         }
         if (pdt_tune_compute(&m, TR(100.0), &c, &out.r) != PDT_ERR_ARG) {
             fail_msg("bad config %d accepted", bad);
@@ -595,14 +632,30 @@ static void test_bad_inputs(void **state)
     for (int bad = 0; bad < 8; bad++) {
         pdt_tune_gains_t b = g;
         switch (bad) {
-        case 0: b.Kc = TR(0.0); break;
-        case 1: b.Kc = (pdt_real_t)NAN; break;
-        case 2: b.tauI = TR(0.0); break;
-        case 3: b.tauI = (pdt_real_t)INFINITY; break;
-        case 4: b.tauD = TR(-1.0); break;
-        case 5: b.tauD = (pdt_real_t)NAN; break;
-        case 6: b.Tf = TR(-0.1); break;
-        default: b.Tf = (pdt_real_t)INFINITY; break;
+        case 0:
+            b.Kc = TR(0.0);
+            break;
+        case 1:
+            b.Kc = (pdt_real_t)NAN;
+            break;
+        case 2:
+            b.tauI = TR(0.0);
+            break;
+        case 3:
+            b.tauI = (pdt_real_t)INFINITY;
+            break;
+        case 4:
+            b.tauD = TR(-1.0);
+            break;
+        case 5:
+            b.tauD = (pdt_real_t)NAN;
+            break;
+        case 6:
+            b.Tf = TR(-0.1);
+            break;
+        default:
+            b.Tf = (pdt_real_t)INFINITY;
+            break;
         }
         assert_int_equal(pdt_tune_robustness(&m, &b, &fo.f), PDT_ERR_ARG);
         guarded_gains_t go;

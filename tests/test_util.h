@@ -37,7 +37,7 @@ static inline void canary_check(const pdt_real_t *p, size_t n)
 }
 
 /* |got - want| <= atol + rtol |want|, with a readable failure message. */
-#define assert_close(got, want, rtol, atol) \
+#define assert_close(got, want, rtol, atol)                                                        \
     assert_close_at((double)(got), (double)(want), (rtol), (atol), #got, __FILE__, __LINE__)
 
 static inline void assert_close_at(double got, double want, double rtol, double atol,
@@ -45,8 +45,8 @@ static inline void assert_close_at(double got, double want, double rtol, double 
 {
     double err = fabs(got - want);
     if (!(err <= atol + rtol * fabs(want))) {
-        fail_msg("%s:%d: %s = %.17g, want %.17g (err %.3g, rtol %.3g, atol %.3g)", file,
-                 line, what, got, want, err, rtol, atol);
+        fail_msg("%s:%d: %s = %.17g, want %.17g (err %.3g, rtol %.3g, atol %.3g)", file, line, what,
+                 got, want, err, rtol, atol);
     }
 }
 

@@ -9,7 +9,7 @@
 #include "sim_rng.h"
 #include "validate_vectors.h"
 
-#define N 400u
+#define N  400u
 #define TS 0.5
 
 static pdt_real_t g_u[N];
@@ -205,9 +205,8 @@ static void test_select_order(void **state)
      * its std is infinite, the others' finite (conditional on it). */
     make_output(&f, 0.05, 11u);
     vs = validate(&s_near, 5.0);
-    print_message("SOPDT of FOPDT data: std k %.3g a %.3g b %.3g Td %.3g\n",
-                  (double)vs.std.std[0], (double)vs.std.std[1], (double)vs.std.std[2],
-                  (double)vs.std.std[3]);
+    print_message("SOPDT of FOPDT data: std k %.3g a %.3g b %.3g Td %.3g\n", (double)vs.std.std[0],
+                  (double)vs.std.std[1], (double)vs.std.std[2], (double)vs.std.std[3]);
     /* Wrong kinds, NULL: refused, kind untouched. */
     kind = (pdt_model_kind_t)0;
     assert_int_equal(pdt_ident_select_order(&vs, &vf, &kind), PDT_ERR_ARG);
@@ -261,8 +260,7 @@ static void test_margin(void **state)
     pdt_tune_gains_t bad = tr.ideal;
     bad.tauI = (pdt_real_t)0.0;
     assert_int_equal(pdt_validate_margin(&v, (pdt_real_t)0.0, &bad, &ms, NULL), PDT_ERR_ARG);
-    assert_int_equal(pdt_validate_margin(NULL, (pdt_real_t)0.0, &tr.ideal, &ms, NULL),
-                     PDT_ERR_ARG);
+    assert_int_equal(pdt_validate_margin(NULL, (pdt_real_t)0.0, &tr.ideal, &ms, NULL), PDT_ERR_ARG);
 }
 
 static void test_bad_inputs(void **state)
@@ -279,19 +277,17 @@ static void test_bad_inputs(void **state)
     assert_int_equal(len, PDT_VALIDATE_WORKSPACE_SIZE(N));
     assert_int_equal(pdt_validate_model(NULL, &data, (pdt_real_t)TS, 5, g_work, len, &v),
                      PDT_ERR_ARG);
-    assert_int_equal(pdt_validate_model(&m, NULL, (pdt_real_t)TS, 5, g_work, len, &v),
-                     PDT_ERR_ARG);
+    assert_int_equal(pdt_validate_model(&m, NULL, (pdt_real_t)TS, 5, g_work, len, &v), PDT_ERR_ARG);
     assert_int_equal(pdt_validate_model(&m, &data, (pdt_real_t)0.0, 5, g_work, len, &v),
                      PDT_ERR_ARG);
-    assert_int_equal(pdt_validate_model(&m, &data, (pdt_real_t)TS, (pdt_real_t)NAN, g_work, len,
-                                        &v),
-                     PDT_ERR_ARG);
+    assert_int_equal(
+        pdt_validate_model(&m, &data, (pdt_real_t)TS, (pdt_real_t)NAN, g_work, len, &v),
+        PDT_ERR_ARG);
     assert_int_equal(pdt_validate_model(&m, &data, (pdt_real_t)TS, 5, NULL, len, &v),
                      PDT_ERR_NOMEM);
     assert_int_equal(pdt_validate_model(&m, &data, (pdt_real_t)TS, 5, g_work, len - 1u, &v),
                      PDT_ERR_NOMEM);
-    assert_int_equal(pdt_validate_model(&m, &data, (pdt_real_t)TS, 5, (char *)g_work + 1, len,
-                                        &v),
+    assert_int_equal(pdt_validate_model(&m, &data, (pdt_real_t)TS, 5, (char *)g_work + 1, len, &v),
                      PDT_ERR_ARG);
     pdt_ident_data_t shortd = {g_u, g_y, 40u};
     assert_int_equal(pdt_validate_model(&m, &shortd, (pdt_real_t)TS, 5, g_work, len, &v),
@@ -324,8 +320,7 @@ static void test_status_names(void **state)
 {
     (void)state;
     assert_string_equal(pdt_status_str(PDT_ERR_MODEL_INVALID), "data contradict the model");
-    assert_string_equal(pdt_status_str(PDT_ERR_UNCERTAIN),
-                        "model too uncertain for robust gains");
+    assert_string_equal(pdt_status_str(PDT_ERR_UNCERTAIN), "model too uncertain for robust gains");
 }
 
 /* Against the numpy reference (tools/pdtref/validate.py): its sensitivities

@@ -8,14 +8,14 @@
 #include "pdt/pdt.h"
 
 #define SCAN_PERIOD_S 0.5f /* the control task's period */
-#define CAPACITY 600u      /* samples recorded: 600 x 0.5 s = 5 min */
+#define CAPACITY      600u /* samples recorded: 600 x 0.5 s = 5 min */
 
 /* The workspace: one static array, sized by the compile-time bound (the
  * identification's share for CAPACITY samples plus the record), checked
  * against the exact size query at run time. */
-static pdt_real_t work[PDT_IDENT_WORKSPACE_SIZE(CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
-                           sizeof(pdt_real_t) +
-                       2u * CAPACITY + 1u];
+static pdt_real_t
+    work[PDT_IDENT_WORKSPACE_SIZE(CAPACITY, PDT_IDENT_POPULATION_SOPDT) / sizeof(pdt_real_t) +
+         2u * CAPACITY + 1u];
 static pdt_autotune_t at;
 static pdt_pid_t pid;
 
@@ -31,16 +31,16 @@ int main(void)
     cfg.Ts = SCAN_PERIOD_S;
     cfg.decimation = 1u;
     cfg.capacity = CAPACITY;
-    cfg.settle = 20u;                /* 10 s at rest first */
+    cfg.settle = 20u; /* 10 s at rest first */
     cfg.excite.kind = PDT_EXCITE_PRBS;
-    cfg.excite.amplitude = 5.0f;     /* +/- 5 % heater around the operating point */
+    cfg.excite.amplitude = 5.0f; /* +/- 5 % heater around the operating point */
     cfg.excite.prbs_bits = 7u;
-    cfg.excite.prbs_hold = 8u;       /* 4 s chips, 127 chips = 508 s */
-    cfg.u_min = 0.0f;                /* the heater's range, % */
+    cfg.excite.prbs_hold = 8u; /* 4 s chips, 127 chips = 508 s */
+    cfg.u_min = 0.0f;          /* the heater's range, % */
     cfg.u_max = 100.0f;
-    cfg.pv_min = 20.0f;              /* what the process may see, deg C */
+    cfg.pv_min = 20.0f; /* what the process may see, deg C */
     cfg.pv_max = 90.0f;
-    cfg.max_scans = 2000u;           /* give up after 1000 s */
+    cfg.max_scans = 2000u; /* give up after 1000 s */
     cfg.ident.model = PDT_MODEL_FOPDT;
     cfg.tune.rule = PDT_TUNE_SIMC;
     cfg.tune.form = PDT_TUNE_PI;
@@ -68,8 +68,7 @@ int main(void)
             pc.Ts = SCAN_PERIOD_S;
             pc.u_min = cfg.u_min;
             pc.u_max = cfg.u_max;
-            tuned = pdt_pid_init_from_gains(&pid, &pc, &res.tune.ideal, PDT_PID_IDEAL, u) ==
-                    PDT_OK;
+            tuned = pdt_pid_init_from_gains(&pid, &pc, &res.tune.ideal, PDT_PID_IDEAL, u) == PDT_OK;
             break;
         }
         if (st != PDT_RUNNING) {

@@ -14,7 +14,7 @@
 
 /* Library defaults the zero parameters stand for. */
 #define FB_SETTLE_DEFAULT 20u
-#define FB_EVALS_DEFAULT 4u
+#define FB_EVALS_DEFAULT  4u
 
 static bool real_ok(pdt_real_t x)
 {
@@ -82,9 +82,8 @@ static pdt_status_t check_params(const pdt_fb_autotune_t *fb)
         (fb->rMsMax != FB_R(0.0) && !(fb->rMsMax > FB_R(1.0)))) {
         return PDT_ERR_ARG;
     }
-    if (!real_ok(fb->rExciteTime) || fb->rExciteTime < FB_R(0.0) ||
-        !real_ok(fb->rTimeLimit) || fb->rTimeLimit < FB_R(0.0) ||
-        !real_ok(fb->rFrequency) || fb->rFrequency < FB_R(0.0)) {
+    if (!real_ok(fb->rExciteTime) || fb->rExciteTime < FB_R(0.0) || !real_ok(fb->rTimeLimit) ||
+        fb->rTimeLimit < FB_R(0.0) || !real_ok(fb->rFrequency) || fb->rFrequency < FB_R(0.0)) {
         return PDT_ERR_ARG;
     }
     /* The instance's workspace may hold a little more for some configs;
@@ -106,8 +105,7 @@ static void make_config(const pdt_fb_autotune_t *fb, pdt_autotune_config_t *c)
     pdt_autotune_config_default(c);
     c->Ts = fb->rScanPeriod;
     c->decimation = fb->udiDecimation != 0u ? fb->udiDecimation : 1u;
-    c->capacity = fb->udiSamples != 0u ? (size_t)fb->udiSamples
-                                       : (size_t)PDT_FB_AUTOTUNE_CAPACITY;
+    c->capacity = fb->udiSamples != 0u ? (size_t)fb->udiSamples : (size_t)PDT_FB_AUTOTUNE_CAPACITY;
     c->settle = fb->udiSettle != 0u ? fb->udiSettle : FB_SETTLE_DEFAULT;
     c->evals_per_scan = fb->udiEvalsPerScan != 0u ? fb->udiEvalsPerScan : FB_EVALS_DEFAULT;
     c->u_min = fb->rOutMin;

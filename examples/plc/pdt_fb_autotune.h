@@ -93,37 +93,38 @@ extern "C" {
 
 /* Workspace reals in one instance: enough for any configuration and the
  * automatic population of either model. */
-#define PDT_FB_AUTOTUNE_WORK_REALS                                                         \
-    ((PDT_AUTOTUNE_WORKSPACE_SIZE(PDT_FB_AUTOTUNE_CAPACITY, PDT_IDENT_POPULATION_SOPDT) + \
-      sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t))
+#define PDT_FB_AUTOTUNE_WORK_REALS                                                                 \
+    ((PDT_AUTOTUNE_WORKSPACE_SIZE(PDT_FB_AUTOTUNE_CAPACITY, PDT_IDENT_POPULATION_SOPDT) +          \
+      sizeof(pdt_real_t) - 1u) /                                                                   \
+     sizeof(pdt_real_t))
 
 /* Length of sStatus, terminating NUL included: STRING(39). */
 #define PDT_FB_AUTOTUNE_STATUS_LEN 40u
 
 /* The internal VARs. Private: the ST declaration reserves its size only. */
 typedef struct pdt_fb_autotune_internal {
-    bool xExecutePrev;        /* xExecute of the last cycle (edge memory) */
-    bool xAbortPrev;          /* xAbort of the last cycle */
-    pdt_real_t rStartOutput;  /* rOutputNow at the start */
-    bool xAutoPrev;           /* xAuto of the last cycle */
-    bool xPidReady;           /* pid holds the last Done's gains */
-    const void *self;         /* the instance's address at the start: the
+    bool xExecutePrev;                           /* xExecute of the last cycle (edge memory) */
+    bool xAbortPrev;                             /* xAbort of the last cycle */
+    pdt_real_t rStartOutput;                     /* rOutputNow at the start */
+    bool xAutoPrev;                              /* xAuto of the last cycle */
+    bool xPidReady;                              /* pid holds the last Done's gains */
+    const void *self;                            /* the instance's address at the start: the
                                * autotune points into the instance */
-    pdt_pid_t pid;            /* the PID with the tuned gains */
-    pdt_autotune_t at;        /* the autotune, valid while xBusy and after */
+    pdt_pid_t pid;                               /* the PID with the tuned gains */
+    pdt_autotune_t at;                           /* the autotune, valid while xBusy and after */
     pdt_real_t work[PDT_FB_AUTOTUNE_WORK_REALS]; /* its workspace */
 } pdt_fb_autotune_internal_t;
 
 typedef struct pdt_fb_autotune {
     /* VAR_INPUT: commands and process signals, read every cycle. */
-    bool xExecute;            /* rising edge: start an autotune */
-    bool xAbort;              /* rising edge: stop it (safe output) */
-    bool xAuto;               /* TRUE: the PID drives rOutput once there
+    bool xExecute;         /* rising edge: start an autotune */
+    bool xAbort;           /* rising edge: stop it (safe output) */
+    bool xAuto;            /* TRUE: the PID drives rOutput once there
                                * are gains (automatic); FALSE: manual */
-    pdt_real_t rPV;           /* process value read this cycle, pv units */
-    pdt_real_t rSetpoint;     /* the PID's set-point, and the pv the relay
+    pdt_real_t rPV;        /* process value read this cycle, pv units */
+    pdt_real_t rSetpoint;  /* the PID's set-point, and the pv the relay
                                * experiment switches around, pv units */
-    pdt_real_t rOutputNow;    /* output in service, output units: the
+    pdt_real_t rOutputNow; /* output in service, output units: the
                                * operating point at the start, rOutput
                                * before the first start, and what the PID
                                * tracks in manual */
@@ -168,49 +169,49 @@ typedef struct pdt_fb_autotune {
                                * else > 1. Init 2 */
     /* VAR_INPUT: PID parameters, taken at Done and on a rising edge of
      * xAuto (the PID also uses rScanPeriod, rOutMin, rOutMax). */
-    pdt_real_t rSpWeightP;    /* set-point weight b of the P term, >= 0.
+    pdt_real_t rSpWeightP; /* set-point weight b of the P term, >= 0.
                                * Init 1 */
-    pdt_real_t rSpWeightD;    /* set-point weight c of the D term, >= 0;
+    pdt_real_t rSpWeightD; /* set-point weight c of the D term, >= 0;
                                * 0: derivative on the measurement. Init 0 */
-    pdt_real_t rRateMax;      /* output units per s, 0: no limit. Init 0 */
-    pdt_real_t rTrackTime;    /* anti-windup tracking time Tt, s; 0: the
+    pdt_real_t rRateMax;   /* output units per s, 0: no limit. Init 0 */
+    pdt_real_t rTrackTime; /* anti-windup tracking time Tt, s; 0: the
                                * default rule. Init 0 */
-    int16_t iAntiWindup;      /* pdt_pid_antiwindup_t: 0 back-calculation,
+    int16_t iAntiWindup;   /* pdt_pid_antiwindup_t: 0 back-calculation,
                                * 1 conditional, 2 both, 3 none. Init 0 */
 
     /* VAR_OUTPUT */
-    pdt_real_t rOutput;       /* output to apply this cycle, output units */
-    bool xBusy;               /* an autotune runs: apply rOutput */
-    bool xDone;               /* model and gains ready */
-    bool xError;              /* ended by iErrorID */
-    bool xCommandAborted;     /* ended by xAbort */
-    int16_t iErrorID;         /* pdt_status_t that ended it, 0 if none */
-    int16_t iPhase;           /* pdt_autotune_phase_t: 0 never started (or
+    pdt_real_t rOutput;                       /* output to apply this cycle, output units */
+    bool xBusy;                               /* an autotune runs: apply rOutput */
+    bool xDone;                               /* model and gains ready */
+    bool xError;                              /* ended by iErrorID */
+    bool xCommandAborted;                     /* ended by xAbort */
+    int16_t iErrorID;                         /* pdt_status_t that ended it, 0 if none */
+    int16_t iPhase;                           /* pdt_autotune_phase_t: 0 never started (or
                                * refused), 1 settle, 2 excite, 3 identify,
                                * 4 tune, 5 done, 6 failed */
     char sStatus[PDT_FB_AUTOTUNE_STATUS_LEN]; /* the state, in words */
-    bool xModelValid;         /* the model outputs hold the last model */
-    bool xGainsValid;         /* the gain outputs hold the last gains */
-    bool xIntegrating;        /* the model is an integrator with a lag */
-    pdt_real_t rGain;         /* DC gain, pv units per output unit; an
+    bool xModelValid;                         /* the model outputs hold the last model */
+    bool xGainsValid;                         /* the gain outputs hold the last gains */
+    bool xIntegrating;                        /* the model is an integrator with a lag */
+    pdt_real_t rGain;                         /* DC gain, pv units per output unit; an
                                * integrator's gain per second */
-    pdt_real_t rTau1;         /* FOPDT time constant; SOPDT larger time
+    pdt_real_t rTau1;                         /* FOPDT time constant; SOPDT larger time
                                * constant (complex pair: 1 / wn); an
                                * integrator's lag, s */
-    pdt_real_t rTau2;         /* SOPDT smaller time constant (complex
+    pdt_real_t rTau2;                         /* SOPDT smaller time constant (complex
                                * pair: 1 / wn), s; 0 otherwise */
-    pdt_real_t rZeta;         /* SOPDT damping ratio; 0 otherwise */
-    pdt_real_t rDeadTime;     /* s */
-    pdt_real_t rFit;          /* fit of the model to the record, % */
-    pdt_real_t rKc;           /* ideal form Kc (1 + 1/(Ti s) + Td s/(Tf s + 1)): */
-    pdt_real_t rTi;           /* output units per pv unit, s, s, s; the sign */
-    pdt_real_t rTd;           /* of rKc is the controller's action (negative: */
-    pdt_real_t rTf;           /* direct acting) */
-    pdt_real_t rMs;           /* maximum sensitivity of the loop with the model */
-    bool xAutoActive;         /* the PID drives rOutput this cycle */
-    bool xLimited;            /* the PID's output is at a limit (range,
+    pdt_real_t rZeta;                         /* SOPDT damping ratio; 0 otherwise */
+    pdt_real_t rDeadTime;                     /* s */
+    pdt_real_t rFit;                          /* fit of the model to the record, % */
+    pdt_real_t rKc;                           /* ideal form Kc (1 + 1/(Ti s) + Td s/(Tf s + 1)): */
+    pdt_real_t rTi;                           /* output units per pv unit, s, s, s; the sign */
+    pdt_real_t rTd;                           /* of rKc is the controller's action (negative: */
+    pdt_real_t rTf;                           /* direct acting) */
+    pdt_real_t rMs;                           /* maximum sensitivity of the loop with the model */
+    bool xAutoActive;                         /* the PID drives rOutput this cycle */
+    bool xLimited;                            /* the PID's output is at a limit (range,
                                * rate) */
-    int16_t iPidStatus;       /* pdt_status_t of the PID's last call: 0, or
+    int16_t iPidStatus;                       /* pdt_status_t of the PID's last call: 0, or
                                * e.g. PDT_ERR_NONFINITE (pv failed, output
                                * held), PDT_ERR_ARG (a PID parameter) */
 

@@ -42,9 +42,9 @@ static pdt_real_t rmax0(pdt_real_t x)
 
 /* The knob factors the tuning tries, in order, until the evidence accepts
  * the gains: a slower closed loop each time. */
-static const pdt_real_t detune_steps[] = {
-    PDT_R(1.0), PDT_R(1.5), PDT_R(2.0), PDT_R(3.0), PDT_R(4.0),
-    PDT_R(6.0), PDT_R(8.0), PDT_R(12.0), PDT_R(16.0)};
+static const pdt_real_t detune_steps[] = {PDT_R(1.0), PDT_R(1.5),  PDT_R(2.0),
+                                          PDT_R(3.0), PDT_R(4.0),  PDT_R(6.0),
+                                          PDT_R(8.0), PDT_R(12.0), PDT_R(16.0)};
 #define DETUNE_STEPS (sizeof detune_steps / sizeof detune_steps[0])
 
 /* The identification's config: the caller's, at the identification rate. */
@@ -407,8 +407,8 @@ static bool relay_agrees(const pdt_autotune_t *at)
     pdt_real_t gain;
     if (pdt_model_dc_gain(&at->res.ident.model, &gain) == PDT_OK && gain < PDT_R(0.0)) {
         ph += PDT_PI; /* the relay's action took the sign out */
-    } else if (at->res.ident.model.kind == PDT_MODEL_SOPDT && at->res.ident.model.p.sopdt.k <
-                                                                  PDT_R(0.0)) {
+    } else if (at->res.ident.model.kind == PDT_MODEL_SOPDT &&
+               at->res.ident.model.p.sopdt.k < PDT_R(0.0)) {
         ph += PDT_PI;
     }
     pdt_real_t x = at->cfg.excite.eps / rl->a;

@@ -398,8 +398,7 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
     t.u = un;
     t.y = yn;
     for (k = 0u; k < 2u; k++) {
-        window_moments(yn, first_scored(&t, (uint8_t)(k + 1u), false), n, &t.ysum[k],
-                       &t.yvar[k]);
+        window_moments(yn, first_scored(&t, (uint8_t)(k + 1u), false), n, &t.ysum[k], &t.yvar[k]);
     }
 
     if (cfg->use_frequency) {
@@ -700,8 +699,7 @@ static pdt_real_t frequency_cost(const pdt_cost_t *c, const pdt_model_t *m)
 
 pdt_status_t pdt_cost_frequency(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *cost)
 {
-    if (!prepared(c) || m == NULL || cost == NULL || c->nf == 0u ||
-        pdt_model_check(m) != PDT_OK) {
+    if (!prepared(c) || m == NULL || cost == NULL || c->nf == 0u || pdt_model_check(m) != PDT_OK) {
         return PDT_ERR_ARG;
     }
     *cost = cost_units(c, frequency_cost(c, m));
@@ -922,19 +920,19 @@ static pdt_real_t gain_to_norm(const pdt_cost_t *c, pdt_real_t g)
  * around the fit it found. */
 #if PDT_REAL_DOUBLE
 #define CANCEL_RATIO (PDT_R(1e-11) / PDT_REAL_EPS)
-#define LOOSE_RATIO (PDT_R(1e-8) / PDT_REAL_EPS)
+#define LOOSE_RATIO  (PDT_R(1e-8) / PDT_REAL_EPS)
 #else
 #define CANCEL_RATIO (PDT_R(2e-6) / PDT_REAL_EPS)
-#define LOOSE_RATIO (PDT_R(1e-3) / PDT_REAL_EPS)
+#define LOOSE_RATIO  (PDT_R(1e-3) / PDT_REAL_EPS)
 #endif
 
 /* The simulation's time part: one kernel pass around the reference fit
  * (K0, c0) and the regression summaries of it, normalised units. */
 typedef struct sim_fit {
-    pdt_real_t m;        /* scored samples */
-    pdt_real_t K0, c0;   /* the reference fit */
-    pdt_real_t sum_s;    /* sum s */
-    pdt_real_t sum_e;    /* sum (y - K0 s - c0) */
+    pdt_real_t m;             /* scored samples */
+    pdt_real_t K0, c0;        /* the reference fit */
+    pdt_real_t sum_s;         /* sum s */
+    pdt_real_t sum_e;         /* sum (y - K0 s - c0) */
     pdt_real_t vss, ves, vee; /* (centred with the offset) co-moments */
     pdt_real_t ss, ee, es;    /* the raw sums they come from */
 } sim_fit_t;
@@ -1039,8 +1037,8 @@ static pdt_real_t sim_rss(const sim_fit_t *f, pdt_real_t K)
 /* Whether a pass's sums all came out finite. */
 static bool sim_finite(const sim_fit_t *f)
 {
-    return pdt_finite(f->vee) && pdt_finite(f->ves) && pdt_finite(f->vss) &&
-           pdt_finite(f->sum_e) && pdt_finite(f->sum_s);
+    return pdt_finite(f->vee) && pdt_finite(f->ves) && pdt_finite(f->vss) && pdt_finite(f->sum_e) &&
+           pdt_finite(f->sum_s);
 }
 
 static pdt_real_t sim_offset(const pdt_cost_t *c, const sim_fit_t *f, pdt_real_t K)
@@ -1192,14 +1190,11 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     const pdt_cost_kind_t kind = c->cfg.kind;
     const bool combined = (kind == PDT_COST_COMBINED);
     const bool bounded = !(gain_min == PDT_R(0.0) && gain_max == PDT_R(0.0));
-    const bool need_freq = (kind == PDT_COST_FREQUENCY) ||
-                           (combined && c->cfg.phi_f > PDT_R(0.0));
-    const bool need_time = (kind != PDT_COST_FREQUENCY) &&
-                           (!combined || c->cfg.phi_t > PDT_R(0.0));
+    const bool need_freq = (kind == PDT_COST_FREQUENCY) || (combined && c->cfg.phi_f > PDT_R(0.0));
+    const bool need_time = (kind != PDT_COST_FREQUENCY) && (!combined || c->cfg.phi_t > PDT_R(0.0));
     const bool pred = need_time && !sim_time(c);
     const pdt_real_t lo = gain_to_norm(c, gain_min), hi = gain_to_norm(c, gain_max);
-    pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0),
-                            PDT_R(0.0)};
+    pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     /* Regression summaries: time part a (K - kt)^2, frequency part
      * b (|K| - kf)^2, each up to its constant. */
     pdt_real_t at = PDT_R(0.0), kt = PDT_R(0.0), af = PDT_R(0.0), kf = PDT_R(0.0);
@@ -1346,8 +1341,8 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
     pdt_real_t K0 = PDT_R(0.0), c0 = PDT_R(0.0);
     bool shared = false;
     size_t i;
-    if (!prepared(c) || shapes == NULL || gain_min == NULL || gain_max == NULL ||
-        scratch == NULL || out == NULL || count == 0u || count > PDT_COST_MANY) {
+    if (!prepared(c) || shapes == NULL || gain_min == NULL || gain_max == NULL || scratch == NULL ||
+        out == NULL || count == 0u || count > PDT_COST_MANY) {
         return PDT_ERR_ARG;
     }
     for (i = 0; i < count; i++) {
@@ -1364,8 +1359,8 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
         }
         if (shared) {
             sim_reference(c, d[0].order, hint, &K0, &c0);
-            pdt_cost_kernel_many(c->u, c->y, c->n, first_scored(c, d[0].order, false), d, count,
-                                 K0, c0, q);
+            pdt_cost_kernel_many(c->u, c->y, c->n, first_scored(c, d[0].order, false), d, count, K0,
+                                 c0, q);
         }
     }
     for (i = 0; i < count; i++) {

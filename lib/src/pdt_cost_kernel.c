@@ -22,8 +22,7 @@ typedef struct kstate {
     pdt_real_t ys, dys, p1, p2;
 } kstate_t;
 
-static void add_sums(pdt_cost_sums_t *t, pdt_real_t s, pdt_real_t ss, pdt_real_t ee,
-                     pdt_real_t es)
+static void add_sums(pdt_cost_sums_t *t, pdt_real_t s, pdt_real_t ss, pdt_real_t ee, pdt_real_t es)
 {
     t->s += s;
     t->ss += ss;
@@ -52,8 +51,8 @@ static pdt_real_t head_sum(const pdt_real_t *y, size_t k, size_t end, pdt_real_t
  * FOPDT discretisation never makes. ud[j] is the delayed input u(j) for
  * the output sample j + l + 1, yd the output from that sample on. */
 static void generic(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t jend,
-                    const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, bool score,
-                    kstate_t *st, pdt_cost_sums_t *t)
+                    const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, bool score, kstate_t *st,
+                    pdt_cost_sums_t *t)
 {
     for (; j < jend; j++) {
         pdt_real_t u1 = ud[j];
@@ -113,15 +112,15 @@ static void body1(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t j
  * BODY2_STEP is one sample with input ua, taps pa = u(k-2-l) and
  * pb = u(k-3-l), output yk; a macro, so that the unrolled loop is one body
  * that the compiler schedules freely at any optimisation level. */
-#define BODY2_STEP(ua, pa, pb, yk)                                            \
-    do {                                                                      \
-        dys += ((b0 * (ua) + b1 * (pa) + b2 * (pb)) - e0 * dys) - d1 * ys;    \
-        ys += dys;                                                            \
-        e = ((yk) - c0) - K0 * ys;                                            \
-        s += ys;                                                              \
-        ss += ys * ys;                                                        \
-        ee += e * e;                                                          \
-        es += e * ys;                                                         \
+#define BODY2_STEP(ua, pa, pb, yk)                                                                 \
+    do {                                                                                           \
+        dys += ((b0 * (ua) + b1 * (pa) + b2 * (pb)) - e0 * dys) - d1 * ys;                         \
+        ys += dys;                                                                                 \
+        e = ((yk)-c0) - K0 * ys;                                                                   \
+        s += ys;                                                                                   \
+        ss += ys * ys;                                                                             \
+        ee += e * e;                                                                               \
+        es += e * ys;                                                                              \
     } while (0)
 
 static void body2(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t jend,
@@ -168,9 +167,9 @@ static void body2(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t j
 }
 
 /* Output samples [k0, kend) of one candidate, from state st, into t. */
-static void kernel_range(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
-                         size_t kend, const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
-                         kstate_t *st, pdt_cost_sums_t *t)
+static void kernel_range(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0, size_t kend,
+                         const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, kstate_t *st,
+                         pdt_cost_sums_t *t)
 {
     /* The first output sample the input reaches: u(0) acts on s(l + 1). */
     const size_t l1 = (d->delay < n) ? d->delay + 1u : n;
@@ -197,8 +196,7 @@ static void kernel_range(const pdt_real_t *u, const pdt_real_t *y, size_t n, siz
 }
 
 void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
-                     const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
-                     pdt_cost_sums_t *out)
+                     const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, pdt_cost_sums_t *out)
 {
     pdt_cost_sums_t t = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     kstate_t st = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
@@ -219,13 +217,13 @@ typedef pdt_real_t kvec_t __attribute__((vector_size(4 * sizeof(pdt_real_t))));
 #define kv(x) ((kvec_t){(x), (x), (x), (x)})
 
 /* The scoring of sample k in every lane, shared by both orders' loops. */
-#define KV_SCORE()                                      \
-    do {                                                \
-        kvec_t e = (kv(y[k]) - vc0) - vk0 * ys;         \
-        s += ys;                                        \
-        ss += ys * ys;                                  \
-        ee += e * e;                                    \
-        es += e * ys;                                   \
+#define KV_SCORE()                                                                                 \
+    do {                                                                                           \
+        kvec_t e = (kv(y[k]) - vc0) - vk0 * ys;                                                    \
+        s += ys;                                                                                   \
+        ss += ys * ys;                                                                             \
+        ee += e * e;                                                                               \
+        es += e * ys;                                                                              \
     } while (0)
 
 static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t n,
@@ -236,8 +234,8 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
     const kvec_t b1 = {d[0].b[1], d[1].b[1], d[2].b[1], d[3].b[1]};
     const kvec_t b2 = {d[0].b[2], d[1].b[2], d[2].b[2], d[3].b[2]};
     const kvec_t dd0 = {d[0].d[0], d[1].d[0], d[2].d[0], d[3].d[0]};
-    const kvec_t dd1 = (d[0].order == 2u) ? (kvec_t){d[0].d[1], d[1].d[1], d[2].d[1], d[3].d[1]}
-                                          : kv(PDT_R(0.0));
+    const kvec_t dd1 =
+        (d[0].order == 2u) ? (kvec_t){d[0].d[1], d[1].d[1], d[2].d[1], d[3].d[1]} : kv(PDT_R(0.0));
     const kvec_t e0 = dd0 - dd1;
     const kvec_t vk0 = kv(K0), vc0 = kv(c0);
     kvec_t ys = {st[0].ys, st[1].ys, st[2].ys, st[3].ys};

@@ -31,8 +31,7 @@ typedef struct pdt_cost_sums {
 
 /* d: order 1 or 2, coefficients finite, in the normalised units; k0 <= n. */
 void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
-                     const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
-                     pdt_cost_sums_t *out);
+                     const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, pdt_cost_sums_t *out);
 
 /* The same for count candidates d[0..count-1] with one reference fit, into
  * out[0..count-1]. Where the compiler offers vector registers (GCC or

@@ -145,7 +145,7 @@ pdt_status_t pdt_discrete_init(const pdt_model_t *m, pdt_real_t Ts, pdt_discrete
 }
 
 pdt_status_t pdt_discrete_init_int(const pdt_model_t *m, pdt_real_t Ts, size_t l,
-                                pdt_discrete_t *out)
+                                   pdt_discrete_t *out)
 {
     if (out == NULL || !ts_valid(Ts) || pdt_model_check(m) != PDT_OK) {
         return PDT_ERR_ARG;
@@ -189,7 +189,7 @@ static size_t start_len(const pdt_discrete_t *d, size_t n)
 }
 
 pdt_status_t pdt_discrete_simulate(const pdt_discrete_t *d, const pdt_real_t *u, size_t n,
-                                 pdt_real_t *y)
+                                   pdt_real_t *y)
 {
     if (!dmodel_valid(d) || u == NULL || y == NULL) {
         return PDT_ERR_ARG;
@@ -235,8 +235,8 @@ pdt_status_t pdt_discrete_simulate(const pdt_discrete_t *d, const pdt_real_t *u,
     return PDT_OK;
 }
 
-pdt_status_t pdt_discrete_predict(const pdt_discrete_t *d, const pdt_real_t *u,
-                                const pdt_real_t *y, size_t n, pdt_real_t *yhat)
+pdt_status_t pdt_discrete_predict(const pdt_discrete_t *d, const pdt_real_t *u, const pdt_real_t *y,
+                                  size_t n, pdt_real_t *yhat)
 {
     if (!dmodel_valid(d) || u == NULL || y == NULL || yhat == NULL) {
         return PDT_ERR_ARG;

@@ -17,14 +17,12 @@
  * x^(2^n - 1) = 1 and x^((2^n - 1) / q) != 1 for every prime factor q.
  */
 static const uint8_t prbs_taps[30][4] = {
-    {2, 1, 0, 0},     {3, 2, 0, 0},     {4, 3, 0, 0},     {5, 3, 0, 0},
-    {6, 5, 0, 0},     {7, 6, 0, 0},     {8, 6, 5, 4},     {9, 5, 0, 0},
-    {10, 7, 0, 0},    {11, 9, 0, 0},    {12, 6, 4, 1},    {13, 4, 3, 1},
-    {14, 5, 3, 1},    {15, 14, 0, 0},   {16, 15, 13, 4},  {17, 14, 0, 0},
-    {18, 11, 0, 0},   {19, 6, 2, 1},    {20, 17, 0, 0},   {21, 19, 0, 0},
-    {22, 21, 0, 0},   {23, 18, 0, 0},   {24, 23, 22, 17}, {25, 22, 0, 0},
-    {26, 6, 2, 1},    {27, 5, 2, 1},    {28, 25, 0, 0},   {29, 27, 0, 0},
-    {30, 6, 4, 1},    {31, 28, 0, 0},
+    {2, 1, 0, 0},   {3, 2, 0, 0},   {4, 3, 0, 0},     {5, 3, 0, 0},   {6, 5, 0, 0},
+    {7, 6, 0, 0},   {8, 6, 5, 4},   {9, 5, 0, 0},     {10, 7, 0, 0},  {11, 9, 0, 0},
+    {12, 6, 4, 1},  {13, 4, 3, 1},  {14, 5, 3, 1},    {15, 14, 0, 0}, {16, 15, 13, 4},
+    {17, 14, 0, 0}, {18, 11, 0, 0}, {19, 6, 2, 1},    {20, 17, 0, 0}, {21, 19, 0, 0},
+    {22, 21, 0, 0}, {23, 18, 0, 0}, {24, 23, 22, 17}, {25, 22, 0, 0}, {26, 6, 2, 1},
+    {27, 5, 2, 1},  {28, 25, 0, 0}, {29, 27, 0, 0},   {30, 6, 4, 1},  {31, 28, 0, 0},
 };
 
 void pdt_excite_config_default(pdt_excite_config_t *cfg, pdt_excite_kind_t kind)
@@ -90,36 +88,34 @@ static bool all_finite(const pdt_real_t *v, size_t n)
 static bool config_valid(const pdt_excite_config_t *c)
 {
     const pdt_real_t common[] = {c->Ts, c->u0, c->u_min, c->u_max, c->pre};
-    if (!all_finite(common, sizeof common / sizeof common[0]) || !(c->Ts > PDT_R(0.0))
-        || c->pre < PDT_R(0.0)) {
+    if (!all_finite(common, sizeof common / sizeof common[0]) || !(c->Ts > PDT_R(0.0)) ||
+        c->pre < PDT_R(0.0)) {
         return false;
     }
     switch (c->kind) {
     case PDT_EXCITE_STEP:
-        return pdt_finite(c->amplitude) && c->amplitude != PDT_R(0.0)
-               && pdt_finite(c->duration) && c->duration >= PDT_R(0.0);
+        return pdt_finite(c->amplitude) && c->amplitude != PDT_R(0.0) && pdt_finite(c->duration) &&
+               c->duration >= PDT_R(0.0);
     case PDT_EXCITE_PULSE:
-        return pdt_finite(c->amplitude) && c->amplitude != PDT_R(0.0) && pdt_finite(c->t_on)
-               && pdt_finite(c->t_off) && c->t_off >= PDT_R(0.0)
-               && c->t_on / c->Ts >= PDT_R(0.5);
+        return pdt_finite(c->amplitude) && c->amplitude != PDT_R(0.0) && pdt_finite(c->t_on) &&
+               pdt_finite(c->t_off) && c->t_off >= PDT_R(0.0) && c->t_on / c->Ts >= PDT_R(0.5);
     case PDT_EXCITE_CHIRP: {
         pdt_real_t nyq = PDT_R(0.5) / c->Ts;
-        return pdt_finite(c->amplitude) && c->amplitude > PDT_R(0.0)
-               && pdt_finite(c->duration) && c->duration / c->Ts >= PDT_R(0.5)
-               && pdt_finite(c->f0) && pdt_finite(c->f1) && c->f0 >= PDT_R(0.0)
-               && c->f1 >= PDT_R(0.0) && c->f0 <= nyq && c->f1 <= nyq;
+        return pdt_finite(c->amplitude) && c->amplitude > PDT_R(0.0) && pdt_finite(c->duration) &&
+               c->duration / c->Ts >= PDT_R(0.5) && pdt_finite(c->f0) && pdt_finite(c->f1) &&
+               c->f0 >= PDT_R(0.0) && c->f1 >= PDT_R(0.0) && c->f0 <= nyq && c->f1 <= nyq;
     }
     case PDT_EXCITE_PRBS:
-        return pdt_finite(c->amplitude) && c->amplitude > PDT_R(0.0) && c->prbs_bits >= 2u
-               && c->prbs_bits <= 31u && c->prbs_hold >= 1u
-               && (c->prbs_seed & ((1u << c->prbs_bits) - 1u)) != 0u;
+        return pdt_finite(c->amplitude) && c->amplitude > PDT_R(0.0) && c->prbs_bits >= 2u &&
+               c->prbs_bits <= 31u && c->prbs_hold >= 1u &&
+               (c->prbs_seed & ((1u << c->prbs_bits) - 1u)) != 0u;
     case PDT_EXCITE_RELAY:
-        return pdt_finite(c->setpoint) && pdt_finite(c->d) && c->d > PDT_R(0.0)
-               && pdt_finite(c->bias) && pdt_finite(c->eps) && c->eps >= PDT_R(0.0)
-               && (c->action == PDT_EXCITE_REVERSE || c->action == PDT_EXCITE_DIRECT)
-               && c->relay_cycles >= 1u && c->relay_cycles <= PDT_EXCITE_RELAY_MAX_CYCLES
-               && pdt_finite(c->relay_settle) && c->relay_settle >= PDT_R(0.0)
-               && c->relay_settle < PDT_R(1.0);
+        return pdt_finite(c->setpoint) && pdt_finite(c->d) && c->d > PDT_R(0.0) &&
+               pdt_finite(c->bias) && pdt_finite(c->eps) && c->eps >= PDT_R(0.0) &&
+               (c->action == PDT_EXCITE_REVERSE || c->action == PDT_EXCITE_DIRECT) &&
+               c->relay_cycles >= 1u && c->relay_cycles <= PDT_EXCITE_RELAY_MAX_CYCLES &&
+               pdt_finite(c->relay_settle) && c->relay_settle >= PDT_R(0.0) &&
+               c->relay_settle < PDT_R(1.0);
     default:
         return false;
     }
@@ -202,7 +198,8 @@ pdt_status_t pdt_excite_init(pdt_excite_t *gen, const pdt_excite_config_t *cfg)
         body = (cfg->duration > PDT_R(0.0) && n == 0u) ? 1u : n;
         break;
     case PDT_EXCITE_PULSE:
-        if (!to_samples(cfg->t_on, cfg->Ts, &g.n_on) || !to_samples(cfg->t_off, cfg->Ts, &g.n_off)) {
+        if (!to_samples(cfg->t_on, cfg->Ts, &g.n_on) ||
+            !to_samples(cfg->t_off, cfg->Ts, &g.n_off)) {
             return PDT_ERR_LENGTH;
         }
         body = (uint64_t)cfg->count * ((uint64_t)g.n_on + g.n_off);
@@ -239,8 +236,7 @@ pdt_status_t pdt_excite_init(pdt_excite_t *gen, const pdt_excite_config_t *cfg)
     if (!pdt_finite(up) || !pdt_finite(down)) {
         return PDT_ERR_OUTPUT_LIMIT;
     }
-    bool inside = up >= cfg->u_min && up <= cfg->u_max && down >= cfg->u_min
-                  && down <= cfg->u_max;
+    bool inside = up >= cfg->u_min && up <= cfg->u_max && down >= cfg->u_min && down <= cfg->u_max;
     if (!inside && !cfg->clamp) {
         return PDT_ERR_OUTPUT_LIMIT;
     }

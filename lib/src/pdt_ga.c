@@ -132,8 +132,7 @@ void pdt_ga_sbx(pdt_real_t p1, pdt_real_t p2, pdt_real_t lo, pdt_real_t hi, pdt_
     *c2 = clamp(PDT_R(0.5) * (sum + bq2 * gap), lo, hi);
 }
 
-pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t eta,
-                         pdt_real_t u)
+pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t eta, pdt_real_t u)
 {
     PDT_ASSERT(lo < hi && eta > PDT_R(0.0) && u >= PDT_R(0.0) && u < PDT_R(1.0));
     pdt_real_t range = hi - lo;
@@ -142,7 +141,8 @@ pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t 
     pdt_real_t dq;
     if (u <= PDT_R(0.5)) {
         pdt_real_t d1 = clamp((x - lo) / range, PDT_R(0.0), PDT_R(1.0));
-        pdt_real_t v = PDT_R(2.0) * u + (PDT_R(1.0) - PDT_R(2.0) * u) * pdt_pow(PDT_R(1.0) - d1, e1);
+        pdt_real_t v =
+            PDT_R(2.0) * u + (PDT_R(1.0) - PDT_R(2.0) * u) * pdt_pow(PDT_R(1.0) - d1, e1);
         dq = pdt_pow(v, p) - PDT_R(1.0);
     } else {
         pdt_real_t d2 = clamp((hi - x) / range, PDT_R(0.0), PDT_R(1.0));
@@ -154,8 +154,8 @@ pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t 
 }
 
 void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t *lo,
-                  const pdt_real_t *hi, const pdt_real_t *cost, pdt_real_t sigma,
-                  pdt_real_t alpha, pdt_real_t *shared)
+                  const pdt_real_t *hi, const pdt_real_t *cost, pdt_real_t sigma, pdt_real_t alpha,
+                  pdt_real_t *shared)
 {
     PDT_ASSERT(n == 0u || (genes != NULL && cost != NULL && shared != NULL));
     PDT_ASSERT(g == 0u || (lo != NULL && hi != NULL));

@@ -55,8 +55,7 @@ void pdt_ga_sbx(pdt_real_t p1, pdt_real_t p2, pdt_real_t lo, pdt_real_t hi, pdt_
  * x in [lo, hi], eta the distribution index (> 0), u uniform in [0, 1).
  * u < 1/2 moves x down (u = 0 to lo), u > 1/2 up, u = 1/2 leaves it.
  * Returns the mutated value, clamped to the bounds. */
-pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t eta,
-                         pdt_real_t u);
+pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t eta, pdt_real_t u);
 
 /* Fitness sharing. genes: n individuals of g genes each, row-major
  * (genes[i * g + j]); lo, hi: the bounds per gene (lo < hi); cost: the raw
@@ -68,8 +67,8 @@ pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t 
  * individuals including i (so m_i >= 1). O(n^2 g), no memory beyond
  * shared[0..n-1]; shared may be the cost array itself (in place). */
 void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t *lo,
-                  const pdt_real_t *hi, const pdt_real_t *cost, pdt_real_t sigma,
-                  pdt_real_t alpha, pdt_real_t *shared);
+                  const pdt_real_t *hi, const pdt_real_t *cost, pdt_real_t sigma, pdt_real_t alpha,
+                  pdt_real_t *shared);
 
 /* Binary tournament: the index (a or b) with the smaller shared cost; a tie
  * goes to a if coin is 0 and to b otherwise. A NaN cost loses to any

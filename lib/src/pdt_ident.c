@@ -21,7 +21,7 @@ enum phase {
     PH_REFINE,       /* Nelder-Mead */
     PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
     PH_DELAY_REFINE,
-    PH_FINISH,       /* the answer; may re-score once (an integrator) */
+    PH_FINISH, /* the answer; may re-score once (an integrator) */
     PH_DONE
 };
 
@@ -43,10 +43,10 @@ enum nm_state { NM_VERTEX = 1, NM_REFLECT, NM_EXPAND, NM_CONTRACT, NM_SHRINK, NM
  * after its search, Td is scanned on a grid of SCAN_POINTS values of the
  * time cost (both signs of the gain each), then refined by GOLDEN_STEPS of
  * golden-section search around the best grid point. */
-#define SCAN_POINTS 64u
-#define GOLDEN_STEPS 16u
+#define SCAN_POINTS      64u
+#define GOLDEN_STEPS     16u
 #define SCAN_EVALUATIONS (2u * SCAN_POINTS + GOLDEN_STEPS + 2u)
-#define GOLDEN PDT_R(0.6180339887498949)
+#define GOLDEN           PDT_R(0.6180339887498949)
 
 void pdt_ident_config_default(pdt_ident_config_t *cfg)
 {
@@ -105,7 +105,7 @@ static pdt_weight_kind_t weight_of(const pdt_ident_config_t *cfg)
         return cfg->weight;
     }
     return cfg->model == PDT_MODEL_FOPDT && cfg->cost == PDT_COST_COMBINED ? PDT_WEIGHT_CONTROL
-                                                                            : PDT_WEIGHT_UNIFORM;
+                                                                           : PDT_WEIGHT_UNIFORM;
 }
 
 /* Whether the search starts on the time cost to find the control band. */
@@ -504,8 +504,8 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         return PDT_ERR_NO_EXCITATION;
     }
     if (uses_frequency(cfg->cost) &&
-        !ends_at_rest(data, initial_level(data, samples_in(b.Td_min, cfg->Ts, data->n)), umax - umin,
-                      ymax - ymin)) {
+        !ends_at_rest(data, initial_level(data, samples_in(b.Td_min, cfg->Ts, data->n)),
+                      umax - umin, ymax - ymin)) {
         return PDT_ERR_NOT_AT_REST;
     }
     pdt_real_t lmax = b.Td_max / cfg->Ts;
@@ -713,8 +713,7 @@ static void breed(pdt_ident_t *c)
 {
     const size_t P = c->cfg.population, G = c->genes;
     pdt_rng_t r = rng_load(c);
-    pdt_real_t pm = c->cfg.p_mutation > PDT_R(0.0) ? c->cfg.p_mutation
-                                                   : PDT_R(1.0) / (pdt_real_t)G;
+    pdt_real_t pm = c->cfg.p_mutation > PDT_R(0.0) ? c->cfg.p_mutation : PDT_R(1.0) / (pdt_real_t)G;
     pdt_ga_share(c->pop, P, G, c->lo, c->hi, c->pop_cost, c->cfg.sigma_share, PDT_R(1.0),
                  c->shared);
     for (size_t i = 0; i < P; i += 2u) {
@@ -726,8 +725,8 @@ static void breed(pdt_ident_t *c)
         for (size_t j = 0; j < G; j++) {
             pdt_real_t x1 = p1[j], x2 = p2[j];
             if (cross && pdt_rng_uniform(&r) < PDT_R(0.5)) {
-                pdt_ga_sbx(p1[j], p2[j], c->lo[j], c->hi[j], c->cfg.eta_c, pdt_rng_uniform(&r),
-                           &x1, &x2);
+                pdt_ga_sbx(p1[j], p2[j], c->lo[j], c->hi[j], c->cfg.eta_c, pdt_rng_uniform(&r), &x1,
+                           &x2);
                 if ((pdt_rng_u32(&r) & 1u) != 0u) {
                     pdt_real_t t = x1;
                     x1 = x2;
@@ -791,7 +790,6 @@ static void survive(pdt_ident_t *c)
         c->pop_offset[i] = c->off_offset[i];
     }
 }
-
 
 /* After a generation: stall bookkeeping and whether the GA goes on. */
 static bool ga_continues(pdt_ident_t *c)
@@ -1082,8 +1080,8 @@ static void band_start(pdt_ident_t *c)
     /* The same record, sizes and workspace as init, which checked them:
      * this cannot fail; if it did, the search would go on with the time
      * cost and f_band stay 0. */
-    if (pdt_cost_init(&nc, &cc, c->data.u, c->data.y, c->data.n, c->cost_work,
-                      c->cost_work_len) == PDT_OK) {
+    if (pdt_cost_init(&nc, &cc, c->data.u, c->data.y, c->data.n, c->cost_work, c->cost_work_len) ==
+        PDT_OK) {
         c->cost = nc;
         c->f_band = f;
     }
@@ -1202,13 +1200,13 @@ static void scan_advance(pdt_ident_t *c)
 
 /* Costs closer than this (relative) are one basin; a different structure
  * this close is an ambiguity. */
-#define AGREE_RTOL PDT_R(0.01)
+#define AGREE_RTOL     PDT_R(0.01)
 #define AMBIGUOUS_RTOL PDT_R(0.05)
 /* Answers this close in normalised genes are one basin whatever their
  * costs (an exact fit's cost is all rounding, its ratios meaningless). */
-#define AGREE_GENES PDT_R(0.01)
+#define AGREE_GENES    PDT_R(0.01)
 /* A gene this close to its bound (normalised) lies on it. */
-#define BOUND_TOL PDT_R(1e-3)
+#define BOUND_TOL      PDT_R(1e-3)
 
 static pdt_real_t model_gain(const pdt_model_t *m)
 {
@@ -1353,8 +1351,7 @@ static void finish(pdt_ident_t *c)
          * the data do not determine. Its cost is scored again. */
         pdt_real_t a = m.p.sopdt.a, b = m.p.sopdt.b, disc = a * a - PDT_R(4.0) * b;
         pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
-        if (disc >= PDT_R(0.0) &&
-            PDT_R(2.0) * b * PDT_R(100.0) * T < a + pdt_sqrt(disc)) {
+        if (disc >= PDT_R(0.0) && PDT_R(2.0) * b * PDT_R(100.0) * T < a + pdt_sqrt(disc)) {
             pdt_cost_profile_t pr;
             pdt_model_t shape = m;
             pdt_real_t glo, ghi;
@@ -1472,7 +1469,9 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
                 /* Next niche, then the polish of the best (start_i ==
                  * nstarts), if a whole simplex still fits. */
                 uint32_t left = c->search_budget - late_reserve(&c->cfg);
-                left = left > c->evaluations - c->search_base ? left - (c->evaluations - c->search_base) : 0u;
+                left = left > c->evaluations - c->search_base
+                           ? left - (c->evaluations - c->search_base)
+                           : 0u;
                 c->start_i++;
                 if (left >= c->genes + 1u) {
                     nm_start(c);

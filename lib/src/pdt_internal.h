@@ -13,41 +13,41 @@
  * never promotes to double (-Wdouble-promotion) and the double build never
  * truncates. */
 #if PDT_REAL_DOUBLE
-#define PDT_R(x) (x)
-#define pdt_sqrt sqrt
-#define pdt_exp exp
-#define pdt_expm1 expm1
-#define pdt_log log
-#define pdt_log1p log1p
-#define pdt_sin sin
-#define pdt_cos cos
-#define pdt_sinh sinh
-#define pdt_cosh cosh
-#define pdt_atan atan
-#define pdt_atan2 atan2
-#define pdt_fabs fabs
-#define pdt_floor floor
-#define pdt_pow pow
-#define pdt_hypot hypot
+#define PDT_R(x)     (x)
+#define pdt_sqrt     sqrt
+#define pdt_exp      exp
+#define pdt_expm1    expm1
+#define pdt_log      log
+#define pdt_log1p    log1p
+#define pdt_sin      sin
+#define pdt_cos      cos
+#define pdt_sinh     sinh
+#define pdt_cosh     cosh
+#define pdt_atan     atan
+#define pdt_atan2    atan2
+#define pdt_fabs     fabs
+#define pdt_floor    floor
+#define pdt_pow      pow
+#define pdt_hypot    hypot
 #define PDT_REAL_EPS 2.220446049250313e-16
 #define PDT_REAL_MAX 1.7976931348623157e308
 #else
-#define PDT_R(x) (x##f)
-#define pdt_sqrt sqrtf
-#define pdt_exp expf
-#define pdt_expm1 expm1f
-#define pdt_log logf
-#define pdt_log1p log1pf
-#define pdt_sin sinf
-#define pdt_cos cosf
-#define pdt_sinh sinhf
-#define pdt_cosh coshf
-#define pdt_atan atanf
-#define pdt_atan2 atan2f
-#define pdt_fabs fabsf
-#define pdt_floor floorf
-#define pdt_pow powf
-#define pdt_hypot hypotf
+#define PDT_R(x)     (x##f)
+#define pdt_sqrt     sqrtf
+#define pdt_exp      expf
+#define pdt_expm1    expm1f
+#define pdt_log      logf
+#define pdt_log1p    log1pf
+#define pdt_sin      sinf
+#define pdt_cos      cosf
+#define pdt_sinh     sinhf
+#define pdt_cosh     coshf
+#define pdt_atan     atanf
+#define pdt_atan2    atan2f
+#define pdt_fabs     fabsf
+#define pdt_floor    floorf
+#define pdt_pow      powf
+#define pdt_hypot    hypotf
 #define PDT_REAL_EPS 1.1920929e-07f
 #define PDT_REAL_MAX 3.4028235e+38f
 #endif
@@ -81,7 +81,7 @@ static inline size_t pdt_delay_bound(size_t n, size_t delay_max)
 /* The one way an object records that its init ran: init stores
  * PDT_MAGIC(...) of its module in the object's `magic` field, every later
  * call compares, and a zeroed or never-initialised object fails. */
-#define PDT_MAGIC(a, b, c, d) \
+#define PDT_MAGIC(a, b, c, d)                                                                      \
     (((uint32_t)(a) << 24) | ((uint32_t)(b) << 16) | ((uint32_t)(c) << 8) | (uint32_t)(d))
 
 #endif /* PDT_INTERNAL_H */

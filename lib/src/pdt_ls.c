@@ -115,8 +115,8 @@ static void ls_row(const pdt_ls_t *c, size_t k, size_t l, pdt_real_t *t, pdt_rea
 /* The auxiliary model of E-IV-LMS: the least-squares estimate th simulated
  * from rest on the input alone. State x1 = xs(k-1), x2 = xs(k-2); advances
  * to sample k. */
-static void aux_advance(const pdt_ls_t *c, const pdt_real_t *th, size_t k, size_t l,
-                        pdt_real_t *x1, pdt_real_t *x2)
+static void aux_advance(const pdt_ls_t *c, const pdt_real_t *th, size_t k, size_t l, pdt_real_t *x1,
+                        pdt_real_t *x2)
 {
     pdt_real_t x;
     if (c->cfg.model == PDT_MODEL_FOPDT) {
@@ -135,8 +135,8 @@ static void aux_advance(const pdt_ls_t *c, const pdt_real_t *th, size_t k, size_
  * regressor) and rows by their largest entry, then Gaussian elimination
  * with partial pivoting. Returns false, th untouched, when a pivot falls below
  * LS_PIVOT_TOL or the solution is not finite. */
-static bool ls_solve(pdt_real_t S[LS_PMAX][LS_PMAX], const pdt_real_t *r,
-                     const pdt_real_t *cs, unsigned P, pdt_real_t *th)
+static bool ls_solve(pdt_real_t S[LS_PMAX][LS_PMAX], const pdt_real_t *r, const pdt_real_t *cs,
+                     unsigned P, pdt_real_t *th)
 {
     pdt_real_t A[LS_PMAX][LS_PMAX + 1u];
     pdt_real_t z[LS_PMAX];

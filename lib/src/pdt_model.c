@@ -61,9 +61,8 @@ pdt_status_t pdt_model_sopdt_from_natural(const pdt_model_natural_t *in, pdt_mod
     if (in == NULL || out == NULL) {
         return PDT_ERR_ARG;
     }
-    if (!(pdt_finite(in->K) && pdt_finite(in->wn) && pdt_finite(in->zeta) &&
-          pdt_finite(in->Td) && in->wn > PDT_R(0.0) && in->zeta > PDT_R(0.0) &&
-          in->Td >= PDT_R(0.0))) {
+    if (!(pdt_finite(in->K) && pdt_finite(in->wn) && pdt_finite(in->zeta) && pdt_finite(in->Td) &&
+          in->wn > PDT_R(0.0) && in->zeta > PDT_R(0.0) && in->Td >= PDT_R(0.0))) {
         return PDT_ERR_ARG;
     }
     pdt_model_sopdt_t r;
@@ -103,9 +102,8 @@ pdt_status_t pdt_model_sopdt_from_tc(const pdt_model_tc_t *in, pdt_model_sopdt_t
     if (in == NULL || out == NULL) {
         return PDT_ERR_ARG;
     }
-    if (!(pdt_finite(in->K) && pdt_finite(in->T1) && pdt_finite(in->T2) &&
-          pdt_finite(in->Td) && in->T1 > PDT_R(0.0) && in->T2 > PDT_R(0.0) &&
-          in->Td >= PDT_R(0.0))) {
+    if (!(pdt_finite(in->K) && pdt_finite(in->T1) && pdt_finite(in->T2) && pdt_finite(in->Td) &&
+          in->T1 > PDT_R(0.0) && in->T2 > PDT_R(0.0) && in->Td >= PDT_R(0.0))) {
         return PDT_ERR_ARG;
     }
     pdt_model_sopdt_t r;
@@ -224,29 +222,40 @@ pdt_status_t pdt_model_dc_gain(const pdt_model_t *m, pdt_real_t *gain)
 /* psi(x) = 1 - (1 - e^-x)/x = sum_{n>=1} (-1)^(n+1) x^n / (n+1)!:
  * c[j] = (-1)^(n+1)/(n+1)! for n = 18 - j. */
 static const pdt_real_t psi_c[18] = {
-    PDT_R(-8.22063524662433e-18), PDT_R(1.5619206968586225e-16), PDT_R(-2.8114572543455206e-15),
-    PDT_R(4.779477332387385e-14), PDT_R(-7.647163731819816e-13), PDT_R(1.1470745597729725e-11),
-    PDT_R(-1.6059043836821613e-10), PDT_R(2.08767569878681e-09), PDT_R(-2.505210838544172e-08),
-    PDT_R(2.755731922398589e-07), PDT_R(-2.7557319223985893e-06), PDT_R(2.48015873015873e-05),
-    PDT_R(-0.0001984126984126984), PDT_R(0.001388888888888889), PDT_R(-0.008333333333333333),
-    PDT_R(0.041666666666666664), PDT_R(-0.16666666666666666), PDT_R(0.5)};
+    PDT_R(-8.22063524662433e-18),   PDT_R(1.5619206968586225e-16),  PDT_R(-2.8114572543455206e-15),
+    PDT_R(4.779477332387385e-14),   PDT_R(-7.647163731819816e-13),  PDT_R(1.1470745597729725e-11),
+    PDT_R(-1.6059043836821613e-10), PDT_R(2.08767569878681e-09),    PDT_R(-2.505210838544172e-08),
+    PDT_R(2.755731922398589e-07),   PDT_R(-2.7557319223985893e-06), PDT_R(2.48015873015873e-05),
+    PDT_R(-0.0001984126984126984),  PDT_R(0.001388888888888889),    PDT_R(-0.008333333333333333),
+    PDT_R(0.041666666666666664),    PDT_R(-0.16666666666666666),    PDT_R(0.5)};
 
 /* p1(x) = 1 - e^-x (1 + x) = sum_{n>=2} (-1)^n (n-1) x^n / n!:
  * c[j] for n = 20 - j. */
-static const pdt_real_t p1_c[19] = {
-    PDT_R(7.809603484293113e-18), PDT_R(-1.4797143443923793e-16), PDT_R(2.6552651846596585e-15),
-    PDT_R(-4.498331606952833e-14), PDT_R(7.169215998581078e-13), PDT_R(-1.0706029224547743e-11),
-    PDT_R(1.4911969277048643e-10), PDT_R(-1.9270852604185937e-09), PDT_R(2.296443268665491e-08),
-    PDT_R(-2.505210838544172e-07), PDT_R(2.48015873015873e-06), PDT_R(-2.2045855379188714e-05),
-    PDT_R(0.00017361111111111112), PDT_R(-0.0011904761904761906), PDT_R(0.006944444444444444),
-    PDT_R(-0.03333333333333333), PDT_R(0.125), PDT_R(-0.3333333333333333),
-    PDT_R(0.5)};
+static const pdt_real_t p1_c[19] = {PDT_R(7.809603484293113e-18),
+                                    PDT_R(-1.4797143443923793e-16),
+                                    PDT_R(2.6552651846596585e-15),
+                                    PDT_R(-4.498331606952833e-14),
+                                    PDT_R(7.169215998581078e-13),
+                                    PDT_R(-1.0706029224547743e-11),
+                                    PDT_R(1.4911969277048643e-10),
+                                    PDT_R(-1.9270852604185937e-09),
+                                    PDT_R(2.296443268665491e-08),
+                                    PDT_R(-2.505210838544172e-07),
+                                    PDT_R(2.48015873015873e-06),
+                                    PDT_R(-2.2045855379188714e-05),
+                                    PDT_R(0.00017361111111111112),
+                                    PDT_R(-0.0011904761904761906),
+                                    PDT_R(0.006944444444444444),
+                                    PDT_R(-0.03333333333333333),
+                                    PDT_R(0.125),
+                                    PDT_R(-0.3333333333333333),
+                                    PDT_R(0.5)};
 
 /* 1/(2n+1)! for n = 9..1, for 1 - sinh(z)/z and 1 - sin(z)/z. */
 static const pdt_real_t sinc_c[9] = {
-    PDT_R(8.22063524662433e-18), PDT_R(2.8114572543455206e-15), PDT_R(7.647163731819816e-13),
-    PDT_R(1.6059043836821613e-10), PDT_R(2.505210838544172e-08), PDT_R(2.7557319223985893e-06),
-    PDT_R(0.0001984126984126984), PDT_R(0.008333333333333333), PDT_R(0.16666666666666666)};
+    PDT_R(8.22063524662433e-18),   PDT_R(2.8114572543455206e-15), PDT_R(7.647163731819816e-13),
+    PDT_R(1.6059043836821613e-10), PDT_R(2.505210838544172e-08),  PDT_R(2.7557319223985893e-06),
+    PDT_R(0.0001984126984126984),  PDT_R(0.008333333333333333),   PDT_R(0.16666666666666666)};
 
 static pdt_real_t horner(const pdt_real_t *c, size_t n, pdt_real_t x)
 {
@@ -349,8 +358,8 @@ static pdt_real_t sopdt_unit_step(pdt_real_t a, pdt_real_t b, pdt_real_t t)
     } else {
         one_minus_c = PDT_R(0.0);
     }
-    pdt_real_t sum = one_minus_exp_lin(x) + ex * one_minus_c +
-                     sigma * ex * t * one_minus_sinc(d * t * t);
+    pdt_real_t sum =
+        one_minus_exp_lin(x) + ex * one_minus_c + sigma * ex * t * one_minus_sinc(d * t * t);
     return sum / b;
 }
 
@@ -363,8 +372,7 @@ static pdt_real_t fopdt_step1(const pdt_model_fopdt_t *p, pdt_real_t t)
     return -p->K * pdt_expm1(-s / p->tau);
 }
 
-pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n,
-                            pdt_real_t *y)
+pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n, pdt_real_t *y)
 {
     if (t == NULL || y == NULL || pdt_model_check(m) != PDT_OK) {
         return PDT_ERR_ARG;
@@ -389,8 +397,8 @@ pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n,
 
 /* ---- frequency response ------------------------------------------------- */
 
-pdt_status_t pdt_model_freq(const pdt_model_t *m, const pdt_real_t *w, size_t n,
-                            pdt_real_t *mag, pdt_real_t *phase)
+pdt_status_t pdt_model_freq(const pdt_model_t *m, const pdt_real_t *w, size_t n, pdt_real_t *mag,
+                            pdt_real_t *phase)
 {
     if (w == NULL || pdt_model_check(m) != PDT_OK) {
         return PDT_ERR_ARG;

@@ -44,10 +44,9 @@ static bool nonneg(pdt_real_t x)
 static bool coef_make(const pdt_pid_config_t *cfg, pid_coef_t *c)
 {
     if (!pdt_finite(cfg->Ts) || !(cfg->Ts > PDT_R(0.0)) ||
-        (cfg->form != PDT_PID_IDEAL && cfg->form != PDT_PID_SERIES) ||
-        !pdt_finite(cfg->Kc) || cfg->Kc == PDT_R(0.0) || !nonneg(cfg->Ti) ||
-        !nonneg(cfg->Td) || !nonneg(cfg->Tf) || !nonneg(cfg->N) ||
-        (cfg->N != PDT_R(0.0) && cfg->N < PDT_R(1.0)) || !nonneg(cfg->b) ||
+        (cfg->form != PDT_PID_IDEAL && cfg->form != PDT_PID_SERIES) || !pdt_finite(cfg->Kc) ||
+        cfg->Kc == PDT_R(0.0) || !nonneg(cfg->Ti) || !nonneg(cfg->Td) || !nonneg(cfg->Tf) ||
+        !nonneg(cfg->N) || (cfg->N != PDT_R(0.0) && cfg->N < PDT_R(1.0)) || !nonneg(cfg->b) ||
         !nonneg(cfg->c) || !pdt_finite(cfg->u_min) || !pdt_finite(cfg->u_max) ||
         !(cfg->u_min < cfg->u_max) || !nonneg(cfg->rate_max) || !nonneg(cfg->Tt) ||
         (unsigned)cfg->antiwindup > (unsigned)PDT_PID_AW_NONE) {
@@ -85,8 +84,7 @@ static bool coef_make(const pdt_pid_config_t *cfg, pid_coef_t *c)
         c->ao = -pdt_expm1(-Ts / Tt);
     }
     c->du_max = cfg->rate_max * Ts;
-    return pdt_finite(c->ki) && pdt_finite(c->kd) && pdt_finite(c->du_max) &&
-           pdt_finite(c->ao);
+    return pdt_finite(c->ki) && pdt_finite(c->kd) && pdt_finite(c->du_max) && pdt_finite(c->ao);
 }
 
 static void coef_store(pdt_pid_t *pid, const pdt_pid_config_t *cfg, const pid_coef_t *c)
@@ -110,8 +108,7 @@ static bool config_with_gains(const pdt_pid_config_t *base, const pdt_tune_gains
                               pdt_pid_form_t form, pdt_pid_config_t *out)
 {
     if (base == NULL || g == NULL || !pdt_finite(g->Kc) || g->Kc == PDT_R(0.0) ||
-        !pdt_finite(g->tauI) || !(g->tauI > PDT_R(0.0)) || !nonneg(g->tauD) ||
-        !nonneg(g->Tf)) {
+        !pdt_finite(g->tauI) || !(g->tauI > PDT_R(0.0)) || !nonneg(g->tauD) || !nonneg(g->Tf)) {
         return false;
     }
     *out = *base;
@@ -146,8 +143,7 @@ pdt_status_t pdt_pid_init(pdt_pid_t *pid, const pdt_pid_config_t *cfg, pdt_real_
 }
 
 pdt_status_t pdt_pid_init_from_gains(pdt_pid_t *pid, const pdt_pid_config_t *base,
-                                     const pdt_tune_gains_t *g, pdt_pid_form_t form,
-                                     pdt_real_t u0)
+                                     const pdt_tune_gains_t *g, pdt_pid_form_t form, pdt_real_t u0)
 {
     pdt_pid_config_t cfg;
     if (!config_with_gains(base, g, form, &cfg)) {

@@ -41,14 +41,14 @@ pdt_status_t pdt_record_init(pdt_record_t *rec, const pdt_record_config_t *cfg, 
     if (rec == NULL || cfg == NULL || u == NULL || y == NULL) {
         return PDT_ERR_ARG;
     }
-    if ((capacity > 0u && capacity <= PDT_MAX_SAMPLES && overlap(u, y, capacity)) || cfg->decimation == 0u || cfg->settle == 0u
-        || !pdt_finite(cfg->u_min) || !pdt_finite(cfg->u_max) || !pdt_finite(cfg->pv_min)
-        || !pdt_finite(cfg->pv_max) || !pdt_finite(cfg->settle_band)
-        || cfg->settle_band < PDT_R(0.0)) {
+    if ((capacity > 0u && capacity <= PDT_MAX_SAMPLES && overlap(u, y, capacity)) ||
+        cfg->decimation == 0u || cfg->settle == 0u || !pdt_finite(cfg->u_min) ||
+        !pdt_finite(cfg->u_max) || !pdt_finite(cfg->pv_min) || !pdt_finite(cfg->pv_max) ||
+        !pdt_finite(cfg->settle_band) || cfg->settle_band < PDT_R(0.0)) {
         return PDT_ERR_ARG;
     }
-    if (cfg->move != PDT_RECORD_MOVE_ANY && cfg->move != PDT_RECORD_MOVE_UP
-        && cfg->move != PDT_RECORD_MOVE_DOWN) {
+    if (cfg->move != PDT_RECORD_MOVE_ANY && cfg->move != PDT_RECORD_MOVE_UP &&
+        cfg->move != PDT_RECORD_MOVE_DOWN) {
         return PDT_ERR_ARG;
     }
     if (cfg->move != PDT_RECORD_MOVE_ANY && !pdt_finite(cfg->setpoint)) {
@@ -95,8 +95,8 @@ static pdt_status_t record_abort(pdt_record_t *rec, pdt_status_t why, pdt_real_t
         if (!(u_applied == u_applied)) {
             rec->u_safe = c->u_min;
         } else {
-            rec->u_safe = u_applied < c->u_min ? c->u_min
-                                               : (u_applied > c->u_max ? c->u_max : u_applied);
+            rec->u_safe =
+                u_applied < c->u_min ? c->u_min : (u_applied > c->u_max ? c->u_max : u_applied);
         }
     }
     rec->status = why;
@@ -187,9 +187,8 @@ pdt_status_t pdt_record_push(pdt_record_t *rec, pdt_real_t u_applied, pdt_real_t
     pdt_real_t ys = rec->pend_sum / (pdt_real_t)c->decimation;
     if (!rec->settled) {
         settle_sample(rec, rec->pend_u, ys);
-        if (rec->settled
-            && ((c->move == PDT_RECORD_MOVE_UP && !(c->setpoint > rec->y0))
-                || (c->move == PDT_RECORD_MOVE_DOWN && !(c->setpoint < rec->y0)))) {
+        if (rec->settled && ((c->move == PDT_RECORD_MOVE_UP && !(c->setpoint > rec->y0)) ||
+                             (c->move == PDT_RECORD_MOVE_DOWN && !(c->setpoint < rec->y0)))) {
             rec->status = PDT_ERR_SETPOINT;
             return PDT_ERR_SETPOINT;
         }

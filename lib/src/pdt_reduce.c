@@ -7,8 +7,8 @@
 #include "pdt_internal.h"
 
 /* Scan of the phase for the ultimate frequency: ratio 2^(1/8) per point. */
-#define SCAN_RATIO PDT_R(1.0905077326652577)
-#define SCAN_MAX_POINTS 4096u
+#define SCAN_RATIO       PDT_R(1.0905077326652577)
+#define SCAN_MAX_POINTS  4096u
 #define BISECT_MAX_STEPS 64u
 
 /* Marks a lag that no zero is cancelled against. */
@@ -189,9 +189,8 @@ static bool pair_zeros(const pdt_reduce_plant_t *p, size_t zero[])
     }
 }
 
-pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant,
-                                  const pdt_reduce_config_t *cfg, pdt_model_t *out,
-                                  pdt_reduce_info_t *info)
+pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant, const pdt_reduce_config_t *cfg,
+                                  pdt_model_t *out, pdt_reduce_info_t *info)
 {
     pdt_reduce_config_t c;
     pdt_status_t st = check_plant(plant);
@@ -360,8 +359,8 @@ static pdt_status_t ultimate(const pdt_reduce_plant_t *p, pdt_real_t *w_u)
     pdt_real_t w = PDT_R(1e-3) / span;
     pdt_real_t w_end = PDT_R(1e4) / shortest;
     if (p->theta0 > PDT_R(0.0)) {
-        pdt_real_t wd = PDT_R(2.0) * PDT_PI * (PDT_R(1.0) + PDT_R(0.5) * (pdt_real_t)n_lhp) /
-                        p->theta0;
+        pdt_real_t wd =
+            PDT_R(2.0) * PDT_PI * (PDT_R(1.0) + PDT_R(0.5) * (pdt_real_t)n_lhp) / p->theta0;
         if (wd > w_end) {
             w_end = wd;
         }

@@ -8,16 +8,16 @@
 #include "pdt_model_priv.h"
 
 /* Decades the frequency range may grow each way beyond its first guess. */
-#define TUNE_WIDEN 8
+#define TUNE_WIDEN        8
 /* Sub-steps of a grid interval in which the phase turns quickly: at
  * least TUNE_SPLIT when L or 1 + L turns by more than pi/4, enough for
  * pi/4 per step of the dead time's own turn, at most TUNE_SPLIT_MAX. */
-#define TUNE_SPLIT 8
-#define TUNE_SPLIT_MAX 64
+#define TUNE_SPLIT        8
+#define TUNE_SPLIT_MAX    64
 /* Below this |L| the grid is not refined: there |S| < 1 / (1 - 0.02). */
-#define TUNE_QUIET PDT_R(0.02)
+#define TUNE_QUIET        PDT_R(0.02)
 /* Local maxima of |S| refined, and the refinement steps. */
-#define TUNE_PEAKS 8
+#define TUNE_PEAKS        8
 #define TUNE_GOLDEN_STEPS 40
 #define TUNE_BISECT_STEPS 60
 
@@ -134,9 +134,9 @@ static pdt_real_t arg_1p(tune_cplx_t L)
 
 static bool gains_valid(const pdt_tune_gains_t *g)
 {
-    return pdt_finite(g->Kc) && pdt_finite(g->tauI) && pdt_finite(g->tauD) &&
-           pdt_finite(g->Tf) && g->Kc != PDT_R(0.0) && g->tauI > PDT_R(0.0) &&
-           g->tauD >= PDT_R(0.0) && g->Tf >= PDT_R(0.0);
+    return pdt_finite(g->Kc) && pdt_finite(g->tauI) && pdt_finite(g->tauD) && pdt_finite(g->Tf) &&
+           g->Kc != PDT_R(0.0) && g->tauI > PDT_R(0.0) && g->tauD >= PDT_R(0.0) &&
+           g->Tf >= PDT_R(0.0);
 }
 
 static pdt_real_t rmax(pdt_real_t x, pdt_real_t y)
@@ -166,11 +166,11 @@ typedef struct tune_scan {
     int npeaks;
     pdt_real_t best_d2; /* least |1 + L|^2 sampled, and where */
     pdt_real_t best_w;
-    pdt_real_t pm;      /* least phase margin, degrees, and where */
+    pdt_real_t pm; /* least phase margin, degrees, and where */
     pdt_real_t w_gc;
-    pdt_real_t re_pc;   /* largest |Re L| on the negative real axis */
+    pdt_real_t re_pc; /* largest |Re L| on the negative real axis */
     pdt_real_t w_pc;
-    pdt_real_t phase;   /* arg(1 + L), followed continuously */
+    pdt_real_t phase; /* arg(1 + L), followed continuously */
     /* the last two points, for the local minima of |1 + L| */
     pdt_real_t w1, d1, w2, d2;
     int seen;
@@ -323,13 +323,12 @@ static void refine_peak(const tune_loop_t *lp, tune_scan_t *s, pdt_real_t lo, pd
 pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g,
                                  pdt_tune_figures_t *fig)
 {
-    if (m == NULL || g == NULL || fig == NULL || pdt_model_check(m) != PDT_OK ||
-        !gains_valid(g)) {
+    if (m == NULL || g == NULL || fig == NULL || pdt_model_check(m) != PDT_OK || !gains_valid(g)) {
         return PDT_ERR_ARG;
     }
     tune_loop_t lp;
-    pdt_real_t kdc;   /* sign and size of L near w = 0 */
-    int n0 = 1;       /* poles of L at s = 0 */
+    pdt_real_t kdc;            /* sign and size of L near w = 0 */
+    int n0 = 1;                /* poles of L at s = 0 */
     pdt_real_t r = PDT_R(0.0); /* |L(j inf)| */
     pdt_real_t tmin = PDT_REAL_MAX;
     pdt_real_t tmax = PDT_R(0.0);
@@ -610,8 +609,8 @@ typedef struct tune_view {
     pdt_real_t theta; /* Td or half-rule dead time (FIRST, REAL, INTEG) */
     pdt_real_t T1;    /* REAL: time constants; INTEG: T1 = 0, T2 = lag */
     pdt_real_t T2;
-    pdt_real_t Td;    /* the model's own dead time */
-    pdt_real_t a;     /* SOPDT form (2) */
+    pdt_real_t Td; /* the model's own dead time */
+    pdt_real_t a;  /* SOPDT form (2) */
     pdt_real_t b;
     pdt_real_t k;
 } tune_view_t;
@@ -798,8 +797,8 @@ static pdt_status_t rule_amigo(const tune_view_t *v, const pdt_tune_config_t *cf
     } else {
         pdt_real_t s = L + T;
         o->g.Kc = (PDT_R(0.15) + (PDT_R(0.35) - L * T / (s * s)) * T / L) / v->K;
-        o->g.tauI = PDT_R(0.35) * L + PDT_R(13.0) * L * T * T /
-                                          (T * T + PDT_R(12.0) * L * T + PDT_R(7.0) * L * L);
+        o->g.tauI = PDT_R(0.35) * L +
+                    PDT_R(13.0) * L * T * T / (T * T + PDT_R(12.0) * L * T + PDT_R(7.0) * L * L);
     }
     return PDT_OK;
 }
@@ -831,8 +830,7 @@ static bool config_valid(const pdt_tune_config_t *cfg)
                    cfg->rule == PDT_TUNE_AMIGO || cfg->rule == PDT_TUNE_ZN;
     bool form_ok = cfg->form == PDT_TUNE_PI || cfg->form == PDT_TUNE_PID;
     return rule_ok && form_ok && pdt_finite(cfg->tau_c) && cfg->tau_c >= PDT_R(0.0) &&
-           pdt_finite(cfg->lambda) && cfg->lambda >= PDT_R(0.0) &&
-           pdt_finite(cfg->detune) &&
+           pdt_finite(cfg->lambda) && cfg->lambda >= PDT_R(0.0) && pdt_finite(cfg->detune) &&
            (cfg->detune == PDT_R(0.0) || cfg->detune >= PDT_R(1.0)) &&
            pdt_finite(cfg->deriv_filter) &&
            (cfg->deriv_filter == PDT_R(0.0) || cfg->deriv_filter >= PDT_R(1.0)) &&

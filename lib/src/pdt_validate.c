@@ -11,10 +11,10 @@
  * float sums over long records keep their accuracy. */
 #define VAL_BLOCK 256u
 /* Points of the frequency grid of the robust bound. */
-#define VAL_GRID 200u
+#define VAL_GRID  200u
 /* Standard deviations of the confidence region the bound covers: about the
  * 95 % ellipsoid of four parameters (sqrt of chi-square(4) 0.95 = 3.08). */
-#define VAL_CHI PDT_R(3.0)
+#define VAL_CHI   PDT_R(3.0)
 
 size_t pdt_validate_workspace_size(size_t n)
 {
@@ -181,10 +181,10 @@ static bool invert(pdt_real_t F[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS
  * sensitivities in the workspace. */
 typedef struct val_ctx {
     const pdt_real_t *y;
-    pdt_real_t *du;   /* u - u[0] */
-    pdt_real_t *ys;   /* simulated output */
+    pdt_real_t *du;      /* u - u[0] */
+    pdt_real_t *ys;      /* simulated output */
     pdt_real_t *sens[3]; /* sensitivities of the shape parameters */
-    uint32_t np;      /* model parameters (without y0) */
+    uint32_t np;         /* model parameters (without y0) */
     size_t n;
     pdt_real_t y0;
 } val_ctx_t;
@@ -193,8 +193,7 @@ static pdt_status_t prepare(const pdt_model_t *m, const pdt_ident_data_t *data, 
                             pdt_real_t y0, void *work, size_t work_len, val_ctx_t *c)
 {
     if (m == NULL || data == NULL || data->u == NULL || data->y == NULL ||
-        pdt_model_check(m) != PDT_OK || !pdt_finite(Ts) || !(Ts > PDT_R(0.0)) ||
-        !pdt_finite(y0)) {
+        pdt_model_check(m) != PDT_OK || !pdt_finite(Ts) || !(Ts > PDT_R(0.0)) || !pdt_finite(y0)) {
         return PDT_ERR_ARG;
     }
     size_t n = data->n;
@@ -577,9 +576,9 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
     const bool integ = !fo && m->p.sopdt.b == PDT_R(0.0);
     pdt_real_t Td = pdt_model_dead_time(m) + dTd;
     pdt_real_t T = g->tauI;
-    pdt_real_t tm = fo ? m->p.fopdt.tau : m->p.sopdt.a / (m->p.sopdt.b > PDT_R(0.0)
-                                                              ? m->p.sopdt.b
-                                                              : m->p.sopdt.a * m->p.sopdt.a);
+    pdt_real_t tm = fo ? m->p.fopdt.tau
+                       : m->p.sopdt.a / (m->p.sopdt.b > PDT_R(0.0) ? m->p.sopdt.b
+                                                                   : m->p.sopdt.a * m->p.sopdt.a);
     if (tm > T) {
         T = tm;
     }

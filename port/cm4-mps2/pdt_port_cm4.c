@@ -21,24 +21,24 @@
 
 void pdt_cm4_systick_handler(void);
 
-#define DEMCR (*(volatile uint32_t *)0xE000EDFCu)
-#define DWT_CTRL (*(volatile uint32_t *)0xE0001000u)
+#define DEMCR      (*(volatile uint32_t *)0xE000EDFCu)
+#define DWT_CTRL   (*(volatile uint32_t *)0xE0001000u)
 #define DWT_CYCCNT (*(volatile uint32_t *)0xE0001004u)
-#define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
-#define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
-#define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
+#define SYST_CSR   (*(volatile uint32_t *)0xE000E010u)
+#define SYST_RVR   (*(volatile uint32_t *)0xE000E014u)
+#define SYST_CVR   (*(volatile uint32_t *)0xE000E018u)
 
-#define SCB_ICSR (*(volatile uint32_t *)0xE000ED04u)
+#define SCB_ICSR           (*(volatile uint32_t *)0xE000ED04u)
 #define SCB_ICSR_PENDSTSET (1u << 26)
 
 #define SYST_RELOAD 0x00FFFFFFu
 
 /* Semihosting operations and exit reasons (Arm semihosting spec v2). */
-#define SEMI_SYS_WRITE0 0x04u
-#define SEMI_SYS_EXIT 0x18u
-#define SEMI_SYS_EXIT_EXTENDED 0x20u
+#define SEMI_SYS_WRITE0           0x04u
+#define SEMI_SYS_EXIT             0x18u
+#define SEMI_SYS_EXIT_EXTENDED    0x20u
 #define SEMI_ADP_APPLICATION_EXIT 0x20026u
-#define SEMI_ADP_RUNTIME_ERROR 0x20023u
+#define SEMI_ADP_RUNTIME_ERROR    0x20023u
 
 /* The port's only state: set once by pdt_port_init, and the SysTick wrap
  * count the interrupt advances. */

@@ -18,9 +18,9 @@ extern "C" {
 
 /* Where pdt_port_ticks comes from. */
 typedef enum pdt_cm4_counter {
-    PDT_CM4_COUNTER_NONE = 0,    /* pdt_port_init not called yet */
-    PDT_CM4_COUNTER_DWT = 1,     /* DWT->CYCCNT, widened to 64 bits */
-    PDT_CM4_COUNTER_SYSTICK = 2  /* SysTick on the core clock, with a wrap count */
+    PDT_CM4_COUNTER_NONE = 0,   /* pdt_port_init not called yet */
+    PDT_CM4_COUNTER_DWT = 1,    /* DWT->CYCCNT, widened to 64 bits */
+    PDT_CM4_COUNTER_SYSTICK = 2 /* SysTick on the core clock, with a wrap count */
 } pdt_cm4_counter_t;
 
 /* The counter pdt_port_init chose: the DWT cycle counter when it counts

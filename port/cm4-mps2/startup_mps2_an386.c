@@ -28,13 +28,13 @@ void pdt_cm4_systick_handler(void);
 void pdt_cm4_fault_report(const uint32_t *frame, uint32_t exc_return);
 
 #define SCB_CPACR (*(volatile uint32_t *)0xE000ED88u)
-#define SCB_CFSR (*(volatile uint32_t *)0xE000ED28u)
-#define SCB_HFSR (*(volatile uint32_t *)0xE000ED2Cu)
+#define SCB_CFSR  (*(volatile uint32_t *)0xE000ED28u)
+#define SCB_HFSR  (*(volatile uint32_t *)0xE000ED2Cu)
 #define SCB_MMFAR (*(volatile uint32_t *)0xE000ED34u)
-#define SCB_BFAR (*(volatile uint32_t *)0xE000ED38u)
-#define SCB_ICSR (*(volatile uint32_t *)0xE000ED04u)
+#define SCB_BFAR  (*(volatile uint32_t *)0xE000ED38u)
+#define SCB_ICSR  (*(volatile uint32_t *)0xE000ED04u)
 #define SCB_SHCSR (*(volatile uint32_t *)0xE000ED24u)
-#define SCB_CCR (*(volatile uint32_t *)0xE000ED14u)
+#define SCB_CCR   (*(volatile uint32_t *)0xE000ED14u)
 
 /* Word written over the unused stack at reset. */
 #define STACK_PAINT 0xC5AC5AC5u
@@ -45,8 +45,7 @@ void pdt_cm4_fault_report(const uint32_t *frame, uint32_t exc_return);
 
 typedef void (*pdt_cm4_vector_t)(void);
 
-__attribute__((section(".vectors"), used))
-const pdt_cm4_vector_t pdt_cm4_vectors[VECTOR_COUNT] = {
+__attribute__((section(".vectors"), used)) const pdt_cm4_vector_t pdt_cm4_vectors[VECTOR_COUNT] = {
     (pdt_cm4_vector_t)(uintptr_t)__stack_top__,
     pdt_cm4_reset_handler,
     pdt_cm4_fault_handler, /* NMI */
@@ -54,24 +53,48 @@ const pdt_cm4_vector_t pdt_cm4_vectors[VECTOR_COUNT] = {
     pdt_cm4_fault_handler, /* MemManage */
     pdt_cm4_fault_handler, /* BusFault */
     pdt_cm4_fault_handler, /* UsageFault */
-    0, 0, 0, 0,
+    0,
+    0,
+    0,
+    0,
     pdt_cm4_default_handler, /* SVCall */
     pdt_cm4_default_handler, /* DebugMonitor */
     0,
     pdt_cm4_default_handler, /* PendSV */
     pdt_cm4_systick_handler,
     /* device interrupts: the rest of the table, filled below */
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler, pdt_cm4_default_handler,
-    pdt_cm4_default_handler, pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
+    pdt_cm4_default_handler,
 };
 
 void pdt_cm4_reset_handler(void)

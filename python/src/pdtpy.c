@@ -32,8 +32,6 @@
 /* The JSON texts are the command line's (tools/cli/json.h), so that a
  * result's as_dict() equals the program's output. */
 
-
-
 /* ------------------------------------------------------------ models */
 
 static void model_out(const pdt_model_t *m, double *out)
@@ -72,8 +70,7 @@ static pdt_status_t model_in(const double *in, pdt_model_t *m)
     return pdt_model_check(m);
 }
 
-int pdtpy_model_make(int kind, int form, double K, double x1, double x2, double Td,
-                     double *out)
+int pdtpy_model_make(int kind, int form, double K, double x1, double x2, double Td, double *out)
 {
     pdt_model_t m;
     memset(&m, 0, sizeof m);
@@ -115,7 +112,10 @@ int pdtpy_model_json(const double *model, char *buf, size_t len)
 
 /* ------------------------------------------------------------ identify */
 
-int pdtpy_real_size(void) { return (int)sizeof(pdt_real_t); }
+int pdtpy_real_size(void)
+{
+    return (int)sizeof(pdt_real_t);
+}
 
 static pdt_real_t *to_real(const double *x, size_t n)
 {
@@ -155,8 +155,8 @@ static pdt_status_t simulate_real(const pdt_model_t *m, double Ts, const pdt_rea
  * GLUE: the command line computes the same in its model_fit
  * (tools/cli/pdtfit.c, static); once its shared layer exports that, this
  * function goes and identify_ls calls it. */
-static double model_fit(const pdt_model_t *m, double Ts, const pdt_real_t *u,
-                        const pdt_real_t *y, size_t n, pdt_real_t u0, pdt_real_t y0)
+static double model_fit(const pdt_model_t *m, double Ts, const pdt_real_t *u, const pdt_real_t *y,
+                        size_t n, pdt_real_t u0, pdt_real_t y0)
 {
     pdt_real_t *ysim = malloc(n * sizeof *ysim);
     double fit = (double)NAN;
@@ -278,13 +278,11 @@ int pdtpy_simulate(const double *model, double Ts, const double *u, const double
     return st;
 }
 
-
-
 static const char *const rule_names[] = {"simc", "imc", "amigo", "zn"};
 static const char *const form_names[] = {"pi", "pid"};
 
-int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refused,
-               char *json, size_t json_len)
+int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refused, char *json,
+               size_t json_len)
 {
     pdt_model_t m;
     pdt_status_t st = model_in(model, &m);
@@ -306,8 +304,8 @@ int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refus
         pdt_tune_config_t open = cfg;
         open.ms_max = 0;
         pdt_tune_result_t r2;
-        *ms_refused = pdt_tune_compute(&m, 100, &open, &r2) == PDT_OK ? (double)r2.fig.Ms
-                                                                       : (double)NAN;
+        *ms_refused =
+            pdt_tune_compute(&m, 100, &open, &r2) == PDT_OK ? (double)r2.fig.Ms : (double)NAN;
     }
     if (st != PDT_OK) return st;
     pdtcli_jbuf_t jb;
@@ -326,8 +324,8 @@ int pdtpy_reduce(int method, int kind, double gain, const double *lags, size_t n
     pdt_real_t *l = to_real(lags, n_lags), *z = to_real(zeros, n_zeros);
     pdt_status_t st = PDTPY_ERR_NOMEM;
     if (l && z) {
-        const pdt_reduce_plant_t plant = {(pdt_real_t)gain, l, n_lags, n_zeros ? z : NULL,
-                                          n_zeros, (pdt_real_t)delay};
+        const pdt_reduce_plant_t plant = {(pdt_real_t)gain,   l,       n_lags,
+                                          n_zeros ? z : NULL, n_zeros, (pdt_real_t)delay};
         pdt_reduce_config_t cfg;
         pdt_reduce_config_default(&cfg);
         cfg.model = (pdt_model_kind_t)kind;
@@ -350,8 +348,8 @@ int pdtpy_reduce(int method, int kind, double gain, const double *lags, size_t n
 /* The command line's reader, with the binding's options (a field-for-field
  * mirror, so that Python needs no layout of pdtcli_csv_opts_t); the
  * largest cell accepted is the library real type's. */
-int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o, pdtpy_series_t *out,
-                      char *err, size_t errlen)
+int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o, pdtpy_series_t *out, char *err,
+                      size_t errlen)
 {
     pdtcli_csv_opts_t co;
     pdtcli_series_t se;
@@ -384,4 +382,7 @@ void pdtpy_series_free(pdtpy_series_t *s)
     memset(s, 0, sizeof *s);
 }
 
-const char *pdtpy_status_str(int status) { return pdt_status_str((pdt_status_t)status); }
+const char *pdtpy_status_str(int status)
+{
+    return pdt_status_str((pdt_status_t)status);
+}

@@ -21,20 +21,20 @@
 
 /* How pdtpy_model_make reads x1, x2 of a SOPDT. */
 #define PDTPY_SOPDT_NATURAL 0 /* wn, zeta */
-#define PDTPY_SOPDT_TC 1      /* tau1, tau2 */
-#define PDTPY_SOPDT_INTEG 2   /* Ki in K, T in x1 */
+#define PDTPY_SOPDT_TC      1 /* tau1, tau2 */
+#define PDTPY_SOPDT_INTEG   2 /* Ki in K, T in x1 */
 
 /* pdtpy_ident_opts_t.method: `pdtfit identify --method`. */
-#define PDTPY_METHOD_GA 0
+#define PDTPY_METHOD_GA   0
 #define PDTPY_METHOD_ELMS 1
-#define PDTPY_METHOD_EIV 2
+#define PDTPY_METHOD_EIV  2
 
 /* identify's options; NaN or a negative weight means the library default. */
 typedef struct pdtpy_ident_opts {
-    int method;   /* PDTPY_METHOD_*; ELMS and EIV read model and td_max only */
-    int model;    /* pdt_model_kind_t */
-    int cost;     /* pdt_cost_kind_t */
-    int weight;   /* pdt_weight_kind_t, -1 default */
+    int method; /* PDTPY_METHOD_*; ELMS and EIV read model and td_max only */
+    int model;  /* pdt_model_kind_t */
+    int cost;   /* pdt_cost_kind_t */
+    int weight; /* pdt_weight_kind_t, -1 default */
     int integer_delay;
     uint64_t seed;
     uint32_t evaluations; /* 0 default */
@@ -43,7 +43,7 @@ typedef struct pdtpy_ident_opts {
 } pdtpy_ident_opts_t;
 
 typedef struct pdtpy_tune_opts {
-    int rule, form; /* pdt_tune_rule_t, pdt_tune_form_t */
+    int rule, form;                             /* pdt_tune_rule_t, pdt_tune_form_t */
     double tau_c, lambda, ms_max, deriv_filter; /* NaN: default */
 } pdtpy_tune_opts_t;
 
@@ -62,9 +62,9 @@ typedef struct pdtpy_csv_opts {
 typedef struct pdtpy_series {
     double *u, *y;
     size_t n;
-    double Ts;             /* s */
-    unsigned jitter_warn;  /* time stamps off the grid within the tolerance */
-    unsigned filled;       /* samples filled by resampling */
+    double Ts;            /* s */
+    unsigned jitter_warn; /* time stamps off the grid within the tolerance */
+    unsigned filled;      /* samples filled by resampling */
 } pdtpy_series_t;
 
 /* The library's own name of a status (pdt_status_str). */
@@ -81,12 +81,12 @@ PDTPY_API int pdtpy_simulate(const double *model, double Ts, const double *u, co
                              size_t n, double u0, double y0, double *ysim);
 PDTPY_API int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refused,
                          char *json, size_t json_len);
-PDTPY_API int pdtpy_reduce(int method, int kind, double gain, const double *lags,
-                           size_t n_lags, const double *zeros, size_t n_zeros, double delay,
-                           double h, double *model, char *json, size_t json_len);
+PDTPY_API int pdtpy_reduce(int method, int kind, double gain, const double *lags, size_t n_lags,
+                           const double *zeros, size_t n_zeros, double delay, double h,
+                           double *model, char *json, size_t json_len);
 /* 0 ok, -1 with a message in err. */
-PDTPY_API int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o,
-                                pdtpy_series_t *out, char *err, size_t errlen);
+PDTPY_API int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o, pdtpy_series_t *out,
+                                char *err, size_t errlen);
 PDTPY_API void pdtpy_series_free(pdtpy_series_t *s);
 
 #endif /* PDTPY_H */

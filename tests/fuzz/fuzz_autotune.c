@@ -12,9 +12,9 @@
  */
 #include "fuzz_util.h"
 
-#define CAP_MAX 160u
+#define CAP_MAX    160u
 #define WORK_BYTES PDT_AUTOTUNE_WORKSPACE_SIZE(CAP_MAX, PDT_IDENT_POPULATION_SOPDT)
-#define SCANS_MAX 20000u
+#define SCANS_MAX  20000u
 
 static _Alignas(16) uint8_t g_work[WORK_BYTES + FZ_CANARY_LEN];
 

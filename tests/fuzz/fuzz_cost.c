@@ -8,7 +8,7 @@
  */
 #include "fuzz_util.h"
 
-#define NMAX 600u
+#define NMAX       600u
 #define WORK_BYTES PDT_COST_WORKSPACE_SIZE(NMAX)
 
 static pdt_real_t g_u[NMAX], g_y[NMAX];

@@ -10,8 +10,8 @@
  */
 #include "fuzz_util.h"
 
-#define NMAX 512u
-#define POP_MAX 16u
+#define NMAX       512u
+#define POP_MAX    16u
 #define WORK_BYTES (PDT_IDENT_WORKSPACE_SIZE(NMAX, PDT_IDENT_POPULATION_SOPDT) + 64u)
 
 static pdt_real_t g_u[NMAX], g_y[NMAX];

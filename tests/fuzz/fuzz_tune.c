@@ -14,8 +14,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 static bool gains_ok(const pdt_tune_gains_t *g)
 {
     return isfinite((double)g->Kc) && g->Kc != (pdt_real_t)0.0 && isfinite((double)g->tauI) &&
-           g->tauI > (pdt_real_t)0.0 && isfinite((double)g->tauD) &&
-           g->tauD >= (pdt_real_t)0.0 && isfinite((double)g->Tf) && g->Tf >= (pdt_real_t)0.0;
+           g->tauI > (pdt_real_t)0.0 && isfinite((double)g->tauD) && g->tauD >= (pdt_real_t)0.0 &&
+           isfinite((double)g->Tf) && g->Tf >= (pdt_real_t)0.0;
 }
 
 /* What an output holds before a call: no call returns these gains. */

@@ -23,12 +23,12 @@ typedef struct fz {
 } fz_t;
 
 /* A violated contract: print it and abort (libFuzzer keeps the input). */
-#define FZ_CHECK(cond)                                                              \
-    do {                                                                            \
-        if (!(cond)) {                                                              \
-            fprintf(stderr, "%s:%d: contract violated: %s\n", __FILE__, __LINE__, #cond); \
-            abort();                                                                \
-        }                                                                           \
+#define FZ_CHECK(cond)                                                                             \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: contract violated: %s\n", __FILE__, __LINE__, #cond);          \
+            abort();                                                                               \
+        }                                                                                          \
     } while (0)
 
 static inline uint8_t fz_u8(fz_t *f)
@@ -91,7 +91,7 @@ static inline pdt_real_t fz_pos(fz_t *f)
     return fz_real(f);
 }
 
-#define FZ_CANARY 0xCDu
+#define FZ_CANARY     0xCDu
 #define FZ_CANARY_LEN 64u
 
 static inline void fz_canary_set(void *p)
@@ -127,7 +127,8 @@ static inline bool fz_moderate(const pdt_real_t *v, size_t n)
     return true;
 #else
     for (size_t i = 0; i < n; i++) {
-        if (!(fabs((double)v[i]) <= 1e6) || (v[i] != (pdt_real_t)0.0 && fabs((double)v[i]) < 1e-6)) {
+        if (!(fabs((double)v[i]) <= 1e6) ||
+            (v[i] != (pdt_real_t)0.0 && fabs((double)v[i]) < 1e-6)) {
             return false;
         }
     }

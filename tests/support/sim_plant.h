@@ -30,39 +30,39 @@
 #include <stddef.h>
 
 /* Most states (lags + 2 for the pair + 1 for the integrator). */
-#define SIM_PLANT_MAX_STATES 12u
+#define SIM_PLANT_MAX_STATES          12u
 /* Length of the input history a dead time of `delay` s at scan `Ts` s
  * needs (whole scans of delay + 2). */
 #define SIM_PLANT_HIST_LEN(delay, Ts) ((size_t)((delay) / (Ts) + 1e-9) + 2u)
 
 typedef struct sim_plant_desc {
-    double K;             /* DC gain; with `integrating`, the gain per s */
-    const double *lags;   /* n_lags time constants, s, > 0 */
+    double K;           /* DC gain; with `integrating`, the gain per s */
+    const double *lags; /* n_lags time constants, s, > 0 */
     size_t n_lags;
-    const double *zeros;  /* n_zeros numerator time constants, s, != 0 */
+    const double *zeros; /* n_zeros numerator time constants, s, != 0 */
     size_t n_zeros;
-    double wn;            /* the pair's natural frequency, rad/s; 0: none */
-    double zeta;          /* the pair's damping, > 0 */
-    bool integrating;     /* one more pole at s = 0 */
-    double delay;         /* dead time, s, >= 0 */
+    double wn;        /* the pair's natural frequency, rad/s; 0: none */
+    double zeta;      /* the pair's damping, > 0 */
+    bool integrating; /* one more pole at s = 0 */
+    double delay;     /* dead time, s, >= 0 */
 } sim_plant_desc_t;
 
 typedef struct sim_plant {
-    size_t n;                                  /* states */
+    size_t n; /* states */
     double Phi1[SIM_PLANT_MAX_STATES * SIM_PLANT_MAX_STATES];
-    double Gam1[SIM_PLANT_MAX_STATES];         /* over f Ts (or Ts when f = 0) */
+    double Gam1[SIM_PLANT_MAX_STATES]; /* over f Ts (or Ts when f = 0) */
     double Phi2[SIM_PLANT_MAX_STATES * SIM_PLANT_MAX_STATES];
-    double Gam2[SIM_PLANT_MAX_STATES];         /* over (1 - f) Ts */
+    double Gam2[SIM_PLANT_MAX_STATES]; /* over (1 - f) Ts */
     double C[SIM_PLANT_MAX_STATES];
-    double D;                                  /* direct feedthrough */
-    double x[SIM_PLANT_MAX_STATES];            /* deviation from rest */
-    double *hist;                              /* applied inputs, a ring
+    double D;                       /* direct feedthrough */
+    double x[SIM_PLANT_MAX_STATES]; /* deviation from rest */
+    double *hist;                   /* applied inputs, a ring
                                                 * (caller memory) */
-    size_t hist_len;                           /* l + 2 used */
-    size_t head;                               /* newest entry of hist */
-    size_t l;                                  /* whole scans of dead time */
-    double f;                                  /* the fraction, 0 <= f < 1 */
-    double u0, y0;                             /* the operating point */
+    size_t hist_len;                /* l + 2 used */
+    size_t head;                    /* newest entry of hist */
+    size_t l;                       /* whole scans of dead time */
+    double f;                       /* the fraction, 0 <= f < 1 */
+    double u0, y0;                  /* the operating point */
 } sim_plant_t;
 
 /* Prepares p at rest: output y0 with the input held at u0 (for an

@@ -22,7 +22,7 @@
 int target_check_autotune(void);
 
 #define AT_CAPACITY 600u
-#define AT_HIST 256u
+#define AT_HIST     256u
 
 static pdt_real_t g_at_work[PDT_AUTOTUNE_WORKSPACE_SIZE(AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
                                 sizeof(pdt_real_t) +
@@ -70,7 +70,7 @@ typedef struct at_run {
     pdt_status_t st;
     pdt_autotune_result_t res;
     uint32_t scans;
-    uint64_t worst[7];  /* ticks of the slowest call in each phase */
+    uint64_t worst[7]; /* ticks of the slowest call in each phase */
     uint32_t calls[7];
     uint32_t max_evals; /* most cost evaluations in one call */
     size_t stack;       /* bytes below this function's frame */
@@ -115,8 +115,8 @@ static bool at_run(const pdt_autotune_config_t *c, at_plant_t *p, at_run_t *r)
     return pdt_autotune_result(&g_at, &r->res) == PDT_OK;
 }
 
-static void at_config(pdt_autotune_config_t *c, double Ts, pdt_model_kind_t kind,
-                      uint32_t hold, double amp)
+static void at_config(pdt_autotune_config_t *c, double Ts, pdt_model_kind_t kind, uint32_t hold,
+                      double amp)
 {
     pdt_autotune_config_default(c);
     c->Ts = (pdt_real_t)Ts;
@@ -200,8 +200,8 @@ static int check_fopdt(void)
     p.noise_sd = 0.05;
     p.seed = 23u;
     at_run_t r;
-    bool ok = pdt_discrete_init(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) &&
-              r.st == PDT_OK && r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_FOPDT;
+    bool ok = pdt_discrete_init(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) && r.st == PDT_OK &&
+              r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_FOPDT;
     tline_t l;
     tl_init(&l);
     tl_str(&l, "autotune FOPDT K=2 tau=10 Td=3, PRBS, capacity 600: ");
@@ -234,8 +234,7 @@ static int check_sopdt(void)
 {
     pdt_autotune_config_t c;
     at_config(&c, 0.5, PDT_MODEL_SOPDT, 4u, 3.0);
-    pdt_model_tc_t tc = {(pdt_real_t)1.5, (pdt_real_t)8.0, (pdt_real_t)3.0, false,
-                         (pdt_real_t)2.0};
+    pdt_model_tc_t tc = {(pdt_real_t)1.5, (pdt_real_t)8.0, (pdt_real_t)3.0, false, (pdt_real_t)2.0};
     pdt_model_t m;
     memset(&m, 0, sizeof m);
     m.kind = PDT_MODEL_SOPDT;
@@ -248,8 +247,8 @@ static int check_sopdt(void)
     at_run_t r;
     pdt_model_tc_t gtc;
     bool ok = pdt_model_sopdt_from_tc(&tc, &m.p.sopdt) == PDT_OK &&
-              pdt_discrete_init(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) &&
-              r.st == PDT_OK && r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_SOPDT &&
+              pdt_discrete_init(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) && r.st == PDT_OK &&
+              r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_SOPDT &&
               pdt_model_sopdt_to_tc(&r.res.ident.model.p.sopdt, &gtc) == PDT_OK;
     tline_t l;
     tl_init(&l);

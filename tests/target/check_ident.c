@@ -16,7 +16,7 @@
 #include "pdt_port.h"
 #include "pdt_port_cm4.h"
 
-#define NMAX 2000u
+#define NMAX    2000u
 #define POP_MAX PDT_IDENT_POPULATION_SOPDT
 
 static pdt_real_t g_u[NMAX];
@@ -157,8 +157,7 @@ static int check_fopdt(void)
         etau = rel_err((double)g->tau, 12.0);
         eTd = fabs((double)g->Td - 4.37) / 12.0;
         ey0 = fabs((double)res.y0 - r.y0) / 2.0;
-        ok = eK <= 0.015 && etau <= 0.02 && eTd <= 0.02 && ey0 <= 0.005 &&
-             (double)res.fit >= 95.0;
+        ok = eK <= 0.015 && etau <= 0.02 && eTd <= 0.02 && ey0 <= 0.005 && (double)res.fit >= 95.0;
     }
     tline_t l;
     tl_init(&l);
@@ -274,7 +273,7 @@ int target_check_ident(void)
 
 /* ---- Cost evaluation at N = 2000 --------------------------------------- */
 
-#define COST_N 2000u
+#define COST_N      2000u
 #define COST_REPEAT 10u
 
 static pdt_real_t g_cost_work[PDT_COST_WORKSPACE_SIZE(COST_N) / sizeof(pdt_real_t)];
@@ -303,8 +302,7 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
     cfg.use_frequency = kind == PDT_COST_COMBINED;
     size_t ws = pdt_cost_workspace_size(&cfg, r->n);
     bool ok = ws <= sizeof g_cost_work &&
-              pdt_cost_init(&c, &cfg, g_u, g_y, r->n, g_cost_work,
-                            ws) == PDT_OK;
+              pdt_cost_init(&c, &cfg, g_u, g_y, r->n, g_cost_work, ws) == PDT_OK;
     uint64_t t_eval = 0, t_prof = 0;
     size_t stack_eval = 0, stack_prof = 0;
     if (ok) {
@@ -315,9 +313,9 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
         t_eval = (pdt_port_ticks() - t0) / COST_REPEAT;
         t0 = pdt_port_ticks();
         for (unsigned i = 0; i < COST_REPEAT; i++) {
-            ok = pdt_cost_profile(&c, &r->m, (pdt_real_t)0, (pdt_real_t)0, g_sim, &prof) ==
-                     PDT_OK &&
-                 ok;
+            ok =
+                pdt_cost_profile(&c, &r->m, (pdt_real_t)0, (pdt_real_t)0, g_sim, &prof) == PDT_OK &&
+                ok;
         }
         t_prof = (pdt_port_ticks() - t0) / COST_REPEAT;
         size_t depth = pdt_cm4_stack_depth();
@@ -325,8 +323,8 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
         ok = pdt_cost_eval(&c, &r->m, &v) == PDT_OK && ok;
         stack_eval = pdt_cm4_stack_used() - depth;
         t_stack_repaint();
-        ok = pdt_cost_profile(&c, &r->m, (pdt_real_t)0, (pdt_real_t)0, g_sim, &prof) == PDT_OK &&
-             ok;
+        ok =
+            pdt_cost_profile(&c, &r->m, (pdt_real_t)0, (pdt_real_t)0, g_sim, &prof) == PDT_OK && ok;
         stack_prof = pdt_cm4_stack_used() - depth;
     }
     tline_t l;

@@ -19,20 +19,20 @@
 
 #if PDT_REAL_DOUBLE
 #define FFT_MIN_SNR_DB 250.0
-#define FFT_PEAK_RTOL 1e-12
-#define COEF_RTOL 1e-12
-#define SIM_SNR_DB 250.0
-#define STEP_RTOL 1e-12
-#define FREQ_RTOL 1e-13
-#define COST_RTOL 1e-9
+#define FFT_PEAK_RTOL  1e-12
+#define COEF_RTOL      1e-12
+#define SIM_SNR_DB     250.0
+#define STEP_RTOL      1e-12
+#define FREQ_RTOL      1e-13
+#define COST_RTOL      1e-9
 #else
 #define FFT_MIN_SNR_DB 100.0
-#define FFT_PEAK_RTOL 1e-5
-#define COEF_RTOL 5e-6
-#define SIM_SNR_DB 100.0
-#define STEP_RTOL 2e-6
-#define FREQ_RTOL 1e-6
-#define COST_RTOL 1e-4
+#define FFT_PEAK_RTOL  1e-5
+#define COEF_RTOL      5e-6
+#define SIM_SNR_DB     100.0
+#define STEP_RTOL      2e-6
+#define FREQ_RTOL      1e-6
+#define COST_RTOL      1e-4
 #endif
 
 /* ---- FFT --------------------------------------------------------------- */
@@ -91,7 +91,8 @@ int target_check_fft(void)
                 g_fft_ref[j] = (double)tc->q[j] / (double)FFT_VEC_DENOM;
             }
             canary_fill(g_fft_buf + n, CANARY_COUNT);
-            ok = pdt_fft_forward(&f, g_fft_buf) == PDT_OK && canary_intact(g_fft_buf + n, CANARY_COUNT);
+            ok = pdt_fft_forward(&f, g_fft_buf) == PDT_OK &&
+                 canary_intact(g_fft_buf + n, CANARY_COUNT);
             ok = fft_compare(g_fft_buf, tc->spec, n, &snr_f, &ep_f) && ok;
 
             canary_fill(g_fft_mag + n / 2u + 1u, CANARY_COUNT);
@@ -102,7 +103,8 @@ int target_check_fft(void)
             for (size_t j = 0; j < n; j++) {
                 g_fft_buf[j] = (pdt_real_t)tc->spec[j];
             }
-            ok = pdt_fft_inverse(&f, g_fft_buf) == PDT_OK && canary_intact(g_fft_buf + n, CANARY_COUNT) && ok;
+            ok = pdt_fft_inverse(&f, g_fft_buf) == PDT_OK &&
+                 canary_intact(g_fft_buf + n, CANARY_COUNT) && ok;
             ok = fft_compare(g_fft_buf, g_fft_ref, n, &snr_i, &ep_i) && ok;
         }
 
@@ -177,7 +179,8 @@ int target_check_model(void)
         canary_fill(g_mag + MODEL_VEC_NW, CANARY_COUNT);
         canary_fill(g_ph + MODEL_VEC_NW, CANARY_COUNT);
         ok_freq = pdt_model_freq(&m, g_w, MODEL_VEC_NW, g_mag, g_ph) == PDT_OK && ok_freq;
-        ok_freq = canary_intact(g_mag + MODEL_VEC_NW, CANARY_COUNT) && canary_intact(g_ph + MODEL_VEC_NW, CANARY_COUNT) && ok_freq;
+        ok_freq = canary_intact(g_mag + MODEL_VEC_NW, CANARY_COUNT) &&
+                  canary_intact(g_ph + MODEL_VEC_NW, CANARY_COUNT) && ok_freq;
         bool integ = m.kind == PDT_MODEL_SOPDT && m.p.sopdt.b == (pdt_real_t)0.0;
         for (int j = 0; j < MODEL_VEC_NW; j++) {
             double wm = model_mag[MODEL_VEC_NW * i + j];
@@ -321,7 +324,8 @@ static int check_simulation(void)
         canary_fill(g_syh + DISC_SIM_N, CANARY_COUNT);
         bool ok = pdt_discrete_simulate(&d, g_su, DISC_SIM_N, g_sy) == PDT_OK;
         ok = pdt_discrete_predict(&d, g_su, g_sym, DISC_SIM_N, g_syh) == PDT_OK && ok;
-        ok = canary_intact(g_sy + DISC_SIM_N, CANARY_COUNT) && canary_intact(g_syh + DISC_SIM_N, CANARY_COUNT) && ok;
+        ok = canary_intact(g_sy + DISC_SIM_N, CANARY_COUNT) &&
+             canary_intact(g_syh + DISC_SIM_N, CANARY_COUNT) && ok;
         double snr_s = snr_db(g_sy, &disc_ysim[DISC_SIM_N * s], DISC_SIM_N);
         double snr_p = snr_db(g_syh, &disc_yhat[DISC_SIM_N * s], DISC_SIM_N);
         ok = ok && snr_s >= SIM_SNR_DB && snr_p >= SIM_SNR_DB;
@@ -352,7 +356,7 @@ int target_check_discrete(void)
 
 /* ---- Costs ------------------------------------------------------------- */
 
-#define COST_NMAX 600u
+#define COST_NMAX       600u
 #define COST_WORK_REALS (PDT_COST_WORKSPACE_SIZE(COST_NMAX) / sizeof(pdt_real_t))
 
 static pdt_real_t g_cu[COST_NMAX];
@@ -381,8 +385,7 @@ static bool cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
         return false;
     }
     canary_fill(g_cwork + reals, CANARY_COUNT);
-    return pdt_cost_init(c, cfg, g_cu, g_cy, n, g_cwork, ws) ==
-               PDT_OK &&
+    return pdt_cost_init(c, cfg, g_cu, g_cy, n, g_cwork, ws) == PDT_OK &&
            canary_intact(g_cwork + reals, CANARY_COUNT);
 }
 

@@ -43,8 +43,8 @@ static int check_port(void)
     uint64_t t0 = pdt_port_ticks();
     uint64_t t1 = 0;
     bool monotonic = ticks_forward(20000u, 0u, &t1);
-    bool ok = pdt_cm4_counter() != PDT_CM4_COUNTER_NONE && hz == PDT_CM4_CORE_HZ &&
-              monotonic && t1 > t0;
+    bool ok =
+        pdt_cm4_counter() != PDT_CM4_COUNTER_NONE && hz == PDT_CM4_CORE_HZ && monotonic && t1 > t0;
     tline_t l;
     tl_init(&l);
     tl_str(&l, "port: ticks at ");
@@ -113,8 +113,7 @@ int main(void)
     tl_str(&l, " target tests, ");
     tl_str(&l, PDT_REAL_DOUBLE ? "double" : "float");
     tl_str(&l, " build; ticks from ");
-    tl_str(&l, pdt_cm4_counter() == PDT_CM4_COUNTER_DWT ? "the DWT cycle counter"
-                                                       : "SysTick");
+    tl_str(&l, pdt_cm4_counter() == PDT_CM4_COUNTER_DWT ? "the DWT cycle counter" : "SysTick");
     tl_str(&l, " at ");
     tl_uint(&l, pdt_port_ticks_per_second());
     tl_str(&l, " Hz");

@@ -51,10 +51,10 @@
 
 #include "pdt/pdt.h"
 
-#define MAXN 16
-#define PI_D 3.14159265358979323846
+#define MAXN  16
+#define PI_D  3.14159265358979323846
 #define RL(x) ((pdt_real_t)(x))
-#define MAXL 200000
+#define MAXL  200000
 
 typedef struct plant {
     double Ts;
@@ -130,7 +130,7 @@ static double plant_y(const plant_t *p)
  * rest with u = 0 in its past. */
 static void plant_step(plant_t *p, double u)
 {
-    p->ubuf[p->head] = u; /* u[k] */
+    p->ubuf[p->head] = u;                                              /* u[k] */
     double ub = p->ubuf[(p->head - p->l + p->blen * 2) % p->blen];     /* u[k-l] */
     double ua = p->ubuf[(p->head - p->l - 1 + p->blen * 2) % p->blen]; /* u[k-l-1] */
     double xn[MAXN];
@@ -195,8 +195,8 @@ static void print_model(const char *tag, const pdt_model_t *m)
 
 /* SIMC gains of form `form` for model m, printed under tag with their
  * status; the limits as given. */
-static void tune_print(const char *tag, const pdt_model_t *m, pdt_real_t fit,
-                       pdt_tune_form_t form, pdt_real_t fit_min, pdt_real_t ms_max)
+static void tune_print(const char *tag, const pdt_model_t *m, pdt_real_t fit, pdt_tune_form_t form,
+                       pdt_real_t fit_min, pdt_real_t ms_max)
 {
     pdt_tune_config_t tc;
     pdt_tune_config_default(&tc);
@@ -226,9 +226,8 @@ static void tune_print(const char *tag, const pdt_model_t *m, pdt_real_t fit,
 /* Runs the autotune of cfg against the plant, one call per scan, until it
  * ends, and prints the common part of its result into r. Returns false
  * when init refused cfg (printed). */
-static bool drive_autotune(plant_t *p, noise_t *z, long max_scans,
-                           const pdt_autotune_config_t *cfg, pdt_autotune_result_t *r,
-                           pdt_status_t *st_out)
+static bool drive_autotune(plant_t *p, noise_t *z, long max_scans, const pdt_autotune_config_t *cfg,
+                           pdt_autotune_result_t *r, pdt_status_t *st_out)
 {
     size_t ws = pdt_autotune_workspace_size(cfg);
     void *work = malloc(ws ? ws : 1u);
@@ -318,8 +317,7 @@ static int run_autotune(void)
         printf("%s_status %d\n", own, (int)(r.has_gains ? PDT_OK : st));
         if (r.has_gains) {
             print_gains(own, &r.tune.ideal);
-            printf("%s_Ms_model %.9g\ndetune %.9g\n", own, (double)r.tune.fig.Ms,
-                   (double)r.detune);
+            printf("%s_Ms_model %.9g\ndetune %.9g\n", own, (double)r.tune.fig.Ms, (double)r.detune);
         }
     }
     free(p.ubuf);
@@ -371,8 +369,8 @@ static void closed_loop(plant_t *p, const pdt_tune_gains_t *g, long n_sp, long n
     }
     printf("cl_bounded %d\n", bounded);
     if (bounded) {
-        printf("cl_sp_iae %.9g\ncl_overshoot %.9g\ncl_load_iae %.9g\ncl_end_error %.9g\n",
-               iae_sp, ymax > 1.0 ? ymax - 1.0 : 0.0, iae_ld, fabs(1.0 - plant_y(p)));
+        printf("cl_sp_iae %.9g\ncl_overshoot %.9g\ncl_load_iae %.9g\ncl_end_error %.9g\n", iae_sp,
+               ymax > 1.0 ? ymax - 1.0 : 0.0, iae_ld, fabs(1.0 - plant_y(p)));
     }
 }
 
@@ -441,8 +439,8 @@ static int run_at(void)
     for (int i = 0; i < 25; i++) {
         if (rd(&v[i])) die("at config");
     }
-    static const pdt_excite_kind_t kinds[4] = {PDT_EXCITE_RELAY, PDT_EXCITE_PRBS,
-                                               PDT_EXCITE_STEP, PDT_EXCITE_PULSE};
+    static const pdt_excite_kind_t kinds[4] = {PDT_EXCITE_RELAY, PDT_EXCITE_PRBS, PDT_EXCITE_STEP,
+                                               PDT_EXCITE_PULSE};
     int kind = (int)v[0];
     if (kind < 0 || kind > 3) die("experiment kind");
     pdt_autotune_config_t cfg;
@@ -537,8 +535,8 @@ static int run_relay(void)
     printf("status %d\nscans %ld\n", (int)(st == PDT_RUNNING ? PDT_ERR_TIMEOUT : st), k + 1);
     pdt_excite_relay_t rr;
     if (st == PDT_OK && pdt_excite_relay_result(&gen, &rr) == PDT_OK) {
-        printf("Ku %.9g\nPu %.9g\na %.9g\ncycles %lu\n", (double)rr.Ku, (double)rr.Pu,
-               (double)rr.a, (unsigned long)rr.cycles);
+        printf("Ku %.9g\nPu %.9g\na %.9g\ncycles %lu\n", (double)rr.Ku, (double)rr.Pu, (double)rr.a,
+               (unsigned long)rr.cycles);
         pdt_tune_gains_t g;
         if (pdt_tune_ziegler_nichols(rr.Ku, rr.Pu, PDT_TUNE_PI, &g) == PDT_OK) {
             print_gains("pi", &g);
@@ -566,7 +564,7 @@ static int run_model(void)
     } else {
         m.kind = PDT_MODEL_SOPDT;
         m.p.sopdt = (pdt_model_sopdt_t){(pdt_real_t)v[0], (pdt_real_t)v[1], (pdt_real_t)v[2],
-                                  (pdt_real_t)v[3]};
+                                        (pdt_real_t)v[3]};
     }
     print_model("model", &m);
     tune_print("pi", &m, RL(100.0), PDT_TUNE_PI, RL(0.0), RL(0.0));

@@ -47,9 +47,9 @@
 #include "pdt/pdt.h"
 
 #define SNR_DB 25.0
-#define U0 40.0
-#define Y0 350.0
-#define AMP 10.0
+#define U0     40.0
+#define Y0     350.0
+#define AMP    10.0
 
 enum plant_kind { PLANT_FOPDT, PLANT_SOPDT, PLANT_INTEG };
 enum loop_kind { LOOP_RELAY, LOOP_PI, LOOP_RELAY_SYM };
@@ -67,10 +67,10 @@ typedef struct bcase {
 /* Record lengths: several relay cycles and a few settling times. */
 static const bcase_t cases[] = {
     {"relay FOPDT, tau/Td = 2", LOOP_RELAY, PLANT_FOPDT, 1.0, 2.0, 0.0, 1.03, 40.0, 1200},
-    {"relay FOPDT, lag-dominant tau/Td = 10", LOOP_RELAY, PLANT_FOPDT, 2.0, 10.0, 0.0, 1.03,
-     200.0, 1200},
-    {"relay FOPDT, delay-dominant tau/Td = 0.3", LOOP_RELAY, PLANT_FOPDT, 1.5, 0.6, 0.0, 2.03,
-     60.0, 1200},
+    {"relay FOPDT, lag-dominant tau/Td = 10", LOOP_RELAY, PLANT_FOPDT, 2.0, 10.0, 0.0, 1.03, 200.0,
+     1200},
+    {"relay FOPDT, delay-dominant tau/Td = 0.3", LOOP_RELAY, PLANT_FOPDT, 1.5, 0.6, 0.0, 2.03, 60.0,
+     1200},
     {"relay FOPDT, negative gain K = -0.8", LOOP_RELAY, PLANT_FOPDT, -0.8, 3.0, 0.0, 1.23, 60.0,
      1200},
     {"relay SOPDT, overdamped zeta = 1.5", LOOP_RELAY, PLANT_SOPDT, 1.2, 0.5, 1.5, 1.03, 80.0,
@@ -81,12 +81,10 @@ static const bcase_t cases[] = {
      50.0, 1200},
     {"relay integrating, Ki = 0.1, T = 2", LOOP_RELAY, PLANT_INTEG, 0.1, 2.0, 0.0, 1.03, 50.0,
      1200},
-    {"PI set-point steps, FOPDT tau/Td = 3", LOOP_PI, PLANT_FOPDT, 1.0, 3.0, 0.0, 1.03, 80.0,
-     1200},
+    {"PI set-point steps, FOPDT tau/Td = 3", LOOP_PI, PLANT_FOPDT, 1.0, 3.0, 0.0, 1.03, 80.0, 1200},
     {"PI set-point steps, SOPDT zeta = 1.5", LOOP_PI, PLANT_SOPDT, 1.2, 0.5, 1.5, 1.03, 120.0,
      1200},
-    {"PI set-point steps, SOPDT zeta = 0.7", LOOP_PI, PLANT_SOPDT, 1.2, 0.8, 0.7, 1.03, 80.0,
-     1200},
+    {"PI set-point steps, SOPDT zeta = 0.7", LOOP_PI, PLANT_SOPDT, 1.2, 0.8, 0.7, 1.03, 80.0, 1200},
     {"symmetric relay FOPDT, tau/Td = 2", LOOP_RELAY_SYM, PLANT_FOPDT, 1.0, 2.0, 0.0, 1.03, 40.0,
      1200},
     {"symmetric relay SOPDT, zeta = 0.7", LOOP_RELAY_SYM, PLANT_SOPDT, 1.2, 0.8, 0.7, 1.03, 50.0,
@@ -416,9 +414,9 @@ static void print_cases(void)
         json_str(c->name);
         printf(",\"loop\":\"%s\",\"plant\":\"%s\",\"model\":\"%s\",\"p\":[%.10g,%.10g,%.10g],"
                "\"Td\":%.10g,\"T\":%.10g,\"n\":%zu,\"Ts\":%.17g,\"snr_db\":%g}\n",
-               c->loop == LOOP_PI ? "pi" : (c->loop == LOOP_RELAY ? "relay" : "relay-sym"), plant_names[c->plant],
-               c->plant == PLANT_FOPDT ? "fopdt" : "sopdt", c->p1, c->p2, c->p3, c->Td, c->T, c->n,
-               c->T / (double)c->n, SNR_DB);
+               c->loop == LOOP_PI ? "pi" : (c->loop == LOOP_RELAY ? "relay" : "relay-sym"),
+               plant_names[c->plant], c->plant == PLANT_FOPDT ? "fopdt" : "sopdt", c->p1, c->p2,
+               c->p3, c->Td, c->T, c->n, c->T / (double)c->n, SNR_DB);
     }
 }
 

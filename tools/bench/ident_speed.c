@@ -74,8 +74,8 @@ static pdt_model_kind_t parse_model(const char *s)
     return strcmp(s, "sopdt") == 0 ? PDT_MODEL_SOPDT : PDT_MODEL_FOPDT;
 }
 
-static int identify(const pdt_ident_config_t *cfg, const pdt_ident_data_t *data,
-                    void *work, size_t len, pdt_ident_result_t *res)
+static int identify(const pdt_ident_config_t *cfg, const pdt_ident_data_t *data, void *work,
+                    size_t len, pdt_ident_result_t *res)
 {
     pdt_ident_t ctx;
     pdt_status_t st = pdt_identify(&ctx, cfg, data, work, len, res);

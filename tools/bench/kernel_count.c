@@ -152,12 +152,30 @@ void kb_sopdt_hint(void);
 void kb_sopdt_cold(void);
 void kb_fopdt_many4(void);
 void kb_sopdt_many4(void);
-void kb_fopdt_hint(void) { run(0, 1); }
-void kb_fopdt_cold(void) { run(0, 0); }
-void kb_sopdt_hint(void) { run(1, 1); }
-void kb_sopdt_cold(void) { run(1, 0); }
-void kb_fopdt_many4(void) { run_many(0); }
-void kb_sopdt_many4(void) { run_many(1); }
+void kb_fopdt_hint(void)
+{
+    run(0, 1);
+}
+void kb_fopdt_cold(void)
+{
+    run(0, 0);
+}
+void kb_sopdt_hint(void)
+{
+    run(1, 1);
+}
+void kb_sopdt_cold(void)
+{
+    run(1, 0);
+}
+void kb_fopdt_many4(void)
+{
+    run_many(0);
+}
+void kb_sopdt_many4(void)
+{
+    run_many(1);
+}
 
 static void put(const char *s)
 {
@@ -182,11 +200,10 @@ static void put_u64(uint64_t v)
 
 int main(void)
 {
-    static void (*volatile const cases[])(void) = {kb_fopdt_hint,  kb_fopdt_cold,
-                                                   kb_sopdt_hint,  kb_sopdt_cold,
-                                                   kb_fopdt_many4, kb_sopdt_many4};
-    static const char *const names[] = {"kb_fopdt_hint",  "kb_fopdt_cold",  "kb_sopdt_hint",
-                                        "kb_sopdt_cold",  "kb_fopdt_many4", "kb_sopdt_many4"};
+    static void (*volatile const cases[])(void) = {kb_fopdt_hint, kb_fopdt_cold,  kb_sopdt_hint,
+                                                   kb_sopdt_cold, kb_fopdt_many4, kb_sopdt_many4};
+    static const char *const names[] = {"kb_fopdt_hint", "kb_fopdt_cold",  "kb_sopdt_hint",
+                                        "kb_sopdt_cold", "kb_fopdt_many4", "kb_sopdt_many4"};
     pdt_port_init();
     make_record();
     if (!prepare()) {

@@ -23,21 +23,21 @@
 #include "plant17.h"
 #include "sim_rng.h"
 
-#define FS 20.0
-#define TS (1.0 / FS)
-#define NMAX 2000
+#define FS        20.0
+#define TS        (1.0 / FS)
+#define NMAX      2000
 #define NOISE_STD 0.02
-#define U0 40.0 /* input operating point, e.g. % valve */
-#define Y0 55.0 /* output operating point, e.g. degC */
-#define SEED 1u
+#define U0        40.0 /* input operating point, e.g. % valve */
+#define Y0        55.0 /* output operating point, e.g. degC */
+#define SEED      1u
 
 /* Step-response comparison window and grid, and the frequency range of the
  * comparison: up to the phase crossover of (17). */
-#define IAE_T 15.0
+#define IAE_T  15.0
 #define IAE_DT 0.01
-#define IAE_N ((size_t)(IAE_T / IAE_DT) + 1u)
-#define W_U 1.186
-#define NFREQ 200
+#define IAE_N  ((size_t)(IAE_T / IAE_DT) + 1u)
+#define W_U    1.186
+#define NFREQ  200
 
 static pdt_real_t u[NMAX];
 static pdt_real_t y[NMAX];
@@ -179,8 +179,8 @@ static void identify_w(const char *who, size_t n, pdt_model_kind_t kind, pdt_cos
         return;
     }
     if (res.f_band > 0.0f) {
-        snprintf(note, sizeof note, "fit %5.1f%%, %u evaluations, band 0-%.3f Hz",
-                 (double)res.fit, (unsigned)res.evaluations, (double)res.f_band);
+        snprintf(note, sizeof note, "fit %5.1f%%, %u evaluations, band 0-%.3f Hz", (double)res.fit,
+                 (unsigned)res.evaluations, (double)res.f_band);
     } else {
         snprintf(note, sizeof note, "fit %5.1f%%, %u evaluations", (double)res.fit,
                  (unsigned)res.evaluations);
@@ -216,7 +216,8 @@ int main(void)
     printf("Criteria: 'prediction' is the paper's Ct (one-step prediction), 'simulation' the\n"
            "output error; '+ frequency' adds the paper's Cf (phi_t = phi_f = 1), weighted by\n"
            "the library's default: a FOPDT on the band up to half the phase crossover of its\n"
-           "time-domain model (printed), a SOPDT uniformly. Seed %u.\n", SEED);
+           "time-domain model (printed), a SOPDT uniformly. Seed %u.\n",
+           SEED);
 
     plant17_step_grid(IAE_DT, IAE_N, true_step);
 
@@ -249,7 +250,8 @@ int main(void)
     static const struct {
         enum excitation e;
         double K, a1, a2, Td;
-    } paper2[] = {{CHIRP, 1.0, 0.74, 2.2, 1.0}, {PULSE1, 1.0, 1.34, 1.74, 0.85},
+    } paper2[] = {{CHIRP, 1.0, 0.74, 2.2, 1.0},
+                  {PULSE1, 1.0, 1.34, 1.74, 0.85},
                   {PULSE2, 1.0, 1.29, 1.8, 0.85}};
     for (size_t i = 0; i < 3; i++) {
         char who[64];

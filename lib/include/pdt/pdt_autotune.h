@@ -66,24 +66,24 @@ typedef enum pdt_autotune_phase {
 } pdt_autotune_phase_t;
 
 typedef struct pdt_autotune_config {
-    pdt_real_t Ts;            /* scan period, s, > 0. Default 0 (must be set) */
-    uint32_t decimation;      /* scans per identification sample, >= 1: the
+    pdt_real_t Ts;           /* scan period, s, > 0. Default 0 (must be set) */
+    uint32_t decimation;     /* scans per identification sample, >= 1: the
                                * identification runs at Ts * decimation.
                                * Default 1 */
-    size_t capacity;          /* most samples recorded (identification rate),
+    size_t capacity;         /* most samples recorded (identification rate),
                                * PDT_MIN_SAMPLES + settle ..
                                * PDT_MAX_SAMPLES (pdt_config.h, 2^20 by
                                * default; a scan's work grows with it);
                                * sizes the workspace. Default 0 (must be
                                * set) */
-    uint32_t settle;          /* identification samples at u0 before the
+    uint32_t settle;         /* identification samples at u0 before the
                                * excitation, to measure the operating point.
                                * Default 20 */
-    uint32_t tail;            /* identification samples still recorded after
+    uint32_t tail;           /* identification samples still recorded after
                                * the excitation ends (the process is still
                                * responding); 0: until the record is full.
                                * Default 0 */
-    uint32_t evals_per_scan;  /* cost evaluations per scan while identifying,
+    uint32_t evals_per_scan; /* cost evaluations per scan while identifying,
                                * >= 1. Default 4 */
     /* The experiment. Set kind, levels and timing; the autotune sets Ts
      * (the scan period), u0 (the output at init) and pre (the settle
@@ -91,13 +91,13 @@ typedef struct pdt_autotune_config {
     pdt_excite_config_t excite;
     /* Safety limits, checked every scan until the end (also while
      * identifying, with the output back at u0). */
-    pdt_real_t u_min;         /* output limits. Default -/+ the largest real */
+    pdt_real_t u_min; /* output limits. Default -/+ the largest real */
     pdt_real_t u_max;
-    pdt_real_t pv_min;        /* process value limits. Default -/+ the */
-    pdt_real_t pv_max;        /* largest real: set them */
-    uint32_t max_scans;       /* the experiment's time limit in scans; 0:
+    pdt_real_t pv_min;      /* process value limits. Default -/+ the */
+    pdt_real_t pv_max;      /* largest real: set them */
+    uint32_t max_scans;     /* the experiment's time limit in scans; 0:
                                * none. Default 0 */
-    pdt_record_move_t move;   /* set-point check of the recorder (a relay's
+    pdt_record_move_t move; /* set-point check of the recorder (a relay's
                                * set-point must be crossable). Default ANY */
     /* The identification: model, criterion, bounds, search. Ts is set by
      * the autotune (Ts * decimation). */
@@ -124,29 +124,29 @@ typedef struct pdt_autotune_config {
 } pdt_autotune_config_t;
 
 typedef struct pdt_autotune_result {
-    pdt_status_t status;      /* PDT_OK, or why it failed: an abort
+    pdt_status_t status;            /* PDT_OK, or why it failed: an abort
                                * (PDT_ERR_PV_LIMIT, ...), data that could
                                * not support a model, or refused gains
                                * (PDT_ERR_MODEL_INVALID, PDT_ERR_UNCERTAIN,
                                * PDT_ERR_POOR_FIT, PDT_ERR_UNSTABLE) */
     pdt_autotune_phase_t failed_in; /* the phase that failed (when it did) */
-    bool has_model;           /* the identification finished */
-    pdt_ident_result_t ident; /* the model, fit and operating point */
-    bool has_gains;           /* gains passed the refusal rules */
-    pdt_tune_result_t tune;   /* the gains and their robustness */
-    bool has_valid;           /* the model was validated */
-    pdt_validate_result_t valid; /* residual tests, parameter std and
+    bool has_model;                 /* the identification finished */
+    pdt_ident_result_t ident;       /* the model, fit and operating point */
+    bool has_gains;                 /* gains passed the refusal rules */
+    pdt_tune_result_t tune;         /* the gains and their robustness */
+    bool has_valid;                 /* the model was validated */
+    pdt_validate_result_t valid;    /* residual tests, parameter std and
                                * covariance of the model kept (its dead
                                * time before the decimation shift) */
-    pdt_real_t bic_other;     /* order_auto: BIC of the model not kept */
-    pdt_real_t ms_robust;     /* robust Ms bound of the gains kept */
-    pdt_real_t detune;        /* factor on the rule's knob (tau_c,
+    pdt_real_t bic_other;           /* order_auto: BIC of the model not kept */
+    pdt_real_t ms_robust;           /* robust Ms bound of the gains kept */
+    pdt_real_t detune;              /* factor on the rule's knob (tau_c,
                                * lambda) the evidence asked for, >= 1 */
-    bool has_relay;           /* the experiment was a relay test */
-    pdt_excite_relay_t relay; /* Ku, Pu measured by the relay */
-    size_t samples;           /* samples recorded */
-    uint32_t scans;           /* scans since init */
-    uint32_t scans_experiment; /* scans of settle + experiment */
+    bool has_relay;                 /* the experiment was a relay test */
+    pdt_excite_relay_t relay;       /* Ku, Pu measured by the relay */
+    size_t samples;                 /* samples recorded */
+    uint32_t scans;                 /* scans since init */
+    uint32_t scans_experiment;      /* scans of settle + experiment */
 } pdt_autotune_result_t;
 
 /* The autotune. Fields are private. */
@@ -154,11 +154,11 @@ typedef struct pdt_autotune {
     pdt_autotune_config_t cfg;
     uint32_t magic;
     pdt_autotune_phase_t phase;
-    pdt_real_t u_init;        /* output at init: the operating point */
-    pdt_real_t u_hold;        /* output applied while identifying */
-    pdt_real_t *u;            /* record (workspace) */
+    pdt_real_t u_init; /* output at init: the operating point */
+    pdt_real_t u_hold; /* output applied while identifying */
+    pdt_real_t *u;     /* record (workspace) */
     pdt_real_t *y;
-    void *ident_work;         /* identification's part of the workspace */
+    void *ident_work; /* identification's part of the workspace */
     size_t ident_work_len;
     size_t tail_end;          /* samples recorded when the tail is complete */
     bool excite_over;         /* the excitation has ended */
@@ -167,7 +167,7 @@ typedef struct pdt_autotune {
     uint32_t tune_try;        /* tune: knob factors tried */
     pdt_ident_result_t first; /* order_auto: the FOPDT */
     pdt_validate_result_t first_valid;
-    pdt_status_t tune_why;    /* why the last knob factor was refused */
+    pdt_status_t tune_why; /* why the last knob factor was refused */
     pdt_excite_t gen;
     pdt_record_t rec;
     pdt_ident_t ident;
@@ -188,10 +188,10 @@ size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
 /* Compile-time upper bound of the workspace for a record of capacity
  * samples and a GA population of pop (PDT_IDENT_POPULATION_SOPDT covers both
  * automatic populations), any configuration: for static arrays. */
-#define PDT_AUTOTUNE_WORKSPACE_SIZE(capacity, pop) \
-    (2u * (size_t)(capacity) * sizeof(pdt_real_t) + \
-     (PDT_IDENT_WORKSPACE_SIZE(capacity, pop) > PDT_VALIDATE_WORKSPACE_SIZE(capacity) \
-          ? PDT_IDENT_WORKSPACE_SIZE(capacity, pop) \
+#define PDT_AUTOTUNE_WORKSPACE_SIZE(capacity, pop)                                                 \
+    (2u * (size_t)(capacity) * sizeof(pdt_real_t) +                                                \
+     (PDT_IDENT_WORKSPACE_SIZE(capacity, pop) > PDT_VALIDATE_WORKSPACE_SIZE(capacity)              \
+          ? PDT_IDENT_WORKSPACE_SIZE(capacity, pop)                                                \
           : PDT_VALIDATE_WORKSPACE_SIZE(capacity)))
 
 /* Prepares at for an autotune starting from the output u_now, which is

@@ -17,10 +17,13 @@ extern "C" {
 #endif
 
 /* The one version number of pdtfit; CMake reads it from here. */
+/* CMake and the package checks read these lines as written. */
+/* clang-format off */
 #define PDT_VERSION_MAJOR 0
 #define PDT_VERSION_MINOR 2
 #define PDT_VERSION_PATCH 0
 #define PDT_VERSION_STRING "0.2.0"
+/* clang-format on */
 
 #if PDT_REAL_DOUBLE
 typedef double pdt_real_t;
@@ -31,7 +34,7 @@ typedef float pdt_real_t;
 /* Delay bounds that follow the record length: a delay_max of
  * PDT_DELAY_HALF means n / 2 samples, PDT_DELAY_QUARTER n / 4 (rounded
  * down), in every module that takes a delay_max. */
-#define PDT_DELAY_HALF ((size_t)-1)
+#define PDT_DELAY_HALF    ((size_t)-1)
 #define PDT_DELAY_QUARTER ((size_t)-2)
 
 #ifdef __cplusplus

@@ -89,18 +89,18 @@ typedef enum pdt_delay_mode {
 } pdt_delay_mode_t;
 
 typedef struct pdt_cost_config {
-    pdt_real_t Ts;          /* sampling period, s; finite and > 0. Default 0
+    pdt_real_t Ts;               /* sampling period, s; finite and > 0. Default 0
                              * (must be set) */
-    pdt_real_t u0;          /* input operating point. Default 0 */
-    pdt_real_t y0;          /* output operating point. Default 0 */
-    size_t delay_min;       /* l_l, samples. Default 0 */
-    size_t delay_max;       /* l_u, samples; < n. Default PDT_DELAY_HALF */
-    pdt_cost_kind_t kind;   /* what pdt_cost_eval computes. Default COMBINED */
-    pdt_cost_kind_t time_kind; /* time part of COMBINED: PREDICTION or
+    pdt_real_t u0;               /* input operating point. Default 0 */
+    pdt_real_t y0;               /* output operating point. Default 0 */
+    size_t delay_min;            /* l_l, samples. Default 0 */
+    size_t delay_max;            /* l_u, samples; < n. Default PDT_DELAY_HALF */
+    pdt_cost_kind_t kind;        /* what pdt_cost_eval computes. Default COMBINED */
+    pdt_cost_kind_t time_kind;   /* time part of COMBINED: PREDICTION or
                                 * SIMULATION. Default SIMULATION (the paper
                                 * uses PREDICTION, which output noise biases) */
     pdt_delay_mode_t delay_mode; /* Default FRACTIONAL */
-    bool whole_record;      /* score the time costs on the whole record
+    bool whole_record;           /* score the time costs on the whole record
                              * instead of the paper's k = l_u + order ..
                              * n-1: k = 0 .. n-1 for the simulation (its
                              * output from rest is defined from the first
@@ -110,16 +110,16 @@ typedef struct pdt_cost_config {
                              * a step test shows its dead time;
                              * identification uses the whole record.
                              * Default false (the paper) */
-    bool estimate_offset;   /* time costs fit a constant output offset. Default true */
-    bool use_frequency;     /* prepare spectra (needed for FREQUENCY and
+    bool estimate_offset;        /* time costs fit a constant output offset. Default true */
+    bool use_frequency;          /* prepare spectra (needed for FREQUENCY and
                              * COMBINED; needs a workspace, see
                              * pdt_cost_workspace_size). Default true */
-    pdt_real_t phi_t;       /* weight of the time cost in COMBINED, >= 0. Default 1 */
-    pdt_real_t phi_f;       /* weight of Cf in COMBINED, >= 0. Default 1 */
-    pdt_weight_kind_t weight; /* Default UNIFORM */
-    pdt_real_t f_lo;        /* BAND: lower edge, Hz, >= 0. Default 0 */
-    pdt_real_t f_hi;        /* BAND: upper edge, Hz, >= f_lo. Default 0 */
-    const pdt_real_t *weights; /* CUSTOM: N_f/2 + 1 values >= 0 for bins
+    pdt_real_t phi_t;            /* weight of the time cost in COMBINED, >= 0. Default 1 */
+    pdt_real_t phi_f;            /* weight of Cf in COMBINED, >= 0. Default 1 */
+    pdt_weight_kind_t weight;    /* Default UNIFORM */
+    pdt_real_t f_lo;             /* BAND: lower edge, Hz, >= 0. Default 0 */
+    pdt_real_t f_hi;             /* BAND: upper edge, Hz, >= f_lo. Default 0 */
+    const pdt_real_t *weights;   /* CUSTOM: N_f/2 + 1 values >= 0 for bins
                                 * k = 0 .. N_f/2 (weights[0], the DC bin, is
                                 * ignored but must be valid), copied at init,
                                 * not used afterwards. Default NULL */
@@ -127,22 +127,22 @@ typedef struct pdt_cost_config {
 
 /* The prepared cost. Fields are private; fill it with pdt_cost_init. */
 typedef struct pdt_cost {
-    pdt_cost_config_t cfg;   /* copy of the config, delay_max resolved */
-    const pdt_real_t *u;     /* the record normalised (workspace): */
-    const pdt_real_t *y;     /* (u - u0) 2^-u_exp, (y - y0) 2^-y_exp */
-    size_t n;                /* samples */
-    int u_exp;               /* scales of the normalised record: powers of */
-    int y_exp;               /* two, so mapping back is exact */
-    pdt_real_t ysum[2];      /* sum y and sum (y - mean)^2 of the normalised */
-    pdt_real_t yvar[2];      /* y over the simulation's scored samples, by
+    pdt_cost_config_t cfg; /* copy of the config, delay_max resolved */
+    const pdt_real_t *u;   /* the record normalised (workspace): */
+    const pdt_real_t *y;   /* (u - u0) 2^-u_exp, (y - y0) 2^-y_exp */
+    size_t n;              /* samples */
+    int u_exp;             /* scales of the normalised record: powers of */
+    int y_exp;             /* two, so mapping back is exact */
+    pdt_real_t ysum[2];    /* sum y and sum (y - mean)^2 of the normalised */
+    pdt_real_t yvar[2];    /* y over the simulation's scored samples, by
                               * model order - 1 */
-    size_t nf;               /* FFT size N_f (0 without frequency data) */
-    size_t k_first;          /* first and last bin with a non-zero weight */
-    size_t k_last;           /* (k_first > k_last: none) */
-    pdt_real_t *umag;        /* |U(k)| at umag[k - 1], k = 1 .. N_f/2 (workspace) */
-    pdt_real_t *ymag;        /* |Y(k)|, same indexing (workspace) */
-    pdt_real_t *wgt;         /* W(k) m_k / (N_f n), same indexing (workspace) */
-    pdt_real_t w_step;       /* 2 pi / (N_f Ts), rad/s per bin */
+    size_t nf;             /* FFT size N_f (0 without frequency data) */
+    size_t k_first;        /* first and last bin with a non-zero weight */
+    size_t k_last;         /* (k_first > k_last: none) */
+    pdt_real_t *umag;      /* |U(k)| at umag[k - 1], k = 1 .. N_f/2 (workspace) */
+    pdt_real_t *ymag;      /* |Y(k)|, same indexing (workspace) */
+    pdt_real_t *wgt;       /* W(k) m_k / (N_f n), same indexing (workspace) */
+    pdt_real_t w_step;     /* 2 pi / (N_f Ts), rad/s per bin */
 } pdt_cost_t;
 
 /* Fills cfg with the documented defaults (Ts is left 0: the caller sets it).
@@ -172,24 +172,37 @@ size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
 /* Smallest power of two >= x among 16 .. 2^PDT_FFT_MAX_LOG2, or 0 beyond
  * (x a size_t expression). A constant expression; internal to the macro
  * below. */
-#define PDT_COST_POW2_(x) \
-    ((x) <= 16u ? (size_t)16u : (x) <= 32u ? (size_t)32u : (x) <= 64u ? (size_t)64u : \
-     (x) <= 128u ? (size_t)128u : (x) <= 256u ? (size_t)256u : (x) <= 512u ? (size_t)512u : \
-     (x) <= 1024u ? (size_t)1024u : (x) <= 2048u ? (size_t)2048u : \
-     (x) <= 4096u ? (size_t)4096u : (x) <= 8192u ? (size_t)8192u : \
-     (x) <= 16384u ? (size_t)16384u : (x) <= 32768u ? (size_t)32768u : \
-     (x) <= 65536ul ? (size_t)65536ul : (x) <= 131072ul ? (size_t)131072ul : \
-     (x) <= 262144ul ? (size_t)262144ul : (x) <= 524288ul ? (size_t)524288ul : \
-     (x) <= 1048576ul ? (size_t)1048576ul : (x) <= 2097152ul ? (size_t)2097152ul : \
-     (x) <= 4194304ul ? (size_t)4194304ul : (x) <= 8388608ul ? (size_t)8388608ul : \
-     (x) <= 16777216ul ? (size_t)16777216ul : (size_t)0u)
+#define PDT_COST_POW2_(x)                                                                          \
+    ((x) <= 16u          ? (size_t)16u                                                             \
+     : (x) <= 32u        ? (size_t)32u                                                             \
+     : (x) <= 64u        ? (size_t)64u                                                             \
+     : (x) <= 128u       ? (size_t)128u                                                            \
+     : (x) <= 256u       ? (size_t)256u                                                            \
+     : (x) <= 512u       ? (size_t)512u                                                            \
+     : (x) <= 1024u      ? (size_t)1024u                                                           \
+     : (x) <= 2048u      ? (size_t)2048u                                                           \
+     : (x) <= 4096u      ? (size_t)4096u                                                           \
+     : (x) <= 8192u      ? (size_t)8192u                                                           \
+     : (x) <= 16384u     ? (size_t)16384u                                                          \
+     : (x) <= 32768u     ? (size_t)32768u                                                          \
+     : (x) <= 65536ul    ? (size_t)65536ul                                                         \
+     : (x) <= 131072ul   ? (size_t)131072ul                                                        \
+     : (x) <= 262144ul   ? (size_t)262144ul                                                        \
+     : (x) <= 524288ul   ? (size_t)524288ul                                                        \
+     : (x) <= 1048576ul  ? (size_t)1048576ul                                                       \
+     : (x) <= 2097152ul  ? (size_t)2097152ul                                                       \
+     : (x) <= 4194304ul  ? (size_t)4194304ul                                                       \
+     : (x) <= 8388608ul  ? (size_t)8388608ul                                                       \
+     : (x) <= 16777216ul ? (size_t)16777216ul                                                      \
+                         : (size_t)0u)
 
 /* The largest N_f of n samples over all delay bounds (delay_max = 0 gives
  * the longest zero padding: N_f = next power of two >= 2n - 3), or 0 when
  * that exceeds 2^PDT_FFT_MAX_LOG2. Valid for n >= 2. */
-#define PDT_COST_FFT_SIZE_MAX(n) \
-    ((PDT_COST_POW2_(2u * (size_t)(n) - 3u) <= ((size_t)1u << PDT_FFT_MAX_LOG2)) \
-         ? PDT_COST_POW2_(2u * (size_t)(n) - 3u) : (size_t)0u)
+#define PDT_COST_FFT_SIZE_MAX(n)                                                                   \
+    ((PDT_COST_POW2_(2u * (size_t)(n)-3u) <= ((size_t)1u << PDT_FFT_MAX_LOG2))                     \
+         ? PDT_COST_POW2_(2u * (size_t)(n)-3u)                                                     \
+         : (size_t)0u)
 
 /* Compile-time workspace bytes for n samples, any delay bound, with
  * use_frequency = true: the formula of pdt_cost_workspace_size at the
@@ -198,9 +211,9 @@ size_t pdt_cost_workspace_size(const pdt_cost_config_t *cfg, size_t n);
  * delay bound. Sized by it, a static array of pdt_real_t (for alignment)
  * always fits. It is 0 when n is too long for PDT_FFT_MAX_LOG2, so such an
  * array fails to compile instead of failing at run time. */
-#define PDT_COST_WORKSPACE_SIZE(n) \
-    ((2u * (size_t)(n) + 3u * (PDT_COST_FFT_SIZE_MAX(n) / 2u)) * sizeof(pdt_real_t) \
-     + PDT_FFT_WORKSPACE_SIZE(PDT_COST_FFT_SIZE_MAX(n)))
+#define PDT_COST_WORKSPACE_SIZE(n)                                                                 \
+    ((2u * (size_t)(n) + 3u * (PDT_COST_FFT_SIZE_MAX(n) / 2u)) * sizeof(pdt_real_t) +              \
+     PDT_FFT_WORKSPACE_SIZE(PDT_COST_FFT_SIZE_MAX(n)))
 
 /* Prepares c for the record u, y of n samples: checks the config and the
  * data, copies the record normalised into work and, with use_frequency,

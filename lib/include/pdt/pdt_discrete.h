@@ -29,10 +29,10 @@ extern "C" {
 #endif
 
 typedef struct pdt_discrete {
-    size_t delay;       /* l: whole samples of dead time */
-    uint8_t order;      /* 1 (FOPDT) or 2 (SOPDT): number of used a[] */
-    pdt_real_t a[2];    /* A(q) = 1 + a[0] q + a[1] q^2 */
-    pdt_real_t b[3];    /* B(q) = (b[0] q + b[1] q^2 + b[2] q^3) q^l */
+    size_t delay;    /* l: whole samples of dead time */
+    uint8_t order;   /* 1 (FOPDT) or 2 (SOPDT): number of used a[] */
+    pdt_real_t a[2]; /* A(q) = 1 + a[0] q + a[1] q^2 */
+    pdt_real_t b[3]; /* B(q) = (b[0] q + b[1] q^2 + b[2] q^3) q^l */
     /* The same A(q) written around q = 1, kept because near-1 poles make
      * a[] lose the small numbers that set the gain:
      *   A(q) = (1 - q)^2 + d[0] q (1 - q) + d[1] q^2         (order 2)
@@ -52,19 +52,19 @@ pdt_status_t pdt_discrete_init(const pdt_model_t *m, pdt_real_t Ts, pdt_discrete
  * discretisation of m with its dead time replaced by exactly l Ts. m's own
  * Td is ignored. Same errors as pdt_discrete_init. */
 pdt_status_t pdt_discrete_init_int(const pdt_model_t *m, pdt_real_t Ts, size_t l,
-                                pdt_discrete_t *out);
+                                   pdt_discrete_t *out);
 
 /* Simulation (output error): y[k] for k = 0..n-1 from u[0..n-1], the model
  * fed its own past outputs, from rest. y must not overlap u.
  * Returns PDT_ERR_ARG for NULL or an order other than 1 or 2. */
 pdt_status_t pdt_discrete_simulate(const pdt_discrete_t *d, const pdt_real_t *u, size_t n,
-                                 pdt_real_t *y);
+                                   pdt_real_t *y);
 
 /* One-step prediction (equation error): yhat[k] from the measured y[k-1],
  * y[k-2] and u, for k = 0..n-1, with y and u taken as 0 before sample 0.
  * yhat must not overlap u or y. Same errors as pdt_discrete_simulate. */
-pdt_status_t pdt_discrete_predict(const pdt_discrete_t *d, const pdt_real_t *u,
-                                const pdt_real_t *y, size_t n, pdt_real_t *yhat);
+pdt_status_t pdt_discrete_predict(const pdt_discrete_t *d, const pdt_real_t *u, const pdt_real_t *y,
+                                  size_t n, pdt_real_t *yhat);
 
 #ifdef __cplusplus
 }

@@ -85,37 +85,37 @@ typedef struct pdt_excite_config {
                              * CHIRP: sweep time T, s, at least one sample.
                              * Default 0 */
     /* PULSE */
-    pdt_real_t t_on;        /* pulse width, s, at least one sample. Default 1 */
-    pdt_real_t t_off;       /* time at u0 after each pulse, s, >= 0. Default 1 */
-    uint32_t count;         /* pulses, 0 = no end. Default 1 */
+    pdt_real_t t_on;  /* pulse width, s, at least one sample. Default 1 */
+    pdt_real_t t_off; /* time at u0 after each pulse, s, >= 0. Default 1 */
+    uint32_t count;   /* pulses, 0 = no end. Default 1 */
     /* CHIRP */
-    pdt_real_t f0;          /* start frequency, Hz, 0 .. 1 / (2 Ts). Default 0 */
-    pdt_real_t f1;          /* end frequency, Hz, 0 .. 1 / (2 Ts). Default 0
+    pdt_real_t f0; /* start frequency, Hz, 0 .. 1 / (2 Ts). Default 0 */
+    pdt_real_t f1; /* end frequency, Hz, 0 .. 1 / (2 Ts). Default 0
                              * (must be set above f0 for a sweep) */
     /* PRBS */
-    uint32_t prbs_bits;     /* register length n, 2 .. 31. Default 7 */
-    uint32_t prbs_hold;     /* samples per chip, >= 1. Default 1 */
-    uint32_t prbs_seed;     /* initial register, low n bits, not all zero.
+    uint32_t prbs_bits; /* register length n, 2 .. 31. Default 7 */
+    uint32_t prbs_hold; /* samples per chip, >= 1. Default 1 */
+    uint32_t prbs_seed; /* initial register, low n bits, not all zero.
                              * Default 1 */
-    uint32_t periods;       /* PRBS periods of 2^n - 1 chips, 0 = no end.
+    uint32_t periods;   /* PRBS periods of 2^n - 1 chips, 0 = no end.
                              * Default 1 */
     /* RELAY */
-    pdt_real_t setpoint;    /* process value the relay switches around, pv
+    pdt_real_t setpoint;        /* process value the relay switches around, pv
                              * units, finite. Default 0 */
-    pdt_real_t d;           /* relay half swing, output units, > 0. Default 1 */
-    pdt_real_t bias;        /* added to both relay levels, output units.
+    pdt_real_t d;               /* relay half swing, output units, > 0. Default 1 */
+    pdt_real_t bias;            /* added to both relay levels, output units.
                              * Default 0 */
-    pdt_real_t eps;         /* hysteresis: switch when the error passes
+    pdt_real_t eps;             /* hysteresis: switch when the error passes
                              * +/- eps, pv units, >= 0. Default 0 (set it
                              * above the noise band of pv) */
     pdt_excite_action_t action; /* Default REVERSE */
-    uint32_t relay_skip;    /* first complete cycles not measured (the
+    uint32_t relay_skip;        /* first complete cycles not measured (the
                              * transient). Default 0: relay_settle tells a
                              * settled cycle from the transient instead */
-    uint32_t relay_cycles;  /* cycles averaged; the relay ends after
+    uint32_t relay_cycles;      /* cycles averaged; the relay ends after
                              * relay_skip + relay_cycles complete cycles,
                              * 1 .. PDT_EXCITE_RELAY_MAX_CYCLES. Default 3 */
-    pdt_real_t relay_settle; /* the relay ends early at the first measured
+    pdt_real_t relay_settle;    /* the relay ends early at the first measured
                               * cycle that is symmetric, as the limit cycle
                               * of a relay without bias is: its high and low
                               * halves differ by at most this fraction of
@@ -131,44 +131,44 @@ typedef struct pdt_excite_config {
 
 /* What a relay has measured (pdt_excite_relay_result). */
 typedef struct pdt_excite_relay {
-    pdt_real_t Ku;     /* 4 d / (pi a): the describing-function ultimate
+    pdt_real_t Ku;   /* 4 d / (pi a): the describing-function ultimate
                         * gain, output units per pv unit */
-    pdt_real_t Pu;     /* mean cycle time, s */
-    pdt_real_t a;      /* mean half peak-to-peak of pv per cycle, pv units */
-    pdt_real_t d;      /* half swing the relay actually applied (after
+    pdt_real_t Pu;   /* mean cycle time, s */
+    pdt_real_t a;    /* mean half peak-to-peak of pv per cycle, pv units */
+    pdt_real_t d;    /* half swing the relay actually applied (after
                         * clamping), output units */
-    uint32_t cycles;   /* cycles averaged */
+    uint32_t cycles; /* cycles averaged */
 } pdt_excite_relay_t;
 
 /* The generator. Fields are private; fill it with pdt_excite_init. */
 typedef struct pdt_excite {
-    pdt_excite_config_t cfg;  /* copy of the config */
-    uint32_t magic;           /* set by init */
-    bool done;                /* the excitation has ended */
-    uint32_t k;               /* samples produced (saturates) */
-    uint32_t n_pre;           /* samples at u0 first */
-    uint32_t n_total;         /* whole length in samples, 0 = no end */
-    uint32_t n_on;            /* PULSE: samples on, off */
+    pdt_excite_config_t cfg; /* copy of the config */
+    uint32_t magic;          /* set by init */
+    bool done;               /* the excitation has ended */
+    uint32_t k;              /* samples produced (saturates) */
+    uint32_t n_pre;          /* samples at u0 first */
+    uint32_t n_total;        /* whole length in samples, 0 = no end */
+    uint32_t n_on;           /* PULSE: samples on, off */
     uint32_t n_off;
-    uint32_t pos;             /* PULSE: sample within the pulse period;
+    uint32_t pos;  /* PULSE: sample within the pulse period;
                                * PRBS: sample within the chip */
-    pdt_real_t hi;            /* clamped output levels: u0 + amplitude (STEP, */
-    pdt_real_t lo;            /* PULSE: lo = u0), u0 +/- amplitude, relay */
-    pdt_real_t c1;            /* CHIRP: phase in cycles is j (c1 + c2 j) */
+    pdt_real_t hi; /* clamped output levels: u0 + amplitude (STEP, */
+    pdt_real_t lo; /* PULSE: lo = u0), u0 +/- amplitude, relay */
+    pdt_real_t c1; /* CHIRP: phase in cycles is j (c1 + c2 j) */
     pdt_real_t c2;
-    uint32_t lfsr;            /* PRBS register: bit i is the (i+1)-th next chip */
-    uint32_t taps;            /* PRBS feedback mask */
+    uint32_t lfsr; /* PRBS register: bit i is the (i+1)-th next chip */
+    uint32_t taps; /* PRBS feedback mask */
     /* RELAY */
-    bool started;             /* the first pv has been seen */
-    bool high;                /* the output is at the high level */
-    bool rose;                /* a low-to-high switch has been seen */
-    uint32_t since_rise;      /* samples since the last low-to-high switch */
-    uint32_t fall_at;         /* since_rise at the high-to-low switch */
-    uint32_t seen;            /* complete cycles seen */
-    uint32_t stored;          /* cycles measured after the skipped ones */
-    pdt_real_t pv_max;        /* pv extremes over the current cycle */
+    bool started;        /* the first pv has been seen */
+    bool high;           /* the output is at the high level */
+    bool rose;           /* a low-to-high switch has been seen */
+    uint32_t since_rise; /* samples since the last low-to-high switch */
+    uint32_t fall_at;    /* since_rise at the high-to-low switch */
+    uint32_t seen;       /* complete cycles seen */
+    uint32_t stored;     /* cycles measured after the skipped ones */
+    pdt_real_t pv_max;   /* pv extremes over the current cycle */
     pdt_real_t pv_min;
-    uint32_t per[PDT_EXCITE_RELAY_MAX_CYCLES]; /* cycle lengths, samples */
+    uint32_t per[PDT_EXCITE_RELAY_MAX_CYCLES];   /* cycle lengths, samples */
     pdt_real_t amp[PDT_EXCITE_RELAY_MAX_CYCLES]; /* half peak-to-peak */
 } pdt_excite_t;
 

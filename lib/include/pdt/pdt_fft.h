@@ -29,8 +29,8 @@ extern "C" {
  * transforms only read it and the twiddle table). A zero-filled instance is
  * "uninitialised" and refused by every call. */
 typedef struct pdt_fft {
-    size_t n;                /* transform size, 0 before init */
-    const pdt_real_t *twid;  /* n/4 pairs (cos, sin) of 2 pi k / n, caller memory */
+    size_t n;               /* transform size, 0 before init */
+    const pdt_real_t *twid; /* n/4 pairs (cos, sin) of 2 pi k / n, caller memory */
 } pdt_fft_t;
 
 /* Workspace bytes for a size-n transform, or 0 if n is not a power of two

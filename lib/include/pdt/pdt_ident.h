@@ -49,12 +49,12 @@ extern "C" {
 #define PDT_IDENT_POPULATION_SOPDT 40u
 
 typedef struct pdt_ident_config {
-    pdt_model_kind_t model;   /* FOPDT or SOPDT. Default FOPDT */
-    pdt_real_t Ts;            /* sampling period, s. Must be set (> 0) */
-    pdt_cost_kind_t cost;     /* criterion. Default SIMULATION: the output
+    pdt_model_kind_t model;    /* FOPDT or SOPDT. Default FOPDT */
+    pdt_real_t Ts;             /* sampling period, s. Must be set (> 0) */
+    pdt_cost_kind_t cost;      /* criterion. Default SIMULATION: the output
                                * error, unbiased under measurement noise */
     pdt_cost_kind_t time_kind; /* time part of COMBINED. Default SIMULATION */
-    pdt_real_t phi_t;         /* COMBINED weights, >= 0. Default 1, 1 */
+    pdt_real_t phi_t;          /* COMBINED weights, >= 0. Default 1, 1 */
     pdt_real_t phi_f;
     pdt_weight_kind_t weight; /* frequency weighting of FREQUENCY and
                                * COMBINED. UNIFORM, BAND (f_lo, f_hi) and
@@ -86,25 +86,25 @@ typedef struct pdt_ident_config {
     /* Search bounds. A pair left at 0, 0 is derived from Ts and the record
      * length T = n Ts: time constants in [Ts / 4, 2 T], dead time in
      * [0, T / 3]. */
-    pdt_real_t tau_min;       /* s: FOPDT tau; SOPDT 1/a = T1 T2 / (T1 + T2)
+    pdt_real_t tau_min;  /* s: FOPDT tau; SOPDT 1/a = T1 T2 / (T1 + T2)
                                * from tau_min / 2 */
-    pdt_real_t tau_max;       /* s */
-    pdt_real_t Td_min;        /* s */
-    pdt_real_t Td_max;        /* s */
-    pdt_real_t zeta_min;      /* SOPDT: least damping searched. Default 0.2 */
-    bool integrating;         /* SOPDT: allow b = 0 (1/zeta down to 0).
+    pdt_real_t tau_max;  /* s */
+    pdt_real_t Td_min;   /* s */
+    pdt_real_t Td_max;   /* s */
+    pdt_real_t zeta_min; /* SOPDT: least damping searched. Default 0.2 */
+    bool integrating;    /* SOPDT: allow b = 0 (1/zeta down to 0).
                                * Default true */
     /* Gain bounds (output units per input unit; SOPDT: the DC gain, or the
      * integrating gain when b = 0). 0, 0 means unbounded. */
     pdt_real_t K_min;
     pdt_real_t K_max;
     /* The search. */
-    uint32_t population;      /* individuals, 4 .. PDT_IDENT_MAX_POPULATION,
+    uint32_t population;         /* individuals, 4 .. PDT_IDENT_MAX_POPULATION,
                                * even; 0: PDT_IDENT_POPULATION_FOPDT or
                                * _SOPDT by the model. Default 0 */
-    uint32_t max_evaluations; /* cost evaluations in all, every search
+    uint32_t max_evaluations;    /* cost evaluations in all, every search
                                * included. Default 9000 */
-    uint32_t searches;        /* independent searches that must agree, 1 .. 3
+    uint32_t searches;           /* independent searches that must agree, 1 .. 3
                                * (time criteria; the frequency criteria run
                                * one): each gets max_evaluations / searches,
                                * the third runs only when the first two
@@ -115,17 +115,17 @@ typedef struct pdt_ident_config {
                                   * three niches' runs share half of what
                                   * is left after the GA, a polish of the
                                   * best gets the rest */
-    pdt_real_t tolerance;     /* stop the GA when the best cost improved by
+    pdt_real_t tolerance;        /* stop the GA when the best cost improved by
                                * less than this fraction over stall_generations.
                                * Default 1e-4 */
-    uint32_t stall_generations; /* Default 10 */
-    uint64_t seed;            /* PCG32 seed. Default 1 */
-    pdt_real_t eta_c;         /* SBX distribution index. Default 15 */
-    pdt_real_t eta_m;         /* mutation distribution index. Default 20 */
-    pdt_real_t p_crossover;   /* per pair. Default 0.9 */
-    pdt_real_t p_mutation;    /* per gene; 0 means 1 / genes. Default 0 */
-    pdt_real_t sigma_share;   /* niche radius, normalised distance. Default 0.1 */
-    uint32_t elite;           /* best individuals kept each generation. Default 2 */
+    uint32_t stall_generations;  /* Default 10 */
+    uint64_t seed;               /* PCG32 seed. Default 1 */
+    pdt_real_t eta_c;            /* SBX distribution index. Default 15 */
+    pdt_real_t eta_m;            /* mutation distribution index. Default 20 */
+    pdt_real_t p_crossover;      /* per pair. Default 0.9 */
+    pdt_real_t p_mutation;       /* per gene; 0 means 1 / genes. Default 0 */
+    pdt_real_t sigma_share;      /* niche radius, normalised distance. Default 0.1 */
+    uint32_t elite;              /* best individuals kept each generation. Default 2 */
 } pdt_ident_config_t;
 
 /* One record: n samples of input u and output y, every Ts seconds, in the
@@ -137,24 +137,24 @@ typedef struct pdt_ident_data {
 } pdt_ident_data_t;
 
 typedef struct pdt_ident_result {
-    pdt_model_t model;        /* the identified model, in engineering units */
-    pdt_real_t u0;            /* input operating point (u[0]) */
-    pdt_real_t y0;            /* output operating point, estimated */
-    pdt_real_t cost;          /* the criterion's value at the model */
-    pdt_real_t fit;           /* normalised RMS fit of the simulated output,
+    pdt_model_t model;    /* the identified model, in engineering units */
+    pdt_real_t u0;        /* input operating point (u[0]) */
+    pdt_real_t y0;        /* output operating point, estimated */
+    pdt_real_t cost;      /* the criterion's value at the model */
+    pdt_real_t fit;       /* normalised RMS fit of the simulated output,
                                * percent: 100 (1 - |y - ysim| / |y - mean y|);
                                * 100 is perfect, 0 no better than a constant */
-    uint32_t evaluations;     /* cost evaluations used */
-    uint32_t generations;     /* GA generations run (with the CONTROL
+    uint32_t evaluations; /* cost evaluations used */
+    uint32_t generations; /* GA generations run (with the CONTROL
                                * weighting, the population's scoring on the
                                * criterion counts as one) */
-    pdt_real_t f_band;        /* CONTROL weighting: the band's upper edge,
+    pdt_real_t f_band;    /* CONTROL weighting: the band's upper edge,
                                * Hz; 0 when the criterion has no frequency
                                * part or another weighting */
-    uint32_t flags;           /* PDT_IDENT_FLAG_*: what the search could not
+    uint32_t flags;       /* PDT_IDENT_FLAG_*: what the search could not
                                * settle; 0 for an answer it is sure of */
-    uint32_t searches;        /* independent searches run */
-    pdt_real_t runner_up;     /* cost of the best answer of another basin
+    uint32_t searches;    /* independent searches run */
+    pdt_real_t runner_up; /* cost of the best answer of another basin
                                * that a search ended in, over the answer's
                                * (> 1.01); 0 when every search agreed */
 } pdt_ident_result_t;
@@ -170,8 +170,8 @@ typedef struct pdt_ident_result {
  *               constant, the dead time, the least damping) or a gain
  *               bound: the optimum may lie outside. */
 #define PDT_IDENT_FLAG_UNCONFIRMED 0x1u
-#define PDT_IDENT_FLAG_AMBIGUOUS 0x2u
-#define PDT_IDENT_FLAG_AT_BOUND 0x4u
+#define PDT_IDENT_FLAG_AMBIGUOUS   0x2u
+#define PDT_IDENT_FLAG_AT_BOUND    0x4u
 
 /* Most independent searches. */
 #define PDT_IDENT_MAX_SEARCHES 3u
@@ -180,33 +180,33 @@ typedef struct pdt_ident_result {
 typedef struct pdt_ident {
     pdt_ident_config_t cfg;
     pdt_cost_t cost;
-    void *cost_work;          /* the cost's part of the workspace */
+    void *cost_work; /* the cost's part of the workspace */
     size_t cost_work_len;
     pdt_ident_data_t data;
-    uint32_t magic;           /* set by init: catches use before init */
+    uint32_t magic; /* set by init: catches use before init */
     uint32_t phase;
     uint32_t genes;
-    uint32_t next;            /* next individual to evaluate in this phase */
+    uint32_t next; /* next individual to evaluate in this phase */
     uint32_t evaluations;
     uint32_t generations;
     uint32_t stall;
     uint64_t rng_state;
     uint64_t rng_inc;
-    pdt_real_t lo[3];         /* gene bounds */
-    pdt_real_t td_offset;     /* c0 of the dead-time gene log(Td + c0), s */
+    pdt_real_t lo[3];     /* gene bounds */
+    pdt_real_t td_offset; /* c0 of the dead-time gene log(Td + c0), s */
     pdt_real_t hi[3];
-    pdt_real_t best_history;  /* best cost at the last stall check */
-    pdt_real_t *pop;          /* P x genes (workspace) */
-    pdt_real_t *pop_cost;     /* P */
-    pdt_real_t *pop_gain;     /* P */
-    pdt_real_t *pop_offset;   /* P */
-    pdt_real_t *off;          /* offspring, same layout */
+    pdt_real_t best_history; /* best cost at the last stall check */
+    pdt_real_t *pop;         /* P x genes (workspace) */
+    pdt_real_t *pop_cost;    /* P */
+    pdt_real_t *pop_gain;    /* P */
+    pdt_real_t *pop_offset;  /* P */
+    pdt_real_t *off;         /* offspring, same layout */
     pdt_real_t *off_cost;
     pdt_real_t *off_gain;
     pdt_real_t *off_offset;
-    pdt_real_t *shared;       /* P */
-    pdt_real_t *scratch;      /* n: profile scratch */
-    pdt_real_t best[3];       /* best genes so far, its cost, gain, offset */
+    pdt_real_t *shared;  /* P */
+    pdt_real_t *scratch; /* n: profile scratch */
+    pdt_real_t best[3];  /* best genes so far, its cost, gain, offset */
     pdt_real_t best_cost;
     pdt_real_t best_gain;
     pdt_real_t best_offset;
@@ -219,13 +219,13 @@ typedef struct pdt_ident {
     uint32_t nm_state;
     uint32_t nm_index;
     uint32_t nm_budget;
-    pdt_real_t starts[3][3];  /* refinement starts: best of up to 3 niches */
+    pdt_real_t starts[3][3]; /* refinement starts: best of up to 3 niches */
     uint32_t nstarts;
-    uint32_t start_i;         /* nstarts: the final polish of the best */
-    uint32_t refine_half;     /* budget the niche runs share */
-    uint32_t stage;           /* CONTROL weighting: 1 while the search runs
+    uint32_t start_i;     /* nstarts: the final polish of the best */
+    uint32_t refine_half; /* budget the niche runs share */
+    uint32_t stage;       /* CONTROL weighting: 1 while the search runs
                                * on the time cost, 2 after; 0 otherwise */
-    pdt_real_t f_band;        /* CONTROL weighting: the band's edge, Hz */
+    pdt_real_t f_band;    /* CONTROL weighting: the band's edge, Hz */
     /* Frequency criterion: the dead-time scan on the time cost. */
     pdt_cost_t cost_time;
     uint32_t scan_i;
@@ -237,9 +237,9 @@ typedef struct pdt_ident {
     pdt_real_t fit;
     /* Independent searches: how many, their budget, what each found. */
     uint32_t searches;
-    uint32_t search;          /* searches finished */
+    uint32_t search; /* searches finished */
     uint32_t search_budget;
-    uint32_t search_base;     /* evaluations before this search */
+    uint32_t search_base; /* evaluations before this search */
     pdt_model_t found[PDT_IDENT_MAX_SEARCHES];
     pdt_real_t found_cost[PDT_IDENT_MAX_SEARCHES]; /* normalised */
     pdt_real_t found_y0[PDT_IDENT_MAX_SEARCHES];
@@ -259,7 +259,7 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
 /* Compile-time upper bound of the workspace for n samples and a population
  * of pop (PDT_IDENT_POPULATION_SOPDT covers both automatic populations),
  * any configuration: for static arrays. */
-#define PDT_IDENT_WORKSPACE_SIZE(n, pop) \
+#define PDT_IDENT_WORKSPACE_SIZE(n, pop)                                                           \
     (PDT_COST_WORKSPACE_SIZE(n) + ((size_t)(n) + 13u * (size_t)(pop) + 1u) * sizeof(pdt_real_t))
 
 /* Prepares ctx for one identification: checks cfg and the data, derives the

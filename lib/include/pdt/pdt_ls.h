@@ -47,15 +47,15 @@ typedef enum pdt_ls_method {
 } pdt_ls_method_t;
 
 typedef struct pdt_ls_config {
-    pdt_model_kind_t model;  /* FOPDT or SOPDT. Default FOPDT */
-    pdt_ls_method_t method;  /* Default ELMS */
-    pdt_real_t Ts;           /* sampling period, s; finite and > 0. Default 0
+    pdt_model_kind_t model; /* FOPDT or SOPDT. Default FOPDT */
+    pdt_ls_method_t method; /* Default ELMS */
+    pdt_real_t Ts;          /* sampling period, s; finite and > 0. Default 0
                               * (must be set) */
-    size_t delay_min;        /* l_l, samples. Default 0 */
-    size_t delay_max;        /* l_u, samples. Default PDT_DELAY_QUARTER: n / 4
+    size_t delay_min;       /* l_l, samples. Default 0 */
+    size_t delay_max;       /* l_u, samples. Default PDT_DELAY_QUARTER: n / 4
                               * (the paper's window loses the first l_u
                               * samples; a quarter keeps three quarters) */
-    bool whole_record;       /* score on k = order .. n-1 instead of the
+    bool whole_record;      /* score on k = order .. n-1 instead of the
                               * paper's k = delay_max + order .. n-1, taking
                               * the input at rest (u0) before sample 0; for
                               * records that start with a step at steady
@@ -63,36 +63,36 @@ typedef struct pdt_ls_config {
 } pdt_ls_config_t;
 
 typedef struct pdt_ls_result {
-    pdt_model_t model;    /* continuous model, Td = delay Ts */
-    pdt_discrete_t dmodel;  /* the estimate as a discrete model of the
+    pdt_model_t model;     /* continuous model, Td = delay Ts */
+    pdt_discrete_t dmodel; /* the estimate as a discrete model of the
                            * deviations from (u0, y0), pdt_discrete.h
                            * convention (b[2] = 0); usable with
                            * pdt_discrete_simulate and pdt_cost_* */
-    pdt_real_t u0;        /* input operating point: u[0] */
-    pdt_real_t y0;        /* output operating point: the estimate's steady
+    pdt_real_t u0;         /* input operating point: u[0] */
+    pdt_real_t y0;         /* output operating point: the estimate's steady
                            * output at u = u0, c / (1 + a1 + a2) (FOPDT
                            * c / (1 - alpha)) */
-    pdt_real_t cost;      /* score of the chosen delay: mean squared one-step
+    pdt_real_t cost;       /* score of the chosen delay: mean squared one-step
                            * residual, output units squared */
-    size_t delay;         /* chosen l, samples */
-    size_t skipped;       /* delays of the scan without a model */
+    size_t delay;          /* chosen l, samples */
+    size_t skipped;        /* delays of the scan without a model */
 } pdt_ls_result_t;
 
 /* The scan context. Fields are private. */
 typedef struct pdt_ls {
-    pdt_ls_config_t cfg;  /* copy, delay_max resolved */
-    const pdt_real_t *u;  /* caller's data */
+    pdt_ls_config_t cfg; /* copy, delay_max resolved */
+    const pdt_real_t *u; /* caller's data */
     const pdt_real_t *y;
     size_t n;
-    size_t k0;            /* first scored sample */
-    uint32_t magic;       /* set by init: catches use before init */
+    size_t k0;      /* first scored sample */
+    uint32_t magic; /* set by init: catches use before init */
     bool done;
-    size_t next;          /* next delay to fit */
-    size_t singular;      /* delays skipped: no unique solution */
-    size_t noform;        /* delays skipped: no continuous form */
+    size_t next;     /* next delay to fit */
+    size_t singular; /* delays skipped: no unique solution */
+    size_t noform;   /* delays skipped: no continuous form */
     bool found;
     pdt_ls_result_t best;
-    pdt_real_t *scores;   /* pdt_ls_scores: caller memory, or NULL */
+    pdt_real_t *scores; /* pdt_ls_scores: caller memory, or NULL */
 } pdt_ls_t;
 
 /* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */

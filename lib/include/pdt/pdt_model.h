@@ -67,10 +67,7 @@ typedef struct pdt_model_integ {
     pdt_real_t Td; /* dead time, s */
 } pdt_model_integ_t;
 
-typedef enum pdt_model_kind {
-    PDT_MODEL_FOPDT = 1,
-    PDT_MODEL_SOPDT = 2
-} pdt_model_kind_t;
+typedef enum pdt_model_kind { PDT_MODEL_FOPDT = 1, PDT_MODEL_SOPDT = 2 } pdt_model_kind_t;
 
 /* Either model, tagged. Fill `kind` and the matching member of `p`. */
 typedef struct pdt_model {
@@ -112,8 +109,7 @@ pdt_status_t pdt_model_dc_gain(const pdt_model_t *m, pdt_real_t *gain);
  * order, negative allowed: the response is 0 before Td).
  * Returns PDT_ERR_ARG (NULL, invalid model), PDT_ERR_NONFINITE (a t is not
  * finite). n = 0 is a no-op returning PDT_OK. y must not overlap t. */
-pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n,
-                            pdt_real_t *y);
+pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n, pdt_real_t *y);
 
 /* Frequency response at angular frequencies w[0..n-1] (rad/s, >= 0):
  * magnitude |G(jw)| and phase arg G(jw) in radians, continuous (not wrapped
@@ -124,8 +120,8 @@ pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n,
  * -pi/2.
  * Returns PDT_ERR_ARG (NULL m or w, invalid model, w < 0) or
  * PDT_ERR_NONFINITE (a w is not finite). */
-pdt_status_t pdt_model_freq(const pdt_model_t *m, const pdt_real_t *w, size_t n,
-                            pdt_real_t *mag, pdt_real_t *phase);
+pdt_status_t pdt_model_freq(const pdt_model_t *m, const pdt_real_t *w, size_t n, pdt_real_t *mag,
+                            pdt_real_t *phase);
 
 #ifdef __cplusplus
 }

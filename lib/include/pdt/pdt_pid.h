@@ -55,8 +55,8 @@ extern "C" {
 #endif
 
 typedef enum pdt_pid_form {
-    PDT_PID_IDEAL = 0,  /* Kc (1 + 1 / (Ti s) + Td s / (Tf s + 1)) */
-    PDT_PID_SERIES = 1  /* Kc (Ti s + 1) / (Ti s) (Td s + 1), filter on the
+    PDT_PID_IDEAL = 0, /* Kc (1 + 1 / (Ti s) + Td s / (Tf s + 1)) */
+    PDT_PID_SERIES = 1 /* Kc (Ti s + 1) / (Ti s) (Td s + 1), filter on the
                          * ideal form's derivative term */
 } pdt_pid_form_t;
 
@@ -68,33 +68,33 @@ typedef enum pdt_pid_antiwindup {
 } pdt_pid_antiwindup_t;
 
 typedef struct pdt_pid_config {
-    pdt_real_t Ts;           /* scan period, s, finite, > 0. Default 0.1 */
-    pdt_pid_form_t form;     /* form Kc, Ti, Td are given in. Default ideal */
-    pdt_real_t Kc;           /* proportional gain, output units per pv unit,
+    pdt_real_t Ts;                   /* scan period, s, finite, > 0. Default 0.1 */
+    pdt_pid_form_t form;             /* form Kc, Ti, Td are given in. Default ideal */
+    pdt_real_t Kc;                   /* proportional gain, output units per pv unit,
                               * finite, non-zero; negative for a direct-
                               * acting loop (pdt_tune's sign). Default 1 */
-    pdt_real_t Ti;           /* integral time, s, finite, > 0, or 0 for no
+    pdt_real_t Ti;                   /* integral time, s, finite, > 0, or 0 for no
                               * integral action (P, PD: the integral state
                               * is then a constant bias that the
                               * bumpless transfers set). Default 10 */
-    pdt_real_t Td;           /* derivative time, s, finite, >= 0 (0: PI).
+    pdt_real_t Td;                   /* derivative time, s, finite, >= 0 (0: PI).
                               * Default 0 */
-    pdt_real_t Tf;           /* derivative filter time constant, s, finite,
+    pdt_real_t Tf;                   /* derivative filter time constant, s, finite,
                               * >= 0; 0 takes Td / N (Td of `form`), or no
                               * filter when N is 0. Default 0 */
-    pdt_real_t N;            /* filter as a ratio, used when Tf = 0: 0 (no
+    pdt_real_t N;                    /* filter as a ratio, used when Tf = 0: 0 (no
                               * filter) or finite >= 1. Default 10 */
-    pdt_real_t b;            /* set-point weight of the P term, finite,
+    pdt_real_t b;                    /* set-point weight of the P term, finite,
                               * >= 0. Default 1 */
-    pdt_real_t c;            /* set-point weight of the D term, finite,
+    pdt_real_t c;                    /* set-point weight of the D term, finite,
                               * >= 0; 0 is derivative on the measurement.
                               * Default 0 */
-    pdt_real_t u_min;        /* output limits, output units, finite, */
-    pdt_real_t u_max;        /* u_min < u_max. Default 0 and 100 */
-    pdt_real_t rate_max;     /* largest output change, output units per s,
+    pdt_real_t u_min;                /* output limits, output units, finite, */
+    pdt_real_t u_max;                /* u_min < u_max. Default 0 and 100 */
+    pdt_real_t rate_max;             /* largest output change, output units per s,
                               * finite, > 0, or 0 for no limit. Default 0 */
     pdt_pid_antiwindup_t antiwindup; /* Default back-calculation */
-    pdt_real_t Tt;           /* back-calculation tracking time, s, finite,
+    pdt_real_t Tt;                   /* back-calculation tracking time, s, finite,
                               * >= 0; 0 takes sqrt(Ti Td) for a PID, Ti for
                               * a PI (Astrom and Hagglund's rule of
                               * thumb); unused without integral action.
@@ -104,26 +104,26 @@ typedef struct pdt_pid_config {
 /* The controller object. Caller-owned; fill it with pdt_pid_init. The
  * fields after `state` may be read (diagnostics), never written. */
 typedef struct pdt_pid {
-    uint32_t magic;          /* set by pdt_pid_init */
-    pdt_pid_config_t cfg;    /* the configuration as given */
+    uint32_t magic;       /* set by pdt_pid_init */
+    pdt_pid_config_t cfg; /* the configuration as given */
     /* The ideal-form gains and the discrete coefficients from them. */
-    pdt_real_t K;            /* ideal Kc */
-    pdt_real_t ki;           /* Kc Ts / (2 Ti), 0 without integral */
-    pdt_real_t kd;           /* ideal Kc Td */
-    pdt_real_t ad;           /* derivative filter pole e^{-Ts/Tf} */
-    pdt_real_t ao;           /* back-calculation fraction 1 - e^{-Ts/Tt} */
-    pdt_real_t du_max;       /* rate_max Ts, 0 for none */
-    bool primed;             /* sp, pv and the states are from a scan */
+    pdt_real_t K;      /* ideal Kc */
+    pdt_real_t ki;     /* Kc Ts / (2 Ti), 0 without integral */
+    pdt_real_t kd;     /* ideal Kc Td */
+    pdt_real_t ad;     /* derivative filter pole e^{-Ts/Tf} */
+    pdt_real_t ao;     /* back-calculation fraction 1 - e^{-Ts/Tt} */
+    pdt_real_t du_max; /* rate_max Ts, 0 for none */
+    bool primed;       /* sp, pv and the states are from a scan */
     /* state */
-    pdt_real_t i;            /* the integral term, output units */
-    pdt_real_t df;           /* filtered derivative of c sp - pv, pv/s */
-    pdt_real_t sp_last;      /* sp and pv of the last scan */
+    pdt_real_t i;       /* the integral term, output units */
+    pdt_real_t df;      /* filtered derivative of c sp - pv, pv/s */
+    pdt_real_t sp_last; /* sp and pv of the last scan */
     pdt_real_t pv_last;
-    pdt_real_t u;            /* the last output (or the tracked one) */
-    pdt_real_t p_term;       /* the last scan's P, I and D terms, output */
-    pdt_real_t i_term;       /* units (I before the anti-windup step) */
+    pdt_real_t u;      /* the last output (or the tracked one) */
+    pdt_real_t p_term; /* the last scan's P, I and D terms, output */
+    pdt_real_t i_term; /* units (I before the anti-windup step) */
     pdt_real_t d_term;
-    bool limited;            /* the last output was limited (range or rate,
+    bool limited; /* the last output was limited (range or rate,
                               * or the integral was cut at a limit) */
 } pdt_pid_t;
 
@@ -145,8 +145,7 @@ pdt_status_t pdt_pid_init(pdt_pid_t *pid, const pdt_pid_config_t *cfg, pdt_real_
  * starts without a bump. Returns as pdt_pid_init, also PDT_ERR_ARG for
  * gains outside pdt_tune_gains_t's domain or an unknown form. */
 pdt_status_t pdt_pid_init_from_gains(pdt_pid_t *pid, const pdt_pid_config_t *base,
-                                     const pdt_tune_gains_t *g, pdt_pid_form_t form,
-                                     pdt_real_t u0);
+                                     const pdt_tune_gains_t *g, pdt_pid_form_t form, pdt_real_t u0);
 
 /* One automatic scan: reads sp and pv (sampled now), writes the output to
  * apply until the next scan into *u. Call once per Ts.

@@ -58,9 +58,9 @@ extern "C" {
 
 /* The direction the experiment must move the process value. */
 typedef enum pdt_record_move {
-    PDT_RECORD_MOVE_ANY = 0,  /* no set-point check */
-    PDT_RECORD_MOVE_UP = 1,   /* the set-point must lie above y0 */
-    PDT_RECORD_MOVE_DOWN = 2  /* the set-point must lie below y0 */
+    PDT_RECORD_MOVE_ANY = 0, /* no set-point check */
+    PDT_RECORD_MOVE_UP = 1,  /* the set-point must lie above y0 */
+    PDT_RECORD_MOVE_DOWN = 2 /* the set-point must lie below y0 */
 } pdt_record_move_t;
 
 typedef struct pdt_record_config {
@@ -84,37 +84,37 @@ typedef struct pdt_record_config {
 
 /* The state of the experiment (pdt_record_result). */
 typedef struct pdt_record_result {
-    pdt_status_t status;  /* PDT_RUNNING, PDT_OK (complete), or the error
+    pdt_status_t status; /* PDT_RUNNING, PDT_OK (complete), or the error
                            * that aborted it */
-    size_t n;             /* samples stored in u[0..n-1], y[0..n-1] */
-    bool settled;         /* the settle window is complete */
-    pdt_real_t u0;        /* operating point: means of u and y over the */
-    pdt_real_t y0;        /* settle window (so far, before settled) */
-    pdt_real_t u_safe;    /* the output to apply after an abort or the end:
+    size_t n;            /* samples stored in u[0..n-1], y[0..n-1] */
+    bool settled;        /* the settle window is complete */
+    pdt_real_t u0;       /* operating point: means of u and y over the */
+    pdt_real_t y0;       /* settle window (so far, before settled) */
+    pdt_real_t u_safe;   /* the output to apply after an abort or the end:
                            * u0; before any sample is complete, the output
                            * of the first scan accepted; if no scan was
                            * accepted, the aborting scan's output limited to
                            * [u_min, u_max] (u_min if it was not a number) */
-    uint32_t scans;       /* scans accepted */
+    uint32_t scans;      /* scans accepted */
 } pdt_record_result_t;
 
 /* The recorder. Fields are private; fill it with pdt_record_init. */
 typedef struct pdt_record {
     pdt_record_config_t cfg;
-    pdt_real_t *u;          /* caller arrays of capacity samples */
+    pdt_real_t *u; /* caller arrays of capacity samples */
     pdt_real_t *y;
     size_t capacity;
     uint32_t magic;
     pdt_status_t status;
-    size_t n;               /* samples stored */
+    size_t n; /* samples stored */
     bool settled;
-    uint32_t scans;         /* scans accepted */
-    uint32_t pend;          /* scans in the open interval */
-    pdt_real_t pend_u;      /* mean of its outputs so far */
-    pdt_real_t pend_sum;    /* sum of its process values */
-    pdt_real_t win_min;     /* y extremes of the settle window */
+    uint32_t scans;      /* scans accepted */
+    uint32_t pend;       /* scans in the open interval */
+    pdt_real_t pend_u;   /* mean of its outputs so far */
+    pdt_real_t pend_sum; /* sum of its process values */
+    pdt_real_t win_min;  /* y extremes of the settle window */
     pdt_real_t win_max;
-    pdt_real_t sum_y;       /* sum of y over the settle window */
+    pdt_real_t sum_y; /* sum of y over the settle window */
     pdt_real_t u0;
     pdt_real_t y0;
     pdt_real_t u_safe;

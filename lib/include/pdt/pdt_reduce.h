@@ -36,23 +36,24 @@ extern "C" {
 /* Rules applied to a left-half-plane zero (T0 s + 1) cancelled against a lag
  * (tau0 s + 1), tau_c the effective delay (bits of pdt_reduce_info_t.rules).
  * The ratio becomes: */
-#define PDT_REDUCE_RULE_T1 0x01u  /* T0 / tau0,   T0 >= tau0 >= tau_c */
+#define PDT_REDUCE_RULE_T1  0x01u /* T0 / tau0,   T0 >= tau0 >= tau_c */
 #define PDT_REDUCE_RULE_T1A 0x02u /* T0 / tau_c,  T0 >= tau_c >= tau0 */
 #define PDT_REDUCE_RULE_T1B 0x04u /* 1,           tau_c >= T0 >= tau0 */
-#define PDT_REDUCE_RULE_T2 0x08u  /* T0 / tau0,   tau0 >= T0 >= 5 tau_c */
-#define PDT_REDUCE_RULE_T3 0x10u  /* (t / tau0) / ((t - T0) s + 1),
+#define PDT_REDUCE_RULE_T2  0x08u /* T0 / tau0,   tau0 >= T0 >= 5 tau_c */
+#define PDT_REDUCE_RULE_T3                                                                         \
+    0x10u /* (t / tau0) / ((t - T0) s + 1),
                                    * t = min(tau0, 5 tau_c) >= T0 */
 
 /* The detailed model. The arrays are the caller's and are only read. */
 typedef struct pdt_reduce_plant {
-    pdt_real_t k;             /* DC gain, output units per input unit, finite */
-    const pdt_real_t *lags;   /* tau_i, s, each finite and > 0, any order */
-    size_t n_lags;            /* >= 1 */
-    const pdt_real_t *zeros;  /* T_j of (T_j s + 1), s, each finite and != 0
+    pdt_real_t k;            /* DC gain, output units per input unit, finite */
+    const pdt_real_t *lags;  /* tau_i, s, each finite and > 0, any order */
+    size_t n_lags;           /* >= 1 */
+    const pdt_real_t *zeros; /* T_j of (T_j s + 1), s, each finite and != 0
                                * (< 0: right-half-plane zero); may be NULL
                                * when n_zeros is 0 */
     size_t n_zeros;
-    pdt_real_t theta0;        /* dead time, s, finite and >= 0 */
+    pdt_real_t theta0; /* dead time, s, finite and >= 0 */
 } pdt_reduce_plant_t;
 
 typedef struct pdt_reduce_config {
@@ -72,17 +73,17 @@ typedef struct pdt_reduce_config {
 
 /* What a reduction did, for diagnostics. */
 typedef struct pdt_reduce_info {
-    uint32_t rules;   /* half rule: PDT_REDUCE_RULE_* bits of the rules used
+    uint32_t rules;  /* half rule: PDT_REDUCE_RULE_* bits of the rules used
                        * in the final pass; 0 without left-half-plane zeros
                        * and for Sung */
-    uint32_t passes;  /* half rule: passes made, 1 .. PDT_REDUCE_MAX_PASSES;
+    uint32_t passes; /* half rule: passes made, 1 .. PDT_REDUCE_MAX_PASSES;
                        * 0 for Sung */
-    bool converged;   /* half rule: the final pass reproduced the effective
+    bool converged;  /* half rule: the final pass reproduced the effective
                        * delay its rules assumed (false: the pass limit
                        * stopped it; the last pass is returned). Sung: true */
-    bool fallback;    /* Sung: a SOPDT was asked but the fit has none (see
+    bool fallback;   /* Sung: a SOPDT was asked but the fit has none (see
                        * pdt_reduce_sung); the output is the FOPDT */
-    pdt_real_t w_u;   /* Sung: ultimate frequency, rad/s; 0 for the half rule */
+    pdt_real_t w_u;  /* Sung: ultimate frequency, rad/s; 0 for the half rule */
 } pdt_reduce_info_t;
 
 /* Fills cfg with the documented defaults. Does nothing for NULL. */
@@ -115,9 +116,8 @@ void pdt_reduce_config_default(pdt_reduce_config_t *cfg);
  *   PDT_ERR_NO_FORM when a left-half-plane zero finds no lag left to cancel
  *     against, or fewer lags remain than the model's order (e.g. a SOPDT
  *     from a single lag). */
-pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant,
-                                  const pdt_reduce_config_t *cfg, pdt_model_t *out,
-                                  pdt_reduce_info_t *info);
+pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant, const pdt_reduce_config_t *cfg,
+                                  pdt_model_t *out, pdt_reduce_info_t *info);
 
 /* The ultimate frequency w_u (rad/s): the first frequency at which the phase
  * of G(jw) / k, taken continuously from 0 at w = 0 as

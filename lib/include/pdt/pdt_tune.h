@@ -66,33 +66,30 @@ typedef enum pdt_tune_rule {
                          * ultimate gain and period, no knob */
 } pdt_tune_rule_t;
 
-typedef enum pdt_tune_form {
-    PDT_TUNE_PI = 0,
-    PDT_TUNE_PID = 1
-} pdt_tune_form_t;
+typedef enum pdt_tune_form { PDT_TUNE_PI = 0, PDT_TUNE_PID = 1 } pdt_tune_form_t;
 
 typedef struct pdt_tune_config {
-    pdt_tune_rule_t rule;  /* Default SIMC */
-    pdt_tune_form_t form;  /* Default PI */
-    pdt_real_t tau_c;      /* SIMC closed-loop time constant, s, >= 0; 0
+    pdt_tune_rule_t rule;    /* Default SIMC */
+    pdt_tune_form_t form;    /* Default PI */
+    pdt_real_t tau_c;        /* SIMC closed-loop time constant, s, >= 0; 0
                             * means theta, the dead time the rule uses
                             * (Skogestad's default). Default 0 */
-    pdt_real_t lambda;     /* IMC closed-loop time constant, s, >= 0; 0
+    pdt_real_t lambda;       /* IMC closed-loop time constant, s, >= 0; 0
                             * means max(tau, 3 theta) of the time constant
                             * and dead time the rule uses (3 theta for an
                             * integrating model). Default 0 */
-    pdt_real_t detune;     /* factor on the knob (tau_c or lambda, given
+    pdt_real_t detune;       /* factor on the knob (tau_c or lambda, given
                             * or default), >= 1, or 0 for 1: a slower,
                             * more robust loop. Default 0 */
     pdt_real_t deriv_filter; /* N: the derivative is filtered with
                               * Tf = tauD / N (tauD of the form the rule
                               * is stated in); >= 1, or 0 for no filter.
                               * Default 10 */
-    pdt_real_t fit_min;    /* refuse when the fit is below this, percent,
+    pdt_real_t fit_min;      /* refuse when the fit is below this, percent,
                             * finite; 0 (the default) refuses nothing:
                             * the autotune decides by the evidence of
                             * pdt_validate.h instead */
-    pdt_real_t ms_max;     /* refuse when Ms exceeds this; > 1, or 0 for no
+    pdt_real_t ms_max;       /* refuse when Ms exceeds this; > 1, or 0 for no
                             * limit. Default 2.0 */
 } pdt_tune_config_t;
 
@@ -124,15 +121,15 @@ typedef struct pdt_tune_figures {
 } pdt_tune_figures_t;
 
 typedef struct pdt_tune_result {
-    pdt_tune_gains_t ideal;   /* the gains, ideal (parallel) form */
-    pdt_tune_gains_t series;  /* the same controller in series form; valid
+    pdt_tune_gains_t ideal;  /* the gains, ideal (parallel) form */
+    pdt_tune_gains_t series; /* the same controller in series form; valid
                                * only when series_exists (else all 0) */
-    bool series_exists;       /* tauI >= 4 tauD in the ideal form */
-    bool series_rule;         /* the rule is stated in series form (SIMC):
+    bool series_exists;      /* tauI >= 4 tauD in the ideal form */
+    bool series_rule;        /* the rule is stated in series form (SIMC):
                                * `series` holds its own numbers */
-    pdt_real_t knob;          /* tau_c (SIMC) or lambda (IMC) used, s; 0
+    pdt_real_t knob;         /* tau_c (SIMC) or lambda (IMC) used, s; 0
                                * for the rules without a knob */
-    pdt_tune_figures_t fig;   /* robustness of the ideal gains with the
+    pdt_tune_figures_t fig;  /* robustness of the ideal gains with the
                                * model (pdt_tune_robustness) */
 } pdt_tune_result_t;
 

@@ -40,9 +40,9 @@ extern "C" {
 #endif
 
 /* Lags of the whiteness test. */
-#define PDT_VALIDATE_LAGS 20u
+#define PDT_VALIDATE_LAGS       20u
 /* Taps of the model-error FIR (the independence test). */
-#define PDT_VALIDATE_FIR 12u
+#define PDT_VALIDATE_FIR        12u
 /* Most parameters: SOPDT k, a, b, Td and the output offset y0. */
 #define PDT_VALIDATE_MAX_PARAMS 5u
 
@@ -64,23 +64,23 @@ typedef struct pdt_ident_std {
 } pdt_ident_std_t;
 
 typedef struct pdt_validate_result {
-    pdt_model_t model;        /* the model validated */
-    pdt_real_t Ts;            /* its sampling period, s */
-    size_t n;                 /* samples */
-    pdt_real_t sigma;         /* residual standard deviation, output units */
-    pdt_real_t aic;           /* n ln(sigma_ml^2) + 2 p, p = count */
-    pdt_real_t bic;           /* n ln(sigma_ml^2) + p ln n */
-    pdt_real_t white_stat;    /* portmanteau statistic of the residual */
-    pdt_real_t white_limit;   /* its 99 % chi-square quantile */
-    bool white;               /* white_stat <= white_limit */
-    pdt_real_t cross_stat;    /* model-error FIR statistic */
-    pdt_real_t cross_limit;   /* its 99 % chi-square quantile */
-    bool independent;         /* cross_stat <= cross_limit */
-    pdt_real_t inflation;     /* covariance factor for a correlated
+    pdt_model_t model;                /* the model validated */
+    pdt_real_t Ts;                    /* its sampling period, s */
+    size_t n;                         /* samples */
+    pdt_real_t sigma;                 /* residual standard deviation, output units */
+    pdt_real_t aic;                   /* n ln(sigma_ml^2) + 2 p, p = count */
+    pdt_real_t bic;                   /* n ln(sigma_ml^2) + p ln n */
+    pdt_real_t white_stat;            /* portmanteau statistic of the residual */
+    pdt_real_t white_limit;           /* its 99 % chi-square quantile */
+    bool white;                       /* white_stat <= white_limit */
+    pdt_real_t cross_stat;            /* model-error FIR statistic */
+    pdt_real_t cross_limit;           /* its 99 % chi-square quantile */
+    bool independent;                 /* cross_stat <= cross_limit */
+    pdt_real_t inflation;             /* covariance factor for a correlated
                                * residual, 1 + 2 sum of its
                                * autocorrelations, >= 1 */
-    pdt_ident_std_t std;      /* parameter uncertainty, inflated */
-    uint32_t fir_lag;         /* first lag of the FIR, samples */
+    pdt_ident_std_t std;              /* parameter uncertainty, inflated */
+    uint32_t fir_lag;                 /* first lag of the FIR, samples */
     pdt_real_t fir[PDT_VALIDATE_FIR]; /* the model-error FIR, output units
                                        * per input unit, tap j at lag
                                        * fir_lag + j */

@@ -7,12 +7,25 @@
 #include <stddef.h>
 #include <stdint.h>
 
-class CiSerial {
-public:
-    void begin(unsigned long baud) { (void)baud; }
-    void print(const char *s) { (void)s; }
-    void println(const char *s) { (void)s; }
-    void println(double v) { (void)v; }
+class CiSerial
+{
+  public:
+    void begin(unsigned long baud)
+    {
+        (void)baud;
+    }
+    void print(const char *s)
+    {
+        (void)s;
+    }
+    void println(const char *s)
+    {
+        (void)s;
+    }
+    void println(double v)
+    {
+        (void)v;
+    }
 };
 extern CiSerial Serial;
 void delay(unsigned long ms);
