@@ -574,7 +574,7 @@ static int take_columns(reader_t *r, pdtcli_series_t *out)
 static int sample(reader_t *r, pdtcli_series_t *out)
 {
     const double fs = r->o->fs;
-    if (r->rows == 0) return set_err(r, "%s: no data rows after the header", r->name);
+    if (r->rows == 0) return set_err(r, "%s: 0 data rows after the header", r->name);
     if (r->col[COL_T] < 0 || r->rows < 2) {
         out->Ts = fs > 0.0 ? 1.0 / fs : 0.0;
         return take_columns(r, out);
