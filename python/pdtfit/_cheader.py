@@ -7,7 +7,7 @@ repository's headers with it too.
 import pathlib
 import re
 
-_MEMBER = re.compile(r"^\s*(PDT_[A-Z0-9_]+)\s*=\s*(-?\d+)\s*,?", re.M)
+_MEMBER = re.compile(r"(?:^|[{,])\s*(PDT_[A-Z0-9_]+)\s*=\s*(-?\d+)\s*(?=,|$)", re.M)
 _ENUM = re.compile(r"typedef\s+enum\s+(\w+)\s*\{(.*?)\}\s*(\w+)\s*;", re.S)
 
 
