@@ -1268,6 +1268,14 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     if (!pdt_finite(ct)) {
         ct = (pdt_real_t)INFINITY;
     }
+    /* A shape whose response overflows leaves no fit: its cost is +inf,
+     * and the gain and offset stay numbers (0 * inf in the offset's
+     * closed form would be NaN). */
+    if (!pdt_finite(K) || !pdt_finite(off)) {
+        K = pdt_finite(K) ? K : PDT_R(0.0);
+        off = PDT_R(0.0);
+        ct = (pdt_real_t)INFINITY;
+    }
     if (need_freq) {
         cf = freq_at(c, shape, K);
     }

@@ -1522,6 +1522,11 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     if (ctx->magic != IDENT_MAGIC || ctx->phase != PH_DONE) {
         return PDT_ERR_STATE;
     }
+    /* The search runs on the normalised record; mapped back, a gain can
+     * lie beyond the real type (a tiny input driving a huge output). */
+    if (pdt_model_check(&ctx->model) != PDT_OK) {
+        return PDT_ERR_NONFINITE;
+    }
     pdt_ident_result_t r;
     r.model = ctx->model;
     r.u0 = ctx->cost.cfg.u0;

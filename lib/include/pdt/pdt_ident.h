@@ -289,7 +289,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations);
 
 /* The result once pdt_ident_step has returned PDT_OK. PDT_ERR_STATE before
- * that, PDT_ERR_ARG for NULL. Costs one simulation (O(n)) for the fit. */
+ * that, PDT_ERR_ARG for NULL, PDT_ERR_NONFINITE when the model found does
+ * not fit the real type (a gain beyond its range: the record's output is
+ * too many decades above its input). Costs one simulation (O(n)) for the fit. */
 pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out);
 
 /* Blocking convenience: init, step until done, result. Same statuses. */
