@@ -236,6 +236,53 @@ static void test_autotune_returns_exact_output(void **state)
     }
 }
 
+/* The identification's size query covers what init uses, for every record
+ * length and criterion: the frequency cost's FFT shrinks as the delay bound
+ * grows, so the query must take init's own bound (found by fuzz_autotune:
+ * init wrote past a workspace of the queried size). */
+static void test_ident_workspace_covers_init(void **state)
+{
+    (void)state;
+    static pdt_real_t u[400], y[400];
+    static unsigned char work[1u << 16];
+    static pdt_ident_t ctx;
+    for (size_t k = 0; k < 400u; k++) {
+        u[k] = (k >= 5u && k < 200u) ? (pdt_real_t)1 : (pdt_real_t)0;
+        y[k] = (pdt_real_t)(k >= 8u ? 0.5 : 0.0) * (k < 203u ? (pdt_real_t)1 : (pdt_real_t)0);
+    }
+    const pdt_cost_kind_t kinds[] = {PDT_COST_SIMULATION, PDT_COST_FREQUENCY, PDT_COST_COMBINED};
+    for (size_t ik = 0; ik < 3u; ik++) {
+        for (size_t n = 24u; n <= 400u; n += 7u) {
+            pdt_ident_config_t cfg;
+            pdt_ident_config_default(&cfg);
+            cfg.Ts = (pdt_real_t)0.1;
+            cfg.cost = kinds[ik];
+            cfg.max_evaluations = 120u;
+            cfg.refine_evaluations = 4u;
+            cfg.population = 6u;
+            size_t need = pdt_ident_workspace_size(&cfg, n);
+            if (need == 0u || need + 64u > sizeof work) {
+                continue;
+            }
+            memset(work, 0xCD, sizeof work);
+            pdt_ident_data_t d = {u, y, n};
+            pdt_status_t st = pdt_ident_init(&ctx, &cfg, &d, work, need);
+            while (st == PDT_OK || st == PDT_RUNNING) {
+                st = pdt_ident_step(&ctx, 50u);
+                if (st == PDT_OK) {
+                    break;
+                }
+            }
+            for (size_t i = 0; i < 64u; i++) {
+                if (work[need + i] != 0xCDu) {
+                    fail_msg("cost %d, n %zu: written past the queried %zu bytes", (int)kinds[ik],
+                             n, need);
+                }
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -246,6 +293,7 @@ int main(void)
         cmocka_unit_test(test_autotune_capacity_bound),
         cmocka_unit_test(test_record_exact_operating_point),
         cmocka_unit_test(test_autotune_returns_exact_output),
+        cmocka_unit_test(test_ident_workspace_covers_init),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -377,7 +377,9 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
         resolve_bounds(cfg, n, &b) != PDT_OK || gene_bounds(cfg, &b, lo, hi) != PDT_OK) {
         return 0u;
     }
-    cost_config(cfg, PDT_R(0.0), PDT_R(0.0), samples_in(b.Td_max, cfg->Ts, n) + 2u, &cc);
+    /* The delay bound init gives the cost (a smaller FFT for a larger
+     * bound: the size must be init's own). */
+    cost_config(cfg, PDT_R(0.0), PDT_R(0.0), samples_in(b.Td_max, cfg->Ts, n) + 1u, &cc);
     size_t cost_bytes = pdt_cost_workspace_size(&cc, n);
     if (cc.use_frequency && cost_bytes == 0u) {
         return 0u;
