@@ -573,6 +573,11 @@ pdt_status_t pdt_tune_ziegler_nichols(pdt_real_t Ku, pdt_real_t Pu, pdt_tune_for
         r.tauD = PDT_R(0.125) * Pu;
     }
     r.Tf = PDT_R(0.0);
+    /* An ultimate gain at the bottom of the real range makes a gain that
+     * underflows to 0, which is no controller. */
+    if (r.Kc == PDT_R(0.0) || !(r.tauI > PDT_R(0.0))) {
+        return PDT_ERR_ARG;
+    }
     *out = r;
     return PDT_OK;
 }

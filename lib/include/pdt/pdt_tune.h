@@ -199,7 +199,8 @@ pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g
  * with Tf = 0: PI Kc = 0.45 Ku, tauI = Pu / 1.2; PID Kc = 0.6 Ku,
  * tauI = Pu / 2, tauD = Pu / 8 (a double zero: series Kc = 0.3 Ku,
  * tauI = tauD = Pu / 4). Returns PDT_ERR_ARG for NULL out, Ku zero or not
- * finite, Pu not finite and > 0, an unknown form; *out untouched then.
+ * finite, Pu not finite and > 0, an unknown form, or gains that underflow
+ * (a Ku or Pu at the bottom of the real range); *out untouched then.
  * O(1). */
 pdt_status_t pdt_tune_ziegler_nichols(pdt_real_t Ku, pdt_real_t Pu, pdt_tune_form_t form,
                                       pdt_tune_gains_t *out);
