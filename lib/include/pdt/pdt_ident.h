@@ -57,27 +57,13 @@ typedef struct pdt_ident_config {
     pdt_real_t phi_t;          /* COMBINED weights, >= 0. Default 1, 1 */
     pdt_real_t phi_f;
     pdt_weight_kind_t weight; /* frequency weighting of FREQUENCY and
-                               * COMBINED. UNIFORM, BAND (f_lo, f_hi) and
-                               * CUSTOM (weights) as in pdt_cost_config_t.
-                               * CONTROL: the search first runs on the time
-                               * cost alone; the band is then 0 .. f_band,
-                               * half the phase crossover frequency of the
-                               * model found, and the search goes on with
-                               * the criterion. The band is where a
-                               * controller needs the model; its Cf is
-                               * divided by the share of bins it holds, so
-                               * that phi_f weighs the band's mean square
-                               * as it would the whole spectrum's.
-                               * AUTO (the default): CONTROL for a FOPDT
-                               * with COMBINED (a FOPDT cannot follow a
-                               * higher-order process everywhere and must be
-                               * told where to fit), else UNIFORM: a SOPDT
-                               * fits the whole measured band closely
-                               * (docs/benchmarks.md has the comparison),
-                               * and without the time part a band of a few
-                               * bins above the corner frequency fixes only
-                               * K / tau, which a small budget does not
-                               * settle */
+                               * COMBINED: UNIFORM, BAND (f_lo, f_hi) and
+                               * CUSTOM (weights) as in pdt_cost_config_t;
+                               * CONTROL: the band up to half the phase
+                               * crossover of the time-cost model; AUTO
+                               * (default): CONTROL for a FOPDT with
+                               * COMBINED, else UNIFORM. docs/equations.md
+                               * and docs/benchmarks.md give the why */
     pdt_real_t f_lo;
     pdt_real_t f_hi;
     const pdt_real_t *weights;

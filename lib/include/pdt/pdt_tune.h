@@ -162,34 +162,17 @@ pdt_status_t pdt_tune_compute(const pdt_model_t *m, pdt_real_t fit, const pdt_tu
                               pdt_tune_result_t *out);
 
 /* Robustness figures of the ideal-form controller g with model m, into
- * *fig (caller-owned). Usable on any gains, e.g. a controller already in
- * service or a relay tuner's.
- * How: L(jw) is evaluated on PDT_TUNE_GRID log-spaced frequencies over a
- * range from the model's and the controller's time scales (widened by
- * decades, at most 8 each way, until |L| > 10 at the bottom and |L| < 0.1
- * at the top). Where |L| >= 0.02, a grid interval is split so that the
- * dead time turns the phase by at most pi/4 per step, and into at least 8
- * steps when L or 1 + L turns by more than pi/4; at most 64 steps (where
- * |L| < 0.02, |S| < 1.021 and nothing is split). Stability by the Nyquist
- * criterion (the model has no right-half-plane pole): the phase of 1 + L,
- * followed from the top of the range down, must end where the poles of L
- * at s = 0 put it. The eight largest local maxima of |1 + L|^-1 are
- * refined by 40 golden-section steps each; every gain crossover, and every
- * negative-real-axis crossing that could set the gain margin, by 60
- * bisection steps. Work: at most 64 PDT_TUNE_GRID + 16 + 8 x 42 + 60 per
- * crossing evaluations of L, each a few multiplications, divisions and one
- * sine and cosine; typical loops need one to a few thousand. A loop whose
- * |L| stays above 1/2 where the dead time turns the phase faster than 64
- * steps per interval can resolve is reported unstable (it cannot be shown
- * stable). An unfiltered derivative on a FOPDT leaves
- * |L(j inf)| = r = |Kc K tauD / tau| > 0: the loop is then unstable if
- * r >= 1, else Ms is at least 1 / (1 - r) and the gain margin at most 1 / r
- * (the limit, reported with w = +infinity).
+ * *fig (caller-owned): Ms, gain and phase margins and their frequencies,
+ * stability by the Nyquist criterion. Usable on any gains, e.g. a
+ * controller already in service or a relay tuner's. Fixed memory, bounded
+ * work (at most 64 PDT_TUNE_GRID + 16 + 8 x 42 + 60 per crossing
+ * evaluations of L); the grid, refinements and limits are in
+ * docs/tuning.md ("Robustness figures").
  * Returns PDT_ERR_ARG (NULL, invalid model, a gain outside its domain as
  * documented on pdt_tune_gains_t, or time scales of model and controller
- * so far apart that the widened frequency range leaves the real type, e.g.
- * K = 1e10, tau = 1e-30 in float), PDT_ERR_UNSTABLE (the closed loop is
- * unstable; then the figures mean nothing and *fig is untouched). */
+ * so far apart that the frequency range leaves the real type),
+ * PDT_ERR_UNSTABLE (the closed loop is unstable, or cannot be shown
+ * stable; *fig is untouched then). */
 pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g,
                                  pdt_tune_figures_t *fig);
 
