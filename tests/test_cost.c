@@ -804,11 +804,12 @@ static void test_init_errors(void **state)
     cfg = good;
     cfg.weight = (pdt_weight_kind_t)9;
     INIT_FAILS(&cfg, n, PDT_ERR_ARG);
-    /* CONTROL and AUTO are the identification's to resolve into a band or
-     * UNIFORM: the cost has no model to take a band from. Refused with or
-     * without spectra, as any weighting it does not know. */
+    /* The identification's CONTROL and AUTO (3 and 4) are its own to
+     * resolve into a band or UNIFORM: the cost has no model to take a band
+     * from. Refused with or without spectra, as any weighting it does not
+     * know. */
     {
-        static const pdt_weight_kind_t ident_only[2] = {PDT_WEIGHT_CONTROL, PDT_WEIGHT_AUTO};
+        static const pdt_weight_kind_t ident_only[2] = {(pdt_weight_kind_t)3, (pdt_weight_kind_t)4};
         for (int i = 0; i < 2; i++) {
             cfg = good;
             cfg.weight = ident_only[i];

@@ -566,7 +566,8 @@ static void test_stepping(void **state)
      * band between two evaluations, with a cost preparation of its own:
      * it must land on the same evaluation whatever the calls' bounds.
      * UNIFORM keeps the single-stage search covered. */
-    static const pdt_weight_kind_t weights[] = {PDT_WEIGHT_CONTROL, PDT_WEIGHT_UNIFORM};
+    static const pdt_ident_weight_t weights[] = {PDT_IDENT_WEIGHT_CONTROL,
+                                                 PDT_IDENT_WEIGHT_UNIFORM};
     for (size_t i = 0; i < 4u; i++) {
         for (size_t w = 0; w < 2u; w++) {
             if (i < 2u && w == 1u) {
@@ -614,7 +615,7 @@ static void test_budget(void **state)
             uint32_t ga = 2u * P + 1u;
             cfg.cost = (pdt_cost_kind_t)kind;
             /* One stage: CONTROL's own budget is checked below. */
-            cfg.weight = PDT_WEIGHT_UNIFORM;
+            cfg.weight = PDT_IDENT_WEIGHT_UNIFORM;
             cfg.max_evaluations = ga + cfg.refine_evaluations +
                                   (kind == PDT_COST_FREQUENCY ? 146u : 0u) +
                                   (model == PDT_MODEL_SOPDT ? 1u : 0u);
@@ -635,7 +636,7 @@ static void test_budget(void **state)
             pdt_ident_config_t cfg = base_config((pdt_model_kind_t)model, s.Ts);
             uint32_t P = model == 2 ? PDT_IDENT_POPULATION_SOPDT : PDT_IDENT_POPULATION_FOPDT;
             cfg.cost = (pdt_cost_kind_t)kind;
-            cfg.weight = PDT_WEIGHT_CONTROL;
+            cfg.weight = PDT_IDENT_WEIGHT_CONTROL;
             cfg.max_evaluations = 2u * P + cfg.refine_evaluations +
                                   (kind == PDT_COST_FREQUENCY ? 146u : 0u) +
                                   (model == PDT_MODEL_SOPDT ? 1u : 0u);
@@ -763,7 +764,7 @@ static void test_control_default(void **state)
     (void)state;
     memset(&cfg, 0x5a, sizeof cfg);
     pdt_ident_config_default(&cfg);
-    assert_int_equal(cfg.weight, PDT_WEIGHT_AUTO);
+    assert_int_equal(cfg.weight, PDT_IDENT_WEIGHT_AUTO);
     assert_true(cfg.f_lo == (pdt_real_t)0.0 && cfg.f_hi == (pdt_real_t)0.0);
     assert_null(cfg.weights);
     assert_true(cfg.phi_t == (pdt_real_t)1.0 && cfg.phi_f == (pdt_real_t)1.0);
@@ -783,7 +784,7 @@ static void test_control_band(void **state)
 
     pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)CB_TS);
     cfg.cost = PDT_COST_COMBINED;
-    cfg.weight = PDT_WEIGHT_CONTROL;
+    cfg.weight = PDT_IDENT_WEIGHT_CONTROL;
     identify(&cfg, CB_N, &res);
     check_fopdt("control, combined", &res, &m, FO_K, 0.03, FO_TD);
     check_fit(&res, 99.0);
@@ -795,12 +796,12 @@ static void test_control_band(void **state)
     assert_close(res.f_band, want, 0.01, 0.0);
 
     /* AUTO is CONTROL for a FOPDT: the same search, bit for bit. */
-    cfg.weight = PDT_WEIGHT_AUTO;
+    cfg.weight = PDT_IDENT_WEIGHT_AUTO;
     identify(&cfg, CB_N, &res_auto);
     assert_same_result(&res, &res_auto);
 
     /* Stepped one evaluation at a time, the same as the blocking call. */
-    cfg.weight = PDT_WEIGHT_CONTROL;
+    cfg.weight = PDT_IDENT_WEIGHT_CONTROL;
     stepping_matches_blocking(&cfg, CB_N, 1u);
 
     /* The frequency criterion alone. */
@@ -823,14 +824,14 @@ static void test_control_band_off(void **state)
     pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)CB_TS);
 
     cfg.cost = PDT_COST_COMBINED;
-    cfg.weight = PDT_WEIGHT_UNIFORM;
+    cfg.weight = PDT_IDENT_WEIGHT_UNIFORM;
     identify(&cfg, CB_N, &res);
     assert_true(res.f_band == (pdt_real_t)0.0);
     cfg.cost = PDT_COST_FREQUENCY;
     identify(&cfg, CB_N, &res);
     assert_true(res.f_band == (pdt_real_t)0.0);
     cfg.cost = PDT_COST_COMBINED;
-    cfg.weight = PDT_WEIGHT_BAND;
+    cfg.weight = PDT_IDENT_WEIGHT_BAND;
     cfg.f_lo = (pdt_real_t)0.0;
     cfg.f_hi = (pdt_real_t)0.5;
     identify(&cfg, CB_N, &res);
@@ -842,13 +843,13 @@ static void test_control_band_off(void **state)
     for (size_t i = 0; i < 2u; i++) {
         cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)CB_TS);
         cfg.cost = time_kinds[i];
-        cfg.weight = PDT_WEIGHT_UNIFORM;
+        cfg.weight = PDT_IDENT_WEIGHT_UNIFORM;
         identify(&cfg, CB_N, &res_uniform);
         assert_true(res_uniform.f_band == (pdt_real_t)0.0);
-        cfg.weight = PDT_WEIGHT_CONTROL;
+        cfg.weight = PDT_IDENT_WEIGHT_CONTROL;
         identify(&cfg, CB_N, &res);
         assert_same_result(&res, &res_uniform);
-        cfg.weight = PDT_WEIGHT_AUTO;
+        cfg.weight = PDT_IDENT_WEIGHT_AUTO;
         identify(&cfg, CB_N, &res);
         assert_same_result(&res, &res_uniform);
     }
@@ -860,14 +861,14 @@ static void test_control_band_off(void **state)
     cfg.cost = PDT_COST_COMBINED;
     identify(&cfg, CB_N, &res);
     assert_true(res.f_band == (pdt_real_t)0.0);
-    cfg.weight = PDT_WEIGHT_UNIFORM;
+    cfg.weight = PDT_IDENT_WEIGHT_UNIFORM;
     identify(&cfg, CB_N, &res_uniform);
     assert_same_result(&res, &res_uniform);
     /* CONTROL asked for explicitly bands a SOPDT too, from its own phase:
      * w Td + atan(w T1) + atan(w T2) = pi at w180 = 0.587963092662129
      * rad/s (scipy.optimize.brentq). The time-cost stage's SOPDT, not yet
      * refined, is looser than a FOPDT's (2 % measured). */
-    cfg.weight = PDT_WEIGHT_CONTROL;
+    cfg.weight = PDT_IDENT_WEIGHT_CONTROL;
     identify(&cfg, CB_N, &res);
     const double want_so = 0.5 * 0.587963092662129 / (2.0 * acos(-1.0));
     print_message("    %-22s f_band %.6f Hz, want %.6f (%.2e)\n", "SOPDT, control",
@@ -888,7 +889,7 @@ static void test_control_band_no_dead_time(void **state)
     for (size_t i = 0; i < 2u; i++) {
         pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)CB_TS);
         cfg.cost = kinds[i];
-        cfg.weight = PDT_WEIGHT_CONTROL;
+        cfg.weight = PDT_IDENT_WEIGHT_CONTROL;
         identify(&cfg, CB_N, &res);
         check_fopdt(i == 0u ? "Td = 0, combined" : "Td = 0, frequency", &res, &m, FO_K, 0.03,
                     FO_TD);
@@ -1041,7 +1042,7 @@ static void test_errors_config(void **state)
      * has a frequency part. (The size query does not look at the
      * weighting: only init refuses it.) */
     cfg = good;
-    cfg.weight = (pdt_weight_kind_t)(PDT_WEIGHT_AUTO + 1);
+    cfg.weight = (pdt_ident_weight_t)(PDT_IDENT_WEIGHT_AUTO + 1);
     expect_init_error(&cfg, &data, g_work, need, PDT_ERR_ARG, "weight past AUTO");
     cfg.cost = PDT_COST_COMBINED;
     expect_init_error(&cfg, &data, g_work, need, PDT_ERR_ARG, "weight past AUTO, combined");

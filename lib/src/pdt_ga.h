@@ -15,12 +15,9 @@
 
 #include "pdt/pdt_common.h"
 
-/* PCG32 (O'Neill 2014, "XSH RR" output, 64-bit LCG state): small, fast on
- * 32-bit cores, statistically sound, and the same sequence on every target. */
-typedef struct pdt_rng {
-    uint64_t state;
-    uint64_t inc; /* odd */
-} pdt_rng_t;
+/* pdt_rng_t (pdt_common.h) is PCG32 (O'Neill 2014, "XSH RR" output, 64-bit
+ * LCG state): small, fast on 32-bit cores, statistically sound, and the
+ * same sequence on every target. */
 
 /* Seeds the generator as the PCG reference does with initstate = seed and
  * initseq = stream. */

@@ -1,52 +1,17 @@
 /*
- * Identification: genetic algorithm over the model shape, Nelder-Mead
- * refinement, closed-form gain and offset, all as a resumable state machine
- * so that each pdt_ident_step call does a bounded amount of work.
+ * Identification: the configuration, the workspace, and the sequencer that
+ * runs the engine's stages (pdt_ident_priv.h) within each call's budget.
  */
 #include "pdt/pdt_ident.h"
 
-#include "pdt/pdt_discrete.h"
-#include "pdt_ga.h"
+#include "pdt_ident_priv.h"
 #include "pdt_internal.h"
-#include "pdt_model_priv.h"
 
 #define IDENT_MAGIC PDT_MAGIC('P', 'D', 'I', 'D')
-
-enum phase {
-    PH_INIT_POP = 1, /* evaluating the initial population */
-    PH_BREED,        /* next call breeds a generation */
-    PH_EVAL_OFF,     /* evaluating offspring */
-    PH_BAND,         /* CONTROL weighting: the band from the time model */
-    PH_REFINE_PREP,  /* re-centre the spectra on the estimated offset */
-    PH_REFINE,       /* Nelder-Mead */
-    PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
-    PH_DELAY_REFINE,
-    PH_FINISH, /* the answer; may re-score once (an integrator) */
-    PH_DONE
-};
-
-enum nm_state { NM_VERTEX = 1, NM_REFLECT, NM_EXPAND, NM_CONTRACT, NM_SHRINK, NM_END };
-
-/* Nelder-Mead coefficients (the standard ones) and its stopping size in
- * normalised gene units. */
-#define NM_STEP PDT_R(0.05)
-#define NM_XTOL PDT_R(1e-5)
-
-/* Most refinement starts (niches refined). */
-#define NM_STARTS 3u
 
 /* The dead-time gene is linear below a sixteenth of its range, then
  * logarithmic (see td_offset). */
 #define TD_OFFSET_DIV PDT_R(16.0)
-
-/* The frequency criterion cannot see the dead time or the sign of the gain;
- * after its search, Td is scanned on a grid of SCAN_POINTS values of the
- * time cost (both signs of the gain each), then refined by GOLDEN_STEPS of
- * golden-section search around the best grid point. */
-#define SCAN_POINTS      64u
-#define GOLDEN_STEPS     16u
-#define SCAN_EVALUATIONS (2u * SCAN_POINTS + GOLDEN_STEPS + 2u)
-#define GOLDEN           PDT_R(0.6180339887498949)
 
 void pdt_ident_config_default(pdt_ident_config_t *cfg)
 {
@@ -59,7 +24,7 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
     cfg->time_kind = PDT_COST_SIMULATION;
     cfg->phi_t = PDT_R(1.0);
     cfg->phi_f = PDT_R(1.0);
-    cfg->weight = PDT_WEIGHT_AUTO;
+    cfg->weight = PDT_IDENT_WEIGHT_AUTO;
     cfg->delay_mode = PDT_DELAY_FRACTIONAL;
     cfg->zeta_min = PDT_R(0.2);
     cfg->integrating = true;
@@ -93,25 +58,18 @@ static uint32_t population_of(const pdt_ident_config_t *cfg)
     return cfg->model == PDT_MODEL_SOPDT ? PDT_IDENT_POPULATION_SOPDT : PDT_IDENT_POPULATION_FOPDT;
 }
 
-static bool uses_frequency(pdt_cost_kind_t kind)
+/* The cost's weighting: the identification's own, CONTROL uniform until
+ * its band is known. */
+static pdt_weight_kind_t cost_weight(const pdt_ident_config_t *cfg)
 {
-    return kind == PDT_COST_FREQUENCY || kind == PDT_COST_COMBINED;
-}
-
-/* The weighting with AUTO resolved. */
-static pdt_weight_kind_t weight_of(const pdt_ident_config_t *cfg)
-{
-    if (cfg->weight != PDT_WEIGHT_AUTO) {
-        return cfg->weight;
+    switch (pdt_ident_weight_of(cfg)) {
+    case PDT_IDENT_WEIGHT_BAND:
+        return PDT_WEIGHT_BAND;
+    case PDT_IDENT_WEIGHT_CUSTOM:
+        return PDT_WEIGHT_CUSTOM;
+    default:
+        return PDT_WEIGHT_UNIFORM;
     }
-    return cfg->model == PDT_MODEL_FOPDT && cfg->cost == PDT_COST_COMBINED ? PDT_WEIGHT_CONTROL
-                                                                           : PDT_WEIGHT_UNIFORM;
-}
-
-/* Whether the search starts on the time cost to find the control band. */
-static bool control_band(const pdt_ident_config_t *cfg)
-{
-    return uses_frequency(cfg->cost) && weight_of(cfg) == PDT_WEIGHT_CONTROL;
 }
 
 /* The cost configuration the identification runs on. */
@@ -126,7 +84,7 @@ static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t
     cc->delay_max = delay_max;
     cc->kind = cfg->cost;
     cc->time_kind = cfg->time_kind;
-    if (control_band(cfg)) {
+    if (pdt_ident_control_band(cfg)) {
         /* First stage: the time cost; the spectra are prepared all the
          * same, so the workspace is sized for the second. */
         cc->kind = cfg->time_kind;
@@ -136,10 +94,10 @@ static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t
     /* The paper's window would drop the first Td_max / Ts samples: where a
      * step test shows its dead time. */
     cc->whole_record = true;
-    cc->use_frequency = uses_frequency(cfg->cost);
+    cc->use_frequency = pdt_ident_uses_frequency(cfg->cost);
     cc->phi_t = cfg->phi_t;
     cc->phi_f = cfg->phi_f;
-    cc->weight = weight_of(cfg) == PDT_WEIGHT_CONTROL ? PDT_WEIGHT_UNIFORM : weight_of(cfg);
+    cc->weight = cost_weight(cfg);
     cc->f_lo = cfg->f_lo;
     cc->f_hi = cfg->f_hi;
     cc->weights = cfg->weights;
@@ -227,25 +185,13 @@ static pdt_status_t gene_bounds(const pdt_ident_config_t *cfg, const bounds_t *b
     return PDT_OK;
 }
 
-/* Evaluations kept back after the refinement: the dead-time scan of the
- * frequency criterion, and the re-scoring of a SOPDT reported as an
- * integrator. */
-static uint32_t late_reserve(const pdt_ident_config_t *cfg)
-{
-    uint32_t r = cfg->cost == PDT_COST_FREQUENCY ? SCAN_EVALUATIONS : 0u;
-    if (cfg->model == PDT_MODEL_SOPDT && cfg->integrating) {
-        r += 1u;
-    }
-    return r;
-}
-
 /* The least budget of one search: one population (two with the CONTROL
  * weighting, which scores it once per cost), one simplex and the late
  * reserve. */
 static uint64_t search_need(const pdt_ident_config_t *cfg)
 {
-    const uint64_t populations = control_band(cfg) ? 2u : 1u;
-    return populations * population_of(cfg) + cfg->refine_evaluations + late_reserve(cfg);
+    const uint64_t populations = pdt_ident_control_band(cfg) ? 2u : 1u;
+    return populations * population_of(cfg) + cfg->refine_evaluations + pdt_ident_late_reserve(cfg);
 }
 
 /* Independent searches: the time criteria only (the frequency criteria
@@ -255,7 +201,7 @@ static uint64_t search_need(const pdt_ident_config_t *cfg)
 static uint32_t searches_of(const pdt_ident_config_t *cfg)
 {
     const uint64_t need = search_need(cfg);
-    if (uses_frequency(cfg->cost)) {
+    if (pdt_ident_uses_frequency(cfg->cost)) {
         return cfg->max_evaluations >= need ? 1u : 0u;
     }
     if (cfg->searches != 0u) {
@@ -270,11 +216,11 @@ static uint32_t searches_of(const pdt_ident_config_t *cfg)
 static pdt_status_t check_weight(const pdt_ident_config_t *cfg)
 {
     switch (cfg->weight) {
-    case PDT_WEIGHT_UNIFORM:
-    case PDT_WEIGHT_CONTROL:
-    case PDT_WEIGHT_AUTO:
+    case PDT_IDENT_WEIGHT_UNIFORM:
+    case PDT_IDENT_WEIGHT_CONTROL:
+    case PDT_IDENT_WEIGHT_AUTO:
         break;
-    case PDT_WEIGHT_BAND:
+    case PDT_IDENT_WEIGHT_BAND:
         if (!pdt_finite(cfg->f_lo) || !pdt_finite(cfg->f_hi) || cfg->f_lo < PDT_R(0.0)) {
             return PDT_ERR_ARG;
         }
@@ -282,7 +228,7 @@ static pdt_status_t check_weight(const pdt_ident_config_t *cfg)
             return PDT_ERR_BOUNDS;
         }
         break;
-    case PDT_WEIGHT_CUSTOM:
+    case PDT_IDENT_WEIGHT_CUSTOM:
         if (cfg->weights == NULL) {
             return PDT_ERR_ARG;
         }
@@ -432,43 +378,6 @@ static bool ends_at_rest(const pdt_ident_data_t *d, pdt_real_t y_start, pdt_real
            pdt_fabs(sy / (pdt_real_t)tail) <= REST_TOLERANCE * y_range;
 }
 
-/* A search from scratch, its random stream the search's own: a Latin
- * hypercube start (each gene's range cut into P strata, one individual per
- * stratum, strata paired across genes at random, so the first generation
- * covers every gene's range evenly; the offspring area holds the
- * permutation meanwhile) and the GA's state reset. */
-static void search_start(pdt_ident_t *c)
-{
-    const size_t P = c->cfg.population, G = c->genes;
-    pdt_rng_t rng;
-    pdt_rng_seed(&rng, c->cfg.seed, 0x5eed5eedu + c->search);
-    for (size_t j = 0; j < G; j++) {
-        pdt_real_t *perm = c->off;
-        for (size_t i = 0; i < P; i++) {
-            perm[i] = (pdt_real_t)i;
-        }
-        for (size_t i = P - 1u; i > 0u; i--) {
-            size_t k = pdt_rng_below(&rng, (uint32_t)(i + 1u));
-            pdt_real_t t = perm[i];
-            perm[i] = perm[k];
-            perm[k] = t;
-        }
-        for (size_t i = 0; i < P; i++) {
-            pdt_real_t f = (perm[i] + pdt_rng_uniform(&rng)) / (pdt_real_t)P;
-            c->pop[i * G + j] = c->lo[j] + (c->hi[j] - c->lo[j]) * f;
-        }
-    }
-    c->rng_state = rng.state;
-    c->rng_inc = rng.inc;
-    c->next = 0u;
-    c->search_base = c->evaluations;
-    c->stall = 0u;
-    c->best_cost = PDT_REAL_MAX;
-    c->best_history = PDT_REAL_MAX;
-    c->stage = control_band(&c->cfg) ? 1u : 0u;
-    c->phase = PH_INIT_POP;
-}
-
 pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                             const pdt_ident_data_t *data, void *work, size_t work_len)
 {
@@ -505,7 +414,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     if (!(umax > umin) || !(ymax > ymin)) {
         return PDT_ERR_NO_EXCITATION;
     }
-    if (uses_frequency(cfg->cost) &&
+    if (pdt_ident_uses_frequency(cfg->cost) &&
         !ends_at_rest(data, initial_level(data, samples_in(b.Td_min, cfg->Ts, data->n)),
                       umax - umin, ymax - ymin)) {
         return PDT_ERR_NOT_AT_REST;
@@ -560,23 +469,23 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
      * reals, so the rest of the workspace is addressed in reals. */
     pdt_real_t *p = (pdt_real_t *)work + cost_bytes / sizeof(pdt_real_t);
     size_t P = c.cfg.population, G = c.genes;
-    c.pop = p;
+    c.ga.pop = p;
     p += P * G;
-    c.pop_cost = p;
+    c.ga.pop_cost = p;
     p += P;
-    c.pop_gain = p;
+    c.ga.pop_gain = p;
     p += P;
-    c.pop_offset = p;
+    c.ga.pop_offset = p;
     p += P;
-    c.off = p;
+    c.ga.off = p;
     p += P * G;
-    c.off_cost = p;
+    c.ga.off_cost = p;
     p += P;
-    c.off_gain = p;
+    c.ga.off_gain = p;
     p += P;
-    c.off_offset = p;
+    c.ga.off_offset = p;
     p += P;
-    c.shared = p;
+    c.ga.shared = p;
     p += P;
     c.scratch = p;
 
@@ -586,803 +495,55 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     }
     c.td_offset = td_offset(cfg, &b);
 
-    c.searches = searches_of(cfg);
-    c.search_budget = cfg->max_evaluations / c.searches;
-    search_start(&c);
+    c.vote.searches = searches_of(cfg);
+    c.vote.budget = cfg->max_evaluations / c.vote.searches;
+    pdt_ident_ga_start(&c);
     c.magic = IDENT_MAGIC;
     *ctx = c;
     return PDT_OK;
 }
 
-/* Dead time of a dead-time gene, and back. */
-static pdt_real_t td_of_gene(const pdt_ident_t *c, pdt_real_t g)
-{
-    pdt_real_t Td = pdt_exp(g) - c->td_offset;
-    return Td > PDT_R(0.0) ? Td : PDT_R(0.0);
-}
+/* What a stage needs before it runs (STAGE_NEEDS of pdt_ident_step). */
+#define NEEDS_BUDGET 1u /* an evaluation left in this call */
+#define EVALUATES    2u /* uses one of them */
+#define HEAVY        4u /* as costly as init: one per call */
 
-static pdt_real_t gene_of_td(const pdt_ident_t *c, pdt_real_t Td)
+/* A switch, not a table of function pointers: the call graph stays static,
+ * so the stack bound stays provable (tools/stack_bound.py). */
+static void run_stage(pdt_ident_t *c)
 {
-    pdt_real_t g = pdt_log(Td + c->td_offset);
-    const uint32_t j = c->genes - 1u;
-    return g < c->lo[j] ? c->lo[j] : (g > c->hi[j] ? c->hi[j] : g);
-}
-
-/* The unit-gain model of a gene vector. */
-static void shape_of(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
-{
-    pdt_real_t Td = td_of_gene(c, g[c->genes - 1u]);
-    if (c->cfg.delay_mode == PDT_DELAY_INTEGER) {
-        Td = pdt_floor(Td / c->cfg.Ts + PDT_R(0.5)) * c->cfg.Ts;
-    }
-    if (c->cfg.model == PDT_MODEL_FOPDT) {
-        m->kind = PDT_MODEL_FOPDT;
-        m->p.fopdt.K = PDT_R(1.0);
-        m->p.fopdt.tau = pdt_exp(g[0]);
-        m->p.fopdt.Td = Td;
-    } else {
-        pdt_real_t a = pdt_exp(-g[0]);
-        pdt_real_t h = PDT_R(0.5) * a * g[1] * g[1] / c->cfg.zeta_min;
-        m->kind = PDT_MODEL_SOPDT;
-        m->p.sopdt.k = PDT_R(1.0);
-        m->p.sopdt.a = a;
-        m->p.sopdt.b = h * h;
-        m->p.sopdt.Td = Td;
-    }
-}
-
-/* Bounds on the multiplier of the shape's gain from the caller's K bounds. */
-static void gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
-                        pdt_real_t *hi)
-{
-    pdt_real_t scale = PDT_R(1.0);
-    if (c->cfg.K_min == PDT_R(0.0) && c->cfg.K_max == PDT_R(0.0)) {
-        *lo = PDT_R(0.0);
-        *hi = PDT_R(0.0);
-        return;
-    }
-    if (shape->kind == PDT_MODEL_SOPDT) {
-        scale = shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a;
-    }
-    *lo = c->cfg.K_min * scale;
-    *hi = c->cfg.K_max * scale;
-}
-
-static void evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_real_t *gain,
-                     pdt_real_t *offset)
-{
-    pdt_model_t shape;
-    pdt_cost_profile_t pr;
-    pdt_real_t glo, ghi;
-    shape_of(c, g, &shape);
-    gain_bounds(c, &shape, &glo, &ghi);
-    c->evaluations++;
-    /* The best so far is the reference fit of the cost's one pass, its gain
-     * carried over to this shape's unit: b + a / T (T the record's length)
-     * moves smoothly from a lag's DC gain to an integrator's. */
-    pdt_cost_hint_t hint = {c->best_gain, c->best_offset, c->best_cost};
-    if (shape.kind == PDT_MODEL_SOPDT && c->best_cost < PDT_REAL_MAX) {
-        pdt_model_t best;
-        const pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
-        shape_of(c, c->best, &best);
-        hint.gain = c->best_gain * (shape.p.sopdt.b + shape.p.sopdt.a / T) /
-                    (best.p.sopdt.b + best.p.sopdt.a / T);
-    }
-    if (pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) != PDT_OK ||
-        !(pr.ncost == pr.ncost)) {
-        *cost = PDT_REAL_MAX;
-        *gain = PDT_R(0.0);
-        *offset = PDT_R(0.0);
-        return;
-    }
-    *cost = pr.ncost;
-    *gain = pr.gain;
-    *offset = pr.offset;
-    if (pr.ncost < c->best_cost) {
-        c->best_cost = pr.ncost;
-        c->best_gain = pr.gain;
-        c->best_offset = pr.offset;
-        for (uint32_t j = 0; j < c->genes; j++) {
-            c->best[j] = g[j];
-        }
-    }
-}
-
-static pdt_rng_t rng_load(const pdt_ident_t *c)
-{
-    pdt_rng_t r;
-    r.state = c->rng_state;
-    r.inc = c->rng_inc;
-    return r;
-}
-
-static void rng_store(pdt_ident_t *c, const pdt_rng_t *r)
-{
-    c->rng_state = r->state;
-    c->rng_inc = r->inc;
-}
-
-static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
-{
-    uint32_t P = c->cfg.population;
-    size_t a = pdt_rng_below(r, P);
-    size_t b = pdt_rng_below(r, P);
-    return pdt_ga_tournament(c->shared, a, b, pdt_rng_u32(r) & 1u);
-}
-
-/* One generation of offspring from the current population. */
-static void breed(pdt_ident_t *c)
-{
-    const size_t P = c->cfg.population, G = c->genes;
-    pdt_rng_t r = rng_load(c);
-    pdt_real_t pm = c->cfg.p_mutation > PDT_R(0.0) ? c->cfg.p_mutation : PDT_R(1.0) / (pdt_real_t)G;
-    pdt_ga_share(c->pop, P, G, c->lo, c->hi, c->pop_cost, c->cfg.sigma_share, PDT_R(1.0),
-                 c->shared);
-    for (size_t i = 0; i < P; i += 2u) {
-        const pdt_real_t *p1 = &c->pop[pick(c, &r) * G];
-        const pdt_real_t *p2 = &c->pop[pick(c, &r) * G];
-        pdt_real_t *c1 = &c->off[i * G];
-        pdt_real_t *c2 = &c->off[(i + 1u) * G];
-        bool cross = pdt_rng_uniform(&r) < c->cfg.p_crossover;
-        for (size_t j = 0; j < G; j++) {
-            pdt_real_t x1 = p1[j], x2 = p2[j];
-            if (cross && pdt_rng_uniform(&r) < PDT_R(0.5)) {
-                pdt_ga_sbx(p1[j], p2[j], c->lo[j], c->hi[j], c->cfg.eta_c, pdt_rng_uniform(&r), &x1,
-                           &x2);
-                if ((pdt_rng_u32(&r) & 1u) != 0u) {
-                    pdt_real_t t = x1;
-                    x1 = x2;
-                    x2 = t;
-                }
-            }
-            if (pdt_rng_uniform(&r) < pm) {
-                x1 = pdt_ga_mutate(x1, c->lo[j], c->hi[j], c->cfg.eta_m, pdt_rng_uniform(&r));
-            }
-            if (pdt_rng_uniform(&r) < pm) {
-                x2 = pdt_ga_mutate(x2, c->lo[j], c->hi[j], c->cfg.eta_m, pdt_rng_uniform(&r));
-            }
-            c1[j] = x1;
-            c2[j] = x2;
-        }
-    }
-    rng_store(c, &r);
-}
-
-static void copy_individual(pdt_ident_t *c, pdt_real_t *dst_genes, size_t di, const pdt_real_t *src,
-                            size_t si, pdt_real_t cost, pdt_real_t gain, pdt_real_t offset)
-{
-    (void)si;
-    for (uint32_t j = 0; j < c->genes; j++) {
-        dst_genes[di * c->genes + j] = src[j];
-    }
-    c->off_cost[di] = cost;
-    c->off_gain[di] = gain;
-    c->off_offset[di] = offset;
-}
-
-/* Elitism: the best `elite` parents replace the worst offspring when better,
- * then the offspring become the population. */
-static void survive(pdt_ident_t *c)
-{
-    const size_t P = c->cfg.population, G = c->genes;
-    for (uint32_t e = 0; e < c->cfg.elite; e++) {
-        size_t best = 0u, worst = 0u;
-        for (size_t i = 1; i < P; i++) {
-            if (c->pop_cost[i] < c->pop_cost[best]) {
-                best = i;
-            }
-            if (c->off_cost[i] > c->off_cost[worst]) {
-                worst = i;
-            }
-        }
-        if (!(c->pop_cost[best] < c->off_cost[worst])) {
-            break;
-        }
-        copy_individual(c, c->off, worst, &c->pop[best * G], best, c->pop_cost[best],
-                        c->pop_gain[best], c->pop_offset[best]);
-        /* Take the parent out of the next round of this loop. */
-        c->pop_cost[best] = PDT_REAL_MAX;
-    }
-    for (size_t i = 0; i < P * G; i++) {
-        c->pop[i] = c->off[i];
-    }
-    for (size_t i = 0; i < P; i++) {
-        c->pop_cost[i] = c->off_cost[i];
-        c->pop_gain[i] = c->off_gain[i];
-        c->pop_offset[i] = c->off_offset[i];
-    }
-}
-
-/* After a generation: stall bookkeeping and whether the GA goes on. */
-static bool ga_continues(pdt_ident_t *c)
-{
-    c->generations++;
-    if (c->best_cost < c->best_history * (PDT_R(1.0) - c->cfg.tolerance) ||
-        c->best_history == PDT_REAL_MAX) {
-        c->best_history = c->best_cost;
-        c->stall = 0u;
-    } else {
-        c->stall++;
-    }
-    uint32_t ga_budget = c->search_budget - c->cfg.refine_evaluations - late_reserve(&c->cfg);
-    if (c->stage == 1u) {
-        /* The time-cost stage of the CONTROL weighting gets half. */
-        ga_budget /= 2u;
-    }
-    return c->stall < c->cfg.stall_generations &&
-           (c->evaluations - c->search_base) + c->cfg.population <= ga_budget;
-}
-
-/* Where the search goes when the GA stops. */
-static uint32_t ga_done(const pdt_ident_t *c)
-{
-    return c->stage == 1u ? PH_BAND : PH_REFINE_PREP;
-}
-
-/* ---- Nelder-Mead, by reverse communication: propose a point, take its cost. */
-
-static pdt_real_t clampg(const pdt_ident_t *c, size_t j, pdt_real_t x)
-{
-    return x < c->lo[j] ? c->lo[j] : (x > c->hi[j] ? c->hi[j] : x);
-}
-
-/* Normalised distance between two gene vectors. */
-static pdt_real_t gene_distance(const pdt_ident_t *c, const pdt_real_t *x, const pdt_real_t *y)
-{
-    pdt_real_t d2 = PDT_R(0.0);
-    for (uint32_t j = 0; j < c->genes; j++) {
-        pdt_real_t d = (x[j] - y[j]) / (c->hi[j] - c->lo[j]);
-        d2 += d * d;
-    }
-    return pdt_sqrt(d2);
-}
-
-/* Starting points of the refinement: the best individual, then the best of
- * each other niche (farther than twice the sharing radius from every start
- * so far), up to NM_STARTS. A GA that ends with its best in a wrong basin
- * (e.g. a SOPDT whose second lag has collapsed into the dead time) usually
- * still holds the right basin in another niche: sharing kept it alive. */
-static void refine_starts(pdt_ident_t *c)
-{
-    const uint32_t P = c->cfg.population, G = c->genes;
-    const pdt_real_t radius = PDT_R(2.0) * c->cfg.sigma_share;
-    for (uint32_t j = 0; j < G; j++) {
-        c->starts[0][j] = c->best[j];
-    }
-    c->nstarts = 1u;
-    while (c->nstarts < NM_STARTS) {
-        size_t chosen = P;
-        for (size_t i = 0; i < P; i++) {
-            bool distinct = c->pop_cost[i] < PDT_REAL_MAX;
-            for (uint32_t s = 0; s < c->nstarts && distinct; s++) {
-                distinct = gene_distance(c, &c->pop[i * G], c->starts[s]) > radius;
-            }
-            if (distinct && (chosen == P || c->pop_cost[i] < c->pop_cost[chosen])) {
-                chosen = i;
-            }
-        }
-        if (chosen == P) {
-            break;
-        }
-        for (uint32_t j = 0; j < G; j++) {
-            c->starts[c->nstarts][j] = c->pop[chosen * G + j];
-        }
-        c->nstarts++;
-    }
-    c->start_i = 0u;
-}
-
-/* A Nelder-Mead run from starts[start_i]. The niche runs share half of
- * what the refinement has; a last run then polishes the best point found
- * with all that is left (start_i == nstarts): a restarted simplex also
- * escapes the premature collapse Nelder-Mead is prone to. */
-static void nm_start(pdt_ident_t *c)
-{
-    const size_t G = c->genes;
-    const pdt_real_t *x0 = c->start_i < c->nstarts ? c->starts[c->start_i] : c->best;
-    for (size_t i = 0; i <= G; i++) {
-        for (size_t j = 0; j < G; j++) {
-            c->nm_x[i][j] = x0[j];
-        }
-        if (i > 0u) {
-            size_t j = i - 1u;
-            pdt_real_t step = NM_STEP * (c->hi[j] - c->lo[j]);
-            pdt_real_t x = x0[j] + step;
-            if (x > c->hi[j]) {
-                x = x0[j] - step;
-            }
-            c->nm_x[i][j] = clampg(c, j, x);
-        }
-    }
-    c->nm_state = NM_VERTEX;
-    c->nm_index = 0u;
-    uint32_t left = c->search_budget - late_reserve(&c->cfg);
-    left = left > c->evaluations - c->search_base ? left - (c->evaluations - c->search_base) : 0u;
-    if (c->start_i == 0u) {
-        /* Fewer starts when half the budget cannot give each a whole
-         * simplex; the first always fits (refine_evaluations >= genes + 1). */
-        uint32_t per = (left / 2u) / (uint32_t)(G + 1u);
-        if (c->nstarts > per) {
-            c->nstarts = per > 0u ? per : 1u;
-        }
-        c->refine_half = left / 2u;
-    }
-    if (c->start_i < c->nstarts) {
-        uint32_t share = c->refine_half / c->nstarts;
-        c->nm_budget = share > G + 1u ? share : (uint32_t)(G + 1u);
-        c->nm_budget = c->nm_budget < left ? c->nm_budget : left;
-    } else {
-        c->nm_budget = left;
-    }
-}
-
-static void nm_order(pdt_ident_t *c)
-{
-    const size_t G = c->genes;
-    /* Insertion sort of G + 1 <= 4 vertices by cost. */
-    for (size_t i = 1; i <= G; i++) {
-        for (size_t k = i; k > 0u && c->nm_f[k] < c->nm_f[k - 1u]; k--) {
-            pdt_real_t tf = c->nm_f[k];
-            c->nm_f[k] = c->nm_f[k - 1u];
-            c->nm_f[k - 1u] = tf;
-            for (size_t j = 0; j < G; j++) {
-                pdt_real_t t = c->nm_x[k][j];
-                c->nm_x[k][j] = c->nm_x[k - 1u][j];
-                c->nm_x[k - 1u][j] = t;
-            }
-        }
-    }
-}
-
-/* Point = centroid of the best G vertices + coef (centroid - worst). */
-static void nm_point(pdt_ident_t *c, pdt_real_t coef, pdt_real_t *out)
-{
-    const size_t G = c->genes;
-    for (size_t j = 0; j < G; j++) {
-        pdt_real_t cen = PDT_R(0.0);
-        for (size_t i = 0; i < G; i++) {
-            cen += c->nm_x[i][j];
-        }
-        cen /= (pdt_real_t)G;
-        out[j] = clampg(c, j, cen + coef * (cen - c->nm_x[G][j]));
-    }
-}
-
-static bool nm_converged(const pdt_ident_t *c)
-{
-    const size_t G = c->genes;
-    pdt_real_t size = PDT_R(0.0);
-    for (size_t i = 1; i <= G; i++) {
-        for (size_t j = 0; j < G; j++) {
-            pdt_real_t d = pdt_fabs(c->nm_x[i][j] - c->nm_x[0][j]) / (c->hi[j] - c->lo[j]);
-            size = d > size ? d : size;
-        }
-    }
-    return size < NM_XTOL;
-}
-
-static void nm_replace_worst(pdt_ident_t *c, const pdt_real_t *x, pdt_real_t f)
-{
-    for (uint32_t j = 0; j < c->genes; j++) {
-        c->nm_x[c->genes][j] = x[j];
-    }
-    c->nm_f[c->genes] = f;
-}
-
-/* Sets up the next trial after the simplex changed; NM_END when done. */
-static void nm_next_iteration(pdt_ident_t *c)
-{
-    nm_order(c);
-    if (c->nm_budget == 0u || nm_converged(c)) {
-        c->nm_state = NM_END;
-        return;
-    }
-    nm_point(c, PDT_R(1.0), c->nm_trial);
-    c->nm_state = NM_REFLECT;
-}
-
-/* One Nelder-Mead evaluation. */
-static void nm_advance(pdt_ident_t *c)
-{
-    const uint32_t G = c->genes;
-    pdt_real_t f, gain, offset;
-    switch (c->nm_state) {
-    case NM_VERTEX:
-    case NM_SHRINK:
-        evaluate(c, c->nm_x[c->nm_index], &f, &gain, &offset);
-        c->nm_f[c->nm_index] = f;
-        c->nm_index++;
-        if (c->nm_index > G) {
-            nm_next_iteration(c);
-        }
+    switch (c->phase) {
+    case PH_INIT_POP:
+        pdt_ident_ga_eval_parent(c);
         break;
-    case NM_REFLECT:
-        evaluate(c, c->nm_trial, &f, &gain, &offset);
-        c->nm_ftrial = f;
-        if (f < c->nm_f[0]) {
-            nm_point(c, PDT_R(2.0), c->nm_trial2);
-            c->nm_state = NM_EXPAND;
-        } else if (f < c->nm_f[G - 1u]) {
-            nm_replace_worst(c, c->nm_trial, f);
-            nm_next_iteration(c);
-        } else {
-            /* Contract outside when the reflection beat the worst, inside
-             * otherwise. */
-            nm_point(c, f < c->nm_f[G] ? PDT_R(0.5) : PDT_R(-0.5), c->nm_trial2);
-            c->nm_state = NM_CONTRACT;
-        }
+    case PH_BREED:
+        pdt_ident_ga_breed(c);
         break;
-    case NM_EXPAND:
-        evaluate(c, c->nm_trial2, &f, &gain, &offset);
-        if (f < c->nm_ftrial) {
-            nm_replace_worst(c, c->nm_trial2, f);
-        } else {
-            nm_replace_worst(c, c->nm_trial, c->nm_ftrial);
-        }
-        nm_next_iteration(c);
+    case PH_EVAL_OFF:
+        pdt_ident_ga_eval_offspring(c);
         break;
-    case NM_CONTRACT:
-        evaluate(c, c->nm_trial2, &f, &gain, &offset);
-        if (f < c->nm_ftrial && f < c->nm_f[G]) {
-            nm_replace_worst(c, c->nm_trial2, f);
-            nm_next_iteration(c);
-        } else {
-            for (uint32_t i = 1; i <= G; i++) {
-                for (uint32_t j = 0; j < G; j++) {
-                    c->nm_x[i][j] = c->nm_x[0][j] + PDT_R(0.5) * (c->nm_x[i][j] - c->nm_x[0][j]);
-                }
-            }
-            c->nm_state = NM_SHRINK;
-            c->nm_index = 1u;
-        }
+    case PH_BAND:
+        pdt_ident_band_start(c);
         break;
-    default:
-        c->nm_state = NM_END;
+    case PH_RECENTRE:
+        pdt_ident_refine_recentre(c);
+        break;
+    case PH_REFINE_START:
+        pdt_ident_refine_begin(c);
+        break;
+    case PH_REFINE:
+        pdt_ident_refine_step(c);
+        break;
+    case PH_DELAY_SCAN:
+        pdt_ident_scan_grid(c);
+        break;
+    case PH_DELAY_REFINE:
+        pdt_ident_scan_golden(c);
+        break;
+    default: /* PH_FINISH */
+        pdt_ident_finish(c);
         break;
     }
-    if (c->nm_budget > 0u) {
-        c->nm_budget--;
-    }
-    if (c->nm_budget == 0u && c->nm_state != NM_END &&
-        (c->nm_state != NM_VERTEX || c->nm_index > G)) {
-        c->nm_state = NM_END;
-    }
-}
-
-static void finish(pdt_ident_t *c);
-
-/* CONTROL weighting, between the stages: the band up to half the phase
- * crossover of the time model (the whole spectrum if it has none below
- * the Nyquist frequency, at least one bin), Cf scaled by the bins' share,
- * and the population evaluated again on the criterion. The crossover
- * bounds the bandwidth any controller can reach; half of it covers the
- * closed-loop band of the usual tuning rules. */
-static void band_start(pdt_ident_t *c)
-{
-    pdt_model_t m;
-    shape_of(c, c->best, &m);
-    const pdt_real_t Ts = c->cfg.Ts;
-    const size_t nf = c->cost.nf, nb = nf / 2u;
-    pdt_real_t f = PDT_R(0.5) * pdt_model_phase_crossover(&m) / (PDT_R(2.0) * PDT_PI);
-    pdt_real_t f_nyq = PDT_R(0.5) / Ts, f_bin = PDT_R(1.0) / ((pdt_real_t)nf * Ts);
-    if (!(f > PDT_R(0.0)) || f > f_nyq) {
-        f = f_nyq;
-    }
-    f = f < f_bin ? f_bin : f;
-    size_t bins = (size_t)(f / f_bin);
-    bins = bins < 1u ? 1u : (bins > nb ? nb : bins);
-    pdt_cost_config_t cc = c->cost.cfg;
-    pdt_cost_t nc;
-    cc.kind = c->cfg.cost;
-    cc.y0 += c->best_offset;
-    cc.weight = PDT_WEIGHT_BAND;
-    cc.f_lo = PDT_R(0.0);
-    cc.f_hi = f;
-    cc.phi_f = c->cfg.phi_f * (pdt_real_t)nb / (pdt_real_t)bins;
-    /* The same record, sizes and workspace as init, which checked them:
-     * this cannot fail; if it did, the search would go on with the time
-     * cost and f_band stay 0. */
-    if (pdt_cost_init(&nc, &cc, c->data.u, c->data.y, c->data.n, c->cost_work, c->cost_work_len) ==
-        PDT_OK) {
-        c->cost = nc;
-        c->f_band = f;
-    }
-    c->stage = 2u;
-    c->best_cost = PDT_REAL_MAX;
-    c->best_history = PDT_REAL_MAX;
-    c->stall = 0u;
-    c->next = 0u;
-    c->phase = PH_INIT_POP;
-}
-
-/* ---- Dead time of the frequency criterion, from the time cost. */
-
-/* Time cost of the best shape with dead time Td and a fixed gain. */
-static pdt_real_t scan_cost(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_real_t *offset)
-{
-    pdt_real_t g[3];
-    pdt_model_t shape;
-    pdt_cost_profile_t pr;
-    for (uint32_t j = 0; j < c->genes; j++) {
-        g[j] = c->best[j];
-    }
-    g[c->genes - 1u] = gene_of_td(c, Td);
-    shape_of(c, g, &shape);
-    c->evaluations++;
-    if (pdt_cost_profile(&c->cost_time, &shape, gain, gain, c->scratch, &pr) != PDT_OK ||
-        !(pr.ncost == pr.ncost)) {
-        *offset = PDT_R(0.0);
-        return PDT_REAL_MAX;
-    }
-    *offset = pr.offset;
-    return pr.ncost;
-}
-
-static void scan_start(pdt_ident_t *c)
-{
-    pdt_real_t lo = td_of_gene(c, c->lo[c->genes - 1u]), hi = td_of_gene(c, c->hi[c->genes - 1u]);
-    c->cost_time = c->cost;
-    c->cost_time.cfg.kind = c->cfg.time_kind;
-    c->scan_i = 0u;
-    c->scan_step = (hi - lo) / (pdt_real_t)(SCAN_POINTS - 1u);
-    c->scan_best = PDT_REAL_MAX;
-    c->scan_td = td_of_gene(c, c->best[c->genes - 1u]);
-    c->scan_gain = c->best_gain;
-    c->scan_offset = PDT_R(0.0);
-    c->phase = PH_DELAY_SCAN;
-}
-
-static void scan_consider(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_real_t f,
-                          pdt_real_t offset)
-{
-    if (f < c->scan_best) {
-        c->scan_best = f;
-        c->scan_td = Td;
-        c->scan_gain = gain;
-        c->scan_offset = offset;
-    }
-}
-
-static void scan_advance(pdt_ident_t *c)
-{
-    const size_t dt = c->genes - 1u;
-    const pdt_real_t td_lo = td_of_gene(c, c->lo[dt]), td_hi = td_of_gene(c, c->hi[dt]);
-    pdt_real_t off;
-    if (c->phase == PH_DELAY_SCAN) {
-        /* Point i / 2 of the grid, gain sign by the parity of i. */
-        pdt_real_t Td = td_lo + c->scan_step * (pdt_real_t)(c->scan_i / 2u);
-        pdt_real_t gain = (c->scan_i % 2u) == 0u ? pdt_fabs(c->best_gain) : -pdt_fabs(c->best_gain);
-        Td = Td > td_hi ? td_hi : Td;
-        pdt_real_t f = scan_cost(c, Td, gain, &off);
-        scan_consider(c, Td, gain, f, off);
-        if (++c->scan_i == 2u * SCAN_POINTS) {
-            pdt_real_t a = c->scan_td - c->scan_step, b = c->scan_td + c->scan_step;
-            c->gs_a = a < td_lo ? td_lo : a;
-            c->gs_b = b > td_hi ? td_hi : b;
-            c->gs_x1 = c->gs_b - GOLDEN * (c->gs_b - c->gs_a);
-            c->gs_x2 = c->gs_a + GOLDEN * (c->gs_b - c->gs_a);
-            c->scan_i = 0u;
-            c->phase = PH_DELAY_REFINE;
-        }
-        return;
-    }
-    /* Golden section: the first two calls evaluate x1 and x2, each later
-     * call the one new interior point. */
-    if (c->scan_i == 0u) {
-        c->gs_f1 = scan_cost(c, c->gs_x1, c->scan_gain, &off);
-        scan_consider(c, c->gs_x1, c->scan_gain, c->gs_f1, off);
-    } else if (c->scan_i == 1u) {
-        c->gs_f2 = scan_cost(c, c->gs_x2, c->scan_gain, &off);
-        scan_consider(c, c->gs_x2, c->scan_gain, c->gs_f2, off);
-    } else if (c->gs_f1 < c->gs_f2) {
-        c->gs_b = c->gs_x2;
-        c->gs_x2 = c->gs_x1;
-        c->gs_f2 = c->gs_f1;
-        c->gs_x1 = c->gs_b - GOLDEN * (c->gs_b - c->gs_a);
-        c->gs_f1 = scan_cost(c, c->gs_x1, c->scan_gain, &off);
-        scan_consider(c, c->gs_x1, c->scan_gain, c->gs_f1, off);
-    } else {
-        c->gs_a = c->gs_x1;
-        c->gs_x1 = c->gs_x2;
-        c->gs_f1 = c->gs_f2;
-        c->gs_x2 = c->gs_a + GOLDEN * (c->gs_b - c->gs_a);
-        c->gs_f2 = scan_cost(c, c->gs_x2, c->scan_gain, &off);
-        scan_consider(c, c->gs_x2, c->scan_gain, c->gs_f2, off);
-    }
-    if (++c->scan_i == GOLDEN_STEPS + 2u) {
-        c->best[dt] = gene_of_td(c, c->scan_td);
-        c->best_gain = c->scan_gain;
-        c->best_offset = c->scan_offset;
-        c->phase = PH_FINISH;
-    }
-}
-
-/* The final model in engineering units, its operating point and its fit. */
-/* ---- Independent searches: they must agree. */
-
-/* Costs closer than this (relative) are one basin; a different structure
- * this close is an ambiguity. */
-#define AGREE_RTOL     PDT_R(0.01)
-#define AMBIGUOUS_RTOL PDT_R(0.05)
-/* Answers this close in normalised genes are one basin whatever their
- * costs (an exact fit's cost is all rounding, its ratios meaningless). */
-#define AGREE_GENES    PDT_R(0.01)
-/* A gene this close to its bound (normalised) lies on it. */
-#define BOUND_TOL      PDT_R(1e-3)
-
-static pdt_real_t model_gain(const pdt_model_t *m)
-{
-    return m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
-}
-
-/* The same structure: the gain's sign and, for a SOPDT, whether it
- * integrates. */
-static bool same_structure(const pdt_model_t *a, const pdt_model_t *b)
-{
-    if ((model_gain(a) < PDT_R(0.0)) != (model_gain(b) < PDT_R(0.0))) {
-        return false;
-    }
-    return a->kind != PDT_MODEL_SOPDT ||
-           ((a->p.sopdt.b > PDT_R(0.0)) == (b->p.sopdt.b > PDT_R(0.0)));
-}
-
-/* Cost b within rtol of cost a (normalised costs: the record lies in
- * (-1, 1), so a few ulps of 1 are the floor of an exact fit). */
-static bool cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol)
-{
-    pdt_real_t lo = a < b ? a : b;
-    pdt_real_t d = a < b ? b - a : a - b;
-    return d <= rtol * lo + PDT_R(64.0) * PDT_REAL_EPS * PDT_REAL_EPS;
-}
-
-/* Searches i and j ended in one basin: the same structure, and costs
- * within 1 % or genes within AGREE_GENES. */
-static bool same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
-{
-    return same_structure(&c->found[i], &c->found[j]) &&
-           (cost_close(c->found_cost[i], c->found_cost[j], AGREE_RTOL) ||
-            gene_distance(c, c->found_genes[i], c->found_genes[j]) < AGREE_GENES);
-}
-
-static bool on_bound(const pdt_ident_t *c, const pdt_real_t *g)
-{
-    for (uint32_t j = 0; j < c->genes; j++) {
-        const pdt_real_t t = (g[j] - c->lo[j]) / (c->hi[j] - c->lo[j]);
-        /* Only the upper bounds: a time constant below a quarter sample
-         * (a lag too short to matter, or a SOPDT's second lag vanishing),
-         * no dead time and 1/zeta = 0 (an integrator) are answers. */
-        if (t > PDT_R(1.0) - BOUND_TOL) {
-            return true;
-        }
-    }
-    return false;
-}
-
-static bool gain_on_bound(const pdt_ident_t *c, pdt_real_t K)
-{
-    const pdt_real_t lo = c->cfg.K_min, hi = c->cfg.K_max;
-    if (!(hi > lo)) {
-        return false;
-    }
-    const pdt_real_t tol = BOUND_TOL * (hi - lo);
-    return K <= lo + tol || K >= hi - tol;
-}
-
-/* The answer of all searches: the least cost; confirmed by another search
- * in its basin, flagged otherwise, the runner-up basin's cost ratio. */
-static void searches_conclude(pdt_ident_t *c)
-{
-    uint32_t best = 0u;
-    for (uint32_t i = 1u; i < c->search; i++) {
-        if (c->found_cost[i] < c->found_cost[best]) {
-            best = i;
-        }
-    }
-    const pdt_real_t cb = c->found_cost[best];
-    bool confirmed = c->search < 2u;
-    uint32_t flags = 0u;
-    pdt_real_t runner = PDT_R(0.0);
-    for (uint32_t i = 0u; i < c->search; i++) {
-        if (i == best) {
-            continue;
-        }
-        const bool same = same_structure(&c->found[i], &c->found[best]);
-        if (same_basin(c, i, best)) {
-            confirmed = true;
-            continue;
-        }
-        if (!same && cost_close(cb, c->found_cost[i], AMBIGUOUS_RTOL)) {
-            flags |= PDT_IDENT_FLAG_AMBIGUOUS;
-        }
-        const pdt_real_t ratio = cb > PDT_R(0.0) ? c->found_cost[i] / cb : PDT_REAL_MAX;
-        if (runner == PDT_R(0.0) || ratio < runner) {
-            runner = ratio;
-        }
-    }
-    if (!confirmed) {
-        flags |= PDT_IDENT_FLAG_UNCONFIRMED;
-    }
-    if (on_bound(c, c->found_genes[best]) || gain_on_bound(c, model_gain(&c->found[best]))) {
-        flags |= PDT_IDENT_FLAG_AT_BOUND;
-    }
-    c->model = c->found[best];
-    c->y0 = c->found_y0[best];
-    c->fit = c->found_fit[best];
-    c->best_cost = cb;
-    c->flags = flags;
-    c->runner_up = runner;
-    c->phase = PH_DONE;
-}
-
-/* A search ended: keep what it found, then another search or the answer.
- * The second always runs; the third only when the first two disagree. */
-static void search_end(pdt_ident_t *c)
-{
-    const uint32_t k = c->search;
-    c->found[k] = c->model;
-    c->found_cost[k] = c->best_cost;
-    c->found_y0[k] = c->y0;
-    c->found_fit[k] = c->fit;
-    for (uint32_t j = 0; j < c->genes; j++) {
-        c->found_genes[k][j] = c->best[j];
-    }
-    c->search = k + 1u;
-    bool agreed = false;
-    for (uint32_t i = 0u; i < k; i++) {
-        agreed = agreed || same_basin(c, i, k);
-    }
-    if (c->search < c->searches && (c->search < 2u || !agreed)) {
-        search_start(c);
-        return;
-    }
-    searches_conclude(c);
-}
-
-static void finish(pdt_ident_t *c)
-{
-    pdt_model_t m;
-    shape_of(c, c->best, &m);
-    if (m.kind == PDT_MODEL_FOPDT) {
-        m.p.fopdt.K = c->best_gain;
-    } else {
-        m.p.sopdt.k = c->best_gain;
-    }
-    if (m.kind == PDT_MODEL_SOPDT && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
-        /* A lag a hundred records long cannot be told from an integrator in
-         * this record: report the integrator (b = 0) rather than a DC gain
-         * the data do not determine. Its cost is scored again. */
-        pdt_real_t a = m.p.sopdt.a, b = m.p.sopdt.b, disc = a * a - PDT_R(4.0) * b;
-        pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
-        if (disc >= PDT_R(0.0) && PDT_R(2.0) * b * PDT_R(100.0) * T < a + pdt_sqrt(disc)) {
-            pdt_cost_profile_t pr;
-            pdt_model_t shape = m;
-            pdt_real_t glo, ghi;
-            shape.p.sopdt.b = PDT_R(0.0);
-            shape.p.sopdt.k = PDT_R(1.0);
-            gain_bounds(c, &shape, &glo, &ghi);
-            c->evaluations++;
-            /* Gain and offset solved again for the integrator (the
-             * frequency criterion keeps its gain: its sign came from the
-             * dead-time scan). */
-            if (c->cfg.cost == PDT_COST_FREQUENCY) {
-                glo = c->best_gain;
-                ghi = c->best_gain;
-            }
-            if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) == PDT_OK) {
-                m.p.sopdt.b = PDT_R(0.0);
-                m.p.sopdt.k = pr.gain;
-                c->best_gain = pr.gain;
-                c->best_cost = pr.ncost;
-                c->best_offset = (c->cfg.cost == PDT_COST_FREQUENCY) ? c->best_offset : pr.offset;
-            }
-        }
-    }
-    c->model = m;
-    c->y0 = c->cost.cfg.y0 + c->best_offset;
-    if (pdt_cost_fit(&c->cost, &m, c->best_offset, c->scratch, &c->fit) != PDT_OK) {
-        c->fit = PDT_R(0.0);
-    }
-    search_end(c);
 }
 
 pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
@@ -1393,125 +554,31 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
     if (ctx->magic != IDENT_MAGIC) {
         return PDT_ERR_STATE;
     }
-    pdt_ident_t *c = ctx;
-    const uint32_t P = c->cfg.population;
+    static const uint8_t STAGE_NEEDS[PH_COUNT] = {
+        [PH_INIT_POP] = NEEDS_BUDGET | EVALUATES,
+        [PH_BREED] = NEEDS_BUDGET | HEAVY,
+        [PH_EVAL_OFF] = NEEDS_BUDGET | EVALUATES,
+        [PH_BAND] = HEAVY,
+        [PH_RECENTRE] = HEAVY,
+        [PH_REFINE_START] = 0u,
+        [PH_REFINE] = NEEDS_BUDGET | EVALUATES,
+        [PH_DELAY_SCAN] = NEEDS_BUDGET | EVALUATES,
+        [PH_DELAY_REFINE] = NEEDS_BUDGET | EVALUATES,
+        [PH_FINISH] = NEEDS_BUDGET | EVALUATES,
+    };
     uint32_t budget = max_evaluations;
-    bool bred = false;
-    while (c->phase != PH_DONE) {
-        switch (c->phase) {
-        case PH_INIT_POP:
-            if (budget == 0u) {
-                return PDT_RUNNING;
-            }
-            evaluate(c, &c->pop[c->next * c->genes], &c->pop_cost[c->next], &c->pop_gain[c->next],
-                     &c->pop_offset[c->next]);
-            budget--;
-            if (++c->next == P) {
-                c->phase = ga_continues(c) ? PH_BREED : ga_done(c);
-            }
-            break;
-        case PH_BREED:
-            /* At most one breeding per call keeps the call's work bounded. */
-            if (bred || budget == 0u) {
-                return PDT_RUNNING;
-            }
-            breed(c);
-            bred = true;
-            c->next = 0u;
-            c->phase = PH_EVAL_OFF;
-            break;
-        case PH_EVAL_OFF:
-            if (budget == 0u) {
-                return PDT_RUNNING;
-            }
-            evaluate(c, &c->off[c->next * c->genes], &c->off_cost[c->next], &c->off_gain[c->next],
-                     &c->off_offset[c->next]);
-            budget--;
-            if (++c->next == P) {
-                survive(c);
-                c->phase = ga_continues(c) ? PH_BREED : ga_done(c);
-            }
-            break;
-        case PH_BAND:
-            /* A cost preparation, as much work as init: a call of its own. */
-            if (bred) {
-                return PDT_RUNNING;
-            }
-            band_start(c);
-            bred = true;
-            break;
-        case PH_REFINE_PREP:
-            if (c->cost.cfg.kind == PDT_COST_COMBINED) {
-                /* Re-centre the spectra on the output level the model
-                 * estimated: one more preparation of the cost, in its own
-                 * workspace. It is as much work as init, so it gets a call
-                 * of its own. */
-                if (bred) {
-                    return PDT_RUNNING;
-                }
-                pdt_cost_config_t cc = c->cost.cfg;
-                pdt_cost_t nc;
-                cc.y0 += c->best_offset;
-                if (pdt_cost_init(&nc, &cc, c->data.u, c->data.y, c->data.n, c->cost_work,
-                                  c->cost_work_len) == PDT_OK) {
-                    c->cost = nc;
-                }
-                bred = true;
-            }
-            /* The cost scale may have changed (re-centred spectra): the
-             * best is tracked afresh; the first start re-evaluates the GA's
-             * best, so nothing is lost. */
-            c->best_cost = PDT_REAL_MAX;
-            refine_starts(c);
-            nm_start(c);
-            c->phase = PH_REFINE;
-            break;
-        case PH_REFINE:
-            if (c->nm_state == NM_END && c->start_i < c->nstarts) {
-                /* Next niche, then the polish of the best (start_i ==
-                 * nstarts), if a whole simplex still fits. */
-                uint32_t left = c->search_budget - late_reserve(&c->cfg);
-                left = left > c->evaluations - c->search_base
-                           ? left - (c->evaluations - c->search_base)
-                           : 0u;
-                c->start_i++;
-                if (left >= c->genes + 1u) {
-                    nm_start(c);
-                    break;
-                }
-            }
-            if (c->nm_state == NM_END) {
-                if (c->cfg.cost == PDT_COST_FREQUENCY) {
-                    scan_start(c);
-                } else {
-                    c->phase = PH_FINISH;
-                }
-                break;
-            }
-            if (budget == 0u) {
-                return PDT_RUNNING;
-            }
-            nm_advance(c);
-            budget--;
-            break;
-        case PH_FINISH:
-            if (budget == 0u) {
-                return PDT_RUNNING;
-            }
-            finish(c);
-            budget--;
-            break;
-        case PH_DELAY_SCAN:
-        case PH_DELAY_REFINE:
-            if (budget == 0u) {
-                return PDT_RUNNING;
-            }
-            scan_advance(c);
-            budget--;
-            break;
-        default:
+    bool heavy = false;
+    while (ctx->phase != PH_DONE) {
+        if (ctx->phase < PH_INIT_POP || ctx->phase > PH_FINISH) {
             return PDT_ERR_STATE;
         }
+        const uint32_t needs = STAGE_NEEDS[ctx->phase];
+        if (((needs & NEEDS_BUDGET) != 0u && budget == 0u) || ((needs & HEAVY) != 0u && heavy)) {
+            return PDT_RUNNING;
+        }
+        run_stage(ctx);
+        budget -= (needs & EVALUATES) != 0u ? 1u : 0u;
+        heavy = heavy || (needs & HEAVY) != 0u;
     }
     return PDT_OK;
 }
@@ -1533,13 +600,13 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.model = ctx->model;
     r.u0 = ctx->cost.cfg.u0;
     r.y0 = ctx->y0;
-    r.cost = pdt_cost_units(&ctx->cost, ctx->best_cost);
+    r.cost = pdt_cost_units(&ctx->cost, ctx->best.cost);
     r.fit = ctx->fit;
     r.evaluations = ctx->evaluations;
     r.generations = ctx->generations;
     r.f_band = ctx->f_band;
     r.flags = ctx->flags;
-    r.searches = ctx->search;
+    r.searches = ctx->vote.done;
     r.runner_up = ctx->runner_up;
     *out = r;
     return PDT_OK;

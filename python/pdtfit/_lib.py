@@ -81,6 +81,7 @@ STATUS_NAMES = _cheader.status_names(INCLUDE / "pdt_status.h")
 _cost = _cheader.enums(INCLUDE / "pdt_cost.h")
 _tune = _cheader.enums(INCLUDE / "pdt_tune.h")
 _model = _cheader.enums(INCLUDE / "pdt_model.h")
+_ident = _cheader.enums(INCLUDE / "pdt_ident.h")
 
 
 def _choices(members, prefix):
@@ -89,7 +90,7 @@ def _choices(members, prefix):
 
 MODELS = _choices(_model["pdt_model_kind_t"], "PDT_MODEL_")
 COSTS = _choices(_cost["pdt_cost_kind_t"], "PDT_COST_")
-WEIGHTS = {k: v for k, v in _choices(_cost["pdt_weight_kind_t"], "PDT_WEIGHT_").items()
+WEIGHTS = {k: v for k, v in _choices(_ident["pdt_ident_weight_t"], "PDT_IDENT_WEIGHT_").items()
            if k != "custom"}  # needs an array of weights: not offered
 RULES = _choices(_tune["pdt_tune_rule_t"], "PDT_TUNE_")
 FORMS = _choices(_tune["pdt_tune_form_t"], "PDT_TUNE_")

@@ -9,8 +9,8 @@
 static const char *const method_names[] = {"ga", "elms", "eiv", NULL};
 static const char *const cost_names[] = {"prediction", "simulation", "frequency", "combined", NULL};
 static const char *const weight_names[] = {"auto", "control", "uniform", "band", NULL};
-static const pdt_weight_kind_t weight_kinds[] = {PDT_WEIGHT_AUTO, PDT_WEIGHT_CONTROL,
-                                                 PDT_WEIGHT_UNIFORM, PDT_WEIGHT_BAND};
+static const pdt_ident_weight_t weight_kinds[] = {PDT_IDENT_WEIGHT_AUTO, PDT_IDENT_WEIGHT_CONTROL,
+                                                  PDT_IDENT_WEIGHT_UNIFORM, PDT_IDENT_WEIGHT_BAND};
 static const char *const unit_names[] = {"s", "ms", "us", NULL};
 
 #define GA CLI_GA_ONLY
@@ -96,7 +96,7 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
     if (!a->have_model) cli_fail(EXIT_USAGE, "identify: --model fopdt|sopdt|auto is required");
     if (a->model == MODEL_AUTO && a->method != METHOD_GA)
         cli_fail(EXIT_USAGE, "identify: --model auto needs --method ga");
-    const int band = a->have_weight && weight_kinds[a->weight] == PDT_WEIGHT_BAND;
+    const int band = a->have_weight && weight_kinds[a->weight] == PDT_IDENT_WEIGHT_BAND;
     if (band && !a->band) cli_fail(EXIT_USAGE, "identify: --weight band needs --band F_LO:F_HI");
     if (a->band && !band) cli_fail(EXIT_USAGE, "identify: --band goes with --weight band");
     if (a->band) parse_band(a);

@@ -159,7 +159,7 @@ static void print_model(const char *who, const pdt_model_t *m, const char *note)
 
 /* Identify one model from the record in u, y and print it. */
 static void identify_w(const char *who, size_t n, pdt_model_kind_t kind, pdt_cost_kind_t cost,
-                       pdt_cost_kind_t time_kind, pdt_weight_kind_t weight)
+                       pdt_cost_kind_t time_kind, pdt_ident_weight_t weight)
 {
     pdt_ident_config_t cfg;
     pdt_ident_data_t data = {u, y, n};
@@ -191,7 +191,7 @@ static void identify_w(const char *who, size_t n, pdt_model_kind_t kind, pdt_cos
 static void identify(const char *who, size_t n, pdt_model_kind_t kind, pdt_cost_kind_t cost,
                      pdt_cost_kind_t time_kind)
 {
-    identify_w(who, n, kind, cost, time_kind, PDT_WEIGHT_AUTO);
+    identify_w(who, n, kind, cost, time_kind, PDT_IDENT_WEIGHT_AUTO);
 }
 
 static void header(const char *title, bool second)
@@ -238,7 +238,7 @@ int main(void)
     identify("pdtfit GA, simulation + frequency", n, PDT_MODEL_FOPDT, PDT_COST_COMBINED,
              PDT_COST_SIMULATION);
     identify_w("pdtfit GA, sim. + freq., uniform W", n, PDT_MODEL_FOPDT, PDT_COST_COMBINED,
-               PDT_COST_SIMULATION, PDT_WEIGHT_UNIFORM);
+               PDT_COST_SIMULATION, PDT_IDENT_WEIGHT_UNIFORM);
     m = fopdt(1.0, 2.5, 1.47);
     print_model("Skogestad half rule (model known)", &m, "");
     m = fopdt(1.0, 2.86, 1.57);

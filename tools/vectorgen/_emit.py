@@ -3,6 +3,7 @@
 Numbers are written with repr() of Python floats (shortest round-trip form),
 so a value survives the trip to C exactly in the double build.
 """
+import re
 
 
 def header(name, body, source):
@@ -43,3 +44,30 @@ def int_array(ctype, name, values, per_line=12):
     lines = ["    " + ", ".join(values[i:i + per_line]) + ","
              for i in range(0, len(values), per_line)]
     return f"static const {ctype} {name}[{len(values)}] = {{\n" + "\n".join(lines) + "\n};\n"
+
+
+# Numbers in a vector file, with what surrounds them.
+_NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
+
+# The reference in double differs from one CPU to another in the last bits
+# of exp, log and the FFT (numpy picks SIMD paths by the CPU), so a file
+# regenerated on another machine differs from the committed one in its
+# last digits: 2e-15 relative in most files, 1e-7 where an iterative search
+# (the tuning's golden sections) ends a step apart, and residuals of an
+# exact fit (1e-26) that are rounding alone. A changed generator moves far
+# more than that.
+REGEN_RTOL = 1e-6
+REGEN_ATOL = 1e-20
+
+
+def vectors_differ(old, new, rtol=REGEN_RTOL, atol=REGEN_ATOL):
+    """Why two vector files differ beyond the last digits of their numbers,
+    or None when they agree: the same text around the numbers, and each
+    number within rtol (relative to the larger) plus atol of the other."""
+    if _NUMBER.split(old) != _NUMBER.split(new):
+        return "the text around the numbers differs"
+    for a, b in zip(_NUMBER.findall(old), _NUMBER.findall(new)):
+        x, y = float(a), float(b)
+        if abs(x - y) > rtol * max(abs(x), abs(y)) + atol:
+            return f"{a} != {b}"
+    return None

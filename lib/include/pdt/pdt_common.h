@@ -37,6 +37,13 @@ typedef float pdt_real_t;
 #define PDT_DELAY_HALF    ((size_t)-1)
 #define PDT_DELAY_QUARTER ((size_t)-2)
 
+/* State of the library's random generator (PCG32, lib/src/pdt_ga.h), for
+ * contexts that carry one; private. */
+typedef struct pdt_rng {
+    uint64_t state;
+    uint64_t inc; /* odd */
+} pdt_rng_t;
+
 #ifdef __cplusplus
 }
 #endif

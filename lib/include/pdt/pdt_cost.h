@@ -73,13 +73,7 @@ typedef enum pdt_cost_kind {
 typedef enum pdt_weight_kind {
     PDT_WEIGHT_UNIFORM = 0, /* W = 1 at every bin */
     PDT_WEIGHT_BAND = 1,    /* W = 1 for f_lo <= f <= f_hi (Hz), else 0 */
-    PDT_WEIGHT_CUSTOM = 2,  /* W(k) = weights[k], k = 0 .. N_f/2 */
-    /* Identification only (pdt_ident_config_t), resolved by pdt_ident;
-     * the cost functions refuse them (PDT_ERR_ARG): */
-    PDT_WEIGHT_CONTROL = 3, /* a band up to half the phase crossover of
-                             * the model the time cost finds */
-    PDT_WEIGHT_AUTO = 4     /* CONTROL for a FOPDT with the combined
-                             * criterion, else UNIFORM */
+    PDT_WEIGHT_CUSTOM = 2   /* W(k) = weights[k], k = 0 .. N_f/2 */
 } pdt_weight_kind_t;
 
 /* How pdt_cost_eval turns the model's dead time into samples. */

@@ -48,6 +48,19 @@ extern "C" {
 #define PDT_IDENT_POPULATION_FOPDT 24u
 #define PDT_IDENT_POPULATION_SOPDT 40u
 
+/* Frequency weighting of FREQUENCY and COMBINED in the identification: the
+ * cost's own three (pdt_weight_kind_t), and two the identification
+ * resolves itself. docs/equations.md and docs/benchmarks.md give the why. */
+typedef enum pdt_ident_weight {
+    PDT_IDENT_WEIGHT_UNIFORM = 0, /* every bin alike (the paper's W = 1) */
+    PDT_IDENT_WEIGHT_BAND = 1,    /* the bins in [f_lo, f_hi], Hz */
+    PDT_IDENT_WEIGHT_CUSTOM = 2,  /* weights[k], k = 0 .. N_f / 2 */
+    PDT_IDENT_WEIGHT_CONTROL = 3, /* a band up to half the phase crossover
+                                   * of the model the time cost finds */
+    PDT_IDENT_WEIGHT_AUTO = 4     /* CONTROL for a FOPDT with COMBINED,
+                                   * else UNIFORM */
+} pdt_ident_weight_t;
+
 typedef struct pdt_ident_config {
     pdt_model_kind_t model;    /* FOPDT or SOPDT. Default FOPDT */
     pdt_real_t Ts;             /* sampling period, s. Must be set (> 0) */
@@ -56,14 +69,7 @@ typedef struct pdt_ident_config {
     pdt_cost_kind_t time_kind; /* time part of COMBINED. Default SIMULATION */
     pdt_real_t phi_t;          /* COMBINED weights, >= 0. Default 1, 1 */
     pdt_real_t phi_f;
-    pdt_weight_kind_t weight; /* frequency weighting of FREQUENCY and
-                               * COMBINED: UNIFORM, BAND (f_lo, f_hi) and
-                               * CUSTOM (weights) as in pdt_cost_config_t;
-                               * CONTROL: the band up to half the phase
-                               * crossover of the time-cost model; AUTO
-                               * (default): CONTROL for a FOPDT with
-                               * COMBINED, else UNIFORM. docs/equations.md
-                               * and docs/benchmarks.md give the why */
+    pdt_ident_weight_t weight; /* Default AUTO */
     pdt_real_t f_lo;
     pdt_real_t f_hi;
     const pdt_real_t *weights;
@@ -162,75 +168,93 @@ typedef struct pdt_ident_result {
 /* Most independent searches. */
 #define PDT_IDENT_MAX_SEARCHES 3u
 
-/* The identification context. Fields are private. */
-typedef struct pdt_ident {
-    pdt_ident_config_t cfg;
-    pdt_cost_t cost;
-    void *cost_work; /* the cost's part of the workspace */
-    size_t cost_work_len;
-    pdt_ident_data_t data;
-    uint32_t magic; /* set by init: catches use before init */
-    uint32_t phase;
-    uint32_t genes;
-    uint32_t next; /* next individual to evaluate in this phase */
-    uint32_t evaluations;
-    uint32_t generations;
+/* The identification context, its parts one per stage of the engine
+ * (docs/ident-engine.md). Everything in them is private: read the answer
+ * with pdt_ident_result; the layout may change in any release. */
+typedef struct pdt_ident_best {
+    pdt_real_t genes[3]; /* the best candidate of the search so far */
+    pdt_real_t cost;     /* normalised */
+    pdt_real_t gain;
+    pdt_real_t offset;
+} pdt_ident_best_t;
+
+typedef struct pdt_ident_ga {
+    pdt_rng_t rng;
+    uint32_t next; /* next individual to evaluate */
     uint32_t stall;
-    uint64_t rng_state;
-    uint64_t rng_inc;
-    pdt_real_t lo[3];     /* gene bounds */
-    pdt_real_t td_offset; /* c0 of the dead-time gene log(Td + c0), s */
-    pdt_real_t hi[3];
     pdt_real_t best_history; /* best cost at the last stall check */
-    pdt_real_t *pop;         /* P x genes (workspace) */
-    pdt_real_t *pop_cost;    /* P */
-    pdt_real_t *pop_gain;    /* P */
-    pdt_real_t *pop_offset;  /* P */
-    pdt_real_t *off;         /* offspring, same layout */
+    pdt_real_t *pop;         /* P x genes, then P costs, gains, offsets */
+    pdt_real_t *pop_cost;
+    pdt_real_t *pop_gain;
+    pdt_real_t *pop_offset;
+    pdt_real_t *off; /* offspring, the same layout */
     pdt_real_t *off_cost;
     pdt_real_t *off_gain;
     pdt_real_t *off_offset;
-    pdt_real_t *shared;  /* P */
-    pdt_real_t *scratch; /* n: profile scratch */
-    pdt_real_t best[3];  /* best genes so far, its cost, gain, offset */
-    pdt_real_t best_cost;
-    pdt_real_t best_gain;
-    pdt_real_t best_offset;
-    /* Nelder-Mead refinement state (at most 3 genes: 4 vertices). */
-    pdt_real_t nm_x[4][3];
-    pdt_real_t nm_f[4];
-    pdt_real_t nm_trial[3];
-    pdt_real_t nm_trial2[3];
-    pdt_real_t nm_ftrial;
-    uint32_t nm_state;
-    uint32_t nm_index;
-    uint32_t nm_budget;
-    pdt_real_t starts[3][3]; /* refinement starts: best of up to 3 niches */
+    pdt_real_t *shared; /* P shared costs */
+} pdt_ident_ga_t;
+
+typedef struct pdt_ident_refine {
+    pdt_real_t x[4][3]; /* the simplex: at most 3 genes, 4 vertices */
+    pdt_real_t f[4];
+    pdt_real_t trial[3];
+    pdt_real_t trial2[3];
+    pdt_real_t ftrial;
+    uint32_t state;
+    uint32_t index;
+    uint32_t budget;
+    pdt_real_t starts[3][3]; /* the best of up to 3 niches */
     uint32_t nstarts;
-    uint32_t start_i;     /* nstarts: the final polish of the best */
-    uint32_t refine_half; /* budget the niche runs share */
-    uint32_t stage;       /* CONTROL weighting: 1 while the search runs
-                               * on the time cost, 2 after; 0 otherwise */
+    uint32_t start_i; /* nstarts: the final polish of the best */
+    uint32_t half;    /* budget the niche runs share */
+} pdt_ident_refine_t;
+
+typedef struct pdt_ident_scan {
+    pdt_cost_t cost_time; /* the time cost the dead time is scanned on */
+    uint32_t i;
+    pdt_real_t step, best, td, gain, offset;
+    pdt_real_t a, b, x1, x2, f1, f2; /* golden section */
+} pdt_ident_scan_t;
+
+typedef struct pdt_ident_vote {
+    uint32_t searches; /* to run */
+    uint32_t done;     /* finished */
+    uint32_t budget;   /* evaluations of each */
+    uint32_t base;     /* evaluations before the running one */
+    pdt_model_t found[PDT_IDENT_MAX_SEARCHES];
+    pdt_real_t cost[PDT_IDENT_MAX_SEARCHES]; /* normalised */
+    pdt_real_t y0[PDT_IDENT_MAX_SEARCHES];
+    pdt_real_t fit[PDT_IDENT_MAX_SEARCHES];
+    pdt_real_t genes[PDT_IDENT_MAX_SEARCHES][3];
+} pdt_ident_vote_t;
+
+typedef struct pdt_ident {
+    pdt_ident_config_t cfg;
+    pdt_ident_data_t data;
+    pdt_cost_t cost;
+    void *cost_work; /* the cost's part of the workspace */
+    size_t cost_work_len;
+    pdt_real_t *scratch; /* n reals of the workspace */
+    uint32_t magic;      /* set by init: catches use before init */
+    uint32_t phase;      /* the sequencer's stage */
+    uint32_t genes;
+    uint32_t evaluations;
+    uint32_t generations;
+    pdt_real_t lo[3]; /* gene bounds */
+    pdt_real_t hi[3];
+    pdt_real_t td_offset; /* c0 of the dead-time gene log(Td + c0), s */
+    uint32_t band_stage;  /* CONTROL weighting: 1 while the search runs on
+                           * the time cost, 2 after; 0 otherwise */
     pdt_real_t f_band;    /* CONTROL weighting: the band's edge, Hz */
-    /* Frequency criterion: the dead-time scan on the time cost. */
-    pdt_cost_t cost_time;
-    uint32_t scan_i;
-    pdt_real_t scan_step, scan_best, scan_td, scan_gain, scan_offset;
-    pdt_real_t gs_a, gs_b, gs_x1, gs_x2, gs_f1, gs_f2;
+    pdt_ident_best_t best;
+    pdt_ident_ga_t ga;
+    pdt_ident_refine_t nm;
+    pdt_ident_scan_t scan;
+    pdt_ident_vote_t vote;
     /* The answer, once done. */
     pdt_model_t model;
     pdt_real_t y0;
     pdt_real_t fit;
-    /* Independent searches: how many, their budget, what each found. */
-    uint32_t searches;
-    uint32_t search; /* searches finished */
-    uint32_t search_budget;
-    uint32_t search_base; /* evaluations before this search */
-    pdt_model_t found[PDT_IDENT_MAX_SEARCHES];
-    pdt_real_t found_cost[PDT_IDENT_MAX_SEARCHES]; /* normalised */
-    pdt_real_t found_y0[PDT_IDENT_MAX_SEARCHES];
-    pdt_real_t found_fit[PDT_IDENT_MAX_SEARCHES];
-    pdt_real_t found_genes[PDT_IDENT_MAX_SEARCHES][3];
     uint32_t flags;
     pdt_real_t runner_up;
 } pdt_ident_t;

@@ -1,0 +1,179 @@
+/*
+ * The identification's population stage: the paper's real-coded genetic
+ * algorithm (binary tournament on shared costs, bounded SBX, polynomial
+ * mutation, elitism), one evaluation per call of a stage function.
+ */
+#include "pdt_ga.h"
+#include "pdt_ident_priv.h"
+#include "pdt_internal.h"
+
+/* A Latin hypercube start (each gene's range cut into P strata, one
+ * individual per stratum, strata paired across genes at random, so the
+ * first generation covers every gene's range evenly; the offspring area
+ * holds the permutation meanwhile), its random stream the search's own. */
+void pdt_ident_ga_start(pdt_ident_t *c)
+{
+    pdt_ident_ga_t *ga = &c->ga;
+    const size_t P = c->cfg.population, G = c->genes;
+    pdt_rng_seed(&ga->rng, c->cfg.seed, 0x5eed5eedu + c->vote.done);
+    for (size_t j = 0; j < G; j++) {
+        pdt_real_t *perm = ga->off;
+        for (size_t i = 0; i < P; i++) {
+            perm[i] = (pdt_real_t)i;
+        }
+        for (size_t i = P - 1u; i > 0u; i--) {
+            size_t k = pdt_rng_below(&ga->rng, (uint32_t)(i + 1u));
+            pdt_real_t t = perm[i];
+            perm[i] = perm[k];
+            perm[k] = t;
+        }
+        for (size_t i = 0; i < P; i++) {
+            pdt_real_t f = (perm[i] + pdt_rng_uniform(&ga->rng)) / (pdt_real_t)P;
+            ga->pop[i * G + j] = c->lo[j] + (c->hi[j] - c->lo[j]) * f;
+        }
+    }
+    ga->next = 0u;
+    ga->stall = 0u;
+    ga->best_history = PDT_REAL_MAX;
+    c->vote.base = c->evaluations;
+    c->best.cost = PDT_REAL_MAX;
+    c->band_stage = pdt_ident_control_band(&c->cfg) ? 1u : 0u;
+    c->phase = PH_INIT_POP;
+}
+
+/* After a generation: the stall bookkeeping, and the next stage. */
+static void generation_end(pdt_ident_t *c)
+{
+    pdt_ident_ga_t *ga = &c->ga;
+    c->generations++;
+    if (c->best.cost < ga->best_history * (PDT_R(1.0) - c->cfg.tolerance) ||
+        ga->best_history == PDT_REAL_MAX) {
+        ga->best_history = c->best.cost;
+        ga->stall = 0u;
+    } else {
+        ga->stall++;
+    }
+    uint32_t ga_budget =
+        c->vote.budget - c->cfg.refine_evaluations - pdt_ident_late_reserve(&c->cfg);
+    if (c->band_stage == 1u) {
+        /* The time-cost stage of the CONTROL weighting gets half. */
+        ga_budget /= 2u;
+    }
+    if (ga->stall < c->cfg.stall_generations &&
+        pdt_ident_used(c) + c->cfg.population <= ga_budget) {
+        c->phase = PH_BREED;
+    } else if (c->band_stage == 1u) {
+        c->phase = PH_BAND;
+    } else {
+        c->phase = c->cost.cfg.kind == PDT_COST_COMBINED ? PH_RECENTRE : PH_REFINE_START;
+    }
+}
+
+void pdt_ident_ga_eval_parent(pdt_ident_t *c)
+{
+    pdt_ident_ga_t *ga = &c->ga;
+    const uint32_t i = ga->next;
+    pdt_ident_evaluate(c, &ga->pop[i * c->genes], &ga->pop_cost[i], &ga->pop_gain[i],
+                       &ga->pop_offset[i]);
+    if (++ga->next == c->cfg.population) {
+        generation_end(c);
+    }
+}
+
+static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
+{
+    uint32_t P = c->cfg.population;
+    size_t a = pdt_rng_below(r, P);
+    size_t b = pdt_rng_below(r, P);
+    return pdt_ga_tournament(c->ga.shared, a, b, pdt_rng_u32(r) & 1u);
+}
+
+/* One generation of offspring from the current population. */
+void pdt_ident_ga_breed(pdt_ident_t *c)
+{
+    pdt_ident_ga_t *ga = &c->ga;
+    const size_t P = c->cfg.population, G = c->genes;
+    pdt_rng_t *r = &ga->rng;
+    pdt_real_t pm = c->cfg.p_mutation > PDT_R(0.0) ? c->cfg.p_mutation : PDT_R(1.0) / (pdt_real_t)G;
+    pdt_ga_share(ga->pop, P, G, c->lo, c->hi, ga->pop_cost, c->cfg.sigma_share, PDT_R(1.0),
+                 ga->shared);
+    for (size_t i = 0; i < P; i += 2u) {
+        const pdt_real_t *p1 = &ga->pop[pick(c, r) * G];
+        const pdt_real_t *p2 = &ga->pop[pick(c, r) * G];
+        pdt_real_t *c1 = &ga->off[i * G];
+        pdt_real_t *c2 = &ga->off[(i + 1u) * G];
+        bool cross = pdt_rng_uniform(r) < c->cfg.p_crossover;
+        for (size_t j = 0; j < G; j++) {
+            pdt_real_t x1 = p1[j], x2 = p2[j];
+            if (cross && pdt_rng_uniform(r) < PDT_R(0.5)) {
+                pdt_ga_sbx(p1[j], p2[j], c->lo[j], c->hi[j], c->cfg.eta_c, pdt_rng_uniform(r), &x1,
+                           &x2);
+                if ((pdt_rng_u32(r) & 1u) != 0u) {
+                    pdt_real_t t = x1;
+                    x1 = x2;
+                    x2 = t;
+                }
+            }
+            if (pdt_rng_uniform(r) < pm) {
+                x1 = pdt_ga_mutate(x1, c->lo[j], c->hi[j], c->cfg.eta_m, pdt_rng_uniform(r));
+            }
+            if (pdt_rng_uniform(r) < pm) {
+                x2 = pdt_ga_mutate(x2, c->lo[j], c->hi[j], c->cfg.eta_m, pdt_rng_uniform(r));
+            }
+            c1[j] = x1;
+            c2[j] = x2;
+        }
+    }
+    ga->next = 0u;
+    c->phase = PH_EVAL_OFF;
+}
+
+/* Elitism: the best `elite` parents replace the worst offspring when better,
+ * then the offspring become the population. */
+static void survive(pdt_ident_t *c)
+{
+    pdt_ident_ga_t *ga = &c->ga;
+    const size_t P = c->cfg.population, G = c->genes;
+    for (uint32_t e = 0; e < c->cfg.elite; e++) {
+        size_t best = 0u, worst = 0u;
+        for (size_t i = 1; i < P; i++) {
+            if (ga->pop_cost[i] < ga->pop_cost[best]) {
+                best = i;
+            }
+            if (ga->off_cost[i] > ga->off_cost[worst]) {
+                worst = i;
+            }
+        }
+        if (!(ga->pop_cost[best] < ga->off_cost[worst])) {
+            break;
+        }
+        for (size_t j = 0; j < G; j++) {
+            ga->off[worst * G + j] = ga->pop[best * G + j];
+        }
+        ga->off_cost[worst] = ga->pop_cost[best];
+        ga->off_gain[worst] = ga->pop_gain[best];
+        ga->off_offset[worst] = ga->pop_offset[best];
+        /* Take the parent out of the next round of this loop. */
+        ga->pop_cost[best] = PDT_REAL_MAX;
+    }
+    for (size_t i = 0; i < P * G; i++) {
+        ga->pop[i] = ga->off[i];
+    }
+    for (size_t i = 0; i < P; i++) {
+        ga->pop_cost[i] = ga->off_cost[i];
+        ga->pop_gain[i] = ga->off_gain[i];
+        ga->pop_offset[i] = ga->off_offset[i];
+    }
+}
+
+void pdt_ident_ga_eval_offspring(pdt_ident_t *c)
+{
+    pdt_ident_ga_t *ga = &c->ga;
+    const uint32_t i = ga->next;
+    pdt_ident_evaluate(c, &ga->off[i * c->genes], &ga->off_cost[i], &ga->off_gain[i],
+                       &ga->off_offset[i]);
+    if (++ga->next == c->cfg.population) {
+        survive(c);
+        generation_end(c);
+    }
+}

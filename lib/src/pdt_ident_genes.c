@@ -1,0 +1,148 @@
+/*
+ * The identification's common ground: what a genome codes (the unit-gain
+ * shape and its dead time) and one candidate's evaluation, with the gain
+ * and the offset in closed form, which every stage calls.
+ */
+#include "pdt_ident_priv.h"
+#include "pdt_internal.h"
+
+bool pdt_ident_uses_frequency(pdt_cost_kind_t kind)
+{
+    return kind == PDT_COST_FREQUENCY || kind == PDT_COST_COMBINED;
+}
+
+pdt_ident_weight_t pdt_ident_weight_of(const pdt_ident_config_t *cfg)
+{
+    if (cfg->weight != PDT_IDENT_WEIGHT_AUTO) {
+        return cfg->weight;
+    }
+    return cfg->model == PDT_MODEL_FOPDT && cfg->cost == PDT_COST_COMBINED
+               ? PDT_IDENT_WEIGHT_CONTROL
+               : PDT_IDENT_WEIGHT_UNIFORM;
+}
+
+bool pdt_ident_control_band(const pdt_ident_config_t *cfg)
+{
+    return pdt_ident_uses_frequency(cfg->cost) &&
+           pdt_ident_weight_of(cfg) == PDT_IDENT_WEIGHT_CONTROL;
+}
+
+uint32_t pdt_ident_late_reserve(const pdt_ident_config_t *cfg)
+{
+    uint32_t r = cfg->cost == PDT_COST_FREQUENCY ? PDT_IDENT_SCAN_EVALUATIONS : 0u;
+    if (cfg->model == PDT_MODEL_SOPDT && cfg->integrating) {
+        r += 1u;
+    }
+    return r;
+}
+
+uint32_t pdt_ident_used(const pdt_ident_t *c)
+{
+    return c->evaluations - c->vote.base;
+}
+
+pdt_real_t pdt_ident_td_of_gene(const pdt_ident_t *c, pdt_real_t g)
+{
+    pdt_real_t Td = pdt_exp(g) - c->td_offset;
+    return Td > PDT_R(0.0) ? Td : PDT_R(0.0);
+}
+
+pdt_real_t pdt_ident_gene_of_td(const pdt_ident_t *c, pdt_real_t Td)
+{
+    const uint32_t j = c->genes - 1u;
+    return pdt_ident_clamp(c, j, pdt_log(Td + c->td_offset));
+}
+
+pdt_real_t pdt_ident_clamp(const pdt_ident_t *c, size_t j, pdt_real_t x)
+{
+    return x < c->lo[j] ? c->lo[j] : (x > c->hi[j] ? c->hi[j] : x);
+}
+
+pdt_real_t pdt_ident_distance(const pdt_ident_t *c, const pdt_real_t *x, const pdt_real_t *y)
+{
+    pdt_real_t d2 = PDT_R(0.0);
+    for (uint32_t j = 0; j < c->genes; j++) {
+        pdt_real_t d = (x[j] - y[j]) / (c->hi[j] - c->lo[j]);
+        d2 += d * d;
+    }
+    return pdt_sqrt(d2);
+}
+
+void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
+{
+    pdt_real_t Td = pdt_ident_td_of_gene(c, g[c->genes - 1u]);
+    if (c->cfg.delay_mode == PDT_DELAY_INTEGER) {
+        Td = pdt_floor(Td / c->cfg.Ts + PDT_R(0.5)) * c->cfg.Ts;
+    }
+    if (c->cfg.model == PDT_MODEL_FOPDT) {
+        m->kind = PDT_MODEL_FOPDT;
+        m->p.fopdt.K = PDT_R(1.0);
+        m->p.fopdt.tau = pdt_exp(g[0]);
+        m->p.fopdt.Td = Td;
+    } else {
+        pdt_real_t a = pdt_exp(-g[0]);
+        pdt_real_t h = PDT_R(0.5) * a * g[1] * g[1] / c->cfg.zeta_min;
+        m->kind = PDT_MODEL_SOPDT;
+        m->p.sopdt.k = PDT_R(1.0);
+        m->p.sopdt.a = a;
+        m->p.sopdt.b = h * h;
+        m->p.sopdt.Td = Td;
+    }
+}
+
+void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
+                           pdt_real_t *hi)
+{
+    pdt_real_t scale = PDT_R(1.0);
+    if (c->cfg.K_min == PDT_R(0.0) && c->cfg.K_max == PDT_R(0.0)) {
+        *lo = PDT_R(0.0);
+        *hi = PDT_R(0.0);
+        return;
+    }
+    if (shape->kind == PDT_MODEL_SOPDT) {
+        scale = shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a;
+    }
+    *lo = c->cfg.K_min * scale;
+    *hi = c->cfg.K_max * scale;
+}
+
+void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_real_t *gain,
+                        pdt_real_t *offset)
+{
+    pdt_model_t shape;
+    pdt_cost_profile_t pr;
+    pdt_real_t glo, ghi;
+    pdt_ident_best_t *best = &c->best;
+    pdt_ident_shape(c, g, &shape);
+    pdt_ident_gain_bounds(c, &shape, &glo, &ghi);
+    c->evaluations++;
+    /* The best so far is the reference fit of the cost's one pass, its gain
+     * carried over to this shape's unit: b + a / T (T the record's length)
+     * moves smoothly from a lag's DC gain to an integrator's. */
+    pdt_cost_hint_t hint = {best->gain, best->offset, best->cost};
+    if (shape.kind == PDT_MODEL_SOPDT && best->cost < PDT_REAL_MAX) {
+        pdt_model_t bm;
+        const pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
+        pdt_ident_shape(c, best->genes, &bm);
+        hint.gain = best->gain * (shape.p.sopdt.b + shape.p.sopdt.a / T) /
+                    (bm.p.sopdt.b + bm.p.sopdt.a / T);
+    }
+    if (pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) != PDT_OK ||
+        !(pr.ncost == pr.ncost)) {
+        *cost = PDT_REAL_MAX;
+        *gain = PDT_R(0.0);
+        *offset = PDT_R(0.0);
+        return;
+    }
+    *cost = pr.ncost;
+    *gain = pr.gain;
+    *offset = pr.offset;
+    if (pr.ncost < best->cost) {
+        best->cost = pr.ncost;
+        best->gain = pr.gain;
+        best->offset = pr.offset;
+        for (uint32_t j = 0; j < c->genes; j++) {
+            best->genes[j] = g[j];
+        }
+    }
+}

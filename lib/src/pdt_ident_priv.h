@@ -1,0 +1,110 @@
+/*
+ * The identification engine's stages, private to the library. pdt_ident.c
+ * checks the configuration and sequences the stages by a table; each
+ * stage lives in its own file and keeps its state in its own part of
+ * pdt_ident_t:
+ *
+ *   pdt_ident_genes.c   the gene coding and one candidate's evaluation
+ *   pdt_ident_ga.c      the population: start, breeding, survival (ga)
+ *   pdt_ident_band.c    the CONTROL weighting's band, between two GA runs
+ *   pdt_ident_refine.c  Nelder-Mead from the best niches (nm)
+ *   pdt_ident_scan.c    the dead time of the frequency criterion (scan)
+ *   pdt_ident_vote.c    the answer of a search, the searches' agreement
+ *
+ * A stage function does at most one evaluation, or one preparation as
+ * costly as init, and sets c->phase to what comes next.
+ */
+#ifndef PDT_IDENT_PRIV_H
+#define PDT_IDENT_PRIV_H
+
+#include "pdt/pdt_ident.h"
+
+/* The sequencer's stages (pdt_ident_t.phase). */
+enum {
+    PH_INIT_POP = 1, /* evaluating the initial population */
+    PH_BREED,        /* breeding a generation */
+    PH_EVAL_OFF,     /* evaluating offspring */
+    PH_BAND,         /* CONTROL weighting: the band from the time model */
+    PH_RECENTRE,     /* COMBINED: the spectra on the estimated offset */
+    PH_REFINE_START, /* the refinement's starts */
+    PH_REFINE,       /* Nelder-Mead */
+    PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
+    PH_DELAY_REFINE, /* its golden section */
+    PH_FINISH,       /* the answer; may re-score once (an integrator) */
+    PH_DONE,
+    PH_COUNT
+};
+
+/* The frequency criterion cannot see the dead time or the sign of the
+ * gain; after its search, Td is scanned on a grid of SCAN_POINTS values of
+ * the time cost (both signs of the gain each), then refined by
+ * GOLDEN_STEPS of golden-section search around the best grid point. */
+#define PDT_IDENT_SCAN_POINTS      64u
+#define PDT_IDENT_GOLDEN_STEPS     16u
+#define PDT_IDENT_SCAN_EVALUATIONS (2u * PDT_IDENT_SCAN_POINTS + PDT_IDENT_GOLDEN_STEPS + 2u)
+
+/* ---- pdt_ident_genes.c */
+
+/* Whether a criterion has a frequency part. */
+bool pdt_ident_uses_frequency(pdt_cost_kind_t kind);
+
+/* The weighting with AUTO resolved, and whether it is CONTROL (the search
+ * starts on the time cost to find the band). */
+pdt_ident_weight_t pdt_ident_weight_of(const pdt_ident_config_t *cfg);
+bool pdt_ident_control_band(const pdt_ident_config_t *cfg);
+
+/* Evaluations kept back after the refinement (the dead-time scan, the
+ * re-scoring of an integrator). */
+uint32_t pdt_ident_late_reserve(const pdt_ident_config_t *cfg);
+
+/* Evaluations the running search has used. */
+uint32_t pdt_ident_used(const pdt_ident_t *c);
+
+/* Dead time of a dead-time gene, and back (clamped to the gene's range). */
+pdt_real_t pdt_ident_td_of_gene(const pdt_ident_t *c, pdt_real_t g);
+pdt_real_t pdt_ident_gene_of_td(const pdt_ident_t *c, pdt_real_t Td);
+
+/* Gene j clamped to its range; the normalised distance of two genomes. */
+pdt_real_t pdt_ident_clamp(const pdt_ident_t *c, size_t j, pdt_real_t x);
+pdt_real_t pdt_ident_distance(const pdt_ident_t *c, const pdt_real_t *x, const pdt_real_t *y);
+
+/* The unit-gain model of a genome, and the bounds of its gain multiplier
+ * from the caller's K bounds (0, 0: unbounded). */
+void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m);
+void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
+                           pdt_real_t *hi);
+
+/* One evaluation of a genome: its cost (PDT_REAL_MAX when it cannot be
+ * scored), gain and offset; the search's best follows it. */
+void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_real_t *gain,
+                        pdt_real_t *offset);
+
+/* ---- pdt_ident_ga.c */
+
+/* A search from scratch: a Latin hypercube population, the GA reset. */
+void pdt_ident_ga_start(pdt_ident_t *c);
+void pdt_ident_ga_eval_parent(pdt_ident_t *c);
+void pdt_ident_ga_breed(pdt_ident_t *c);
+void pdt_ident_ga_eval_offspring(pdt_ident_t *c);
+
+/* ---- pdt_ident_band.c */
+
+void pdt_ident_band_start(pdt_ident_t *c);
+
+/* ---- pdt_ident_refine.c */
+
+void pdt_ident_refine_recentre(pdt_ident_t *c);
+void pdt_ident_refine_begin(pdt_ident_t *c);
+void pdt_ident_refine_step(pdt_ident_t *c);
+
+/* ---- pdt_ident_scan.c */
+
+void pdt_ident_scan_start(pdt_ident_t *c);
+void pdt_ident_scan_grid(pdt_ident_t *c);
+void pdt_ident_scan_golden(pdt_ident_t *c);
+
+/* ---- pdt_ident_vote.c */
+
+void pdt_ident_finish(pdt_ident_t *c);
+
+#endif /* PDT_IDENT_PRIV_H */

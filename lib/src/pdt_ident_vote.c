@@ -1,0 +1,195 @@
+/*
+ * The end of a search and of the identification: the model in engineering
+ * units with its operating point and fit, then the agreement of the
+ * independent searches: the answer is the best, confirmed by another
+ * search in its basin, flagged where the searches could not settle it.
+ */
+#include "pdt_ident_priv.h"
+#include "pdt_internal.h"
+
+/* Costs closer than this (relative) are one basin; a different structure
+ * this close is an ambiguity. */
+#define AGREE_RTOL     PDT_R(0.01)
+#define AMBIGUOUS_RTOL PDT_R(0.05)
+/* Answers this close in normalised genes are one basin whatever their
+ * costs (an exact fit's cost is all rounding, its ratios meaningless). */
+#define AGREE_GENES    PDT_R(0.01)
+/* A gene this close to its bound (normalised) lies on it. */
+#define BOUND_TOL      PDT_R(1e-3)
+
+static pdt_real_t model_gain(const pdt_model_t *m)
+{
+    return m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
+}
+
+/* The same structure: the gain's sign and, for a SOPDT, whether it
+ * integrates. */
+static bool same_structure(const pdt_model_t *a, const pdt_model_t *b)
+{
+    if ((model_gain(a) < PDT_R(0.0)) != (model_gain(b) < PDT_R(0.0))) {
+        return false;
+    }
+    return a->kind != PDT_MODEL_SOPDT ||
+           ((a->p.sopdt.b > PDT_R(0.0)) == (b->p.sopdt.b > PDT_R(0.0)));
+}
+
+/* Cost b within rtol of cost a (normalised costs: the record lies in
+ * (-1, 1), so a few ulps of 1 are the floor of an exact fit). */
+static bool cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol)
+{
+    pdt_real_t lo = a < b ? a : b;
+    pdt_real_t d = a < b ? b - a : a - b;
+    return d <= rtol * lo + PDT_R(64.0) * PDT_REAL_EPS * PDT_REAL_EPS;
+}
+
+/* Searches i and j ended in one basin: the same structure, and costs
+ * within 1 % or genes within AGREE_GENES. */
+static bool same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
+{
+    return same_structure(&c->vote.found[i], &c->vote.found[j]) &&
+           (cost_close(c->vote.cost[i], c->vote.cost[j], AGREE_RTOL) ||
+            pdt_ident_distance(c, c->vote.genes[i], c->vote.genes[j]) < AGREE_GENES);
+}
+
+static bool on_bound(const pdt_ident_t *c, const pdt_real_t *g)
+{
+    for (uint32_t j = 0; j < c->genes; j++) {
+        const pdt_real_t t = (g[j] - c->lo[j]) / (c->hi[j] - c->lo[j]);
+        /* Only the upper bounds: a time constant below a quarter sample
+         * (a lag too short to matter, or a SOPDT's second lag vanishing),
+         * no dead time and 1/zeta = 0 (an integrator) are answers. */
+        if (t > PDT_R(1.0) - BOUND_TOL) {
+            return true;
+        }
+    }
+    return false;
+}
+
+static bool gain_on_bound(const pdt_ident_t *c, pdt_real_t K)
+{
+    const pdt_real_t lo = c->cfg.K_min, hi = c->cfg.K_max;
+    if (!(hi > lo)) {
+        return false;
+    }
+    const pdt_real_t tol = BOUND_TOL * (hi - lo);
+    return K <= lo + tol || K >= hi - tol;
+}
+
+/* The answer of all searches: the least cost; confirmed by another search
+ * in its basin, flagged otherwise, the runner-up basin's cost ratio. */
+static void searches_conclude(pdt_ident_t *c)
+{
+    uint32_t best = 0u;
+    for (uint32_t i = 1u; i < c->vote.done; i++) {
+        if (c->vote.cost[i] < c->vote.cost[best]) {
+            best = i;
+        }
+    }
+    const pdt_real_t cb = c->vote.cost[best];
+    bool confirmed = c->vote.done < 2u;
+    uint32_t flags = 0u;
+    pdt_real_t runner = PDT_R(0.0);
+    for (uint32_t i = 0u; i < c->vote.done; i++) {
+        if (i == best) {
+            continue;
+        }
+        const bool same = same_structure(&c->vote.found[i], &c->vote.found[best]);
+        if (same_basin(c, i, best)) {
+            confirmed = true;
+            continue;
+        }
+        if (!same && cost_close(cb, c->vote.cost[i], AMBIGUOUS_RTOL)) {
+            flags |= PDT_IDENT_FLAG_AMBIGUOUS;
+        }
+        const pdt_real_t ratio = cb > PDT_R(0.0) ? c->vote.cost[i] / cb : PDT_REAL_MAX;
+        if (runner == PDT_R(0.0) || ratio < runner) {
+            runner = ratio;
+        }
+    }
+    if (!confirmed) {
+        flags |= PDT_IDENT_FLAG_UNCONFIRMED;
+    }
+    if (on_bound(c, c->vote.genes[best]) || gain_on_bound(c, model_gain(&c->vote.found[best]))) {
+        flags |= PDT_IDENT_FLAG_AT_BOUND;
+    }
+    c->model = c->vote.found[best];
+    c->y0 = c->vote.y0[best];
+    c->fit = c->vote.fit[best];
+    c->best.cost = cb;
+    c->flags = flags;
+    c->runner_up = runner;
+    c->phase = PH_DONE;
+}
+
+/* A search ended: keep what it found, then another search or the answer.
+ * The second always runs; the third only when the first two disagree. */
+static void search_end(pdt_ident_t *c)
+{
+    const uint32_t k = c->vote.done;
+    c->vote.found[k] = c->model;
+    c->vote.cost[k] = c->best.cost;
+    c->vote.y0[k] = c->y0;
+    c->vote.fit[k] = c->fit;
+    for (uint32_t j = 0; j < c->genes; j++) {
+        c->vote.genes[k][j] = c->best.genes[j];
+    }
+    c->vote.done = k + 1u;
+    bool agreed = false;
+    for (uint32_t i = 0u; i < k; i++) {
+        agreed = agreed || same_basin(c, i, k);
+    }
+    if (c->vote.done < c->vote.searches && (c->vote.done < 2u || !agreed)) {
+        pdt_ident_ga_start(c);
+        return;
+    }
+    searches_conclude(c);
+}
+
+/* The running search's answer: the model in engineering units, its
+ * operating point and its fit. */
+void pdt_ident_finish(pdt_ident_t *c)
+{
+    pdt_model_t m;
+    pdt_ident_shape(c, c->best.genes, &m);
+    if (m.kind == PDT_MODEL_FOPDT) {
+        m.p.fopdt.K = c->best.gain;
+    } else {
+        m.p.sopdt.k = c->best.gain;
+    }
+    if (m.kind == PDT_MODEL_SOPDT && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
+        /* A lag a hundred records long cannot be told from an integrator in
+         * this record: report the integrator (b = 0) rather than a DC gain
+         * the data do not determine. Its cost is scored again. */
+        pdt_real_t a = m.p.sopdt.a, b = m.p.sopdt.b, disc = a * a - PDT_R(4.0) * b;
+        pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
+        if (disc >= PDT_R(0.0) && PDT_R(2.0) * b * PDT_R(100.0) * T < a + pdt_sqrt(disc)) {
+            pdt_cost_profile_t pr;
+            pdt_model_t shape = m;
+            pdt_real_t glo, ghi;
+            shape.p.sopdt.b = PDT_R(0.0);
+            shape.p.sopdt.k = PDT_R(1.0);
+            pdt_ident_gain_bounds(c, &shape, &glo, &ghi);
+            c->evaluations++;
+            /* Gain and offset solved again for the integrator (the
+             * frequency criterion keeps its gain: its sign came from the
+             * dead-time scan). */
+            if (c->cfg.cost == PDT_COST_FREQUENCY) {
+                glo = c->best.gain;
+                ghi = c->best.gain;
+            }
+            if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) == PDT_OK) {
+                m.p.sopdt.b = PDT_R(0.0);
+                m.p.sopdt.k = pr.gain;
+                c->best.gain = pr.gain;
+                c->best.cost = pr.ncost;
+                c->best.offset = (c->cfg.cost == PDT_COST_FREQUENCY) ? c->best.offset : pr.offset;
+            }
+        }
+    }
+    c->model = m;
+    c->y0 = c->cost.cfg.y0 + c->best.offset;
+    if (pdt_cost_fit(&c->cost, &m, c->best.offset, c->scratch, &c->fit) != PDT_OK) {
+        c->fit = PDT_R(0.0);
+    }
+    search_end(c);
+}
