@@ -302,6 +302,31 @@ static void test_simulate_predict_vectors(void **state)
     }
 }
 
+/* One sample at a time, with the input taken relative to an operating
+ * point, is the whole-array simulation of the deviations, bit for bit. */
+static void test_step_is_simulate(void **state)
+{
+    (void)state;
+    static pdt_real_t u[DISC_SIM_N];
+    static pdt_real_t du[DISC_SIM_N];
+    static pdt_real_t y[DISC_SIM_N];
+    const pdt_real_t u0 = R(2.5);
+    for (int s = 0; s < DISC_SIM_CASES; s++) {
+        pdt_discrete_t d;
+        load_ref(disc_sim_case[s], &d);
+        for (int i = 0; i < DISC_SIM_N; i++) {
+            u[i] = (pdt_real_t)disc_u[DISC_SIM_N * s + i] + u0;
+            du[i] = u[i] - u0;
+        }
+        assert_int_equal(pdt_discrete_simulate(&d, du, DISC_SIM_N, y), PDT_OK);
+        pdt_discrete_state_t st = {R(0.0), R(0.0), R(0.0)};
+        for (int i = 0; i < DISC_SIM_N; i++) {
+            const pdt_real_t yk = pdt_discrete_step(&d, &st, u, u0, (size_t)i);
+            assert_memory_equal(&yk, &y[i], sizeof yk);
+        }
+    }
+}
+
 static void test_short_records(void **state)
 {
     (void)state;
@@ -414,6 +439,7 @@ int main(void)
         cmocka_unit_test(test_fraction_zero_is_integer_delay),
         cmocka_unit_test(test_integrator_grows_linearly),
         cmocka_unit_test(test_simulate_predict_vectors),
+        cmocka_unit_test(test_step_is_simulate),
         cmocka_unit_test(test_short_records),
         cmocka_unit_test(test_bad_discretize),
         cmocka_unit_test(test_bad_simulate),

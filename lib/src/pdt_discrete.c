@@ -162,24 +162,29 @@ static bool dmodel_valid(const pdt_discrete_t *d)
 
 /* B(q) u at sample k, with u = 0 before sample 0 (the start of the record,
  * where the indices k-1-l .. k-3-l may be negative). */
-static pdt_real_t input_at_start(const pdt_discrete_t *d, const pdt_real_t *u, size_t k)
+static pdt_real_t input_from(const pdt_discrete_t *d, const pdt_real_t *u, pdt_real_t u0, size_t k)
 {
     pdt_real_t s = PDT_R(0.0);
     if (k <= d->delay) {
         return s;
     }
     size_t j = k - d->delay; /* >= 1: u index of b[0] is j - 1 */
-    s += d->b[0] * u[j - 1u];
+    s += d->b[0] * (u[j - 1u] - u0);
     if (j >= 2u) {
-        s += d->b[1] * u[j - 2u];
+        s += d->b[1] * (u[j - 2u] - u0);
     }
     if (j >= 3u) {
-        s += d->b[2] * u[j - 3u];
+        s += d->b[2] * (u[j - 3u] - u0);
     }
     return s;
 }
 
-/* First sample from which all input indices are >= 0: l + 3, or n. */
+/* u - 0 is u exactly: the simulation's start is the step's input. */
+static pdt_real_t input_at_start(const pdt_discrete_t *d, const pdt_real_t *u, size_t k)
+{
+    return input_from(d, u, PDT_R(0.0), k);
+}
+
 static size_t start_len(const pdt_discrete_t *d, size_t n)
 {
     if (d->delay >= n || n - d->delay <= 3u) {
@@ -275,4 +280,19 @@ pdt_status_t pdt_discrete_predict(const pdt_discrete_t *d, const pdt_real_t *u, 
         yhat[k] = y1 + (dy - d0 * dy - d1 * y2 + (b0 * uk[2] + b1 * uk[1] + b2 * uk[0]));
     }
     return PDT_OK;
+}
+
+pdt_real_t pdt_discrete_step(const pdt_discrete_t *d, pdt_discrete_state_t *s, const pdt_real_t *u,
+                             pdt_real_t u0, size_t k)
+{
+    /* The simulation's recurrence (pdt_discrete_simulate), one sample. */
+    const pdt_real_t in = input_from(d, u, u0, k);
+    if (d->order == 1u) {
+        s->y1 = s->y1 - d->d[0] * s->y1 + in;
+        return s->y1;
+    }
+    s->dy = s->dy - d->d[0] * s->dy - d->d[1] * s->y2 + in;
+    s->y2 = s->y1;
+    s->y1 = s->y1 + s->dy;
+    return s->y1;
 }

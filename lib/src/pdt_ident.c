@@ -540,8 +540,11 @@ static void run_stage(pdt_ident_t *c)
     case PH_DELAY_REFINE:
         pdt_ident_scan_golden(c);
         break;
-    default: /* PH_FINISH */
+    case PH_FINISH:
         pdt_ident_finish(c);
+        break;
+    default: /* PH_STD */
+        pdt_ident_std(c);
         break;
     }
 }
@@ -565,11 +568,12 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_DELAY_SCAN] = NEEDS_BUDGET | EVALUATES,
         [PH_DELAY_REFINE] = NEEDS_BUDGET | EVALUATES,
         [PH_FINISH] = NEEDS_BUDGET | EVALUATES,
+        [PH_STD] = HEAVY,
     };
     uint32_t budget = max_evaluations;
     bool heavy = false;
     while (ctx->phase != PH_DONE) {
-        if (ctx->phase < PH_INIT_POP || ctx->phase > PH_FINISH) {
+        if (ctx->phase < PH_INIT_POP || ctx->phase > PH_STD) {
             return PDT_ERR_STATE;
         }
         const uint32_t needs = STAGE_NEEDS[ctx->phase];
@@ -608,6 +612,7 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.flags = ctx->flags;
     r.searches = ctx->vote.done;
     r.runner_up = ctx->runner_up;
+    r.std = ctx->std;
     *out = r;
     return PDT_OK;
 }

@@ -30,7 +30,8 @@ enum {
     PH_REFINE,       /* Nelder-Mead */
     PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
     PH_DELAY_REFINE, /* its golden section */
-    PH_FINISH,       /* the answer; may re-score once (an integrator) */
+    PH_FINISH,       /* a search's answer; may re-score once (an integrator) */
+    PH_STD,          /* the parameters' uncertainty */
     PH_DONE,
     PH_COUNT
 };
@@ -106,5 +107,6 @@ void pdt_ident_scan_golden(pdt_ident_t *c);
 /* ---- pdt_ident_vote.c */
 
 void pdt_ident_finish(pdt_ident_t *c);
+void pdt_ident_std(pdt_ident_t *c);
 
 #endif /* PDT_IDENT_PRIV_H */

@@ -4,6 +4,7 @@
  * independent searches: the answer is the best, confirmed by another
  * search in its basin, flagged where the searches could not settle it.
  */
+#include "pdt_fisher.h"
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
 
@@ -118,7 +119,7 @@ static void searches_conclude(pdt_ident_t *c)
     c->best.cost = cb;
     c->flags = flags;
     c->runner_up = runner;
-    c->phase = PH_DONE;
+    c->phase = PH_STD;
 }
 
 /* A search ended: keep what it found, then another search or the answer.
@@ -192,4 +193,49 @@ void pdt_ident_finish(pdt_ident_t *c)
         c->fit = PDT_R(0.0);
     }
     search_end(c);
+}
+
+/* The covariance lives in the result's type: its size must be the Fisher
+ * module's. */
+typedef char std_fits_fisher[(PDT_IDENT_MAX_PARAMS == PDT_FISHER_MAX) ? 1 : -1];
+
+pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data,
+                                   pdt_real_t Ts, pdt_real_t y0, pdt_ident_std_t *out)
+{
+    if (m == NULL || data == NULL || data->u == NULL || data->y == NULL || out == NULL ||
+        pdt_model_check(m) != PDT_OK || !pdt_finite(Ts) || !(Ts > PDT_R(0.0)) || !pdt_finite(y0)) {
+        return PDT_ERR_ARG;
+    }
+    if (data->n < PDT_MIN_SAMPLES) {
+        return PDT_ERR_TOO_SHORT;
+    }
+    bool moves = false;
+    for (size_t k = 0; k < data->n; k++) {
+        if (!pdt_finite(data->u[k]) || !pdt_finite(data->y[k])) {
+            return PDT_ERR_NONFINITE;
+        }
+        moves = moves || data->u[k] != data->u[0];
+    }
+    if (!moves) {
+        return PDT_ERR_NO_EXCITATION;
+    }
+    pdt_fisher_matrix_t F;
+    pdt_fisher_sums_t fs;
+    const pdt_status_t st = pdt_fisher_sum(m, Ts, data->u, data->y, data->n, y0, F, &fs);
+    if (st != PDT_OK) {
+        return st;
+    }
+    pdt_ident_std_t r = {0};
+    r.count = fs.np;
+    pdt_fisher_covariance(F, fs.np, data->n, fs.sse, pdt_fisher_inflation(&fs), r.std, r.cov);
+    *out = r;
+    return PDT_OK;
+}
+
+/* The answer's uncertainty: count 0 where it cannot be computed. */
+void pdt_ident_std(pdt_ident_t *c)
+{
+    c->std = (pdt_ident_std_t){0};
+    (void)pdt_ident_uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->std);
+    c->phase = PH_DONE;
 }

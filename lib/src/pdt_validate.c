@@ -5,16 +5,17 @@
 #include "pdt/pdt_validate.h"
 
 #include "pdt/pdt_discrete.h"
+#include "pdt_fisher.h"
 #include "pdt_internal.h"
 
-/* Partial sums over this many samples before they join the total, so that
- * float sums over long records keep their accuracy. */
-#define VAL_BLOCK 256u
+/* The lags the Fisher pass sums are the whiteness test's. */
+typedef char lags_match[(PDT_VALIDATE_LAGS == PDT_FISHER_LAGS) ? 1 : -1];
+
 /* Points of the frequency grid of the robust bound. */
-#define VAL_GRID  200u
+#define VAL_GRID 200u
 /* Standard deviations of the confidence region the bound covers: about the
  * 95 % ellipsoid of four parameters (sqrt of chi-square(4) 0.95 = 3.08). */
-#define VAL_CHI   PDT_R(3.0)
+#define VAL_CHI  PDT_R(3.0)
 
 size_t pdt_validate_workspace_size(size_t n)
 {
@@ -28,51 +29,6 @@ static pdt_real_t chi2_99(pdt_real_t nu)
     pdt_real_t c = PDT_R(2.0) / (PDT_R(9.0) * nu);
     pdt_real_t t = PDT_R(1.0) - c + PDT_R(2.3263) * pdt_sqrt(c);
     return nu * t * t * t;
-}
-
-/* The parameter vector of m, in the documented order (y0 excluded). */
-static uint32_t params_of(const pdt_model_t *m, pdt_real_t *p)
-{
-    if (m->kind == PDT_MODEL_FOPDT) {
-        p[0] = m->p.fopdt.K;
-        p[1] = m->p.fopdt.tau;
-        p[2] = m->p.fopdt.Td;
-        return 3u;
-    }
-    p[0] = m->p.sopdt.k;
-    p[1] = m->p.sopdt.a;
-    p[2] = m->p.sopdt.b;
-    p[3] = m->p.sopdt.Td;
-    return 4u;
-}
-
-static void params_set(pdt_model_t *m, const pdt_real_t *p)
-{
-    if (m->kind == PDT_MODEL_FOPDT) {
-        m->p.fopdt.K = p[0];
-        m->p.fopdt.tau = p[1];
-        m->p.fopdt.Td = p[2];
-    } else {
-        m->p.sopdt.k = p[0];
-        m->p.sopdt.a = p[1];
-        m->p.sopdt.b = p[2];
-        m->p.sopdt.Td = p[3];
-    }
-}
-
-/* Finite-difference step of parameter i (never 0, and upward for b and Td
- * so that the perturbed model stays valid). */
-static pdt_real_t fd_step(const pdt_model_t *m, uint32_t i, const pdt_real_t *p, pdt_real_t Ts)
-{
-    uint32_t np = m->kind == PDT_MODEL_FOPDT ? 3u : 4u;
-    if (i == np - 1u) {
-        return PDT_R(0.02) * Ts + PDT_R(1e-3) * p[i];
-    }
-    if (m->kind == PDT_MODEL_SOPDT && i == 2u && p[2] == PDT_R(0.0)) {
-        /* An integrator: b's scale is that of critical damping, a^2 / 4. */
-        return PDT_R(2.5e-4) * p[1] * p[1];
-    }
-    return PDT_R(1e-3) * pdt_fabs(p[i]);
 }
 
 /* Solves A x = b in place for a symmetric positive definite n x n A (row
@@ -114,77 +70,13 @@ static bool chol_solve(pdt_real_t A[PDT_VALIDATE_FIR][PDT_VALIDATE_FIR], pdt_rea
     return true;
 }
 
-/* Inverse of the symmetric positive semi-definite F (n x n) by Gauss-Jordan
- * on its correlation form, pivoting on the diagonal. A parameter whose
- * pivot falls below tol is not determined by the data (the output does
- * not depend on it beyond what the others explain): it is fixed at its
- * estimate, marked in *undet, and the inverse is that of the others (the
- * covariance conditional on it). Returns false when F is not usable at
- * all (a zero or non-finite diagonal: a parameter the output does not
- * see). */
-static bool invert(pdt_real_t F[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS],
-                   pdt_real_t Inv[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS], uint32_t n,
-                   bool *undet)
-{
-    pdt_real_t dsc[PDT_VALIDATE_MAX_PARAMS];
-    pdt_real_t M[PDT_VALIDATE_MAX_PARAMS][2u * PDT_VALIDATE_MAX_PARAMS];
-    for (uint32_t i = 0; i < n; i++) {
-        undet[i] = false;
-        if (!(F[i][i] > PDT_R(0.0)) || !pdt_finite(F[i][i])) {
-            return false;
-        }
-        dsc[i] = pdt_sqrt(F[i][i]);
-    }
-    for (uint32_t i = 0; i < n; i++) {
-        for (uint32_t j = 0; j < n; j++) {
-            M[i][j] = F[i][j] / (dsc[i] * dsc[j]);
-            M[i][n + j] = i == j ? PDT_R(1.0) : PDT_R(0.0);
-        }
-    }
-    const pdt_real_t tol = PDT_R(1e3) * PDT_REAL_EPS;
-    for (uint32_t c = 0; c < n; c++) {
-        /* Diagonal pivots keep the parameter order, so that a small pivot
-         * names the parameter the others already explain. */
-        if (!(M[c][c] > tol)) {
-            undet[c] = true;
-            for (uint32_t j = 0; j < 2u * n; j++) {
-                M[c][j] = PDT_R(0.0);
-            }
-            for (uint32_t r = 0; r < n; r++) {
-                M[r][c] = PDT_R(0.0);
-            }
-            M[c][c] = PDT_R(1.0);
-            continue;
-        }
-        pdt_real_t inv = PDT_R(1.0) / M[c][c];
-        for (uint32_t j = 0; j < 2u * n; j++) {
-            M[c][j] *= inv;
-        }
-        for (uint32_t r = 0; r < n; r++) {
-            if (r != c && M[r][c] != PDT_R(0.0)) {
-                pdt_real_t f = M[r][c];
-                for (uint32_t j = 0; j < 2u * n; j++) {
-                    M[r][j] -= f * M[c][j];
-                }
-            }
-        }
-    }
-    for (uint32_t i = 0; i < n; i++) {
-        for (uint32_t j = 0; j < n; j++) {
-            Inv[i][j] = (undet[i] || undet[j]) ? PDT_R(0.0) : M[i][n + j] / (dsc[i] * dsc[j]);
-        }
-    }
-    return true;
-}
-
-/* The pieces every call shares: argument checks, the residual and the
- * sensitivities in the workspace. */
+/* The pieces every call shares: argument checks, the input's deviation
+ * and the simulated output in the workspace, the residual after them. */
 typedef struct val_ctx {
     const pdt_real_t *y;
-    pdt_real_t *du;      /* u - u[0] */
-    pdt_real_t *ys;      /* simulated output */
-    pdt_real_t *sens[3]; /* sensitivities of the shape parameters */
-    uint32_t np;         /* model parameters (without y0) */
+    pdt_real_t *du; /* u - u[0] */
+    pdt_real_t *ys; /* simulated output */
+    pdt_real_t *e;  /* the residual */
     size_t n;
     pdt_real_t y0;
 } val_ctx_t;
@@ -222,9 +114,7 @@ static pdt_status_t prepare(const pdt_model_t *m, const pdt_ident_data_t *data, 
     c->y0 = y0;
     c->du = w;
     c->ys = w + n;
-    for (uint32_t i = 0; i < 3u; i++) {
-        c->sens[i] = w + (2u + i) * n;
-    }
+    c->e = w + 2u * n;
     for (size_t k = 0; k < n; k++) {
         c->du[k] = data->u[k] - data->u[0];
     }
@@ -232,25 +122,6 @@ static pdt_status_t prepare(const pdt_model_t *m, const pdt_ident_data_t *data, 
     if (pdt_discrete_init(m, Ts, &d) != PDT_OK ||
         pdt_discrete_simulate(&d, c->du, n, c->ys) != PDT_OK) {
         return PDT_ERR_ARG;
-    }
-    pdt_real_t p[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
-    c->np = params_of(m, p);
-    /* The gain enters linearly (ys / K): only the shape is perturbed. */
-    for (uint32_t i = 1; i < c->np; i++) {
-        pdt_real_t pp[4] = {p[0], p[1], p[2], p[3]};
-        pdt_real_t h = fd_step(m, i, p, Ts);
-        pp[i] += h;
-        h = pp[i] - p[i];
-        pdt_model_t mp = *m;
-        params_set(&mp, pp);
-        pdt_real_t *s = c->sens[i - 1u];
-        if (!(h > PDT_R(0.0)) || pdt_discrete_init(&mp, Ts, &d) != PDT_OK ||
-            pdt_discrete_simulate(&d, c->du, n, s) != PDT_OK) {
-            return PDT_ERR_ARG;
-        }
-        for (size_t k = 0; k < n; k++) {
-            s[k] = (s[k] - c->ys[k]) / h;
-        }
     }
     for (size_t k = 0; k < n; k++) {
         if (!pdt_finite(c->ys[k])) {
@@ -260,111 +131,9 @@ static pdt_status_t prepare(const pdt_model_t *m, const pdt_ident_data_t *data, 
     return PDT_OK;
 }
 
-/* Column j of the Jacobian at sample k: gain, shape..., offset. */
-static pdt_real_t jac(const val_ctx_t *c, pdt_real_t gain, uint32_t j, size_t k)
-{
-    if (j == 0u) {
-        return c->ys[k] / gain;
-    }
-    if (j < c->np) {
-        return c->sens[j - 1u][k];
-    }
-    return PDT_R(1.0);
-}
-
-/* Fisher information J^T J (without 1 / sigma^2) and the residual's sum of
- * squares. */
-static void fisher(const val_ctx_t *c, pdt_real_t gain,
-                   pdt_real_t F[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS], pdt_real_t *sse)
-{
-    uint32_t np = c->np + 1u;
-    pdt_real_t part[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS] = {{PDT_R(0.0)}};
-    pdt_real_t se = PDT_R(0.0);
-    pdt_real_t sp = PDT_R(0.0);
-    for (uint32_t i = 0; i < np; i++) {
-        for (uint32_t j = 0; j < np; j++) {
-            F[i][j] = PDT_R(0.0);
-        }
-    }
-    for (size_t k = 0; k < c->n; k++) {
-        pdt_real_t jr[PDT_VALIDATE_MAX_PARAMS];
-        for (uint32_t i = 0; i < np; i++) {
-            jr[i] = jac(c, gain, i, k);
-        }
-        for (uint32_t i = 0; i < np; i++) {
-            for (uint32_t j = i; j < np; j++) {
-                part[i][j] += jr[i] * jr[j];
-            }
-        }
-        pdt_real_t e = c->y[k] - c->y0 - c->ys[k];
-        sp += e * e;
-        if ((k + 1u) % VAL_BLOCK == 0u || k + 1u == c->n) {
-            for (uint32_t i = 0; i < np; i++) {
-                for (uint32_t j = i; j < np; j++) {
-                    F[i][j] += part[i][j];
-                    part[i][j] = PDT_R(0.0);
-                }
-            }
-            se += sp;
-            sp = PDT_R(0.0);
-        }
-    }
-    for (uint32_t i = 0; i < np; i++) {
-        for (uint32_t j = 0; j < i; j++) {
-            F[i][j] = F[j][i];
-        }
-    }
-    *sse = se;
-}
-
-/* Covariance sigma^2 inflation (J^T J)^-1 into *out. */
-static void uncertainty(const val_ctx_t *c, pdt_real_t gain, pdt_real_t sse,
-                        pdt_real_t F[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS],
-                        pdt_real_t inflation, pdt_ident_std_t *out)
-{
-    uint32_t np = c->np + 1u;
-    pdt_real_t Fc[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS];
-    pdt_real_t Inv[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS];
-    for (uint32_t i = 0; i < np; i++) {
-        for (uint32_t j = 0; j < np; j++) {
-            Fc[i][j] = F[i][j];
-        }
-    }
-    (void)gain;
-    pdt_real_t s2 = sse / (pdt_real_t)(c->n - np) * inflation;
-    bool undet[PDT_VALIDATE_MAX_PARAMS];
-    bool ok = invert(Fc, Inv, np, undet);
-    *out = (pdt_ident_std_t){0};
-    out->count = np;
-    for (uint32_t i = 0; i < np; i++) {
-        for (uint32_t j = 0; j < np; j++) {
-            out->cov[i][j] = ok ? s2 * Inv[i][j] : (pdt_real_t)INFINITY;
-        }
-        /* An undetermined parameter: std +infinity, covariance 0 (the
-         * others' covariance is conditional on it). */
-        bool fin = ok && !undet[i] && out->cov[i][i] >= PDT_R(0.0);
-        out->std[i] = fin ? pdt_sqrt(out->cov[i][i]) : (pdt_real_t)INFINITY;
-    }
-}
-
 static pdt_real_t gain_of(const pdt_model_t *m)
 {
     return m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
-}
-
-pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data,
-                                   pdt_real_t Ts, pdt_real_t y0, void *work, size_t work_len,
-                                   pdt_ident_std_t *out)
-{
-    if (out == NULL) {
-        return PDT_ERR_ARG;
-    }
-    pdt_validate_result_t r;
-    pdt_status_t st = pdt_validate_model(m, data, Ts, y0, work, work_len, &r);
-    if (st == PDT_OK) {
-        *out = r.std;
-    }
-    return st;
 }
 
 pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
@@ -389,14 +158,16 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
     r.Ts = Ts;
     r.n = n;
 
-    pdt_real_t F[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS];
-    pdt_real_t sse;
-    fisher(&c, gain, F, &sse);
-    const uint32_t np = c.np + 1u;
+    pdt_fisher_matrix_t F;
+    pdt_fisher_sums_t fs;
+    st = pdt_fisher_sum(m, Ts, data->u, data->y, n, y0, F, &fs);
+    if (st != PDT_OK) {
+        return st;
+    }
+    const pdt_real_t sse = fs.sse;
+    const uint32_t np = fs.np;
 
-    /* The residual, kept in the first sensitivity's place no longer
-     * needed once the Fisher information is summed. */
-    pdt_real_t *e = c.sens[0];
+    pdt_real_t *e = c.e;
     pdt_real_t mean = PDT_R(0.0);
     for (size_t k = 0; k < n; k++) {
         e[k] = c.y[k] - c.y0 - c.ys[k];
@@ -407,28 +178,20 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
         e[k] -= mean;
     }
 
-    /* Whiteness: normalised autocorrelations at lags 1..LAGS. */
     pdt_real_t r0 = PDT_R(0.0);
     for (size_t k = 0; k < n; k++) {
         r0 += e[k] * e[k];
     }
+    /* Whiteness: the residual's autocorrelations at lags 1..LAGS, summed
+     * with the Fisher information. */
     pdt_real_t q = PDT_R(0.0);
-    pdt_real_t infl = PDT_R(1.0);
-    if (r0 > PDT_R(0.0)) {
-        for (size_t lag = 1; lag <= PDT_VALIDATE_LAGS; lag++) {
-            pdt_real_t s = PDT_R(0.0);
-            for (size_t k = lag; k < n; k++) {
-                s += e[k] * e[k - lag];
-            }
-            pdt_real_t rho = s / r0;
-            q += rho * rho;
-            infl += PDT_R(2.0) * rho;
-        }
+    for (size_t lag = 0; lag < PDT_VALIDATE_LAGS; lag++) {
+        q += fs.rho[lag] * fs.rho[lag];
     }
     r.white_stat = (pdt_real_t)n * q;
     r.white_limit = chi2_99((pdt_real_t)PDT_VALIDATE_LAGS);
     r.white = r.white_stat <= r.white_limit;
-    r.inflation = infl > PDT_R(1.0) ? infl : PDT_R(1.0);
+    r.inflation = pdt_fisher_inflation(&fs);
 
     pdt_real_t ml = sse / (pdt_real_t)n;
     if (!(ml > PDT_R(0.0))) {
@@ -437,7 +200,8 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
     r.sigma = pdt_sqrt(sse / (pdt_real_t)(n - np));
     r.aic = (pdt_real_t)n * pdt_log(ml) + PDT_R(2.0) * (pdt_real_t)np;
     r.bic = (pdt_real_t)n * pdt_log(ml) + (pdt_real_t)np * pdt_log((pdt_real_t)n);
-    uncertainty(&c, gain, sse, F, r.inflation, &r.std);
+    r.std.count = np;
+    pdt_fisher_covariance(F, np, n, sse, r.inflation, r.std.std, r.std.cov);
 
     /* The model-error FIR from a few samples before the model's dead time
      * on: e(k) ~ sum_j h_j du(k - L0 - j). */

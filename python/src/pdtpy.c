@@ -220,7 +220,7 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
     if (o->evaluations) cfg.max_evaluations = o->evaluations;
     if (o->population) cfg.population = o->population;
     if (!isnan(o->td_max)) cfg.Td_max = (pdt_real_t)o->td_max;
-    if (o->weight >= 0) cfg.weight = (pdt_weight_kind_t)o->weight;
+    if (o->weight >= 0) cfg.weight = (pdt_ident_weight_t)o->weight;
     cfg.f_lo = (pdt_real_t)o->f_lo;
     cfg.f_hi = (pdt_real_t)o->f_hi;
     if (!isnan(o->phi_t)) cfg.phi_t = (pdt_real_t)o->phi_t;

@@ -153,8 +153,10 @@ void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_re
 }
 
 /* "std": the standard deviations of the model's parameters (form (2) for a
- * SOPDT: k, a, b) and of y0; null where the record does not determine one,
- * or the whole key null when they cannot be computed. */
+ * SOPDT: k, a, b) and of y0, as the identification reports them (a result
+ * of pdt_ls has none: computed here the same way, pdt_ident_uncertainty);
+ * null where the record does not determine one, or the whole key null
+ * when they cannot be computed. */
 static void std_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r, const pdt_real_t *u,
                      const pdt_real_t *y, double Ts, size_t n)
 {
@@ -162,16 +164,12 @@ static void std_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r, const pdt_r
     static const char *const so[] = {"k", "a", "b", "Td", "y0"};
     const char *const *names = r->model.kind == PDT_MODEL_FOPDT ? fo : so;
     const pdt_ident_data_t d = {u, y, n};
-    const size_t wlen = pdt_validate_workspace_size(n);
-    pdt_real_t *work = wlen ? malloc(wlen) : NULL;
-    pdt_ident_std_t sd;
-    if (!work ||
-        pdt_ident_uncertainty(&r->model, &d, (pdt_real_t)Ts, r->y0, work, wlen, &sd) != PDT_OK) {
+    pdt_ident_std_t sd = r->std;
+    if (sd.count == 0u &&
+        pdt_ident_uncertainty(&r->model, &d, (pdt_real_t)Ts, r->y0, &sd) != PDT_OK) {
         pdtcli_jb_raw(jb, ",\"std\":null");
-        free(work);
         return;
     }
-    free(work);
     pdtcli_jb_raw(jb, ",\"std\":{");
     for (uint32_t i = 0; i < sd.count; i++) {
         pdtcli_jb_printf(jb, "%s\"%s\":", i ? "," : "", names[i]);

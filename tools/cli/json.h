@@ -19,8 +19,8 @@ extern "C" {
  * {"model":"fopdt","K",...,"evaluations"[,"f_band"][,"searches","runner_up",
  * "flags"][,"std"],"Ts","n"}, the keys of docs/cli.md. Ts: the sampling
  * period, s; n: the samples identified. With the record (u, y, not NULL)
- * it adds "std", the parameters' standard deviations from the output
- * error's Fisher information (pdt_ident_uncertainty).
+ * it adds "std", the parameters' standard deviations (r->std, or for a
+ * result without them, pdt_ls's, pdt_ident_uncertainty).
  * Returns the characters written (without the NUL), or -1 when len is too
  * small (buf then holds a truncated, NUL-terminated text). */
 int pdtcli_ident_json(const pdt_ident_result_t *r, const pdt_real_t *u, const pdt_real_t *y,

@@ -66,6 +66,23 @@ pdt_status_t pdt_discrete_simulate(const pdt_discrete_t *d, const pdt_real_t *u,
 pdt_status_t pdt_discrete_predict(const pdt_discrete_t *d, const pdt_real_t *u, const pdt_real_t *y,
                                   size_t n, pdt_real_t *yhat);
 
+/* The simulation's state between samples (pdt_discrete_step); all 0 is
+ * rest. */
+typedef struct pdt_discrete_state {
+    pdt_real_t y1; /* y(k-1) */
+    pdt_real_t y2; /* y(k-2) */
+    pdt_real_t dy; /* y(k-1) - y(k-2), carried (see pdt_discrete_simulate) */
+} pdt_discrete_state_t;
+
+/* Sample k of the simulation from rest of d on the input u[0..k] taken
+ * relative to u0 (u - u0), given the state after sample k - 1 (all 0
+ * before sample 0), which it advances: the same numbers as
+ * pdt_discrete_simulate on u - u0, one sample at a time and no array,
+ * for models simulated side by side. No checks (d from
+ * pdt_discrete_init, s and u not NULL, k in order); O(1). */
+pdt_real_t pdt_discrete_step(const pdt_discrete_t *d, pdt_discrete_state_t *s, const pdt_real_t *u,
+                             pdt_real_t u0, size_t k);
+
 #ifdef __cplusplus
 }
 #endif

@@ -128,6 +128,27 @@ typedef struct pdt_ident_data {
     size_t n;
 } pdt_ident_data_t;
 
+/* Most parameters of a model with its offset: SOPDT k, a, b, Td, y0. */
+#define PDT_IDENT_MAX_PARAMS 5u
+
+/* Standard deviations and covariance of the identified parameters, in the
+ * order FOPDT K, tau, Td, y0 (count 4) or SOPDT k, a, b, Td, y0 (count 5),
+ * in the model's units; count 0 when they could not be computed. From the
+ * output-error Fisher information at the estimate and the residual's
+ * variance, inflated by 1 + 2 sum of the residual's autocorrelations (lags
+ * 1..20) when it is correlated, as pdt_validate_model does. A parameter the
+ * data do not determine (the Fisher information singular in its
+ * direction, e.g. the second lag of a SOPDT fitted to a first-order
+ * process) has std +infinity and covariance row and column 0: it is held
+ * at its estimate and the others' covariance is conditional on it. A
+ * Fisher information without a usable diagonal gives +infinity
+ * everywhere. */
+typedef struct pdt_ident_std {
+    uint32_t count;
+    pdt_real_t std[PDT_IDENT_MAX_PARAMS];
+    pdt_real_t cov[PDT_IDENT_MAX_PARAMS][PDT_IDENT_MAX_PARAMS];
+} pdt_ident_std_t;
+
 typedef struct pdt_ident_result {
     pdt_model_t model;    /* the identified model, in engineering units */
     pdt_real_t u0;        /* input operating point (u[0]) */
@@ -149,6 +170,7 @@ typedef struct pdt_ident_result {
     pdt_real_t runner_up; /* cost of the best answer of another basin
                                * that a search ended in, over the answer's
                                * (> 1.01); 0 when every search agreed */
+    pdt_ident_std_t std;  /* the parameters' uncertainty */
 } pdt_ident_result_t;
 
 /* pdt_ident_result_t.flags. An answer with any flag set is the best the
@@ -257,6 +279,7 @@ typedef struct pdt_ident {
     pdt_real_t fit;
     uint32_t flags;
     pdt_real_t runner_up;
+    pdt_ident_std_t std;
 } pdt_ident_t;
 
 /* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */
@@ -293,7 +316,8 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
  * O(n) time domain, O(N_f / 2) frequency domain) plus at most one breeding
  * step (O(P^2 genes) for the sharing) or one preparation of the spectra
  * (O(N_f log N_f), as in init: COMBINED re-centres them once before the
- * refinement, and the CONTROL weighting sets its band once). Returns PDT_RUNNING while there is
+ * refinement, and the CONTROL weighting sets its band once) or the
+ * answer's uncertainty (once, O(n) per parameter). Returns PDT_RUNNING while there is
  * work left, PDT_OK when done (also on every later call), PDT_ERR_ARG for
  * NULL or max_evaluations = 0, PDT_ERR_STATE if ctx was not initialised. */
 pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations);
@@ -301,8 +325,21 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations);
 /* The result once pdt_ident_step has returned PDT_OK. PDT_ERR_STATE before
  * that, PDT_ERR_ARG for NULL, PDT_ERR_NONFINITE when the model found does
  * not fit the real type (a gain beyond its range: the record's output is
- * too many decades above its input). Costs one simulation (O(n)) for the fit. */
+ * too many decades above its input). O(1): the fit and the uncertainty
+ * were computed by the last step. */
 pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out);
+
+/* The parameters' uncertainty of any model m of this record (at period Ts,
+ * output offset y0, input relative to data->u[0]), as pdt_ident_result_t.std
+ * gives it for the identification's own answer: for a model found another
+ * way (pdt_ls) or changed by the caller. No workspace: the sensitivities
+ * are simulated side by side. Returns PDT_ERR_ARG (NULL, an invalid model
+ * or a gain of 0, Ts or y0 not finite or Ts <= 0), PDT_ERR_TOO_SHORT (fewer
+ * than PDT_MIN_SAMPLES), PDT_ERR_NONFINITE (NaN or infinity in the data,
+ * or a simulation that overflows), PDT_ERR_NO_EXCITATION (u constant);
+ * *out untouched on error. O(n) per parameter. */
+pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data,
+                                   pdt_real_t Ts, pdt_real_t y0, pdt_ident_std_t *out);
 
 /* Blocking convenience: init, step until done, result. Same statuses. */
 pdt_status_t pdt_identify(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,

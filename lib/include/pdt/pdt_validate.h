@@ -44,24 +44,10 @@ extern "C" {
 /* Taps of the model-error FIR (the independence test). */
 #define PDT_VALIDATE_FIR        12u
 /* Most parameters: SOPDT k, a, b, Td and the output offset y0. */
-#define PDT_VALIDATE_MAX_PARAMS 5u
+#define PDT_VALIDATE_MAX_PARAMS PDT_IDENT_MAX_PARAMS
 
 /* Workspace bytes for n samples: five records of reals. */
 #define PDT_VALIDATE_WORKSPACE_SIZE(n) (5u * (size_t)(n) * sizeof(pdt_real_t))
-
-/* Standard deviations and covariance of the identified parameters, in the
- * order FOPDT K, tau, Td, y0 (count 4) or SOPDT k, a, b, Td, y0 (count 5),
- * in the model's units. A parameter the data do not determine (the Fisher
- * information singular in its direction, e.g. the second lag of a SOPDT
- * fitted to a first-order process) has std +infinity and covariance row
- * and column 0: it is held at its estimate and the others' covariance is
- * conditional on it. A Fisher information without a usable diagonal gives
- * +infinity everywhere. */
-typedef struct pdt_ident_std {
-    uint32_t count;
-    pdt_real_t std[PDT_VALIDATE_MAX_PARAMS];
-    pdt_real_t cov[PDT_VALIDATE_MAX_PARAMS][PDT_VALIDATE_MAX_PARAMS];
-} pdt_ident_std_t;
 
 typedef struct pdt_validate_result {
     pdt_model_t model;                /* the model validated */
@@ -104,12 +90,6 @@ size_t pdt_validate_workspace_size(size_t n);
 pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
                                 pdt_real_t y0, void *work, size_t work_len,
                                 pdt_validate_result_t *out);
-
-/* The parameter uncertainty alone (the std part of pdt_validate_model),
- * for an identification result: same arguments and statuses. */
-pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data,
-                                   pdt_real_t Ts, pdt_real_t y0, void *work, size_t work_len,
-                                   pdt_ident_std_t *out);
 
 /* The model order the data support, from the validations of a FOPDT (fo)
  * and a SOPDT (so) identified on the same record: a model whose gain the

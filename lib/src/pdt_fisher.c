@@ -1,0 +1,272 @@
+/*
+ * The output-error Fisher information and the covariance it gives; see
+ * pdt_fisher.h.
+ */
+#include "pdt_fisher.h"
+
+#include "pdt/pdt_discrete.h"
+#include "pdt_internal.h"
+
+/* Partial sums over this many samples before they join the total, so that
+ * float sums over long records keep their accuracy. */
+#define FISHER_BLOCK 256u
+
+/* The parameter vector of m, in the documented order (y0 excluded). */
+static uint32_t params_of(const pdt_model_t *m, pdt_real_t *p)
+{
+    if (m->kind == PDT_MODEL_FOPDT) {
+        p[0] = m->p.fopdt.K;
+        p[1] = m->p.fopdt.tau;
+        p[2] = m->p.fopdt.Td;
+        return 3u;
+    }
+    p[0] = m->p.sopdt.k;
+    p[1] = m->p.sopdt.a;
+    p[2] = m->p.sopdt.b;
+    p[3] = m->p.sopdt.Td;
+    return 4u;
+}
+
+static void params_set(pdt_model_t *m, const pdt_real_t *p)
+{
+    if (m->kind == PDT_MODEL_FOPDT) {
+        m->p.fopdt.K = p[0];
+        m->p.fopdt.tau = p[1];
+        m->p.fopdt.Td = p[2];
+    } else {
+        m->p.sopdt.k = p[0];
+        m->p.sopdt.a = p[1];
+        m->p.sopdt.b = p[2];
+        m->p.sopdt.Td = p[3];
+    }
+}
+
+/* Finite-difference step of parameter i (never 0, and upward for b and Td
+ * so that the perturbed model stays valid). */
+static pdt_real_t fd_step(const pdt_model_t *m, uint32_t i, const pdt_real_t *p, pdt_real_t Ts)
+{
+    uint32_t np = m->kind == PDT_MODEL_FOPDT ? 3u : 4u;
+    if (i == np - 1u) {
+        return PDT_R(0.02) * Ts + PDT_R(1e-3) * p[i];
+    }
+    if (m->kind == PDT_MODEL_SOPDT && i == 2u && p[2] == PDT_R(0.0)) {
+        /* An integrator: b's scale is that of critical damping, a^2 / 4. */
+        return PDT_R(2.5e-4) * p[1] * p[1];
+    }
+    return PDT_R(1e-3) * pdt_fabs(p[i]);
+}
+
+/* Inverse of the symmetric positive semi-definite F (n x n) by Gauss-Jordan
+ * on its correlation form, pivoting on the diagonal. A parameter whose
+ * pivot falls below tol is not determined by the data (the output does
+ * not depend on it beyond what the others explain): it is fixed at its
+ * estimate, marked in *undet, and the inverse is that of the others (the
+ * covariance conditional on it). Returns false when F is not usable at
+ * all (a zero or non-finite diagonal: a parameter the output does not
+ * see). */
+static bool invert(pdt_fisher_matrix_t F, pdt_fisher_matrix_t Inv, uint32_t n, bool *undet)
+{
+    pdt_real_t dsc[PDT_FISHER_MAX] = {PDT_R(0.0)};
+    pdt_real_t M[PDT_FISHER_MAX][2u * PDT_FISHER_MAX];
+    for (uint32_t i = 0; i < n; i++) {
+        undet[i] = false;
+        if (!(F[i][i] > PDT_R(0.0)) || !pdt_finite(F[i][i])) {
+            return false;
+        }
+        dsc[i] = pdt_sqrt(F[i][i]);
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        for (uint32_t j = 0; j < n; j++) {
+            M[i][j] = F[i][j] / (dsc[i] * dsc[j]);
+            M[i][n + j] = i == j ? PDT_R(1.0) : PDT_R(0.0);
+        }
+    }
+    const pdt_real_t tol = PDT_R(1e3) * PDT_REAL_EPS;
+    for (uint32_t c = 0; c < n; c++) {
+        /* Diagonal pivots keep the parameter order, so that a small pivot
+         * names the parameter the others already explain. */
+        if (!(M[c][c] > tol)) {
+            undet[c] = true;
+            for (uint32_t j = 0; j < 2u * n; j++) {
+                M[c][j] = PDT_R(0.0);
+            }
+            for (uint32_t r = 0; r < n; r++) {
+                M[r][c] = PDT_R(0.0);
+            }
+            M[c][c] = PDT_R(1.0);
+            continue;
+        }
+        pdt_real_t inv = PDT_R(1.0) / M[c][c];
+        for (uint32_t j = 0; j < 2u * n; j++) {
+            M[c][j] *= inv;
+        }
+        for (uint32_t r = 0; r < n; r++) {
+            if (r != c && M[r][c] != PDT_R(0.0)) {
+                pdt_real_t f = M[r][c];
+                for (uint32_t j = 0; j < 2u * n; j++) {
+                    M[r][j] -= f * M[c][j];
+                }
+            }
+        }
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        for (uint32_t j = 0; j < n; j++) {
+            Inv[i][j] = (undet[i] || undet[j]) ? PDT_R(0.0) : M[i][n + j] / (dsc[i] * dsc[j]);
+        }
+    }
+    return true;
+}
+
+/* The residual's lagged products: the running state of one pass. */
+typedef struct lag_sums {
+    pdt_real_t last[PDT_FISHER_LAGS];       /* e(k) at ring position k % LAGS */
+    pdt_real_t first[PDT_FISHER_LAGS + 1u]; /* sums of the first i residuals */
+    pdt_real_t prod[PDT_FISHER_LAGS];       /* sum of e(k) e(k - l) */
+    pdt_real_t sum, part_sum;               /* sum of e, its block part */
+} lag_sums_t;
+
+static void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
+{
+    const size_t lags = k < PDT_FISHER_LAGS ? k : PDT_FISHER_LAGS;
+    for (size_t l = 1; l <= lags; l++) {
+        L->prod[l - 1u] += e * L->last[(k - l) % PDT_FISHER_LAGS];
+    }
+    L->last[k % PDT_FISHER_LAGS] = e;
+    L->part_sum += e;
+    if (k < PDT_FISHER_LAGS) {
+        L->first[k + 1u] = L->first[k] + e;
+    }
+}
+
+static void lags_flush(lag_sums_t *L)
+{
+    L->sum += L->part_sum;
+    L->part_sum = PDT_R(0.0);
+}
+
+/* The autocorrelations of e - mean e from the raw sums: lag l's products
+ * of the mean-free residual are prod - m (sum of the later n - l + sum of
+ * the earlier n - l) + (n - l) m^2. */
+static void lags_rho(const lag_sums_t *L, size_t n, pdt_real_t sse, pdt_real_t *rho)
+{
+    const pdt_real_t m = L->sum / (pdt_real_t)n;
+    const pdt_real_t r0 = sse - (pdt_real_t)n * m * m;
+    pdt_real_t tail = PDT_R(0.0); /* the last l residuals */
+    for (size_t l = 1; l <= PDT_FISHER_LAGS; l++) {
+        rho[l - 1u] = PDT_R(0.0);
+        if (l >= n) {
+            continue;
+        }
+        tail += L->last[(n - l) % PDT_FISHER_LAGS];
+        const pdt_real_t later = L->sum - L->first[l];
+        const pdt_real_t earlier = L->sum - tail;
+        const pdt_real_t s = L->prod[l - 1u] - m * (later + earlier) + (pdt_real_t)(n - l) * m * m;
+        rho[l - 1u] = r0 > PDT_R(0.0) ? s / r0 : PDT_R(0.0);
+    }
+}
+
+pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_t *u,
+                            const pdt_real_t *y, size_t n, pdt_real_t y0, pdt_fisher_matrix_t F,
+                            pdt_fisher_sums_t *out)
+{
+    pdt_real_t p[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    const uint32_t nm = params_of(m, p);
+    const uint32_t nj = nm + 1u;
+    const pdt_real_t gain = p[0];
+    /* The nominal model, then one per shape parameter: the gain enters
+     * linearly (ys / K), the offset as a constant. */
+    pdt_discrete_t d[4];
+    pdt_discrete_state_t s[4] = {{PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)}};
+    pdt_real_t h[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    if (gain == PDT_R(0.0) || pdt_discrete_init(m, Ts, &d[0]) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    for (uint32_t i = 1; i < nm; i++) {
+        pdt_real_t pp[4] = {p[0], p[1], p[2], p[3]};
+        pp[i] += fd_step(m, i, p, Ts);
+        h[i] = pp[i] - p[i];
+        pdt_model_t mp = *m;
+        params_set(&mp, pp);
+        if (!(h[i] > PDT_R(0.0)) || pdt_discrete_init(&mp, Ts, &d[i]) != PDT_OK) {
+            return PDT_ERR_ARG;
+        }
+    }
+    pdt_real_t part[PDT_FISHER_MAX][PDT_FISHER_MAX] = {{PDT_R(0.0)}};
+    lag_sums_t L = {{PDT_R(0.0)}, {PDT_R(0.0)}, {PDT_R(0.0)}, PDT_R(0.0), PDT_R(0.0)};
+    pdt_real_t se = PDT_R(0.0);
+    pdt_real_t sp = PDT_R(0.0);
+    bool finite = true;
+    for (uint32_t i = 0; i < nj; i++) {
+        for (uint32_t j = 0; j < nj; j++) {
+            F[i][j] = PDT_R(0.0);
+        }
+    }
+    for (size_t k = 0; k < n; k++) {
+        pdt_real_t jr[PDT_FISHER_MAX];
+        const pdt_real_t ys = pdt_discrete_step(&d[0], &s[0], u, u[0], k);
+        finite = finite && pdt_finite(ys);
+        jr[0] = ys / gain;
+        for (uint32_t i = 1; i < nm; i++) {
+            jr[i] = (pdt_discrete_step(&d[i], &s[i], u, u[0], k) - ys) / h[i];
+        }
+        jr[nm] = PDT_R(1.0);
+        for (uint32_t i = 0; i < nj; i++) {
+            for (uint32_t j = i; j < nj; j++) {
+                part[i][j] += jr[i] * jr[j];
+            }
+        }
+        const pdt_real_t e = y[k] - y0 - ys;
+        sp += e * e;
+        lags_add(&L, e, k);
+        if ((k + 1u) % FISHER_BLOCK == 0u || k + 1u == n) {
+            for (uint32_t i = 0; i < nj; i++) {
+                for (uint32_t j = i; j < nj; j++) {
+                    F[i][j] += part[i][j];
+                    part[i][j] = PDT_R(0.0);
+                }
+            }
+            se += sp;
+            sp = PDT_R(0.0);
+            lags_flush(&L);
+        }
+    }
+    if (!finite) {
+        return PDT_ERR_NONFINITE;
+    }
+    for (uint32_t i = 0; i < nj; i++) {
+        for (uint32_t j = 0; j < i; j++) {
+            F[i][j] = F[j][i];
+        }
+    }
+    out->sse = se;
+    out->np = nj;
+    lags_rho(&L, n, se, out->rho);
+    return PDT_OK;
+}
+
+pdt_real_t pdt_fisher_inflation(const pdt_fisher_sums_t *s)
+{
+    pdt_real_t infl = PDT_R(1.0);
+    for (size_t l = 0; l < PDT_FISHER_LAGS; l++) {
+        infl += PDT_R(2.0) * s->rho[l];
+    }
+    return infl > PDT_R(1.0) ? infl : PDT_R(1.0);
+}
+
+void pdt_fisher_covariance(pdt_fisher_matrix_t F, uint32_t np, size_t n, pdt_real_t sse,
+                           pdt_real_t inflation, pdt_real_t *sd, pdt_fisher_matrix_t cov)
+{
+    pdt_fisher_matrix_t Inv;
+    const pdt_real_t s2 = sse / (pdt_real_t)(n - np) * inflation;
+    bool undet[PDT_FISHER_MAX];
+    const bool ok = invert(F, Inv, np, undet);
+    for (uint32_t i = 0; i < np; i++) {
+        for (uint32_t j = 0; j < np; j++) {
+            cov[i][j] = ok ? s2 * Inv[i][j] : (pdt_real_t)INFINITY;
+        }
+        /* An undetermined parameter: std +infinity, covariance 0 (the
+         * others' covariance is conditional on it). */
+        const bool fin = ok && !undet[i] && cov[i][i] >= PDT_R(0.0);
+        sd[i] = fin ? pdt_sqrt(cov[i][i]) : (pdt_real_t)INFINITY;
+    }
+}
