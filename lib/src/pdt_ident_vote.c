@@ -15,6 +15,8 @@
 /* Answers this close in normalised genes are one basin whatever their
  * costs (an exact fit's cost is all rounding, its ratios meaningless). */
 #define AGREE_GENES    PDT_R(0.01)
+/* 99 % quantile of chi-square with one degree of freedom. */
+#define CHI2_1_99      PDT_R(6.635)
 /* A gene this close to its bound (normalised) lies on it. */
 #define BOUND_TOL      PDT_R(1e-3)
 
@@ -158,9 +160,14 @@ void pdt_ident_finish(pdt_ident_t *c)
         m.p.sopdt.k = c->best.gain;
     }
     if (m.kind == PDT_MODEL_SOPDT && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
-        /* A lag a hundred records long cannot be told from an integrator in
-         * this record: report the integrator (b = 0) rather than a DC gain
-         * the data do not determine. Its cost is scored again. */
+        /* A lag a hundred records long may not be told from an integrator
+         * in this record: then report the integrator (b = 0) rather than a
+         * DC gain the data do not determine. Told apart means the lag's
+         * cost is lower by more than chance explains: n ln(C_int / C_lag)
+         * above the 99 % quantile of chi-square with one degree of freedom
+         * (the one parameter b), the likelihood-ratio test. Reporting the
+         * integrator whatever the costs left the answer 1 % above the
+         * optimum on 9 of 24000 records of the certainty battery. */
         pdt_real_t a = m.p.sopdt.a, b = m.p.sopdt.b, disc = a * a - PDT_R(4.0) * b;
         pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
         if (disc >= PDT_R(0.0) && PDT_R(2.0) * b * PDT_R(100.0) * T < a + pdt_sqrt(disc)) {
@@ -178,7 +185,8 @@ void pdt_ident_finish(pdt_ident_t *c)
                 glo = c->best.gain;
                 ghi = c->best.gain;
             }
-            if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) == PDT_OK) {
+            if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) == PDT_OK &&
+                !(pr.ncost > c->best.cost * pdt_exp(CHI2_1_99 / (pdt_real_t)c->data.n))) {
                 m.p.sopdt.b = PDT_R(0.0);
                 m.p.sopdt.k = pr.gain;
                 c->best.gain = pr.gain;
