@@ -10,7 +10,7 @@
 #include "pdt/pdt_common.h"
 #include "pdt/pdt_discrete.h"
 
-#if defined(__GNUC__) && (defined(__SSE2__) || defined(__ARM_NEON))
+#if PDT_VECTOR_LANES == 4
 #define PDT_COST_KERNEL_VECTOR 1
 #else
 #define PDT_COST_KERNEL_VECTOR 0

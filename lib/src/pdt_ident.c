@@ -505,7 +505,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 
 /* What a stage needs before it runs (STAGE_NEEDS of pdt_ident_step). */
 #define NEEDS_BUDGET 1u /* an evaluation left in this call */
-#define EVALUATES    2u /* uses one of them */
+#define EVALUATES    2u /* uses them: one, or one per evaluation made */
 #define HEAVY        4u /* as costly as init: one per call */
 
 /* A switch, not a table of function pointers: the call graph stays static,
@@ -577,11 +577,21 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
             return PDT_ERR_STATE;
         }
         const uint32_t needs = STAGE_NEEDS[ctx->phase];
-        if (((needs & NEEDS_BUDGET) != 0u && budget == 0u) || ((needs & HEAVY) != 0u && heavy)) {
+        /* A population group needs the budget for all its members; one
+         * larger than a whole call's budget still runs, alone. */
+        const bool group = ctx->phase == PH_INIT_POP || ctx->phase == PH_EVAL_OFF;
+        uint32_t want = group ? pdt_ident_ga_group(ctx) : 1u;
+        want = want < max_evaluations ? want : max_evaluations;
+        if (((needs & NEEDS_BUDGET) != 0u && budget < want) || ((needs & HEAVY) != 0u && heavy)) {
             return PDT_RUNNING;
         }
+        const uint32_t before = ctx->evaluations;
         run_stage(ctx);
-        budget -= (needs & EVALUATES) != 0u ? 1u : 0u;
+        if ((needs & EVALUATES) != 0u) {
+            const uint32_t used = ctx->evaluations - before;
+            const uint32_t units = used > 1u ? used : 1u;
+            budget = budget > units ? budget - units : 0u;
+        }
         heavy = heavy || (needs & HEAVY) != 0u;
     }
     return PDT_OK;

@@ -69,13 +69,31 @@ static void generation_end(pdt_ident_t *c)
     }
 }
 
+uint32_t pdt_ident_ga_group(const pdt_ident_t *c)
+{
+    const uint32_t left = c->cfg.population - c->ga.next;
+    return left < PDT_VECTOR_LANES ? left : PDT_VECTOR_LANES;
+}
+
+/* A group of individuals from index i: one evaluation each, in one pass
+ * where the build has vector lanes. */
+static void eval_group(pdt_ident_t *c, pdt_real_t *genes, pdt_real_t *cost, pdt_real_t *gain,
+                       pdt_real_t *offset)
+{
+    const uint32_t i = c->ga.next, count = pdt_ident_ga_group(c);
+    if (count == 1u) {
+        pdt_ident_evaluate(c, &genes[i * c->genes], &cost[i], &gain[i], &offset[i]);
+    } else {
+        pdt_ident_evaluate_many(c, &genes[i * c->genes], count, &cost[i], &gain[i], &offset[i]);
+    }
+    c->ga.next += count;
+}
+
 void pdt_ident_ga_eval_parent(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
-    const uint32_t i = ga->next;
-    pdt_ident_evaluate(c, &ga->pop[i * c->genes], &ga->pop_cost[i], &ga->pop_gain[i],
-                       &ga->pop_offset[i]);
-    if (++ga->next == c->cfg.population) {
+    eval_group(c, ga->pop, ga->pop_cost, ga->pop_gain, ga->pop_offset);
+    if (ga->next == c->cfg.population) {
         generation_end(c);
     }
 }
@@ -169,10 +187,8 @@ static void survive(pdt_ident_t *c)
 void pdt_ident_ga_eval_offspring(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
-    const uint32_t i = ga->next;
-    pdt_ident_evaluate(c, &ga->off[i * c->genes], &ga->off_cost[i], &ga->off_gain[i],
-                       &ga->off_offset[i]);
-    if (++ga->next == c->cfg.population) {
+    eval_group(c, ga->off, ga->off_cost, ga->off_gain, ga->off_offset);
+    if (ga->next == c->cfg.population) {
         survive(c);
         generation_end(c);
     }

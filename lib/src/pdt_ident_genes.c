@@ -83,11 +83,16 @@ void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
         pdt_real_t a = pdt_exp(-g[0]);
         pdt_real_t h = PDT_R(0.5) * a * g[1] * g[1] / c->cfg.zeta_min;
         m->kind = PDT_MODEL_SOPDT;
-        m->p.sopdt.k = PDT_R(1.0);
         m->p.sopdt.a = a;
         m->p.sopdt.b = h * h;
+        m->p.sopdt.k = pdt_ident_sopdt_unit(c, &m->p.sopdt);
         m->p.sopdt.Td = Td;
     }
+}
+
+pdt_real_t pdt_ident_sopdt_unit(const pdt_ident_t *c, const pdt_model_sopdt_t *p)
+{
+    return p->b + p->a / (c->cfg.Ts * (pdt_real_t)c->data.n);
 }
 
 void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
@@ -100,49 +105,90 @@ void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_r
         return;
     }
     if (shape->kind == PDT_MODEL_SOPDT) {
-        scale = shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a;
+        /* K = k / b, or Ki = k / a for an integrator, k = gain unit. */
+        scale = (shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a) /
+                shape->p.sopdt.k;
     }
     *lo = c->cfg.K_min * scale;
     *hi = c->cfg.K_max * scale;
 }
 
+/* The search's best follows the candidates. */
+static void track_best(pdt_ident_t *c, const pdt_real_t *g, const pdt_cost_profile_t *pr)
+{
+    pdt_ident_best_t *best = &c->best;
+    if (pr->ncost < best->cost) {
+        best->cost = pr->ncost;
+        best->gain = pr->gain;
+        best->offset = pr->offset;
+        for (uint32_t j = 0; j < c->genes; j++) {
+            best->genes[j] = g[j];
+        }
+    }
+}
+
+static void take(const pdt_cost_profile_t *pr, bool ok, pdt_real_t *cost, pdt_real_t *gain,
+                 pdt_real_t *offset)
+{
+    ok = ok && pr->ncost == pr->ncost;
+    *cost = ok ? pr->ncost : PDT_REAL_MAX;
+    *gain = ok ? pr->gain : PDT_R(0.0);
+    *offset = ok ? pr->offset : PDT_R(0.0);
+}
+
+/* The best so far is the reference fit of the cost's one pass. Shapes
+ * carry their gain unit (pdt_ident_shape), so the best's gain multiplier
+ * suits every shape of the model. */
 void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_real_t *gain,
                         pdt_real_t *offset)
 {
     pdt_model_t shape;
     pdt_cost_profile_t pr;
     pdt_real_t glo, ghi;
-    pdt_ident_best_t *best = &c->best;
+    const pdt_cost_hint_t hint = {c->best.gain, c->best.offset, c->best.cost};
     pdt_ident_shape(c, g, &shape);
     pdt_ident_gain_bounds(c, &shape, &glo, &ghi);
     c->evaluations++;
-    /* The best so far is the reference fit of the cost's one pass, its gain
-     * carried over to this shape's unit: b + a / T (T the record's length)
-     * moves smoothly from a lag's DC gain to an integrator's. */
-    pdt_cost_hint_t hint = {best->gain, best->offset, best->cost};
-    if (shape.kind == PDT_MODEL_SOPDT && best->cost < PDT_REAL_MAX) {
-        pdt_model_t bm;
-        const pdt_real_t T = c->cfg.Ts * (pdt_real_t)c->data.n;
-        pdt_ident_shape(c, best->genes, &bm);
-        hint.gain = best->gain * (shape.p.sopdt.b + shape.p.sopdt.a / T) /
-                    (bm.p.sopdt.b + bm.p.sopdt.a / T);
+    const bool ok =
+        pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) == PDT_OK;
+    take(&pr, ok, cost, gain, offset);
+    if (ok) {
+        track_best(c, g, &pr);
     }
-    if (pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) != PDT_OK ||
-        !(pr.ncost == pr.ncost)) {
-        *cost = PDT_REAL_MAX;
-        *gain = PDT_R(0.0);
-        *offset = PDT_R(0.0);
-        return;
+}
+
+void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count, pdt_real_t *cost,
+                             pdt_real_t *gain, pdt_real_t *offset)
+{
+    pdt_model_t shapes[PDT_COST_MANY] = {{0}};
+    pdt_real_t glo[PDT_COST_MANY] = {PDT_R(0.0)}, ghi[PDT_COST_MANY] = {PDT_R(0.0)};
+    pdt_cost_profile_t pr[PDT_COST_MANY];
+    const pdt_cost_hint_t hint = {c->best.gain, c->best.offset, c->best.cost};
+    const uint32_t G = c->genes;
+    for (uint32_t i = 0; i < count; i++) {
+        pdt_ident_shape(c, &g[i * G], &shapes[i]);
+        pdt_ident_gain_bounds(c, &shapes[i], &glo[i], &ghi[i]);
     }
-    *cost = pr.ncost;
-    *gain = pr.gain;
-    *offset = pr.offset;
-    if (pr.ncost < best->cost) {
-        best->cost = pr.ncost;
-        best->gain = pr.gain;
-        best->offset = pr.offset;
-        for (uint32_t j = 0; j < c->genes; j++) {
-            best->genes[j] = g[j];
+    if (pdt_cost_profile_many(&c->cost, shapes, count, glo, ghi, &hint, c->scratch, pr) != PDT_OK) {
+        /* One shape the cost refuses: each on its own, as the single
+         * evaluation scores it. */
+        for (uint32_t i = 0; i < count; i++) {
+            const bool ok = pdt_cost_profile_hint(&c->cost, &shapes[i], glo[i], ghi[i], &hint,
+                                                  c->scratch, &pr[i]) == PDT_OK;
+            take(&pr[i], ok, &cost[i], &gain[i], &offset[i]);
+            if (!ok) {
+                pr[i].ncost = PDT_REAL_MAX;
+            }
+        }
+    } else {
+        for (uint32_t i = 0; i < count; i++) {
+            take(&pr[i], true, &cost[i], &gain[i], &offset[i]);
+        }
+    }
+    c->evaluations += count;
+    for (uint32_t i = 0; i < count; i++) {
+        if (cost[i] < PDT_REAL_MAX) {
+            track_best(c, &g[i * G], &pr[i]);
         }
     }
 }

@@ -75,15 +75,31 @@ void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m);
 void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
                            pdt_real_t *hi);
 
+/* A SOPDT shape's gain unit k = b + a / T (T the record's length): it moves
+ * smoothly from a lag's DC gain to an integrator's, so one gain multiplier
+ * suits every shape near the best (the cost's reference fit). */
+pdt_real_t pdt_ident_sopdt_unit(const pdt_ident_t *c, const pdt_model_sopdt_t *p);
+
 /* One evaluation of a genome: its cost (PDT_REAL_MAX when it cannot be
- * scored), gain and offset; the search's best follows it. */
+ * scored), gain multiplier and offset; the search's best follows it. */
 void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_real_t *gain,
                         pdt_real_t *offset);
+
+/* count (1 .. PDT_COST_MANY) genomes in a row at g, evaluated in one pass
+ * over the record where the host can (pdt_cost_profile_many), with the
+ * best before them as the reference: the results of count evaluations. */
+void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count, pdt_real_t *cost,
+                             pdt_real_t *gain, pdt_real_t *offset);
 
 /* ---- pdt_ident_ga.c */
 
 /* A search from scratch: a Latin hypercube population, the GA reset. */
 void pdt_ident_ga_start(pdt_ident_t *c);
+/* The individuals the next population stage evaluates together: up to
+ * PDT_VECTOR_LANES from an index that is a multiple of it, fewer at the
+ * population's end. Fixed by the index alone, so the answer does not
+ * depend on how the work is split into calls. */
+uint32_t pdt_ident_ga_group(const pdt_ident_t *c);
 void pdt_ident_ga_eval_parent(pdt_ident_t *c);
 void pdt_ident_ga_breed(pdt_ident_t *c);
 void pdt_ident_ga_eval_offspring(pdt_ident_t *c);

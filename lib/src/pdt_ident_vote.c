@@ -154,10 +154,11 @@ void pdt_ident_finish(pdt_ident_t *c)
 {
     pdt_model_t m;
     pdt_ident_shape(c, c->best.genes, &m);
+    /* The shape's gain unit times the multiplier found. */
     if (m.kind == PDT_MODEL_FOPDT) {
-        m.p.fopdt.K = c->best.gain;
+        m.p.fopdt.K *= c->best.gain;
     } else {
-        m.p.sopdt.k = c->best.gain;
+        m.p.sopdt.k *= c->best.gain;
     }
     if (m.kind == PDT_MODEL_SOPDT && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
         /* A lag a hundred records long may not be told from an integrator
@@ -175,7 +176,7 @@ void pdt_ident_finish(pdt_ident_t *c)
             pdt_model_t shape = m;
             pdt_real_t glo, ghi;
             shape.p.sopdt.b = PDT_R(0.0);
-            shape.p.sopdt.k = PDT_R(1.0);
+            shape.p.sopdt.k = pdt_ident_sopdt_unit(c, &shape.p.sopdt);
             pdt_ident_gain_bounds(c, &shape, &glo, &ghi);
             c->evaluations++;
             /* Gain and offset solved again for the integrator (the
@@ -188,7 +189,7 @@ void pdt_ident_finish(pdt_ident_t *c)
             if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) == PDT_OK &&
                 !(pr.ncost > c->best.cost * pdt_exp(CHI2_1_99 / (pdt_real_t)c->data.n))) {
                 m.p.sopdt.b = PDT_R(0.0);
-                m.p.sopdt.k = pr.gain;
+                m.p.sopdt.k = shape.p.sopdt.k * pr.gain;
                 c->best.gain = pr.gain;
                 c->best.cost = pr.ncost;
                 c->best.offset = (c->cfg.cost == PDT_COST_FREQUENCY) ? c->best.offset : pr.offset;

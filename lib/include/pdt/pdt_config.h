@@ -74,6 +74,22 @@
 #error "PDT_MAX_SAMPLES must be between 64 and 2^27"
 #endif
 
+/* Candidates the identification evaluates in one pass over the record, a
+ * vector lane each: 4 where GCC or Clang offers SSE2 or NEON, else 1 (a
+ * Cortex-M has no lanes to use). Define as 1 to leave the vector kernel
+ * out; with 4, one call of pdt_ident_step may evaluate a whole group when
+ * asked for fewer (docs/ident-engine.md). */
+#ifndef PDT_VECTOR_LANES
+#if defined(__GNUC__) && (defined(__SSE2__) || defined(__ARM_NEON))
+#define PDT_VECTOR_LANES 4
+#else
+#define PDT_VECTOR_LANES 1
+#endif
+#endif
+#if (PDT_VECTOR_LANES != 1) && (PDT_VECTOR_LANES != 4)
+#error "PDT_VECTOR_LANES must be 1 or 4"
+#endif
+
 /* Checks of programmer errors that cost time on every call. By default they
  * compile to nothing; define PDT_ASSERT(x) to your handler to enable them,
  * for example to the port's handler (port/pdt_port.h), in a user config
