@@ -29,7 +29,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.Ts = fz_pos(&f);
     cfg.cost = (pdt_cost_kind_t)fz_enum(&f, 4);
     cfg.time_kind = (pdt_cost_kind_t)fz_enum(&f, 2);
-    cfg.weight = (pdt_weight_kind_t)fz_enum(&f, 5);
+    cfg.weight = (pdt_ident_weight_t)fz_enum(&f, 5);
     cfg.delay_mode = (pdt_delay_mode_t)fz_enum(&f, 2);
     uint8_t knobs = fz_u8(&f);
     if (knobs & 1u) {
