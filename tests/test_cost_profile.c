@@ -10,6 +10,7 @@
  * and every bad-input status with outputs left untouched.
  */
 #include "test_util.h"
+#include "sim_rng.h"
 
 #include "cost_accuracy_vectors.h"
 #include "cost_profile_vectors.h"
@@ -410,13 +411,12 @@ static pdt_real_t g_ascratch[CAV_NMAX];
 /* The record of a case, rebuilt with the generator's double arithmetic. */
 static void cav_record(const cav_case_t *v)
 {
-    uint32_t st = v->seed;
+    sim_rng_t st = sim_rng_seed(v->seed);
     double x = 0.0;
     static double ud[CAV_NMAX];
     assert_true(v->n <= CAV_NMAX);
     for (size_t k = 0; k < v->n; k += v->hold) {
-        st = 1664525u * st + 1013904223u;
-        double level = ((double)st / 4294967296.0 < 0.5) ? 1.0 : -1.0;
+        double level = ((double)sim_rng_next(&st) / 4294967296.0 < 0.5) ? 1.0 : -1.0;
         for (size_t j = k; j < k + v->hold && j < v->n; j++) {
             ud[j] = level;
         }
@@ -424,8 +424,7 @@ static void cav_record(const cav_case_t *v)
     for (size_t k = 0; k < v->n; k++) {
         double sum = 0.0;
         for (int i = 0; i < 4; i++) {
-            st = 1664525u * st + 1013904223u;
-            sum += (double)st / 4294967296.0;
+            sum += (double)sim_rng_next(&st) / 4294967296.0;
         }
         double noise = v->amp * (sum - 2.0);
         double uin = (k >= 1u + CAV_PLANT_L) ? ud[k - 1u - CAV_PLANT_L] : 0.0;

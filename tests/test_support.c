@@ -2,7 +2,9 @@
  * Tests of the test-support simulator (tests/support/sim_plant.c) against
  * closed forms: the exact sampled FOPDT with a fractional dead time
  * (docs/equations.md), step responses of a lag with a zero on either side,
- * of a complex pair, of an integrator, and the refusals.
+ * of a complex pair, of an integrator, and the refusals; a realisation
+ * loaded from outside and a reset give the same outputs; the 64-bit
+ * generator's stream and normals.
  */
 #include "test_util.h"
 
@@ -126,6 +128,74 @@ static void test_biproper(void **state)
     assert_close(sim_plant_output(&p), 1.0 + 2.0 * exp(-0.1), 1e-12, 1e-12);
 }
 
+/* A realisation loaded as such (the benchmark's way) runs as the plant it
+ * came from, and a reset starts the same run again. */
+static void test_discrete_and_reset(void **state)
+{
+    (void)state;
+    const double lags[2] = {2.0, 0.7};
+    sim_plant_desc_t d = desc(-1.2, lags, 2u, 0.37);
+    d.wn = 1.3;
+    d.zeta = 0.3;
+    sim_plant_t p, q;
+    static double hq[64];
+    assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, 4096u), 0);
+    assert_int_equal(p.l, 3u);
+    assert_int_equal(sim_plant_init_discrete(&q, p.n, p.l, p.Phi, p.Gam, p.Gam_prev, p.C, hq, 64u),
+                     0);
+    double first[300];
+    sim_rng_t r = sim_rng_seed(11u);
+    for (int pass = 0; pass < 2; pass++) {
+        for (size_t k = 0; k < 300u; k++) {
+            const double u = pass == 0 ? sim_rng_uniform(&r) : 0.0;
+            if (pass == 0) {
+                first[k] = u;
+            }
+            assert_close(sim_plant_output(&q), sim_plant_output(&p), 0.0, 1e-15);
+            sim_plant_apply(&p, first[k]);
+            sim_plant_apply(&q, first[k]);
+        }
+        if (pass == 0) {
+            assert_true(fabs(sim_plant_output(&p)) > 0.1);
+            sim_plant_reset(&p);
+            sim_plant_reset(&q);
+            assert_true(sim_plant_output(&p) == 0.0 && sim_plant_output(&q) == 0.0);
+        }
+    }
+    /* refusals: no states, too many, a NaN, a history too short */
+    assert_int_equal(sim_plant_init_discrete(&q, 0u, 0u, p.Phi, p.Gam, p.Gam_prev, p.C, hq, 64u),
+                     -1);
+    assert_int_equal(sim_plant_init_discrete(&q, SIM_PLANT_MAX_STATES + 1u, 0u, p.Phi, p.Gam,
+                                             p.Gam_prev, p.C, hq, 64u),
+                     -1);
+    p.Gam[1] = NAN;
+    assert_int_equal(sim_plant_init_discrete(&q, p.n, 0u, p.Phi, p.Gam, p.Gam_prev, p.C, hq, 64u),
+                     -1);
+    p.Gam[1] = 0.0;
+    assert_int_equal(sim_plant_init_discrete(&q, p.n, 63u, p.Phi, p.Gam, p.Gam_prev, p.C, hq, 64u),
+                     -1);
+}
+
+/* splitmix64's published first outputs from state 0, and normals of mean 0
+ * and deviation 1. */
+static void test_rng64(void **state)
+{
+    (void)state;
+    sim_rng64_t r = sim_rng64_seed(0u);
+    assert_true(sim_rng64_next(&r) == 0xE220A8397B1DCDAFull);
+    assert_true(sim_rng64_next(&r) == 0x6E789E6AA1B965F4ull);
+    r = sim_rng64_seed(12345u);
+    double s1 = 0.0, s2 = 0.0;
+    const int n = 100000;
+    for (int i = 0; i < n; i++) {
+        const double z = sim_rng64_normal(&r);
+        s1 += z;
+        s2 += z * z;
+    }
+    assert_close(s1 / n, 0.0, 0.0, 0.01);
+    assert_close(s2 / n, 1.0, 0.0, 0.02);
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -184,7 +254,8 @@ int main(void)
         cmocka_unit_test(test_fopdt_exact),  cmocka_unit_test(test_lag_with_zero),
         cmocka_unit_test(test_complex_pair), cmocka_unit_test(test_integrator),
         cmocka_unit_test(test_biproper),     cmocka_unit_test(test_refusals),
-        cmocka_unit_test(test_frequency),
+        cmocka_unit_test(test_frequency),    cmocka_unit_test(test_discrete_and_reset),
+        cmocka_unit_test(test_rng64),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
