@@ -46,12 +46,7 @@ typedef struct plant {
 static void plant_init(plant_t *p, double u_rest)
 {
     const double lag[1] = {PLANT_TAU};
-    sim_plant_desc_t d;
-    memset(&d, 0, sizeof d);
-    d.K = PLANT_K;
-    d.lags = lag;
-    d.n_lags = 1u;
-    d.delay = PLANT_TD;
+    const sim_plant_desc_t d = sim_plant_desc_lags(PLANT_K, lag, 1u, PLANT_TD);
     assert_int_equal(
         sim_plant_init(&p->sim, &d, SCAN, u_rest, PLANT_PV0 + PLANT_K * u_rest, p->hist, 64u), 0);
     p->load = 0.0;

@@ -7,7 +7,6 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <string.h>
 #include <setjmp.h>
 #include <cmocka.h>
 
@@ -37,12 +36,7 @@ static void make_record(void)
 {
     static double hist[64];
     const double lag[1] = {SC_TAU};
-    sim_plant_desc_t d;
-    memset(&d, 0, sizeof d);
-    d.K = SC_K;
-    d.lags = lag;
-    d.n_lags = 1u;
-    d.delay = SC_TD;
+    const sim_plant_desc_t d = sim_plant_desc_lags(SC_K, lag, 1u, SC_TD);
     sim_plant_t p;
     assert_int_equal(sim_plant_init(&p, &d, SC_TS, SC_U0, SC_Y0, hist, 64u), 0);
     sim_rng_t r = sim_rng_seed(12345u);

@@ -13,24 +13,13 @@
 
 static double g_hist[4096];
 
-static sim_plant_desc_t desc(double K, const double *lags, size_t n_lags, double delay)
-{
-    sim_plant_desc_t d;
-    memset(&d, 0, sizeof d);
-    d.K = K;
-    d.lags = lags;
-    d.n_lags = n_lags;
-    d.delay = delay;
-    return d;
-}
-
 /* y(k) = a y(k-1) + b1 u(k-1-l) + b2 u(k-2-l), the exact ZOH FOPDT. */
 static void test_fopdt_exact(void **state)
 {
     (void)state;
     const double K = 1.7, T = 2.3, Ts = 0.1, Td = 0.73;
     const double lags[1] = {T};
-    sim_plant_desc_t d = desc(K, lags, 1u, Td);
+    sim_plant_desc_t d = sim_plant_desc_lags(K, lags, 1u, Td);
     sim_plant_t p;
     assert_int_equal(sim_plant_init(&p, &d, Ts, 5.0, 20.0, g_hist, 4096u), 0);
     const double a = exp(-Ts / T);
@@ -60,7 +49,7 @@ static void test_lag_with_zero(void **state)
     const double lags[1] = {1.5};
     for (int sgn = -1; sgn <= 1; sgn += 2) {
         const double zeros[1] = {0.6 * sgn};
-        sim_plant_desc_t d = desc(2.0, lags, 1u, 0.25);
+        sim_plant_desc_t d = sim_plant_desc_lags(2.0, lags, 1u, 0.25);
         d.zeros = zeros;
         d.n_zeros = 1u;
         sim_plant_t p;
@@ -81,7 +70,7 @@ static void test_lag_with_zero(void **state)
 static void test_complex_pair(void **state)
 {
     (void)state;
-    sim_plant_desc_t d = desc(1.3, NULL, 0u, 0.0);
+    sim_plant_desc_t d = sim_plant_desc_lags(1.3, NULL, 0u, 0.0);
     d.wn = 0.8;
     d.zeta = 0.3;
     sim_plant_t p;
@@ -100,7 +89,7 @@ static void test_integrator(void **state)
 {
     (void)state;
     const double lags[1] = {0.7};
-    sim_plant_desc_t d = desc(0.4, lags, 1u, 0.0);
+    sim_plant_desc_t d = sim_plant_desc_lags(0.4, lags, 1u, 0.0);
     d.integrating = true;
     sim_plant_t p;
     assert_int_equal(sim_plant_init(&p, &d, 0.2, 1.0, 3.0, g_hist, 4096u), 0);
@@ -118,7 +107,7 @@ static void test_biproper(void **state)
     (void)state;
     const double lags[1] = {1.0};
     const double zeros[1] = {3.0};
-    sim_plant_desc_t d = desc(1.0, lags, 1u, 0.0);
+    sim_plant_desc_t d = sim_plant_desc_lags(1.0, lags, 1u, 0.0);
     d.zeros = zeros;
     d.n_zeros = 1u;
     sim_plant_t p;
@@ -134,7 +123,7 @@ static void test_discrete_and_reset(void **state)
 {
     (void)state;
     const double lags[2] = {2.0, 0.7};
-    sim_plant_desc_t d = desc(-1.2, lags, 2u, 0.37);
+    sim_plant_desc_t d = sim_plant_desc_lags(-1.2, lags, 2u, 0.37);
     d.wn = 1.3;
     d.zeta = 0.3;
     sim_plant_t p, q;
@@ -202,15 +191,15 @@ static void test_refusals(void **state)
     const double lags[2] = {1.0, -1.0};
     const double zeros[2] = {1.0, 2.0};
     sim_plant_t p;
-    sim_plant_desc_t d = desc(1.0, lags, 1u, 0.0);
+    sim_plant_desc_t d = sim_plant_desc_lags(1.0, lags, 1u, 0.0);
     assert_int_equal(sim_plant_init(NULL, &d, 0.1, 0.0, 0.0, g_hist, 4096u), -1);
     assert_int_equal(sim_plant_init(&p, &d, 0.0, 0.0, 0.0, g_hist, 4096u), -1);
     d.zeros = zeros;
     d.n_zeros = 2u; /* improper */
     assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, 4096u), -1);
-    d = desc(1.0, lags, 2u, 0.0); /* a negative lag */
+    d = sim_plant_desc_lags(1.0, lags, 2u, 0.0); /* a negative lag */
     assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, 4096u), -1);
-    d = desc(1.0, lags, 1u, 10.0); /* 100 scans of delay, 10 of history */
+    d = sim_plant_desc_lags(1.0, lags, 1u, 10.0); /* 100 scans of delay, 10 of history */
     assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, 10u), -1);
     assert_int_equal(sim_plant_init(&p, &d, 0.1, 0.0, 0.0, g_hist, SIM_PLANT_HIST_LEN(10.0, 0.1)),
                      0);
@@ -224,7 +213,7 @@ static void test_frequency(void **state)
     (void)state;
     const double lags[1] = {2.0};
     const double zeros[1] = {-0.5};
-    sim_plant_desc_t d = desc(-1.5, lags, 1u, 0.3);
+    sim_plant_desc_t d = sim_plant_desc_lags(-1.5, lags, 1u, 0.3);
     d.zeros = zeros;
     d.n_zeros = 1u;
     d.wn = 3.0;
@@ -239,7 +228,7 @@ static void test_frequency(void **state)
     assert_close(ph, -M_PI - 0.3 * w - atan(2.0 * w) + atan(-0.5 * w) - atan2(im, re) - M_PI / 2,
                  1e-14, 0.0);
     const double one[1] = {1.0};
-    sim_plant_desc_t f = desc(2.0, one, 1u, 1.0);
+    sim_plant_desc_t f = sim_plant_desc_lags(2.0, one, 1u, 1.0);
     const double wu = sim_plant_ultimate_w(&f, 1.0);
     assert_close(atan(wu) + wu, M_PI, 1e-12, 0.0);
     f.K = -2.0; /* the sign of the gain does not move the crossover */

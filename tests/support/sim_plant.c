@@ -44,6 +44,20 @@ static int add_section(build_t *b, size_t ns, const double *As, const double *Bs
     return 0;
 }
 
+/* A B of n x n matrices, rows `stride` apart, into P (not A or B). */
+static void matmul(const double *A, const double *B, size_t n, size_t stride, double *P)
+{
+    for (size_t i = 0; i < n; i++) {
+        for (size_t j = 0; j < n; j++) {
+            double acc = 0.0;
+            for (size_t q = 0; q < n; q++) {
+                acc += A[i * stride + q] * B[q * stride + j];
+            }
+            P[i * stride + j] = acc;
+        }
+    }
+}
+
 /* exp(M) of an m x m matrix (row-major, stride MMAX) into E. */
 static void expm(const double *M, size_t m, double *E)
 {
@@ -70,32 +84,17 @@ static void expm(const double *M, size_t m, double *E)
         }
     }
     for (int k = 1; k <= 24; k++) {
+        matmul(term, M, m, MMAX, next);
         for (size_t i = 0; i < m; i++) {
             for (size_t j = 0; j < m; j++) {
-                double acc = 0.0;
-                for (size_t q = 0; q < m; q++) {
-                    acc += term[i * MMAX + q] * M[q * MMAX + j];
-                }
-                next[i * MMAX + j] = acc * scale / (double)k;
-            }
-        }
-        for (size_t i = 0; i < m; i++) {
-            for (size_t j = 0; j < m; j++) {
+                next[i * MMAX + j] = next[i * MMAX + j] * scale / (double)k;
                 term[i * MMAX + j] = next[i * MMAX + j];
                 E[i * MMAX + j] += next[i * MMAX + j];
             }
         }
     }
     for (int r = 0; r < s; r++) {
-        for (size_t i = 0; i < m; i++) {
-            for (size_t j = 0; j < m; j++) {
-                double acc = 0.0;
-                for (size_t q = 0; q < m; q++) {
-                    acc += E[i * MMAX + q] * E[q * MMAX + j];
-                }
-                next[i * MMAX + j] = acc;
-            }
-        }
+        matmul(E, E, m, MMAX, next);
         memcpy(E, next, sizeof next);
     }
 }
@@ -181,20 +180,6 @@ static int realise(const sim_plant_desc_t *d, build_t *b)
     return (z == d->n_zeros) ? 0 : -1;
 }
 
-/* A * B of n x n matrices (row-major) into P. */
-static void matmul(const double *A, const double *B, size_t n, double *P)
-{
-    for (size_t i = 0; i < n; i++) {
-        for (size_t j = 0; j < n; j++) {
-            double acc = 0.0;
-            for (size_t q = 0; q < n; q++) {
-                acc += A[i * n + q] * B[q * n + j];
-            }
-            P[i * n + j] = acc;
-        }
-    }
-}
-
 /* M v of an n x n matrix into out. */
 static void matvec(const double *M, const double *v, size_t n, double *out)
 {
@@ -217,6 +202,17 @@ static int set_history(sim_plant_t *p, size_t l, double *hist, size_t hist_len)
     p->hist = hist;
     p->hist_len = l + 2u;
     return 0;
+}
+
+sim_plant_desc_t sim_plant_desc_lags(double K, const double *lags, size_t n_lags, double delay)
+{
+    sim_plant_desc_t d;
+    memset(&d, 0, sizeof d);
+    d.K = K;
+    d.lags = lags;
+    d.n_lags = n_lags;
+    d.delay = delay;
+    return d;
 }
 
 int sim_plant_init(sim_plant_t *p, const sim_plant_desc_t *d, double Ts, double u0, double y0,
@@ -254,7 +250,7 @@ int sim_plant_init(sim_plant_t *p, const sim_plant_desc_t *d, double Ts, double 
         double Phi1[NMAX * NMAX], Gam1[NMAX], Phi2[NMAX * NMAX];
         discretize(&b, f * Ts, Phi1, Gam1);
         discretize(&b, (1.0 - f) * Ts, Phi2, p->Gam);
-        matmul(Phi2, Phi1, b.n, p->Phi);
+        matmul(Phi2, Phi1, b.n, b.n, p->Phi);
         matvec(Phi2, Gam1, b.n, p->Gam_prev);
     } else {
         discretize(&b, Ts, p->Phi, p->Gam);

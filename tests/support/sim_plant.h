@@ -66,6 +66,10 @@ typedef struct sim_plant {
     double u0, y0;                  /* the operating point */
 } sim_plant_t;
 
+/* The description of K e^{-delay s} / prod_i (lags[i] s + 1), the rest
+ * zero; lags must outlive its use. */
+sim_plant_desc_t sim_plant_desc_lags(double K, const double *lags, size_t n_lags, double delay);
+
 /* Prepares p at rest: output y0 with the input held at u0 (for an
  * integrating plant, y0 stays while u = u0). Ts > 0, s. hist holds the
  * delayed inputs: at least SIM_PLANT_HIST_LEN(d->delay, Ts) doubles, kept

@@ -61,15 +61,12 @@ static inline pdt_model_t model_integ(double Ki, double T, double Td)
  * a <= 0). */
 static inline int sim_desc_of_model(const pdt_model_t *m, double *lag, sim_plant_desc_t *d)
 {
-    memset(d, 0, sizeof *d);
     if (m->kind == PDT_MODEL_FOPDT) {
         *lag = (double)m->p.fopdt.tau;
-        d->K = (double)m->p.fopdt.K;
-        d->lags = lag;
-        d->n_lags = 1u;
-        d->delay = (double)m->p.fopdt.Td;
+        *d = sim_plant_desc_lags((double)m->p.fopdt.K, lag, 1u, (double)m->p.fopdt.Td);
         return 0;
     }
+    memset(d, 0, sizeof *d);
     const double k = (double)m->p.sopdt.k, a = (double)m->p.sopdt.a, b = (double)m->p.sopdt.b;
     if (m->kind != PDT_MODEL_SOPDT || !(a > 0.0) || !(b >= 0.0)) {
         return -1;

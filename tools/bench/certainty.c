@@ -102,18 +102,14 @@ static const bcase_t cases[] = {
 static int plant_of(const bcase_t *c, double Ts, sim_plant_t *p, double *hist, size_t hist_len)
 {
     const double lag[1] = {c->p2};
-    sim_plant_desc_t d;
-    memset(&d, 0, sizeof d);
-    d.K = c->p1;
-    d.delay = c->Td;
-    if (c->plant == PLANT_SOPDT) {
+    sim_plant_desc_t d = sim_plant_desc_lags(c->p1, lag, 1u, c->Td);
+    if (c->plant == PLANT_SOPDT) { /* the pair instead of the lag */
+        d.lags = NULL;
+        d.n_lags = 0u;
         d.wn = c->p2;
         d.zeta = c->p3;
-    } else {
-        d.lags = lag;
-        d.n_lags = 1u;
-        d.integrating = c->plant == PLANT_INTEG;
     }
+    d.integrating = c->plant == PLANT_INTEG;
     return sim_plant_init(p, &d, Ts, 0.0, 0.0, hist, hist_len);
 }
 
