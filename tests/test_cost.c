@@ -50,14 +50,7 @@ static void load_set(const cost_vec_set_t *s)
 
 static void set_config(const cost_vec_set_t *s, pdt_cost_config_t *cfg)
 {
-    pdt_cost_config_default(cfg);
-    cfg->Ts = (pdt_real_t)s->Ts;
-    cfg->u0 = (pdt_real_t)s->u0;
-    cfg->y0 = (pdt_real_t)s->y0;
-    cfg->delay_min = s->delay_min;
-    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_HALF : s->delay_max;
-    cfg->f_lo = (pdt_real_t)s->f_lo;
-    cfg->f_hi = (pdt_real_t)s->f_hi;
+    VECTOR_COST_CONFIG(cfg, s);
     cfg->weights = g_w;
 }
 

@@ -20,8 +20,7 @@
 #include <time.h>
 
 #include "pdt_fb_autotune.h"
-#include "sim_plant.h"
-#include "sim_rng.h"
+#include "sim_process.h"
 
 #define R(x) ((pdt_real_t)(x))
 
@@ -323,11 +322,7 @@ static void test_idle_follows_manual(void **state)
 /* The SIMC gains of the true plant for the block's configuration. */
 static pdt_tune_result_t true_gains(const pdt_fb_autotune_t *fb)
 {
-    pdt_model_t m;
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = R(PLANT_K);
-    m.p.fopdt.tau = R(PLANT_TAU);
-    m.p.fopdt.Td = R(PLANT_TD);
+    const pdt_model_t m = model_fopdt(PLANT_K, PLANT_TAU, PLANT_TD);
     pdt_tune_config_t tc;
     pdt_tune_config_default(&tc);
     tc.rule = (pdt_tune_rule_t)fb->iRule;

@@ -170,12 +170,7 @@ static int check_fopdt(void)
     double etI = rel_err((double)r.res.tune.ideal.tauI, 10.0);
     ok = eK <= 0.03 && etau <= 0.03 && eTd <= 0.03 && eKc <= 0.06 && etI <= 0.03 &&
          r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;
-    tl_str(&l, "K ");
-    tl_num(&l, (double)g->K, 5);
-    tl_str(&l, " tau ");
-    tl_num(&l, (double)g->tau, 5);
-    tl_str(&l, " Td ");
-    tl_num(&l, (double)g->Td, 5);
+    tl_fopdt(&l, g);
     at_gains(&l, &r);
     int failed = t_verdict(ok, &l);
     at_report("FOPDT", &r);
@@ -206,14 +201,7 @@ static int check_sopdt(void)
     double eTd = fabs((double)gtc.Td - 2.0);
     ok = !gtc.complex && eK <= 0.03 && eT <= 0.05 && eTd <= 0.3 &&
          r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;
-    tl_str(&l, "K ");
-    tl_num(&l, (double)gtc.K, 5);
-    tl_str(&l, " T1 ");
-    tl_num(&l, (double)gtc.T1, 5);
-    tl_str(&l, " T2 ");
-    tl_num(&l, (double)gtc.T2, 5);
-    tl_str(&l, " Td ");
-    tl_num(&l, (double)gtc.Td, 5);
+    tl_tc(&l, &gtc);
     at_gains(&l, &r);
     int failed = t_verdict(ok, &l);
     at_report("SOPDT", &r);

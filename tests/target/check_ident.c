@@ -145,12 +145,7 @@ static int check_fopdt(void)
         tl_str(&l, pdt_status_str(st));
         return t_verdict(false, &l);
     }
-    tl_str(&l, "K ");
-    tl_num(&l, (double)res.model.p.fopdt.K, 5);
-    tl_str(&l, " tau ");
-    tl_num(&l, (double)res.model.p.fopdt.tau, 5);
-    tl_str(&l, " Td ");
-    tl_num(&l, (double)res.model.p.fopdt.Td, 5);
+    tl_fopdt(&l, &res.model.p.fopdt);
     tl_str(&l, " fit ");
     tl_num(&l, (double)res.fit, 4);
     tl_str(&l, "%; errors K ");
@@ -211,14 +206,7 @@ static int check_sopdt(void)
         tl_str(&l, pdt_status_str(st));
         return t_verdict(false, &l);
     }
-    tl_str(&l, "K ");
-    tl_num(&l, (double)gtc.K, 5);
-    tl_str(&l, " T1 ");
-    tl_num(&l, (double)gtc.T1, 5);
-    tl_str(&l, " T2 ");
-    tl_num(&l, (double)gtc.T2, 5);
-    tl_str(&l, " Td ");
-    tl_num(&l, (double)gtc.Td, 5);
+    tl_tc(&l, &gtc);
     tl_str(&l, " fit ");
     tl_num(&l, (double)res.fit, 4);
     tl_str(&l, "%; errors K ");
