@@ -6,107 +6,44 @@
  * the model and the gains; every safety abort, the refusals, and every bad
  * input with the autotune left untouched.
  *
- * The plants: the exact ZOH model (pdt_discrete_init at the scan period) run
- * as a difference equation in double, the output held for one scan, plus
- * deterministic noise from a 32-bit LCG. pv of scan k is read before the
- * output of scan k is applied, as the autotune's header says.
+ * The plants: the test-support simulator (tests/support/sim_process.h),
+ * exact at the scan period, independent of the library's discretisation,
+ * read through a sensor with deterministic white noise. pv of scan k is
+ * read before the output of scan k is applied, as the autotune's header
+ * says.
  */
 #include "test_util.h"
-#include "sim_rng.h"
+#include "sim_process.h"
 
 #include "pdt/pdt_autotune.h"
-#include "pdt/pdt_discrete.h"
 
 #define R(x) ((pdt_real_t)(x))
 
 /* ---- The plant ----------------------------------------------------------- */
 
-#define HIST 1024u /* input history (scans): longer than any delay used */
-
 typedef struct plant {
-    pdt_discrete_t d;
-    double u0, y0;   /* operating point */
-    double uh[HIST]; /* input deviations, ring */
-    double y1, y2;   /* output deviations at k and k - 1 */
-    size_t k;        /* scans applied */
-    double noise_sd;
-    uint32_t seed;
+    sim_process_t proc;
     double disturb; /* added to pv (a test's upset) */
     uint32_t mark;  /* a test's bookmark (scan number) */
 } plant_t;
-
-static pdt_model_t fopdt(double K, double tau, double Td)
-{
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = R(K);
-    m.p.fopdt.tau = R(tau);
-    m.p.fopdt.Td = R(Td);
-    return m;
-}
-
-static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
-{
-    pdt_model_tc_t tc = {R(K), R(T1), R(T2), false, R(Td)};
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_model_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
-    return m;
-}
-
-static pdt_model_t integ(double Ki, double T, double Td)
-{
-    pdt_model_integ_t in = {R(Ki), R(T), R(Td)};
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_model_sopdt_from_integ(&in, &m.p.sopdt), PDT_OK);
-    return m;
-}
 
 static void plant_init(plant_t *p, const pdt_model_t *m, double Ts, double u0, double y0,
                        double noise_sd, uint32_t seed)
 {
     memset(p, 0, sizeof *p);
-    assert_int_equal(pdt_discrete_init(m, R(Ts), &p->d), PDT_OK);
-    assert_true(p->d.delay + 3u < HIST);
-    p->u0 = u0;
-    p->y0 = y0;
-    p->noise_sd = noise_sd;
-    p->seed = seed;
+    assert_int_equal(sim_process_init(&p->proc, m, Ts, u0, y0, noise_sd, seed), 0);
 }
 
 /* The process value read at this scan. */
 static pdt_real_t plant_pv(plant_t *p)
 {
-    double n = p->noise_sd > 0.0 ? p->noise_sd * sim_rng_normal(&p->seed) : 0.0;
-    return (pdt_real_t)(p->y0 + p->y1 + n + p->disturb);
+    return sim_process_pv(&p->proc) + R(p->disturb);
 }
 
-/* Applies u for one scan and advances the plant to the next scan. The
- * difference equation is written around q = 1 (the d[] of pdt_discrete_t),
- * which keeps the gain of slow and integrating plants. */
+/* Applies u for one scan and advances the plant to the next scan. */
 static void plant_apply(plant_t *p, pdt_real_t u)
 {
-    p->uh[p->k % HIST] = (double)u - p->u0;
-    p->k++;
-    double bu = 0.0;
-    for (size_t j = 0; j < 3u; j++) {
-        size_t lag = p->d.delay + j; /* u(k - l - j), k the scan just applied */
-        if (p->k >= lag + 1u) {
-            bu += (double)p->d.b[j] * p->uh[(p->k - 1u - lag) % HIST];
-        }
-    }
-    double yn;
-    if (p->d.order == 1u) {
-        yn = p->y1 - (double)p->d.d[0] * p->y1 + bu;
-    } else {
-        yn = p->y1 + (1.0 - (double)p->d.d[0]) * (p->y1 - p->y2) - (double)p->d.d[1] * p->y2 + bu;
-    }
-    p->y2 = p->y1;
-    p->y1 = yn;
+    sim_process_apply(&p->proc, u);
 }
 
 /* ---- The autotune run ---------------------------------------------------- */
@@ -365,7 +302,7 @@ static void test_fopdt_step_tail(void **state)
     c.excite.duration = R(60.0);
     c.tail = 120u;
     plant_t p;
-    pdt_model_t m = fopdt(2.0, 10.0, 3.0);
+    pdt_model_t m = model_fopdt(2.0, 10.0, 3.0);
     plant_init(&p, &m, 0.5, 30.0, 60.0, 0.05, 17u);
     run_t r;
     run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
@@ -388,7 +325,7 @@ static void test_fopdt_prbs_decimated(void **state)
     c.excite.prbs_bits = 7u;
     c.excite.prbs_hold = 16u; /* 2 s chips */
     plant_t p;
-    pdt_model_t m = fopdt(2.0, 10.0, 3.0);
+    pdt_model_t m = model_fopdt(2.0, 10.0, 3.0);
     plant_init(&p, &m, 0.125, 40.0, 20.0, 0.1, 23u);
     run_t r;
     run_autotune(&g_at, &c, &p, R(40.0), 100000u, NULL, &r);
@@ -408,7 +345,7 @@ static void pulse_setup(pdt_autotune_config_t *c, plant_t *p, pdt_model_t *m,
     c->excite.t_on = R(40.0);
     c->excite.t_off = R(0.0);
     c->excite.count = 1u;
-    *m = sopdt_tc(1.5, 8.0, 3.0, 2.0);
+    *m = model_sopdt_tc(1.5, 8.0, 3.0, 2.0);
     plant_init(p, m, 0.5, 50.0, 10.0, 0.03, 5u);
 }
 
@@ -483,7 +420,7 @@ static void test_sopdt_chirp(void **state)
     c.excite.duration = R(200.0);
     c.tune.form = PDT_TUNE_PID;
     plant_t p;
-    pdt_model_t m = sopdt_tc(1.5, 8.0, 3.0, 2.0);
+    pdt_model_t m = model_sopdt_tc(1.5, 8.0, 3.0, 2.0);
     plant_init(&p, &m, 0.5, 50.0, 10.0, 0.03, 9u);
     run_t r;
     run_autotune(&g_at, &c, &p, R(50.0), 100000u, NULL, &r);
@@ -504,7 +441,7 @@ static void test_integrating_pulse(void **state)
     c.excite.t_off = R(0.0);
     c.excite.count = 1u;
     plant_t p;
-    pdt_model_t m = integ(0.05, 4.0, 2.0);
+    pdt_model_t m = model_integ(0.05, 4.0, 2.0);
     plant_init(&p, &m, 0.5, 20.0, 5.0, 0.01, 31u);
     run_t r;
     run_autotune(&g_at, &c, &p, R(20.0), 100000u, NULL, &r);
@@ -536,7 +473,7 @@ static void reverse_relay(uint32_t dec, double Ts, double rtol, run_t *r)
     c.excite.relay_cycles = 3u;
     c.tail = 200u / dec;
     plant_t p;
-    pdt_model_t m = fopdt(-1.5, 6.0, 1.5);
+    pdt_model_t m = model_fopdt(-1.5, 6.0, 1.5);
     plant_init(&p, &m, Ts, 60.0, 70.0, 0.005, 41u);
     run_autotune(&g_at, &c, &p, R(60.0), 100000u, NULL, r);
     assert_success(&g_at, &c, r, -1.5);
@@ -566,7 +503,7 @@ static void step_setup(pdt_autotune_config_t *c, plant_t *p, double noise_sd)
     c->excite.amplitude = R(5.0);
     c->excite.duration = R(60.0);
     c->tail = 120u;
-    pdt_model_t m = fopdt(2.0, 10.0, 3.0);
+    pdt_model_t m = model_fopdt(2.0, 10.0, 3.0);
     plant_init(p, &m, 0.5, 30.0, 60.0, noise_sd, 17u);
 }
 
@@ -608,7 +545,7 @@ static void test_pv_limit_experiment(void **state)
     assert_false(r.res.has_model);
     assert_true(r.u_err <= U_ATOL);
     /* the step had pushed pv past the half-way point, 65, at that scan */
-    assert_true(p.y1 + p.y0 >= 64.9);
+    assert_true(sim_plant_output(&p.proc.plant) >= 64.9);
 }
 
 /* pv leaves its limits while the output rests at u0 for the
@@ -697,7 +634,7 @@ static void test_setpoint(void **state)
     c.excite.setpoint = R(55.0);
     c.excite.eps = R(0.1);
     c.move = PDT_RECORD_MOVE_UP;
-    pdt_model_t m = fopdt(2.0, 10.0, 3.0);
+    pdt_model_t m = model_fopdt(2.0, 10.0, 3.0);
     plant_init(&p, &m, 0.5, 30.0, 60.0, 0.0, 3u);
     run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
     assert_failed(&g_at, &r, PDT_ERR_SETPOINT, PDT_AUTOTUNE_SETTLE, 30.0);
@@ -755,7 +692,7 @@ static void test_flat_process(void **state)
     plant_t p;
     run_t r;
     step_setup(&c, &p, 0.0);
-    pdt_model_t m = fopdt(0.0, 10.0, 3.0);
+    pdt_model_t m = model_fopdt(0.0, 10.0, 3.0);
     plant_init(&p, &m, 0.5, 30.0, 60.0, 0.0, 17u);
     run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
     assert_failed(&g_at, &r, PDT_ERR_NO_EXCITATION, PDT_AUTOTUNE_IDENTIFY, 30.0);

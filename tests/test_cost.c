@@ -6,6 +6,7 @@
  * and every bad-input status with outputs left untouched.
  */
 #include "test_util.h"
+#include "sim_rng.h"
 
 #include "cost_vectors.h"
 
@@ -49,14 +50,7 @@ static void load_set(const cost_vec_set_t *s)
 
 static void set_config(const cost_vec_set_t *s, pdt_cost_config_t *cfg)
 {
-    pdt_cost_config_default(cfg);
-    cfg->Ts = (pdt_real_t)s->Ts;
-    cfg->u0 = (pdt_real_t)s->u0;
-    cfg->y0 = (pdt_real_t)s->y0;
-    cfg->delay_min = s->delay_min;
-    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_HALF : s->delay_max;
-    cfg->f_lo = (pdt_real_t)s->f_lo;
-    cfg->f_hi = (pdt_real_t)s->f_hi;
+    VECTOR_COST_CONFIG(cfg, s);
     cfg->weights = g_w;
 }
 
@@ -247,12 +241,12 @@ static void test_vectors_eval(void **state)
 /* Deterministic input: steps held 5..14 samples at pseudo-random levels. */
 static void make_input(pdt_real_t *u, size_t n, pdt_real_t u0, uint32_t seed)
 {
-    uint32_t x = seed;
+    sim_rng_t x = sim_rng_seed(seed);
     size_t k = 0;
     while (k < n) {
-        x = 1664525u * x + 1013904223u;
-        size_t hold = 5u + (size_t)((x >> 16) % 10u);
-        pdt_real_t level = u0 + (pdt_real_t)((int)((x >> 8) & 0xFFu) - 128) / ((pdt_real_t)16.0);
+        const uint32_t v = sim_rng_next(&x);
+        size_t hold = 5u + (size_t)((v >> 16) % 10u);
+        pdt_real_t level = u0 + (pdt_real_t)((int)((v >> 8) & 0xFFu) - 128) / ((pdt_real_t)16.0);
         for (size_t j = 0; j < hold && k < n; j++, k++) {
             u[k] = level;
         }
@@ -414,7 +408,7 @@ static void test_long_record_accuracy(void **state)
     const pdt_real_t y0 = (pdt_real_t)1000.0;
     const size_t lu = 50;
     pdt_discrete_t models[2];
-    uint32_t x = 777u;
+    sim_rng_t x = sim_rng_seed(777u);
     double worst = 0.0;
     (void)state;
     models[0] = fopdt_dmodel(2.5, 4.0, 0.1, 7);
@@ -426,8 +420,7 @@ static void test_long_record_accuracy(void **state)
         pdt_cost_config_t cfg;
         simulate_ref(&truth, g_ubig, u0, y0, COST_NBIG, g_ybig);
         for (size_t k = 0; k < COST_NBIG; k++) {
-            x = 1664525u * x + 1013904223u;
-            g_ybig[k] += (pdt_real_t)((double)(x >> 8) / 16777216.0 - 0.5) * (pdt_real_t)0.02;
+            g_ybig[k] += (pdt_real_t)(sim_rng_uniform(&x) - 0.5) * (pdt_real_t)0.02;
         }
         off.b[0] *= (pdt_real_t)1.05;
         pdt_cost_config_default(&cfg);

@@ -10,6 +10,7 @@
  * and every bad-input status with outputs left untouched.
  */
 #include "test_util.h"
+#include "sim_rng.h"
 
 #include "cost_accuracy_vectors.h"
 #include "cost_profile_vectors.h"
@@ -73,14 +74,7 @@ static double y_scale(const cpv_set_t *s)
 
 static void base_config(const cpv_set_t *s, pdt_cost_config_t *cfg)
 {
-    pdt_cost_config_default(cfg);
-    cfg->Ts = (pdt_real_t)s->Ts;
-    cfg->u0 = (pdt_real_t)s->u0;
-    cfg->y0 = (pdt_real_t)s->y0;
-    cfg->delay_min = s->delay_min;
-    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_HALF : s->delay_max;
-    cfg->f_lo = (pdt_real_t)s->f_lo;
-    cfg->f_hi = (pdt_real_t)s->f_hi;
+    VECTOR_COST_CONFIG(cfg, s);
 }
 
 static void apply_config(const cpv_config_t *v, pdt_cost_config_t *cfg)
@@ -410,13 +404,12 @@ static pdt_real_t g_ascratch[CAV_NMAX];
 /* The record of a case, rebuilt with the generator's double arithmetic. */
 static void cav_record(const cav_case_t *v)
 {
-    uint32_t st = v->seed;
+    sim_rng_t st = sim_rng_seed(v->seed);
     double x = 0.0;
     static double ud[CAV_NMAX];
     assert_true(v->n <= CAV_NMAX);
     for (size_t k = 0; k < v->n; k += v->hold) {
-        st = 1664525u * st + 1013904223u;
-        double level = ((double)st / 4294967296.0 < 0.5) ? 1.0 : -1.0;
+        double level = ((double)sim_rng_next(&st) / 4294967296.0 < 0.5) ? 1.0 : -1.0;
         for (size_t j = k; j < k + v->hold && j < v->n; j++) {
             ud[j] = level;
         }
@@ -424,8 +417,7 @@ static void cav_record(const cav_case_t *v)
     for (size_t k = 0; k < v->n; k++) {
         double sum = 0.0;
         for (int i = 0; i < 4; i++) {
-            st = 1664525u * st + 1013904223u;
-            sum += (double)st / 4294967296.0;
+            sum += (double)sim_rng_next(&st) / 4294967296.0;
         }
         double noise = v->amp * (sum - 2.0);
         double uin = (k >= 1u + CAV_PLANT_L) ? ud[k - 1u - CAV_PLANT_L] : 0.0;

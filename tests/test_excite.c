@@ -6,6 +6,7 @@
  * describing function, and every bad-input status.
  */
 #include "test_util.h"
+#include "sim_process.h"
 
 #include "pdt/pdt_discrete.h"
 #include "pdt/pdt_excite.h"
@@ -245,23 +246,22 @@ static void test_chirp_frequency(void **state)
     assert_true(worst < 3e-3);
 }
 
-/* The relay closes the loop around K e^{-L s} / (tau s + 1), sampled with
- * pdt_discrete_init. The ideal relay's limit cycle is known in closed form:
- * half period tau ln(2 e^{L/tau} - 1), amplitude K d (1 - e^{-L/tau}). */
+/* The relay closes the loop around K e^{-L s} / (tau s + 1), simulated by
+ * the test-support simulator. The ideal relay's limit cycle is known in
+ * closed form: half period tau ln(2 e^{L/tau} - 1), amplitude
+ * K d (1 - e^{-L/tau}). */
 static void relay_fopdt(pdt_real_t eps, double *Ku, double *Pu, double *a_out)
 {
     enum { NMAX = 20000 };
     static pdt_real_t uu[NMAX];
     static pdt_real_t pv[NMAX];
     static pdt_real_t ysim[NMAX];
+    static double hist[512];
     const double K = 1.5, tau = 1.0, L = 2.0, Ts = 0.005, d = 1.0;
-    pdt_model_t m;
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = R(K);
-    m.p.fopdt.tau = R(tau);
-    m.p.fopdt.Td = R(L);
-    pdt_discrete_t dm;
-    assert_int_equal(pdt_discrete_init(&m, R(Ts), &dm), PDT_OK);
+    const double lag[1] = {tau};
+    const sim_plant_desc_t desc = sim_plant_desc_lags(K, lag, 1u, L);
+    sim_plant_t plant;
+    assert_int_equal(sim_plant_init(&plant, &desc, Ts, 0.0, 0.0, hist, 512u), 0);
     pdt_excite_config_t c;
     pdt_excite_t g;
     pdt_excite_config_default(&c, PDT_EXCITE_RELAY);
@@ -274,26 +274,21 @@ static void relay_fopdt(pdt_real_t eps, double *Ku, double *Pu, double *a_out)
     c.relay_cycles = 4;
     c.relay_settle = R(0.0);
     assert_int_equal(pdt_excite_init(&g, &c), PDT_OK);
-    /* y(k) = -a0 y(k-1) + b0 u(k-1-l) + b1 u(k-2-l) + b2 u(k-3-l) */
     size_t n = 0;
     pdt_status_t st = PDT_RUNNING;
-    pdt_real_t y = R(0.0);
     while (st == PDT_RUNNING) {
         assert_true(n < NMAX);
-        pv[n] = y;
-        st = pdt_excite_next(&g, y, &uu[n]);
+        pv[n] = (pdt_real_t)sim_plant_output(&plant);
+        st = pdt_excite_next(&g, pv[n], &uu[n]);
+        sim_plant_apply(&plant, (double)uu[n]);
         n++;
-        pdt_real_t next = -dm.a[0] * y;
-        for (size_t j = 0; j < 3; j++) {
-            size_t lag = 1 + dm.delay + j; /* u(n - lag) with n the next sample */
-            if (n >= lag) {
-                next += dm.b[j] * uu[n - lag];
-            }
-        }
-        y = next;
     }
     assert_int_equal(st, PDT_OK);
-    /* the loop's pv is the model's response to the relay's output */
+    /* the loop's pv is the library's sampled model's response to the
+     * relay's output too */
+    pdt_model_t m = model_fopdt(K, tau, L);
+    pdt_discrete_t dm;
+    assert_int_equal(pdt_discrete_init(&m, R(Ts), &dm), PDT_OK);
     assert_int_equal(pdt_discrete_simulate(&dm, uu, n, ysim), PDT_OK);
     for (size_t k = 0; k < n; k++) {
         assert_close(ysim[k], pv[k], 0.0, 1e3 * TEST_RTOL);

@@ -5,7 +5,7 @@
  */
 #include "test_util.h"
 
-#include "fft_vectors.h"
+#include "fft_cases.h"
 
 /* SNR the transforms must reach against the double-precision reference. */
 #if PDT_REAL_DOUBLE
@@ -19,24 +19,6 @@
 
 #define FFT_NMAX_VEC 8192u
 #define FFT_NMAX     ((size_t)1u << PDT_FFT_MAX_LOG2)
-
-typedef struct fft_case {
-    size_t n;
-    const int16_t *q;
-    const double *spec;
-    const double *mag;
-} fft_case_t;
-
-static const fft_case_t fft_cases[] = {
-    {16u, fft_q_16, fft_spec_16, fft_mag_16},
-    {32u, fft_q_32, fft_spec_32, fft_mag_32},
-    {64u, fft_q_64, fft_spec_64, fft_mag_64},
-    {128u, fft_q_128, fft_spec_128, fft_mag_128},
-    {256u, fft_q_256, fft_spec_256, fft_mag_256},
-    {1024u, fft_q_1024, fft_spec_1024, fft_mag_1024},
-    {8192u, fft_q_8192, fft_spec_8192, fft_mag_8192},
-};
-#define FFT_NCASES (sizeof fft_cases / sizeof fft_cases[0])
 
 /* Large buffers are static to keep them off the test's stack. */
 static pdt_real_t g_work[FFT_NMAX / 2u + CANARY_COUNT];

@@ -8,6 +8,7 @@
  * and every bad input with the object and the output left untouched.
  */
 #include "test_util.h"
+#include "sim_plant.h"
 
 #include <float.h>
 
@@ -67,49 +68,38 @@ static void test_scenarios(void **state)
     }
 }
 
-/* One closed loop: the plant sampled exactly (in double, the plant is not
- * under test), pdt_pid as the controller; y at the grid points into y. */
+/* One closed loop: the plant sampled exactly (the reference's realisation
+ * on the test-support simulator, in double: the plant is not under test),
+ * pdt_pid as the controller; y at the grid points into y. */
 static void run_loop(size_t i, double *y)
 {
     pdt_pid_config_t c = pid_case_config(&pid_cl_cfg[i * PID_CFG_N]);
     const double *pl = &pid_cl_plant[i * 10u];
-    const double *Phi = pl;
-    const double *G0 = pl + 4;
-    const double *G1 = pl + 6;
-    const double *C = pl + 8;
     int l = pid_cl_l[2u * i];
     int n = pid_cl_l[2u * i + 1u];
     double r = pid_cl_rd[2u * i];
     double d = pid_cl_rd[2u * i + 1u];
+    /* pl: Phi (2 x 2), G0 of w(k - l), G1 of w(k - l - 1), C; one state
+     * uses the first of each */
+    const double Phi1[1] = {pl[0]};
+    static double hist[512];
+    sim_plant_t plant;
+    assert_int_equal(sim_plant_init_discrete(&plant, (size_t)n, (size_t)l, n == 1 ? Phi1 : pl,
+                                             pl + 4, pl + 6, pl + 8, hist, 512u),
+                     0);
     pdt_pid_t pid;
     assert_int_equal(pdt_pid_init(&pid, &c, R(0.0)), PDT_OK);
     assert_int_equal(pdt_pid_track(&pid, R(0.0), R(0.0), R(0.0)), PDT_OK);
-    double x[2] = {0.0, 0.0};
-    double past[512] = {0.0}; /* w(k - j), newest first */
-    assert_true(l + 2 <= 512);
     size_t scans = (size_t)(PID_CL_T / (double)c.Ts + 0.5) + 1u;
     size_t every = (size_t)(PID_CL_GRID / (double)c.Ts + 0.5);
     for (size_t k = 0; k < scans; k++) {
-        double yk = C[0] * x[0] + C[1] * x[1];
+        double yk = sim_plant_output(&plant);
         if (k % every == 0u) {
             y[k / every] = yk;
         }
         pdt_real_t u;
         assert_int_equal(pdt_pid_update(&pid, R(r), (pdt_real_t)yk, &u), PDT_OK);
-        for (int j = l + 1; j > 0; j--) {
-            past[j] = past[j - 1];
-        }
-        past[0] = (double)u + d;
-        double w0 = past[l];
-        double w1 = past[l + 1];
-        double x0 = x[0];
-        double x1 = x[1];
-        if (n == 1) {
-            x[0] = Phi[0] * x0 + G0[0] * w0 + G1[0] * w1;
-        } else {
-            x[0] = Phi[0] * x0 + Phi[1] * x1 + G0[0] * w0 + G1[0] * w1;
-            x[1] = Phi[2] * x0 + Phi[3] * x1 + G0[1] * w0 + G1[1] * w1;
-        }
+        sim_plant_apply(&plant, (double)u + d);
     }
 }
 

@@ -1,8 +1,8 @@
 /*
  * Tests of examples/plc/pdt_fb_autotune.c, the PLC function block over the
  * autotune: the block is driven cycle by cycle, as a PLC task would, against
- * a simulated FOPDT plant (exact zero-order-hold discretisation with a
- * fractional dead time, small deterministic measurement noise). Checked:
+ * a FOPDT plant on the test-support simulator (exact at the scan period
+ * with a fractional dead time) with small deterministic measurement noise. Checked:
  * rising-edge start, Busy on every running cycle, Done with a model and
  * gains close to the plant's, the PLCopen end-flag handshake (held while
  * Execute, one cycle when Execute fell early), Error and ErrorID on a pv
@@ -20,6 +20,7 @@
 #include <time.h>
 
 #include "pdt_fb_autotune.h"
+#include "sim_process.h"
 
 #define R(x) ((pdt_real_t)(x))
 
@@ -34,52 +35,33 @@
 #define MAX_CYCLES 20000
 
 typedef struct plant {
-    double a, b1, b2; /* y(k) = a y(k-1) + b1 u(k-1-l) + b2 u(k-2-l) */
-    unsigned l;
-    double x;        /* deviation state: pv - PLANT_PV0 */
-    double hist[64]; /* past outputs, hist[0] the newest */
-    double load;     /* disturbance added to the output, output units */
-    uint32_t lcg;
+    sim_plant_t sim;
+    double hist[64]; /* the simulator's input history */
+    double load;     /* disturbance added to the plant's input */
+    sim_rng_t rng;
 } plant_t;
 
+/* At rest with the output held at u_rest. */
 static void plant_init(plant_t *p, double u_rest)
 {
-    double q = PLANT_TD / SCAN;
-    double l = floor(q + 1e-9);
-    double f = q - l;
-    if (f < 1e-9) {
-        f = 0.0;
-    }
-    double m = 1.0 - f;
-    p->a = exp(-SCAN / PLANT_TAU);
-    p->b1 = PLANT_K * (1.0 - pow(p->a, m));
-    p->b2 = PLANT_K * (pow(p->a, m) - p->a);
-    p->l = (unsigned)l;
-    p->x = PLANT_K * u_rest;
-    for (size_t i = 0; i < 64; i++) {
-        p->hist[i] = u_rest;
-    }
+    const double lag[1] = {PLANT_TAU};
+    const sim_plant_desc_t d = sim_plant_desc_lags(PLANT_K, lag, 1u, PLANT_TD);
+    assert_int_equal(
+        sim_plant_init(&p->sim, &d, SCAN, u_rest, PLANT_PV0 + PLANT_K * u_rest, p->hist, 64u), 0);
     p->load = 0.0;
-    p->lcg = 12345u;
+    p->rng = sim_rng_seed(12345u);
 }
 
-/* pv read in this cycle, with noise. */
+/* pv read in this cycle, with noise uniform in [-NOISE, NOISE). */
 static pdt_real_t plant_pv(plant_t *p)
 {
-    p->lcg = p->lcg * 1664525u + 1013904223u;
-    double r = (double)(p->lcg >> 8) / 16777216.0; /* [0, 1) */
-    return (pdt_real_t)(PLANT_PV0 + p->x + NOISE * (2.0 * r - 1.0));
+    return (pdt_real_t)(sim_plant_output(&p->sim) + NOISE * (2.0 * sim_rng_uniform(&p->rng) - 1.0));
 }
 
 /* The output u applied from this cycle to the next. */
 static void plant_apply(plant_t *p, double u)
 {
-    for (size_t i = 63; i > 0; i--) {
-        p->hist[i] = p->hist[i - 1];
-    }
-    p->hist[0] = u + p->load;
-    /* hist[j] is u(k - j) after the shift: y(k+1) needs u(k-l), u(k-1-l). */
-    p->x = p->a * p->x + p->b1 * p->hist[p->l] + p->b2 * p->hist[p->l + 1];
+    sim_plant_apply(&p->sim, u + p->load);
 }
 
 /* The instance with guards after it. */
@@ -340,11 +322,7 @@ static void test_idle_follows_manual(void **state)
 /* The SIMC gains of the true plant for the block's configuration. */
 static pdt_tune_result_t true_gains(const pdt_fb_autotune_t *fb)
 {
-    pdt_model_t m;
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = R(PLANT_K);
-    m.p.fopdt.tau = R(PLANT_TAU);
-    m.p.fopdt.Td = R(PLANT_TD);
+    const pdt_model_t m = model_fopdt(PLANT_K, PLANT_TAU, PLANT_TD);
     pdt_tune_config_t tc;
     pdt_tune_config_default(&tc);
     tc.rule = (pdt_tune_rule_t)fb->iRule;
@@ -997,6 +975,7 @@ static void test_moved_while_busy(void **state)
     assert_true(h->fb.xBusy);
     harness_t *h2 = test_malloc(sizeof *h2);
     memcpy(h2, h, sizeof *h2);
+    h2->plant.sim.hist = h2->plant.hist; /* the plant moves with its history */
     /* The old copy is gone: poison it so any use through a stale pointer
      * would show. */
     memset(&h->fb.internal.work, 0xA5, sizeof h->fb.internal.work);

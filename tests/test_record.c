@@ -5,6 +5,7 @@
  * experiment: generator, recorder and a simulated FOPDT together.
  */
 #include "test_util.h"
+#include "sim_plant.h"
 
 #include "pdt/pdt_discrete.h"
 #include "pdt/pdt_excite.h"
@@ -290,20 +291,17 @@ static void test_bad_inputs(void **state)
 }
 
 /* A whole experiment: the step generator at the scan rate, a FOPDT plant
- * (pdt_discrete_init) between them, the recorder decimating by 5. Then a rerun
+ * (the test-support simulator) between them, the recorder decimating by 5. Then a rerun
  * whose pv limit the step breaks: the abort comes at the scan where pv
  * passes the limit, with the operating point as the output to apply. */
 static void step_experiment(pdt_real_t pv_max, pdt_record_result_t *res, pdt_real_t *u,
                             pdt_real_t *y, size_t cap, int *abort_scan)
 {
     const pdt_real_t Ts = R(0.02);
-    pdt_model_t m;
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = R(2.0);
-    m.p.fopdt.tau = R(1.5);
-    m.p.fopdt.Td = R(0.4);
-    pdt_discrete_t d;
-    assert_int_equal(pdt_discrete_init(&m, Ts, &d), PDT_OK);
+    static double hist[64];
+    const double lag[1] = {1.5};
+    const sim_plant_desc_t desc = sim_plant_desc_lags(2.0, lag, 1u, 0.4);
+    sim_plant_t plant;
     pdt_excite_config_t ec;
     pdt_excite_t g;
     pdt_excite_config_default(&ec, PDT_EXCITE_STEP);
@@ -327,30 +325,20 @@ static void step_experiment(pdt_real_t pv_max, pdt_record_result_t *res, pdt_rea
     pdt_record_t rec;
     assert_int_equal(pdt_excite_init(&g, &ec), PDT_OK);
     assert_int_equal(pdt_record_init(&rec, &rc, u, y, cap), PDT_OK);
+    /* the plant at rest: y0 = 60 at u0 */
+    assert_int_equal(sim_plant_init(&plant, &desc, (double)Ts, (double)ec.u0, 60.0, hist, 64u), 0);
     enum { NS = 2000 };
-    static pdt_real_t us[NS];
-    pdt_real_t yk = R(60.0); /* plant output at rest: y0 = 60 */
-    pdt_real_t dev = R(0.0);
     pdt_status_t st = PDT_RUNNING;
     *abort_scan = -1;
     for (int k = 0; k < NS && st == PDT_RUNNING; k++) {
+        const pdt_real_t yk = (pdt_real_t)sim_plant_output(&plant);
         pdt_real_t uk;
         (void)pdt_excite_next(&g, yk, &uk);
-        us[k] = uk - ec.u0;
         st = pdt_record_push(&rec, uk, yk);
         if (st < 0) {
             *abort_scan = k;
         }
-        /* next plant output from the input deviations */
-        pdt_real_t nx = -d.a[0] * dev;
-        for (int j = 0; j < 3; j++) {
-            int lag = 1 + (int)d.delay + j;
-            if (k + 1 >= lag) {
-                nx += d.b[j] * us[k + 1 - lag];
-            }
-        }
-        dev = nx;
-        yk = R(60.0) + dev;
+        sim_plant_apply(&plant, (double)uk);
     }
     assert_int_equal(pdt_record_result(&rec, res), PDT_OK);
 }

@@ -6,10 +6,13 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <setjmp.h>
 #include <cmocka.h>
 
 #include "pdt/pdt.h"
+#include "sim_plant.h"
+#include "sim_rng.h"
 
 #define SC_N   600u
 #define SC_TS  0.1
@@ -26,22 +29,23 @@ static pdt_real_t g_y[SC_N];
 static pdt_real_t
     g_work[PDT_IDENT_WORKSPACE_SIZE(SC_N, PDT_IDENT_POPULATION_SOPDT) / sizeof(pdt_real_t)];
 
-/* The unscaled record: a FOPDT (exact ZOH, in double) driven by steps of
- * varying length around SC_U0, with 1 % of deterministic output noise. */
+/* The unscaled record: a FOPDT on the test-support simulator driven by
+ * steps of varying length around SC_U0, with 1 % of deterministic output
+ * noise. */
 static void make_record(void)
 {
-    const double a = exp(-SC_TS / SC_TAU);
-    const size_t l = (size_t)(SC_TD / SC_TS + 0.5);
-    uint32_t r = 12345u;
-    double x = 0.0;
+    static double hist[64];
+    const double lag[1] = {SC_TAU};
+    const sim_plant_desc_t d = sim_plant_desc_lags(SC_K, lag, 1u, SC_TD);
+    sim_plant_t p;
+    assert_int_equal(sim_plant_init(&p, &d, SC_TS, SC_U0, SC_Y0, hist, 64u), 0);
+    sim_rng_t r = sim_rng_seed(12345u);
     for (size_t k = 0; k < SC_N; k++) {
         g_ud[k] = SC_U0 + (((k / 47u) + (k / 83u)) % 2u == 0u ? 0.0 : 1.0);
     }
     for (size_t k = 0; k < SC_N; k++) {
-        double uin = (k >= l + 1u) ? g_ud[k - l - 1u] - SC_U0 : 0.0;
-        x = a * x + SC_K * (1.0 - a) * uin;
-        r = r * 1664525u + 1013904223u;
-        g_yd[k] = SC_Y0 + x + 0.02 * ((double)(r >> 8) / 16777216.0 - 0.5);
+        g_yd[k] = sim_plant_output(&p) + 0.02 * (sim_rng_uniform(&r) - 0.5);
+        sim_plant_apply(&p, g_ud[k]);
     }
 }
 

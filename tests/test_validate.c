@@ -6,7 +6,7 @@
  */
 #include "test_util.h"
 
-#include "sim_rng.h"
+#include "sim_process.h"
 #include "validate_vectors.h"
 
 #define N  400u
@@ -18,27 +18,6 @@ static pdt_real_t g_dev[N];
 static pdt_real_t g_clean[N];
 static pdt_real_t g_work[5u * N + CANARY_COUNT];
 static unsigned char g_idwork[PDT_IDENT_WORKSPACE_SIZE(N, PDT_IDENT_POPULATION_SOPDT)];
-
-static pdt_model_t fopdt(double K, double tau, double Td)
-{
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = (pdt_real_t)K;
-    m.p.fopdt.tau = (pdt_real_t)tau;
-    m.p.fopdt.Td = (pdt_real_t)Td;
-    return m;
-}
-
-static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
-{
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_SOPDT;
-    pdt_model_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
-    assert_int_equal(pdt_model_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
-    return m;
-}
 
 /* A random binary input around u0 = 10 (deviation +-1, chip 8 samples),
  * at rest for the first 10 samples. */
@@ -85,7 +64,7 @@ static pdt_validate_result_t validate(const pdt_model_t *m, double y0)
 static void test_true_model_accepted(void **state)
 {
     (void)state;
-    pdt_model_t m = fopdt(2.0, 5.0, 1.5);
+    pdt_model_t m = model_fopdt(2.0, 5.0, 1.5);
     int white = 0, indep = 0;
     const int runs = 200;
     for (int s = 0; s < runs; s++) {
@@ -111,8 +90,8 @@ static void test_wrong_model_rejected(void **state)
     /* (2s + 1) / ((4s + 1)(s + 1)) = (2/3) / (4s + 1) + (1/3) / (s + 1),
      * dead time 0.5: simulated as the sum of two FOPDTs. */
     make_input(3u);
-    pdt_model_t a = fopdt(2.0 / 3.0, 4.0, 0.5);
-    pdt_model_t b = fopdt(1.0 / 3.0, 1.0, 0.5);
+    pdt_model_t a = model_fopdt(2.0 / 3.0, 4.0, 0.5);
+    pdt_model_t b = model_fopdt(1.0 / 3.0, 1.0, 0.5);
     pdt_real_t ya[N];
     make_output(&a, 0.0, 1u);
     memcpy(ya, g_clean, sizeof ya);
@@ -122,7 +101,7 @@ static void test_wrong_model_rejected(void **state)
         g_y[k] = (pdt_real_t)(5.0 + (double)ya[k] + (double)g_clean[k] + 0.01 * sim_rng_normal(&r));
     }
     /* The FOPDT a least-squares fit would give is close to this one. */
-    pdt_model_t m = fopdt(1.0, 3.0, 0.6);
+    pdt_model_t m = model_fopdt(1.0, 3.0, 0.6);
     pdt_validate_result_t v = validate(&m, 5.0);
     print_message("lead-lag as FOPDT: cross %.3g (limit %.3g), white %.3g (limit %.3g)\n",
                   (double)v.cross_stat, (double)v.cross_limit, (double)v.white_stat,
@@ -142,7 +121,7 @@ static void test_wrong_model_rejected(void **state)
 static void test_std_monte_carlo(void **state)
 {
     (void)state;
-    pdt_model_t m = fopdt(2.0, 5.0, 1.5);
+    pdt_model_t m = model_fopdt(2.0, 5.0, 1.5);
     const int runs = 30;
     double sum[3] = {0}, sum2[3] = {0}, rep[3] = {0};
     make_input(5u);
@@ -186,19 +165,19 @@ static void test_select_order(void **state)
     (void)state;
     pdt_model_kind_t kind = (pdt_model_kind_t)0;
     make_input(7u);
-    pdt_model_t f = fopdt(2.0, 5.0, 1.5);
-    pdt_model_t s = sopdt_tc(2.0, 4.0, 2.0, 0.5);
+    pdt_model_t f = model_fopdt(2.0, 5.0, 1.5);
+    pdt_model_t s = model_sopdt_tc(2.0, 4.0, 2.0, 0.5);
     /* Data of the FOPDT; the SOPDT closest to it (a tiny second lag). */
     make_output(&f, 0.05, 11u);
     pdt_validate_result_t vf = validate(&f, 5.0);
-    pdt_model_t s_near = sopdt_tc(2.0, 5.0, 0.01, 1.495);
+    pdt_model_t s_near = model_sopdt_tc(2.0, 5.0, 0.01, 1.495);
     pdt_validate_result_t vs = validate(&s_near, 5.0);
     assert_int_equal(pdt_ident_select_order(&vf, &vs, &kind), PDT_OK);
     assert_int_equal(kind, PDT_MODEL_FOPDT);
     /* Data of the SOPDT; a FOPDT of it fails the independence test. */
     make_output(&s, 0.01, 12u);
     vs = validate(&s, 5.0);
-    pdt_model_t f_near = fopdt(2.0, 5.0, 1.6);
+    pdt_model_t f_near = model_fopdt(2.0, 5.0, 1.6);
     vf = validate(&f_near, 5.0);
     assert_int_equal(pdt_ident_select_order(&vf, &vs, &kind), PDT_OK);
     assert_int_equal(kind, PDT_MODEL_SOPDT);
@@ -222,7 +201,7 @@ static void test_margin(void **state)
 {
     (void)state;
     make_input(9u);
-    pdt_model_t m = fopdt(2.0, 5.0, 1.5);
+    pdt_model_t m = model_fopdt(2.0, 5.0, 1.5);
     make_output(&m, 0.05, 13u);
     pdt_validate_result_t v = validate(&m, 5.0);
     pdt_tune_config_t tc;
@@ -268,7 +247,7 @@ static void test_bad_inputs(void **state)
 {
     (void)state;
     make_input(1u);
-    pdt_model_t m = fopdt(2.0, 5.0, 1.5);
+    pdt_model_t m = model_fopdt(2.0, 5.0, 1.5);
     make_output(&m, 0.05, 1u);
     pdt_ident_data_t data = {g_u, g_y, N};
     pdt_validate_result_t v, before;
@@ -336,7 +315,7 @@ static void test_vectors(void **state)
         pdt_model_t m;
         memset(&m, 0, sizeof m);
         if (val_vec_kind[c] == 1) {
-            m = fopdt(p[0], p[1], p[2]);
+            m = model_fopdt(p[0], p[1], p[2]);
         } else {
             m.kind = PDT_MODEL_SOPDT;
             m.p.sopdt = (pdt_model_sopdt_t){(pdt_real_t)p[0], (pdt_real_t)p[1], (pdt_real_t)p[2],

@@ -24,7 +24,9 @@ __all__ = ["PdtError", "Model", "IdentResult", "TuneResult", "Record", "identify
            "reduce", "model", "read_csv", "STATUS_NAMES", "REAL_BYTES"]
 
 STATUS_NAMES = dict(_lib.STATUS_NAMES)
-"""{code: name} of pdt_status_t, read from pdt_status.h ("NO_EXCITATION")."""
+"""{code: name} of every pdt_status_t in pdt_status.h, the name the
+library's pdt_status_name gives ("PDT_ERR_NO_EXCITATION"), as the command
+line's JSON prints it."""
 
 REAL_BYTES = lib.pdtpy_real_size()
 """4 in the float build of the library, 8 in the double build."""
@@ -33,13 +35,14 @@ _JSON_LEN = 2048
 
 
 class PdtError(Exception):
-    """The library refused: .status is the status name from pdt_status.h
-    ("NO_EXCITATION", "POOR_FIT", ...), .code its value, and the message
-    the library's description (pdt_status_str)."""
+    """The library refused: .status is the status's name as pdt_status_name
+    and the command line's JSON give it ("PDT_ERR_NO_EXCITATION",
+    "PDT_ERR_POOR_FIT", ...), .code its value, and the message the
+    library's description (pdt_status_str)."""
 
     def __init__(self, code, what, detail=""):
         self.code = int(code)
-        self.status = STATUS_NAMES.get(self.code, "UNKNOWN")
+        self.status = lib.pdtpy_status_name(self.code).decode()
         text = lib.pdtpy_status_str(self.code).decode()
         super().__init__(f"{what}: {text} ({self.status}){detail}")
 
@@ -278,7 +281,8 @@ def tune(model_or_result, rule="simc", form="pi", *, tau_c=None, lambda_=None, m
          deriv_filter=None):
     """PI/PID gains of a model by a published rule (pdt_tune_compute) and
     the robustness of the loop they make, as `pdtfit tune` prints them.
-    Raises PdtError (e.g. POOR_FIT when Ms exceeds ms_max, default 2)."""
+    Raises PdtError (e.g. PDT_ERR_POOR_FIT when Ms exceeds ms_max, default
+    2)."""
     m = _as_model(model_or_result)
     o = _lib.TuneOpts()
     o.rule = _choice(_lib.RULES, rule, "rule")

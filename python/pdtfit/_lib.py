@@ -60,6 +60,8 @@ D = ctypes.POINTER(ctypes.c_double)
 lib = _load()
 lib.pdtpy_status_str.restype = ctypes.c_char_p
 lib.pdtpy_status_str.argtypes = [ctypes.c_int]
+lib.pdtpy_status_name.restype = ctypes.c_char_p
+lib.pdtpy_status_name.argtypes = [ctypes.c_int]
 lib.pdtpy_real_size.restype = ctypes.c_int
 lib.pdtpy_model_make.argtypes = [ctypes.c_int, ctypes.c_int] + [ctypes.c_double] * 4 + [D]
 lib.pdtpy_model_json.argtypes = [D, ctypes.c_char_p, ctypes.c_size_t]
@@ -76,8 +78,10 @@ lib.pdtpy_read_series.argtypes = [ctypes.c_char_p, ctypes.POINTER(CsvOpts),
 lib.pdtpy_series_free.argtypes = [ctypes.POINTER(Series)]
 lib.pdtpy_series_free.restype = None
 
-# The enums, from the headers installed with the package.
-STATUS_NAMES = _cheader.status_names(INCLUDE / "pdt_status.h")
+# The enums, from the headers installed with the package; a status's name
+# is the library's own (pdt_status_name), as the command line prints it.
+STATUS_CODES = sorted(_cheader.enums(INCLUDE / "pdt_status.h")["pdt_status_t"].values())
+STATUS_NAMES = {code: lib.pdtpy_status_name(code).decode() for code in STATUS_CODES}
 _cost = _cheader.enums(INCLUDE / "pdt_cost.h")
 _tune = _cheader.enums(INCLUDE / "pdt_tune.h")
 _model = _cheader.enums(INCLUDE / "pdt_model.h")

@@ -125,54 +125,35 @@ static pdt_real_t *to_real(const double *x, size_t n)
     return r;
 }
 
-/* The model run from rest on u - u0, plus y0, as pdt_ident computes its fit. */
-static pdt_status_t simulate_real(const pdt_model_t *m, double Ts, const pdt_real_t *u,
-                                  const pdt_real_t *y, size_t n, pdt_real_t u0, pdt_real_t y0,
-                                  pdt_real_t *ysim)
+/* A model on a record by the library's own calls: its output from rest on
+ * u - u0, plus y0 (pdt_cost_simulate, into ysim unless NULL), and the fit
+ * pdt_ident reports for its answers (pdt_cost_fit, into fit unless NULL). */
+static pdt_status_t model_on_record(const pdt_model_t *m, double Ts, const pdt_real_t *u,
+                                    const pdt_real_t *y, size_t n, pdt_real_t u0, pdt_real_t y0,
+                                    pdt_real_t *ysim, pdt_real_t *fit)
 {
     pdt_cost_config_t cc;
     pdt_cost_config_default(&cc);
     cc.Ts = (pdt_real_t)Ts;
-    cc.u0 = (pdt_real_t)u0;
-    cc.y0 = (pdt_real_t)y0;
+    cc.u0 = u0;
+    cc.y0 = y0;
     cc.delay_max = 0;
     cc.whole_record = true;
     cc.use_frequency = false;
     cc.kind = PDT_COST_SIMULATION;
     pdt_cost_t cost;
     pdt_discrete_t d;
+    /* the cost's workspace, then n reals of scratch for the fit */
     const size_t wlen = pdt_cost_workspace_size(&cc, n);
-    void *work = wlen ? malloc(wlen) : NULL;
+    pdt_real_t *work = wlen ? malloc(wlen + n * sizeof *work) : NULL;
     pdt_status_t st = work ? pdt_cost_init(&cost, &cc, u, y, n, work, wlen) : PDT_ERR_NOMEM;
-    if (st == PDT_OK) st = pdt_discrete_init(m, (pdt_real_t)Ts, &d);
-    if (st == PDT_OK) st = pdt_cost_simulate(&cost, &d, ysim);
+    if (st == PDT_OK && ysim) {
+        st = pdt_discrete_init(m, (pdt_real_t)Ts, &d);
+        if (st == PDT_OK) st = pdt_cost_simulate(&cost, &d, ysim);
+    }
+    if (st == PDT_OK && fit) st = pdt_cost_fit(&cost, m, 0, work + wlen / sizeof *work, fit);
     free(work);
     return st;
-}
-
-/* The fit pdt_ident reports, 100 (1 - |y - ysim| / |y - mean(y)|), for a
- * model that did not come from it; NaN when it cannot be simulated.
- * GLUE: the command line computes the same in its model_fit
- * (tools/cli/pdtfit.c, static); once its shared layer exports that, this
- * function goes and identify_ls calls it. */
-static double model_fit(const pdt_model_t *m, double Ts, const pdt_real_t *u, const pdt_real_t *y,
-                        size_t n, pdt_real_t u0, pdt_real_t y0)
-{
-    pdt_real_t *ysim = malloc(n * sizeof *ysim);
-    double fit = (double)NAN;
-    if (ysim && simulate_real(m, Ts, u, y, n, u0, y0, ysim) == PDT_OK) {
-        double mean = 0.0, e2 = 0.0, v2 = 0.0;
-        for (size_t k = 0; k < n; k++) mean += (double)y[k];
-        mean /= (double)n;
-        for (size_t k = 0; k < n; k++) {
-            double e = (double)y[k] - (double)ysim[k], v = (double)y[k] - mean;
-            e2 += e * e;
-            v2 += v * v;
-        }
-        if (v2 > 0.0) fit = 100.0 * (1.0 - sqrt(e2 / v2));
-    }
-    free(ysim);
-    return fit;
 }
 
 /* method ELMS or E-IV-LMS: the least-squares delay scan, reported as
@@ -202,7 +183,8 @@ static int identify_ls(const pdt_real_t *u, const pdt_real_t *y, size_t n, doubl
     res->u0 = r.u0;
     res->y0 = r.y0;
     res->cost = r.cost;
-    res->fit = (pdt_real_t)model_fit(&r.model, Ts, u, y, n, r.u0, r.y0);
+    res->fit = (pdt_real_t)NAN;
+    (void)model_on_record(&r.model, Ts, u, y, n, r.u0, r.y0, NULL, &res->fit);
     res->evaluations = (uint32_t)(delay_max - cfg.delay_min + 1u);
     return PDT_OK;
 }
@@ -268,7 +250,7 @@ int pdtpy_simulate(const double *model, double Ts, const double *u, const double
     pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n), *ys = to_real(y, n);
     st = PDTPY_ERR_NOMEM;
     if (ur && yr && ys) {
-        st = simulate_real(&m, Ts, ur, yr, n, (pdt_real_t)u0, (pdt_real_t)y0, ys);
+        st = model_on_record(&m, Ts, ur, yr, n, (pdt_real_t)u0, (pdt_real_t)y0, ys, NULL);
         if (st == PDT_OK)
             for (size_t k = 0; k < n; k++) ysim[k] = (double)ys[k];
     }
@@ -385,4 +367,9 @@ void pdtpy_series_free(pdtpy_series_t *s)
 const char *pdtpy_status_str(int status)
 {
     return pdt_status_str((pdt_status_t)status);
+}
+
+const char *pdtpy_status_name(int status)
+{
+    return pdt_status_name((pdt_status_t)status);
 }

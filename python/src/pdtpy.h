@@ -67,8 +67,11 @@ typedef struct pdtpy_series {
     unsigned filled;      /* samples filled by resampling */
 } pdtpy_series_t;
 
-/* The library's own name of a status (pdt_status_str). */
+/* The library's description of a status (pdt_status_str). */
 PDTPY_API const char *pdtpy_status_str(int status);
+/* The status's identifier (pdt_status_name: "PDT_ERR_NO_EXCITATION"), as
+ * the command line's JSON names it. */
+PDTPY_API const char *pdtpy_status_name(int status);
 PDTPY_API int pdtpy_real_size(void);
 PDTPY_API int pdtpy_model_make(int kind, int form, double K, double x1, double x2, double Td,
                                double *out);

@@ -44,6 +44,20 @@ static int add_section(build_t *b, size_t ns, const double *As, const double *Bs
     return 0;
 }
 
+/* A B of n x n matrices, rows `stride` apart, into P (not A or B). */
+static void matmul(const double *A, const double *B, size_t n, size_t stride, double *P)
+{
+    for (size_t i = 0; i < n; i++) {
+        for (size_t j = 0; j < n; j++) {
+            double acc = 0.0;
+            for (size_t q = 0; q < n; q++) {
+                acc += A[i * stride + q] * B[q * stride + j];
+            }
+            P[i * stride + j] = acc;
+        }
+    }
+}
+
 /* exp(M) of an m x m matrix (row-major, stride MMAX) into E. */
 static void expm(const double *M, size_t m, double *E)
 {
@@ -70,32 +84,17 @@ static void expm(const double *M, size_t m, double *E)
         }
     }
     for (int k = 1; k <= 24; k++) {
+        matmul(term, M, m, MMAX, next);
         for (size_t i = 0; i < m; i++) {
             for (size_t j = 0; j < m; j++) {
-                double acc = 0.0;
-                for (size_t q = 0; q < m; q++) {
-                    acc += term[i * MMAX + q] * M[q * MMAX + j];
-                }
-                next[i * MMAX + j] = acc * scale / (double)k;
-            }
-        }
-        for (size_t i = 0; i < m; i++) {
-            for (size_t j = 0; j < m; j++) {
+                next[i * MMAX + j] = next[i * MMAX + j] * scale / (double)k;
                 term[i * MMAX + j] = next[i * MMAX + j];
                 E[i * MMAX + j] += next[i * MMAX + j];
             }
         }
     }
     for (int r = 0; r < s; r++) {
-        for (size_t i = 0; i < m; i++) {
-            for (size_t j = 0; j < m; j++) {
-                double acc = 0.0;
-                for (size_t q = 0; q < m; q++) {
-                    acc += E[i * MMAX + q] * E[q * MMAX + j];
-                }
-                next[i * MMAX + j] = acc;
-            }
-        }
+        matmul(E, E, m, MMAX, next);
         memcpy(E, next, sizeof next);
     }
 }
@@ -181,11 +180,46 @@ static int realise(const sim_plant_desc_t *d, build_t *b)
     return (z == d->n_zeros) ? 0 : -1;
 }
 
+/* M v of an n x n matrix into out. */
+static void matvec(const double *M, const double *v, size_t n, double *out)
+{
+    for (size_t i = 0; i < n; i++) {
+        double acc = 0.0;
+        for (size_t j = 0; j < n; j++) {
+            acc += M[i * n + j] * v[j];
+        }
+        out[i] = acc;
+    }
+}
+
+/* The ring of past inputs of p over hist: l + 2 entries. */
+static int set_history(sim_plant_t *p, size_t l, double *hist, size_t hist_len)
+{
+    if (hist == NULL || l + 2u > hist_len) {
+        return -1;
+    }
+    p->l = l;
+    p->hist = hist;
+    p->hist_len = l + 2u;
+    return 0;
+}
+
+sim_plant_desc_t sim_plant_desc_lags(double K, const double *lags, size_t n_lags, double delay)
+{
+    sim_plant_desc_t d;
+    memset(&d, 0, sizeof d);
+    d.K = K;
+    d.lags = lags;
+    d.n_lags = n_lags;
+    d.delay = delay;
+    return d;
+}
+
 int sim_plant_init(sim_plant_t *p, const sim_plant_desc_t *d, double Ts, double u0, double y0,
                    double *hist, size_t hist_len)
 {
     build_t b;
-    if (p == NULL || d == NULL || hist == NULL || !(Ts > 0.0) || !isfinite(Ts) || !desc_ok(d) ||
+    if (p == NULL || d == NULL || !(Ts > 0.0) || !isfinite(Ts) || !desc_ok(d) ||
         realise(d, &b) != 0) {
         return -1;
     }
@@ -202,25 +236,67 @@ int sim_plant_init(sim_plant_t *p, const sim_plant_desc_t *d, double Ts, double 
         return -1;
     }
     memset(p, 0, sizeof *p);
+    if (set_history(p, (size_t)l, hist, hist_len) != 0) {
+        return -1;
+    }
     p->n = b.n;
-    p->l = (size_t)l;
-    p->f = f;
     p->u0 = u0;
     p->y0 = y0;
-    p->hist = hist;
-    p->hist_len = p->l + 2u;
-    for (size_t i = 0; i < p->hist_len; i++) {
-        hist[i] = 0.0;
-    }
     memcpy(p->C, b.vx, b.n * sizeof b.vx[0]);
     p->D = b.vu;
     if (f > 0.0) {
-        discretize(&b, f * Ts, p->Phi1, p->Gam1);
-        discretize(&b, (1.0 - f) * Ts, p->Phi2, p->Gam2);
+        /* Over f Ts the plant sees u(k - l - 1), over the rest u(k - l):
+         * Phi = Phi2 Phi1, Gam = Gam2, Gam_prev = Phi2 Gam1. */
+        double Phi1[NMAX * NMAX], Gam1[NMAX], Phi2[NMAX * NMAX];
+        discretize(&b, f * Ts, Phi1, Gam1);
+        discretize(&b, (1.0 - f) * Ts, Phi2, p->Gam);
+        matmul(Phi2, Phi1, b.n, b.n, p->Phi);
+        matvec(Phi2, Gam1, b.n, p->Gam_prev);
     } else {
-        discretize(&b, Ts, p->Phi1, p->Gam1);
+        discretize(&b, Ts, p->Phi, p->Gam);
     }
+    sim_plant_reset(p);
     return 0;
+}
+
+int sim_plant_init_discrete(sim_plant_t *p, size_t n, size_t l, const double *Phi,
+                            const double *Gam, const double *Gam_prev, const double *C,
+                            double *hist, size_t hist_len)
+{
+    if (p == NULL || Phi == NULL || Gam == NULL || Gam_prev == NULL || C == NULL || n == 0u ||
+        n > NMAX) {
+        return -1;
+    }
+    for (size_t i = 0; i < n * n; i++) {
+        if (!isfinite(Phi[i])) {
+            return -1;
+        }
+    }
+    for (size_t i = 0; i < n; i++) {
+        if (!isfinite(Gam[i]) || !isfinite(Gam_prev[i]) || !isfinite(C[i])) {
+            return -1;
+        }
+    }
+    memset(p, 0, sizeof *p);
+    if (set_history(p, l, hist, hist_len) != 0) {
+        return -1;
+    }
+    p->n = n;
+    memcpy(p->Phi, Phi, n * n * sizeof Phi[0]);
+    memcpy(p->Gam, Gam, n * sizeof Gam[0]);
+    memcpy(p->Gam_prev, Gam_prev, n * sizeof Gam_prev[0]);
+    memcpy(p->C, C, n * sizeof C[0]);
+    sim_plant_reset(p);
+    return 0;
+}
+
+void sim_plant_reset(sim_plant_t *p)
+{
+    memset(p->x, 0, sizeof p->x);
+    for (size_t i = 0; i < p->hist_len; i++) {
+        p->hist[i] = 0.0;
+    }
+    p->head = 0;
 }
 
 /* The input deviation applied `back` scans before the newest. */
@@ -248,31 +324,21 @@ double sim_plant_output(const sim_plant_t *p)
     return p->y0 + output_dev(p);
 }
 
-static void piece(sim_plant_t *p, const double *Phi, const double *Gam, double v)
+void sim_plant_apply(sim_plant_t *p, double u)
 {
     double xn[NMAX];
     const size_t n = p->n;
+    p->head = (p->head + 1u) % p->hist_len;
+    p->hist[p->head] = u - p->u0;
+    const double now = past(p, p->l), before = past(p, p->l + 1u);
     for (size_t i = 0; i < n; i++) {
-        double acc = Gam[i] * v;
+        double acc = p->Gam[i] * now + p->Gam_prev[i] * before;
         for (size_t j = 0; j < n; j++) {
-            acc += Phi[i * n + j] * p->x[j];
+            acc += p->Phi[i * n + j] * p->x[j];
         }
         xn[i] = acc;
     }
     memcpy(p->x, xn, n * sizeof xn[0]);
-}
-
-void sim_plant_apply(sim_plant_t *p, double u)
-{
-    p->head = (p->head + 1u) % p->hist_len;
-    p->hist[p->head] = u - p->u0;
-    /* Over this scan the plant sees u(k - l - 1) for f Ts, then u(k - l). */
-    if (p->f > 0.0) {
-        piece(p, p->Phi1, p->Gam1, past(p, p->l + 1u));
-        piece(p, p->Phi2, p->Gam2, past(p, p->l));
-    } else {
-        piece(p, p->Phi1, p->Gam1, past(p, p->l));
-    }
 }
 
 void sim_plant_freq(const sim_plant_desc_t *d, double w, double *mag, double *phase)

@@ -18,8 +18,12 @@
  * equation is integrated exactly over a held input by the matrix exponential
  * (scaling and squaring of a Taylor series): the result does not depend on
  * the scan being short against the lags. A dead time of l + f scans puts
- * one switch of the delayed input inside each scan, at f Ts; each scan is
- * two exact pieces.
+ * one switch of the delayed input inside each scan, at f Ts, so one scan is
+ *
+ *   x(k+1) = Phi x(k) + Gam u(k - l) + Gam_prev u(k - l - 1),
+ *
+ * the form a realisation made elsewhere (the autotune benchmark's numpy
+ * one) is loaded in too, by sim_plant_init_discrete.
  *
  * C99, double, no allocation and no stdio: it also runs on the target.
  */
@@ -49,21 +53,22 @@ typedef struct sim_plant_desc {
 
 typedef struct sim_plant {
     size_t n; /* states */
-    double Phi1[SIM_PLANT_MAX_STATES * SIM_PLANT_MAX_STATES];
-    double Gam1[SIM_PLANT_MAX_STATES]; /* over f Ts (or Ts when f = 0) */
-    double Phi2[SIM_PLANT_MAX_STATES * SIM_PLANT_MAX_STATES];
-    double Gam2[SIM_PLANT_MAX_STATES]; /* over (1 - f) Ts */
+    double Phi[SIM_PLANT_MAX_STATES * SIM_PLANT_MAX_STATES];
+    double Gam[SIM_PLANT_MAX_STATES];      /* the input of l scans ago */
+    double Gam_prev[SIM_PLANT_MAX_STATES]; /* the input of l + 1 scans ago */
     double C[SIM_PLANT_MAX_STATES];
     double D;                       /* direct feedthrough */
     double x[SIM_PLANT_MAX_STATES]; /* deviation from rest */
-    double *hist;                   /* applied inputs, a ring
-                                                * (caller memory) */
+    double *hist;                   /* applied inputs, a ring (caller memory) */
     size_t hist_len;                /* l + 2 used */
     size_t head;                    /* newest entry of hist */
     size_t l;                       /* whole scans of dead time */
-    double f;                       /* the fraction, 0 <= f < 1 */
     double u0, y0;                  /* the operating point */
 } sim_plant_t;
+
+/* The description of K e^{-delay s} / prod_i (lags[i] s + 1), the rest
+ * zero; lags must outlive its use. */
+sim_plant_desc_t sim_plant_desc_lags(double K, const double *lags, size_t n_lags, double delay);
 
 /* Prepares p at rest: output y0 with the input held at u0 (for an
  * integrating plant, y0 stays while u = u0). Ts > 0, s. hist holds the
@@ -73,6 +78,19 @@ typedef struct sim_plant {
  * history too short). */
 int sim_plant_init(sim_plant_t *p, const sim_plant_desc_t *d, double Ts, double u0, double y0,
                    double *hist, size_t hist_len);
+
+/* Prepares p at rest (u0 = y0 = 0) from a discrete realisation made
+ * elsewhere: x(k+1) = Phi x(k) + Gam u(k - l) + Gam_prev u(k - l - 1),
+ * y(k) = C x(k), n states (Phi n x n, row-major). hist: at least l + 2
+ * doubles, kept by the caller. Returns 0, or -1 for n of 0 or above
+ * SIM_PLANT_MAX_STATES, a value that is not finite, or a history too
+ * short. */
+int sim_plant_init_discrete(sim_plant_t *p, size_t n, size_t l, const double *Phi,
+                            const double *Gam, const double *Gam_prev, const double *C,
+                            double *hist, size_t hist_len);
+
+/* Back to rest at the operating point, the description kept. */
+void sim_plant_reset(sim_plant_t *p);
 
 /* The output now: what a sensor reads at the start of this scan. */
 double sim_plant_output(const sim_plant_t *p);

@@ -116,4 +116,25 @@ static inline pdt_discrete_t vector_dmodel(int order, int delay, const double *c
     return d;
 }
 
+/* The cost configuration of a generated vector set s (cost_vectors.h and
+ * cost_profile_vectors.h name these fields alike): the defaults, then the
+ * set's period, operating point, dead-time range and band. */
+#define VECTOR_COST_CONFIG(cfg, s)                                                                 \
+    vector_cost_config((cfg), (s)->Ts, (s)->u0, (s)->y0, (s)->delay_min, (s)->delay_max,           \
+                       (s)->delay_max_auto != 0, (s)->f_lo, (s)->f_hi)
+
+static inline void vector_cost_config(pdt_cost_config_t *cfg, double Ts, double u0, double y0,
+                                      size_t delay_min, size_t delay_max, bool delay_max_auto,
+                                      double f_lo, double f_hi)
+{
+    pdt_cost_config_default(cfg);
+    cfg->Ts = (pdt_real_t)Ts;
+    cfg->u0 = (pdt_real_t)u0;
+    cfg->y0 = (pdt_real_t)y0;
+    cfg->delay_min = delay_min;
+    cfg->delay_max = delay_max_auto ? PDT_DELAY_HALF : delay_max;
+    cfg->f_lo = (pdt_real_t)f_lo;
+    cfg->f_hi = (pdt_real_t)f_hi;
+}
+
 #endif /* PDT_TEST_MEASURE_H */

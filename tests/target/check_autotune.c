@@ -1,9 +1,9 @@
 /*
- * Autotune on the target: a FOPDT and a SOPDT plant simulated here scan by
- * scan (the exact ZOH model at the scan period, output held per scan,
- * deterministic noise), each tuned by one complete pdt_autotune run with a
- * PRBS experiment and a record of 600 samples (the configuration
- * docs/autotune.md tabulates). Checks the model and the gains against the
+ * Autotune on the target: a FOPDT and a SOPDT plant simulated scan by scan
+ * by the test-support simulator (tests/support/sim_process.h: exact at the
+ * scan period, deterministic sensor noise), each tuned by one complete
+ * pdt_autotune run with a PRBS experiment and a record of 600 samples (the
+ * configuration docs/autotune.md tabulates). Checks the model and the gains against the
  * plant, and reports the worst-case work of one pdt_autotune_scan call in
  * each phase, in port ticks and instructions (QEMU -icount), and the stack
  * the calls used.
@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "target_checks.h"
-#include "sim_rng.h"
+#include "sim_process.h"
 #include "target_util.h"
 
 #include "pdt_port.h"
@@ -22,49 +22,12 @@
 int target_check_autotune(void);
 
 #define AT_CAPACITY 600u
-#define AT_HIST     256u
 
 static pdt_real_t g_at_work[PDT_AUTOTUNE_WORKSPACE_SIZE(AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
                                 sizeof(pdt_real_t) +
                             1u];
 static pdt_autotune_t g_at;
-
-/* The plant: the d[] form of pdt_discrete_t in double, from rest. */
-typedef struct at_plant {
-    pdt_discrete_t d;
-    double u0, y0;
-    double uh[AT_HIST];
-    double y1, y2;
-    uint32_t k;
-    uint32_t seed;
-    double noise_sd;
-} at_plant_t;
-
-static pdt_real_t at_pv(at_plant_t *p)
-{
-    return (pdt_real_t)(p->y0 + p->y1 + p->noise_sd * sim_rng_normal(&p->seed));
-}
-
-static void at_apply(at_plant_t *p, pdt_real_t u)
-{
-    p->uh[p->k % AT_HIST] = (double)u - p->u0;
-    p->k++;
-    double bu = 0.0;
-    for (uint32_t j = 0; j < 3u; j++) {
-        uint32_t lag = (uint32_t)p->d.delay + j;
-        if (p->k >= lag + 1u) {
-            bu += (double)p->d.b[j] * p->uh[(p->k - 1u - lag) % AT_HIST];
-        }
-    }
-    double yn;
-    if (p->d.order == 1u) {
-        yn = p->y1 - (double)p->d.d[0] * p->y1 + bu;
-    } else {
-        yn = p->y1 + (1.0 - (double)p->d.d[0]) * (p->y1 - p->y2) - (double)p->d.d[1] * p->y2 + bu;
-    }
-    p->y2 = p->y1;
-    p->y1 = yn;
-}
+static sim_process_t g_process; /* the plant of the check running */
 
 typedef struct at_run {
     pdt_status_t st;
@@ -79,12 +42,12 @@ typedef struct at_run {
 /* One autotune to the end, timing every call. The stack is painted once
  * and read at the end: the deepest of all the calls (and of the plant's
  * small helpers, which sit at the same depth). */
-static bool at_run(const pdt_autotune_config_t *c, at_plant_t *p, at_run_t *r)
+static bool at_run(const pdt_autotune_config_t *c, sim_process_t *p, at_run_t *r)
 {
     memset(r, 0, sizeof *r);
     size_t need = pdt_autotune_workspace_size(c);
     if (need == 0u || need > sizeof g_at_work ||
-        pdt_autotune_init(&g_at, c, (pdt_real_t)p->u0, g_at_work, need) != PDT_OK) {
+        pdt_autotune_init(&g_at, c, (pdt_real_t)p->plant.u0, g_at_work, need) != PDT_OK) {
         return false;
     }
     size_t depth = pdt_cm4_stack_depth();
@@ -92,7 +55,7 @@ static bool at_run(const pdt_autotune_config_t *c, at_plant_t *p, at_run_t *r)
     r->st = PDT_RUNNING;
     while (r->st == PDT_RUNNING && r->scans < 100000u) {
         pdt_autotune_phase_t ph = pdt_autotune_phase(&g_at);
-        pdt_real_t pv = at_pv(p);
+        pdt_real_t pv = sim_process_pv(p);
         pdt_real_t u;
         bool counting = ph == PDT_AUTOTUNE_IDENTIFY && g_at.ident_started;
         uint32_t e0 = counting ? g_at.ident.evaluations : 0u;
@@ -109,7 +72,7 @@ static bool at_run(const pdt_autotune_config_t *c, at_plant_t *p, at_run_t *r)
             }
         }
         r->scans++;
-        at_apply(p, u);
+        sim_process_apply(p, u);
     }
     r->stack = pdt_cm4_stack_used() - depth;
     return pdt_autotune_result(&g_at, &r->res) == PDT_OK;
@@ -187,21 +150,11 @@ static int check_fopdt(void)
 {
     pdt_autotune_config_t c;
     at_config(&c, 0.5, PDT_MODEL_FOPDT, 4u, 3.0);
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = (pdt_real_t)2.0;
-    m.p.fopdt.tau = (pdt_real_t)10.0;
-    m.p.fopdt.Td = (pdt_real_t)3.0;
-    at_plant_t p;
-    memset(&p, 0, sizeof p);
-    p.u0 = 40.0;
-    p.y0 = 20.0;
-    p.noise_sd = 0.05;
-    p.seed = 23u;
+    const pdt_model_t m = model_fopdt(2.0, 10.0, 3.0);
     at_run_t r;
-    bool ok = pdt_discrete_init(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) && r.st == PDT_OK &&
-              r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_FOPDT;
+    bool ok = sim_process_init(&g_process, &m, (double)c.Ts, 40.0, 20.0, 0.05, 23u) == 0 &&
+              at_run(&c, &g_process, &r) && r.st == PDT_OK && r.res.has_gains &&
+              r.res.ident.model.kind == PDT_MODEL_FOPDT;
     tline_t l;
     tl_init(&l);
     tl_str(&l, "autotune FOPDT K=2 tau=10 Td=3, PRBS, capacity 600: ");
@@ -217,12 +170,7 @@ static int check_fopdt(void)
     double etI = rel_err((double)r.res.tune.ideal.tauI, 10.0);
     ok = eK <= 0.03 && etau <= 0.03 && eTd <= 0.03 && eKc <= 0.06 && etI <= 0.03 &&
          r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;
-    tl_str(&l, "K ");
-    tl_num(&l, (double)g->K, 5);
-    tl_str(&l, " tau ");
-    tl_num(&l, (double)g->tau, 5);
-    tl_str(&l, " Td ");
-    tl_num(&l, (double)g->Td, 5);
+    tl_fopdt(&l, g);
     at_gains(&l, &r);
     int failed = t_verdict(ok, &l);
     at_report("FOPDT", &r);
@@ -234,21 +182,12 @@ static int check_sopdt(void)
 {
     pdt_autotune_config_t c;
     at_config(&c, 0.5, PDT_MODEL_SOPDT, 4u, 3.0);
-    pdt_model_tc_t tc = {(pdt_real_t)1.5, (pdt_real_t)8.0, (pdt_real_t)3.0, false, (pdt_real_t)2.0};
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_SOPDT;
-    at_plant_t p;
-    memset(&p, 0, sizeof p);
-    p.u0 = 50.0;
-    p.y0 = 10.0;
-    p.noise_sd = 0.03;
-    p.seed = 5u;
+    const pdt_model_t m = model_sopdt_tc(1.5, 8.0, 3.0, 2.0);
     at_run_t r;
     pdt_model_tc_t gtc;
-    bool ok = pdt_model_sopdt_from_tc(&tc, &m.p.sopdt) == PDT_OK &&
-              pdt_discrete_init(&m, c.Ts, &p.d) == PDT_OK && at_run(&c, &p, &r) && r.st == PDT_OK &&
-              r.res.has_gains && r.res.ident.model.kind == PDT_MODEL_SOPDT &&
+    bool ok = sim_process_init(&g_process, &m, (double)c.Ts, 50.0, 10.0, 0.03, 5u) == 0 &&
+              at_run(&c, &g_process, &r) && r.st == PDT_OK && r.res.has_gains &&
+              r.res.ident.model.kind == PDT_MODEL_SOPDT &&
               pdt_model_sopdt_to_tc(&r.res.ident.model.p.sopdt, &gtc) == PDT_OK;
     tline_t l;
     tl_init(&l);
@@ -262,14 +201,7 @@ static int check_sopdt(void)
     double eTd = fabs((double)gtc.Td - 2.0);
     ok = !gtc.complex && eK <= 0.03 && eT <= 0.05 && eTd <= 0.3 &&
          r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;
-    tl_str(&l, "K ");
-    tl_num(&l, (double)gtc.K, 5);
-    tl_str(&l, " T1 ");
-    tl_num(&l, (double)gtc.T1, 5);
-    tl_str(&l, " T2 ");
-    tl_num(&l, (double)gtc.T2, 5);
-    tl_str(&l, " Td ");
-    tl_num(&l, (double)gtc.Td, 5);
+    tl_tc(&l, &gtc);
     at_gains(&l, &r);
     int failed = t_verdict(ok, &l);
     at_report("SOPDT", &r);

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "target_checks.h"
-#include "sim_rng.h"
+#include "sim_process.h"
 #include "target_util.h"
 
 #include "pdt_port.h"
@@ -84,27 +84,6 @@ static bool make_record(record_t *r)
     return true;
 }
 
-static pdt_model_t fopdt(double K, double tau, double Td)
-{
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = (pdt_real_t)K;
-    m.p.fopdt.tau = (pdt_real_t)tau;
-    m.p.fopdt.Td = (pdt_real_t)Td;
-    return m;
-}
-
-static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
-{
-    pdt_model_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_SOPDT;
-    (void)pdt_model_sopdt_from_tc(&tc, &m.p.sopdt);
-    return m;
-}
-
 static void line_ticks(tline_t *l, uint64_t ticks)
 {
     tl_uint(l, ticks);
@@ -142,7 +121,7 @@ static pdt_status_t identify(pdt_model_kind_t kind, const record_t *r, pdt_ident
  * fit 95 %, output level 0.5 % of the swing. */
 static int check_fopdt(void)
 {
-    record_t r = {fopdt(2.0, 12.0, 4.37), 1.0, 800u, 0.0, 0.0, 30.0, 99u, 0.0};
+    record_t r = {model_fopdt(2.0, 12.0, 4.37), 1.0, 800u, 0.0, 0.0, 30.0, 99u, 0.0};
     pdt_ident_result_t res;
     uint64_t ticks = 0;
     size_t stack = 0;
@@ -166,12 +145,7 @@ static int check_fopdt(void)
         tl_str(&l, pdt_status_str(st));
         return t_verdict(false, &l);
     }
-    tl_str(&l, "K ");
-    tl_num(&l, (double)res.model.p.fopdt.K, 5);
-    tl_str(&l, " tau ");
-    tl_num(&l, (double)res.model.p.fopdt.tau, 5);
-    tl_str(&l, " Td ");
-    tl_num(&l, (double)res.model.p.fopdt.Td, 5);
+    tl_fopdt(&l, &res.model.p.fopdt);
     tl_str(&l, " fit ");
     tl_num(&l, (double)res.fit, 4);
     tl_str(&l, "%; errors K ");
@@ -202,7 +176,7 @@ static int check_fopdt(void)
  * wn, fit 90 %, and the time constants T1 3 %, T2 10 %. */
 static int check_sopdt(void)
 {
-    record_t r = {sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, 1000u, 10.0, 50.0, 30.0, 5u, 0.0};
+    record_t r = {model_sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, 1000u, 10.0, 50.0, 30.0, 5u, 0.0};
     pdt_ident_result_t res;
     pdt_model_natural_t g, w;
     pdt_model_tc_t gtc;
@@ -232,14 +206,7 @@ static int check_sopdt(void)
         tl_str(&l, pdt_status_str(st));
         return t_verdict(false, &l);
     }
-    tl_str(&l, "K ");
-    tl_num(&l, (double)gtc.K, 5);
-    tl_str(&l, " T1 ");
-    tl_num(&l, (double)gtc.T1, 5);
-    tl_str(&l, " T2 ");
-    tl_num(&l, (double)gtc.T2, 5);
-    tl_str(&l, " Td ");
-    tl_num(&l, (double)gtc.Td, 5);
+    tl_tc(&l, &gtc);
     tl_str(&l, " fit ");
     tl_num(&l, (double)res.fit, 4);
     tl_str(&l, "%; errors K ");
@@ -375,7 +342,7 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
 
 int target_check_cost_work(void)
 {
-    record_t r = {sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, COST_N, 10.0, 50.0, 30.0, 5u, 0.0};
+    record_t r = {model_sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, COST_N, 10.0, 50.0, 30.0, 5u, 0.0};
     make_prbs(r.n, 10u, 12u, 11u, 2.0);
     if (!make_record(&r)) {
         tline_t l;

@@ -14,7 +14,7 @@
 
 #include "cost_vectors.h"
 #include "discrete_vectors.h"
-#include "fft_vectors.h"
+#include "fft_cases.h"
 #include "model_vectors.h"
 
 #if PDT_REAL_DOUBLE
@@ -39,23 +39,6 @@
 
 #define FFT_NMAX 8192u
 
-typedef struct fft_case {
-    size_t n;
-    const int16_t *q;
-    const double *spec;
-    const double *mag;
-} fft_case_t;
-
-static const fft_case_t fft_cases[] = {
-    {16u, fft_q_16, fft_spec_16, fft_mag_16},
-    {32u, fft_q_32, fft_spec_32, fft_mag_32},
-    {64u, fft_q_64, fft_spec_64, fft_mag_64},
-    {128u, fft_q_128, fft_spec_128, fft_mag_128},
-    {256u, fft_q_256, fft_spec_256, fft_mag_256},
-    {1024u, fft_q_1024, fft_spec_1024, fft_mag_1024},
-    {8192u, fft_q_8192, fft_spec_8192, fft_mag_8192},
-};
-
 static pdt_real_t g_fft_work[FFT_NMAX / 2u + CANARY_COUNT];
 static pdt_real_t g_fft_buf[FFT_NMAX + CANARY_COUNT];
 static pdt_real_t g_fft_mag[FFT_NMAX / 2u + 1u + CANARY_COUNT];
@@ -74,7 +57,7 @@ static bool fft_compare(const pdt_real_t *got, const double *ref, size_t len, do
 int target_check_fft(void)
 {
     int failed = 0;
-    for (size_t c = 0; c < sizeof fft_cases / sizeof fft_cases[0]; c++) {
+    for (size_t c = 0; c < FFT_NCASES; c++) {
         const fft_case_t *tc = &fft_cases[c];
         const size_t n = tc->n;
         const size_t ws = pdt_fft_workspace_size(n);
@@ -366,14 +349,7 @@ static pdt_real_t g_cwork[COST_WORK_REALS + CANARY_COUNT];
 
 static void cost_config(const cost_vec_set_t *s, pdt_cost_config_t *cfg)
 {
-    pdt_cost_config_default(cfg);
-    cfg->Ts = (pdt_real_t)s->Ts;
-    cfg->u0 = (pdt_real_t)s->u0;
-    cfg->y0 = (pdt_real_t)s->y0;
-    cfg->delay_min = s->delay_min;
-    cfg->delay_max = s->delay_max_auto ? PDT_DELAY_HALF : s->delay_max;
-    cfg->f_lo = (pdt_real_t)s->f_lo;
-    cfg->f_hi = (pdt_real_t)s->f_hi;
+    VECTOR_COST_CONFIG(cfg, s);
     cfg->weights = g_cw;
 }
 
@@ -387,26 +363,6 @@ static bool cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, size_t n)
     canary_fill(g_cwork + reals, CANARY_COUNT);
     return pdt_cost_init(c, cfg, g_cu, g_cy, n, g_cwork, ws) == PDT_OK &&
            canary_intact(g_cwork + reals, CANARY_COUNT);
-}
-
-static pdt_model_t cost_model(const cost_vec_set_t *s, size_t i)
-{
-    pdt_model_t m;
-    const double *p = s->param + 4u * i;
-    memset(&m, 0, sizeof m);
-    if (s->kind[i] == 1) {
-        m.kind = PDT_MODEL_FOPDT;
-        m.p.fopdt.K = (pdt_real_t)p[0];
-        m.p.fopdt.tau = (pdt_real_t)p[1];
-        m.p.fopdt.Td = (pdt_real_t)p[2];
-    } else {
-        m.kind = PDT_MODEL_SOPDT;
-        m.p.sopdt.k = (pdt_real_t)p[0];
-        m.p.sopdt.a = (pdt_real_t)p[1];
-        m.p.sopdt.b = (pdt_real_t)p[2];
-        m.p.sopdt.Td = (pdt_real_t)p[3];
-    }
-    return m;
 }
 
 /* One cost value against the reference: updates the worst error, false
@@ -465,7 +421,7 @@ static bool cost_set_frequency(const cost_vec_set_t *s, double *worst)
             return false;
         }
         for (size_t i = 0; i < s->ncand; i++) {
-            pdt_model_t m = cost_model(s, i);
+            pdt_model_t m = vector_model(s->kind[i], s->param + 4u * i);
             pdt_real_t v = 0;
             pdt_status_t st = pdt_cost_frequency(&c, &m, &v);
             ok = cost_ok(st, v, s->cost[COST_NCOL * i + COST_COL_CF_UNIFORM + wk], worst) && ok;
@@ -495,7 +451,7 @@ static bool cost_set_combined(const cost_vec_set_t *s, double *worst)
             return false;
         }
         for (size_t i = 0; i < s->ncand; i++) {
-            pdt_model_t m = cost_model(s, i);
+            pdt_model_t m = vector_model(s->kind[i], s->param + 4u * i);
             pdt_real_t v = 0;
             pdt_status_t st = pdt_cost_eval(&c, &m, &v);
             size_t col = which == 0 ? COST_COL_COMB_A : COST_COL_COMB_B;

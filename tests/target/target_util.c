@@ -132,6 +132,31 @@ void tl_num(tline_t *l, double v, int digits)
     }
 }
 
+/* "name value" pairs, 5 digits each, one space apart. */
+static void tl_params(tline_t *l, const char *const *names, const double *v, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        tl_str(l, i > 0u ? " " : "");
+        tl_str(l, names[i]);
+        tl_str(l, " ");
+        tl_num(l, v[i], 5);
+    }
+}
+
+void tl_fopdt(tline_t *l, const pdt_model_fopdt_t *m)
+{
+    static const char *const names[3] = {"K", "tau", "Td"};
+    const double v[3] = {(double)m->K, (double)m->tau, (double)m->Td};
+    tl_params(l, names, v, 3u);
+}
+
+void tl_tc(tline_t *l, const pdt_model_tc_t *tc)
+{
+    static const char *const names[4] = {"K", "T1", "T2", "Td"};
+    const double v[4] = {(double)tc->K, (double)tc->T1, (double)tc->T2, (double)tc->Td};
+    tl_params(l, names, v, 4u);
+}
+
 void tl_emit(tline_t *l)
 {
     tl_char(l, '\n');

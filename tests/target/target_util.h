@@ -26,6 +26,10 @@ void tl_uint(tline_t *l, uint64_t v);
 void tl_int(tline_t *l, int64_t v);
 /* v with `digits` significant digits, fixed or with an exponent as %g. */
 void tl_num(tline_t *l, double v, int digits);
+/* A model's parameters, 5 digits each: "K .. tau .. Td .." of a FOPDT,
+ * "K .. T1 .. T2 .. Td .." of a SOPDT by its time constants. */
+void tl_fopdt(tline_t *l, const pdt_model_fopdt_t *m);
+void tl_tc(tline_t *l, const pdt_model_tc_t *tc);
 /* Writes the line and a newline to the console. */
 void tl_emit(tline_t *l);
 

@@ -26,10 +26,12 @@
  * proper plant whose dead time is (l + f) Ts:
  *   x[k+1] = Phi x[k] + Gb u[k-l] + Ga u[k-l-1],   y[k] = C x[k]
  * (Gb carries the last (1 - f) Ts of the interval, Ga the first f Ts;
- * the script computes them). The process value read at scan k is
- * y[k] + noise[k].
+ * the script computes them), n at most SIM_PLANT_MAX_STATES. It runs on
+ * the test-support simulator (tests/support/sim_plant.h), loaded with that
+ * realisation. The process value read at scan k is y[k] + noise[k].
  * NOISE: std seed max_scans. White Gaussian noise of that standard
- * deviation (xorshift64* and Box-Muller: the same stream everywhere).
+ * deviation (sim_rng64: splitmix64 and Box-Muller, the stream of
+ * pdtsupport.rng.SplitMix64(seed)).
  * AT: decimation capacity settle amplitude t_on t_off u_min u_max pv_min
  * pv_max model(1 FOPDT, 2 SOPDT) ident_seed form(0 PI, 1 PID): the
  * autotune's own rule is SIMC of that form.
@@ -50,31 +52,21 @@
 #include <string.h>
 
 #include "pdt/pdt.h"
+#include "sim_plant.h"
+#include "sim_rng.h"
 
-#define MAXN  16
-#define PI_D  3.14159265358979323846
 #define RL(x) ((pdt_real_t)(x))
 #define MAXL  200000
 
 typedef struct plant {
     double Ts;
-    int n;
-    long l;
-    double Phi[MAXN * MAXN];
-    double Gb[MAXN];
-    double Ga[MAXN];
-    double C[MAXN];
-    double x[MAXN];
-    double *ubuf; /* u[k-l-1] .. u[k] (ring of l + 2) */
-    long blen;
-    long head;
+    sim_plant_t sim;
+    double *hist; /* the simulator's input history, l + 2 */
 } plant_t;
 
 typedef struct noise {
     double std;
-    uint64_t s;
-    int have;
-    double spare;
+    sim_rng64_t rng;
 } noise_t;
 
 static int rd(double *v)
@@ -95,73 +87,36 @@ static void die(const char *what)
 
 static void read_plant(plant_t *p)
 {
-    long n;
-    if (rd(&p->Ts) || rdl(&n) || rdl(&p->l) || n < 1 || n > MAXN || p->l < 0 || p->l > MAXL) {
+    long n, l;
+    double Phi[SIM_PLANT_MAX_STATES * SIM_PLANT_MAX_STATES];
+    double Gb[SIM_PLANT_MAX_STATES], Ga[SIM_PLANT_MAX_STATES], C[SIM_PLANT_MAX_STATES];
+    if (rd(&p->Ts) || rdl(&n) || rdl(&l) || n < 1 || n > (long)SIM_PLANT_MAX_STATES || l < 0 ||
+        l > MAXL) {
         die("plant header");
     }
-    p->n = (int)n;
-    for (int i = 0; i < p->n * p->n; i++) {
-        if (rd(&p->Phi[i])) die("Phi");
+    for (long i = 0; i < n * n; i++) {
+        if (rd(&Phi[i])) die("Phi");
     }
-    for (int i = 0; i < p->n; i++) {
-        if (rd(&p->Gb[i])) die("Gb");
+    for (long i = 0; i < n; i++) {
+        if (rd(&Gb[i])) die("Gb");
     }
-    for (int i = 0; i < p->n; i++) {
-        if (rd(&p->Ga[i])) die("Ga");
+    for (long i = 0; i < n; i++) {
+        if (rd(&Ga[i])) die("Ga");
     }
-    for (int i = 0; i < p->n; i++) {
-        if (rd(&p->C[i])) die("C");
+    for (long i = 0; i < n; i++) {
+        if (rd(&C[i])) die("C");
     }
-    memset(p->x, 0, sizeof p->x);
-    p->blen = p->l + 2;
-    p->ubuf = calloc((size_t)p->blen, sizeof(double));
-    if (p->ubuf == NULL) die("memory");
-    p->head = 0;
-}
-
-static double plant_y(const plant_t *p)
-{
-    double y = 0.0;
-    for (int i = 0; i < p->n; i++) y += p->C[i] * p->x[i];
-    return y;
-}
-
-/* Applies u over the scan interval that starts now. The plant starts at
- * rest with u = 0 in its past. */
-static void plant_step(plant_t *p, double u)
-{
-    p->ubuf[p->head] = u;                                              /* u[k] */
-    double ub = p->ubuf[(p->head - p->l + p->blen * 2) % p->blen];     /* u[k-l] */
-    double ua = p->ubuf[(p->head - p->l - 1 + p->blen * 2) % p->blen]; /* u[k-l-1] */
-    double xn[MAXN];
-    for (int i = 0; i < p->n; i++) {
-        double s = p->Gb[i] * ub + p->Ga[i] * ua;
-        for (int j = 0; j < p->n; j++) s += p->Phi[i * p->n + j] * p->x[j];
-        xn[i] = s;
+    p->hist = malloc((size_t)(l + 2) * sizeof(double));
+    if (p->hist == NULL) die("memory");
+    if (sim_plant_init_discrete(&p->sim, (size_t)n, (size_t)l, Phi, Gb, Ga, C, p->hist,
+                                (size_t)(l + 2)) != 0) {
+        die("plant");
     }
-    memcpy(p->x, xn, sizeof(double) * (size_t)p->n);
-    p->head = (p->head + 1) % p->blen;
 }
 
 static double noise_next(noise_t *z)
 {
-    if (z->std == 0.0) return 0.0;
-    if (z->have) {
-        z->have = 0;
-        return z->std * z->spare;
-    }
-    double u[2];
-    for (int i = 0; i < 2; i++) {
-        z->s ^= z->s >> 12;
-        z->s ^= z->s << 25;
-        z->s ^= z->s >> 27;
-        uint64_t r = z->s * 2685821657736338717ull;
-        u[i] = ((double)(r >> 11) + 0.5) / 9007199254740992.0; /* (0, 1) */
-    }
-    double rad = sqrt(-2.0 * log(u[0]));
-    z->spare = rad * sin(2.0 * PI_D * u[1]);
-    z->have = 1;
-    return z->std * rad * cos(2.0 * PI_D * u[1]);
+    return z->std == 0.0 ? 0.0 : z->std * sim_rng64_normal(&z->rng);
 }
 
 static void read_noise(noise_t *z, long *max_scans)
@@ -170,9 +125,7 @@ static void read_noise(noise_t *z, long *max_scans)
     if (rd(&z->std) || rdl(&seed) || rdl(max_scans) || z->std < 0.0 || *max_scans < 1) {
         die("noise");
     }
-    z->s = 0x9E3779B97F4A7C15ull ^ ((uint64_t)seed * 0xD1B54A32D192ED03ull);
-    if (z->s == 0) z->s = 1;
-    z->have = 0;
+    z->rng = sim_rng64_seed((uint64_t)seed * 0x9E3779B97F4A7C15ull + 0x2545F4914F6CDD1Dull);
 }
 
 static void print_gains(const char *tag, const pdt_tune_gains_t *g)
@@ -241,10 +194,10 @@ static bool drive_autotune(plant_t *p, noise_t *z, long max_scans, const pdt_aut
     /* The scans go on through the identification, which takes no process
      * time of its own beyond the scans it needs. */
     for (long k = 0; k < 50L * max_scans; k++) {
-        double pv = plant_y(p) + noise_next(z);
+        double pv = sim_plant_output(&p->sim) + noise_next(z);
         pdt_real_t u;
         st = pdt_autotune_scan(&at, (pdt_real_t)pv, &u);
-        plant_step(p, (double)u);
+        sim_plant_apply(&p->sim, (double)u);
         if (st != PDT_RUNNING) break;
     }
     (void)pdt_autotune_result(&at, r);
@@ -296,7 +249,7 @@ static int run_autotune(void)
     pdt_autotune_result_t r;
     pdt_status_t st;
     if (!drive_autotune(&p, &z, max_scans, &cfg, &r, &st)) {
-        free(p.ubuf);
+        free(p.hist);
         return 0;
     }
     if (r.has_model) {
@@ -320,15 +273,8 @@ static int run_autotune(void)
             printf("%s_Ms_model %.9g\ndetune %.9g\n", own, (double)r.tune.fig.Ms, (double)r.detune);
         }
     }
-    free(p.ubuf);
+    free(p.hist);
     return 0;
-}
-
-static void plant_reset(plant_t *p)
-{
-    memset(p->x, 0, sizeof p->x);
-    memset(p->ubuf, 0, sizeof(double) * (size_t)p->blen);
-    p->head = 0;
 }
 
 /* The closed loop on the true plant (noise-free, from rest): a unit
@@ -340,13 +286,13 @@ static void plant_reset(plant_t *p)
  * stayed bounded. */
 static void closed_loop(plant_t *p, const pdt_tune_gains_t *g, long n_sp, long n_load)
 {
-    plant_reset(p);
+    sim_plant_reset(&p->sim);
     double Kc = (double)g->Kc, tI = (double)g->tauI, tD = (double)g->tauD, Tf = (double)g->Tf;
     double I = 0.0, xf = 0.0, iae_sp = 0.0, iae_ld = 0.0, ymax = 0.0;
     double af = Tf > 0.0 ? 1.0 - exp(-p->Ts / Tf) : 1.0;
     int bounded = 1;
     for (long k = 0; k < n_sp + n_load; k++) {
-        double y = plant_y(p);
+        double y = sim_plant_output(&p->sim);
         if (!isfinite(y) || fabs(y) > 1e6) {
             bounded = 0;
             break;
@@ -365,12 +311,12 @@ static void closed_loop(plant_t *p, const pdt_tune_gains_t *g, long n_sp, long n
         } else {
             iae_ld += fabs(e) * p->Ts;
         }
-        plant_step(p, u + (k >= n_sp ? 1.0 : 0.0));
+        sim_plant_apply(&p->sim, u + (k >= n_sp ? 1.0 : 0.0));
     }
     printf("cl_bounded %d\n", bounded);
     if (bounded) {
         printf("cl_sp_iae %.9g\ncl_overshoot %.9g\ncl_load_iae %.9g\ncl_end_error %.9g\n", iae_sp,
-               ymax > 1.0 ? ymax - 1.0 : 0.0, iae_ld, fabs(1.0 - plant_y(p)));
+               ymax > 1.0 ? ymax - 1.0 : 0.0, iae_ld, fabs(1.0 - sim_plant_output(&p->sim)));
     }
 }
 
@@ -471,7 +417,7 @@ static int run_at(void)
     pdt_autotune_result_t r;
     pdt_status_t st;
     if (!drive_autotune(&p, &z, max_scans, &cfg, &r, &st)) {
-        free(p.ubuf);
+        free(p.hist);
         return 0;
     }
     print_at_result(&r);
@@ -481,7 +427,7 @@ static int run_at(void)
                (double)r.ms_robust, (double)r.detune);
         closed_loop(&p, &r.tune.ideal, n_sp, n_load);
     }
-    free(p.ubuf);
+    free(p.hist);
     return 0;
 }
 
@@ -496,7 +442,7 @@ static int run_loop(void)
     }
     pdt_tune_gains_t g = {RL(v[0]), RL(v[1]), RL(v[2]), RL(v[3])};
     closed_loop(&p, &g, (long)v[4], (long)v[5]);
-    free(p.ubuf);
+    free(p.hist);
     return 0;
 }
 
@@ -526,10 +472,10 @@ static int run_relay(void)
     if (st != PDT_OK) return 0;
     long k;
     for (k = 0; k < max_scans; k++) {
-        double pv = plant_y(&p) + noise_next(&z);
+        double pv = sim_plant_output(&p.sim) + noise_next(&z);
         pdt_real_t u;
         st = pdt_excite_next(&gen, (pdt_real_t)pv, &u);
-        plant_step(&p, (double)u);
+        sim_plant_apply(&p.sim, (double)u);
         if (st != PDT_RUNNING) break;
     }
     printf("status %d\nscans %ld\n", (int)(st == PDT_RUNNING ? PDT_ERR_TIMEOUT : st), k + 1);
@@ -545,7 +491,7 @@ static int run_relay(void)
             print_gains("pid", &g);
         }
     }
-    free(p.ubuf);
+    free(p.hist);
     return 0;
 }
 

@@ -18,12 +18,11 @@
  *       N doubles of u then N of y; record j is identified with the seed
  *       SEED0 + j. Same output lines.
  *
- * The plants are simulated exactly: the zero-order-hold difference
- * equation of the truth with its fractional dead time, in double, from
- * the closed forms of the step response (a second-order lag's numerator
- * from h(m Ts), h((1 + m) Ts), h((2 + m) Ts), m = 1 - the delay's
- * fraction). The noise is white and Gaussian (splitmix64, Box-Muller),
- * its deviation the noise-free loop's output deviation over 10^(SNR/20).
+ * The plants are simulated exactly by the test-support simulator
+ * (tests/support/sim_plant.h: the truth's zero-order-hold sampling with its
+ * fractional dead time, in double). The noise is white and Gaussian
+ * (sim_rng64: splitmix64, Box-Muller), its deviation the noise-free loop's
+ * output deviation over 10^(SNR/20).
  *
  * Loops: a relay with hysteresis around a set-point (levels u0 + bias +/- d
  * as pdt_excite's relay, hysteresis three noise deviations) started after
@@ -45,6 +44,8 @@
 #include <time.h>
 
 #include "pdt/pdt.h"
+#include "sim_plant.h"
+#include "sim_rng.h"
 
 #define SNR_DB 25.0
 #define U0     40.0
@@ -94,137 +95,22 @@ static const bcase_t cases[] = {
 };
 #define NCASES (sizeof cases / sizeof cases[0])
 
-/* ------------------------------------------------------------ noise */
+/* ------------------------------------------------------------ plant */
 
-typedef struct rng {
-    uint64_t s;
-} rng_t;
-
-static uint64_t rng_next(rng_t *r)
+/* The simulator of case c at Ts, at rest (deviations from U0, Y0); hist
+ * receives its input history. Returns 0, or -1 when hist is too short. */
+static int plant_of(const bcase_t *c, double Ts, sim_plant_t *p, double *hist, size_t hist_len)
 {
-    uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-static double rng_uniform(rng_t *r)
-{
-    return (double)(rng_next(r) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static double rng_normal(rng_t *r)
-{
-    const double u1 = 1.0 - rng_uniform(r); /* (0, 1] */
-    const double u2 = rng_uniform(r);
-    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
-}
-
-/* ------------------------------------------------------------ exact plant */
-
-/* y(k) = -A1 y(k-1) - A2 y(k-2) + b1 u(k-1-l) + b2 u(k-2-l) + b3 u(k-3-l),
- * deviations from rest. */
-typedef struct dplant {
-    double A1, A2, b[3];
-    size_t l;
-} dplant_t;
-
-/* Unit-numerator step response of 1 / ((s + p1)(s + p2)), p1 >= p2 >= 0
- * real: a divided difference of E(p) = (1 - e^{-p t}) / p (E(0) = t), its
- * derivative when the poles nearly coincide. */
-static double e_of(double p, double t)
-{
-    return p == 0.0 ? t : -expm1(-p * t) / p;
-}
-
-static double h_real(double p1, double p2, double t)
-{
-    if (p1 - p2 <= 1e-6 * p1) {
-        const double p = 0.5 * (p1 + p2);
-        return -expm1(-p * t) / (p * p) - t * exp(-p * t) / p;
+    const double lag[1] = {c->p2};
+    sim_plant_desc_t d = sim_plant_desc_lags(c->p1, lag, 1u, c->Td);
+    if (c->plant == PLANT_SOPDT) { /* the pair instead of the lag */
+        d.lags = NULL;
+        d.n_lags = 0u;
+        d.wn = c->p2;
+        d.zeta = c->p3;
     }
-    return (e_of(p2, t) - e_of(p1, t)) / (p1 - p2);
-}
-
-/* ... and of 1 / (s^2 + 2 sigma s + wn^2) with wn > sigma (complex). */
-static double h_cplx(double sigma, double wd, double t)
-{
-    const double wn2 = sigma * sigma + wd * wd;
-    return (1.0 - exp(-sigma * t) * (cos(wd * t) + sigma / wd * sin(wd * t))) / wn2;
-}
-
-static double h_second(int cplx, double q1, double q2, double t)
-{
-    return cplx ? h_cplx(q1, q2, t) : h_real(q1, q2, t);
-}
-
-/* The exact ZOH model of case c at its Ts, gain included. */
-static void plant_of(const bcase_t *c, double Ts, dplant_t *d)
-{
-    double lf = floor(c->Td / Ts + 1e-12);
-    double f = c->Td / Ts - lf;
-    if (f > 1.0 - 1e-12) {
-        lf += 1.0;
-        f = 0.0;
-    }
-    if (f < 0.0) f = 0.0;
-    const double m = 1.0 - f;
-    d->l = (size_t)lf;
-    if (c->plant == PLANT_FOPDT) {
-        const double a = exp(-Ts / c->p2), am = exp(-m * Ts / c->p2);
-        d->A1 = -a;
-        d->A2 = 0.0;
-        d->b[0] = c->p1 * (1.0 - am);
-        d->b[1] = c->p1 * (am - a);
-        d->b[2] = 0.0;
-        return;
-    }
-    int cplx = 0;
-    double q1, q2, gain;
-    if (c->plant == PLANT_INTEG) { /* Ki / (s (T s + 1)) = (Ki / T) / (s (s + 1/T)) */
-        q1 = 1.0 / c->p2;
-        q2 = 0.0;
-        gain = c->p1 / c->p2;
-        d->A1 = -(1.0 + exp(-q1 * Ts));
-        d->A2 = exp(-q1 * Ts);
-    } else {
-        const double K = c->p1, wn = c->p2, z = c->p3;
-        const double sigma = z * wn;
-        gain = K * wn * wn;
-        if (z >= 1.0) {
-            const double beta = wn * sqrt(z * z - 1.0);
-            q1 = sigma + beta;
-            q2 = wn * wn / q1;
-            d->A1 = -(exp(-q1 * Ts) + exp(-q2 * Ts));
-        } else {
-            cplx = 1;
-            q1 = sigma;
-            q2 = wn * sqrt(1.0 - z * z);
-            d->A1 = -2.0 * exp(-sigma * Ts) * cos(q2 * Ts);
-        }
-        d->A2 = exp(-2.0 * sigma * Ts);
-    }
-    const double h1 = gain * h_second(cplx, q1, q2, m * Ts);
-    const double h2 = gain * h_second(cplx, q1, q2, (1.0 + m) * Ts);
-    const double h3 = gain * h_second(cplx, q1, q2, (2.0 + m) * Ts);
-    const double g1 = h1, g2 = h2 - h1, g3 = h3 - h2;
-    d->b[0] = g1;
-    d->b[1] = g2 + d->A1 * g1;
-    d->b[2] = g3 + d->A1 * g2 + d->A2 * g1;
-}
-
-/* Output deviation at sample k from the inputs before k (du) and the
- * outputs before k (yc). */
-static double plant_y(const dplant_t *d, const double *du, const double *yc, size_t k)
-{
-    double acc = 0.0;
-    for (size_t i = 0; i < 3; i++) {
-        const size_t lag = d->l + 1 + i;
-        if (k >= lag) acc += d->b[i] * du[k - lag];
-    }
-    if (k >= 1) acc -= d->A1 * yc[k - 1];
-    if (k >= 2) acc -= d->A2 * yc[k - 2];
-    return acc;
+    d.integrating = c->plant == PLANT_INTEG;
+    return sim_plant_init(p, &d, Ts, 0.0, 0.0, hist, hist_len);
 }
 
 /* ------------------------------------------------------------ loops */
@@ -261,9 +147,9 @@ static int sgn(double x)
     return x < 0.0 ? -1 : 1;
 }
 
-/* One closed-loop record: u, y (measured) and yc (noise-free, deviation).
- * sigma = 0 gives the noise-free loop. */
-static void loop_record(const bcase_t *c, const dplant_t *d, double Ts, double sigma, rng_t *rng,
+/* One closed-loop record of plant p from rest: u, y (measured) and yc
+ * (noise-free, deviation). sigma = 0 gives the noise-free loop. */
+static void loop_record(const bcase_t *c, sim_plant_t *p, double Ts, double sigma, sim_rng64_t *rng,
                         double *u, double *y, double *yc, double *du)
 {
     const size_t n = c->n;
@@ -280,9 +166,10 @@ static void loop_record(const bcase_t *c, const dplant_t *d, double Ts, double s
         Kc = tau / (K * (tc + theta));
         Ti = fmin(tau, 4.0 * (tc + theta));
     }
+    sim_plant_reset(p);
     for (size_t k = 0; k < n; k++) {
-        yc[k] = plant_y(d, du, yc, k);
-        const double ym = yc[k] + (sigma > 0.0 ? sigma * rng_normal(rng) : 0.0);
+        yc[k] = sim_plant_output(p);
+        const double ym = yc[k] + (sigma > 0.0 ? sigma * sim_rng64_normal(rng) : 0.0);
         y[k] = Y0 + ym;
         du[k] = 0.0;
         if (k >= k0) {
@@ -304,24 +191,27 @@ static void loop_record(const bcase_t *c, const dplant_t *d, double Ts, double s
             }
         }
         u[k] = U0 + du[k];
+        sim_plant_apply(p, du[k]);
     }
 }
 
-/* The record of case c and seed; returns Ts. */
+/* The record of case c and seed; returns Ts, or 0 when the case's plant
+ * cannot be simulated. */
 static double make_record(const bcase_t *c, uint64_t seed, double *u, double *y, double *yc,
                           double *du)
 {
+    static double hist[4096];
     const double Ts = c->T / (double)c->n;
-    dplant_t d;
-    plant_of(c, Ts, &d);
-    loop_record(c, &d, Ts, 0.0, NULL, u, y, yc, du);
+    sim_plant_t p;
+    if (plant_of(c, Ts, &p, hist, sizeof hist / sizeof hist[0]) != 0) return 0.0;
+    loop_record(c, &p, Ts, 0.0, NULL, u, y, yc, du);
     double mean = 0.0, var = 0.0;
     for (size_t k = 0; k < c->n; k++) mean += yc[k];
     mean /= (double)c->n;
     for (size_t k = 0; k < c->n; k++) var += (yc[k] - mean) * (yc[k] - mean);
     const double sigma = sqrt(var / (double)c->n) / pow(10.0, SNR_DB / 20.0);
-    rng_t rng = {0x5DEECE66Dull * (seed + 1u) + 0x2545F4914F6CDD1Dull};
-    loop_record(c, &d, Ts, sigma, &rng, u, y, yc, du);
+    sim_rng64_t rng = sim_rng64_seed(0x5DEECE66Dull * (seed + 1u) + 0x2545F4914F6CDD1Dull);
+    loop_record(c, &p, Ts, sigma, &rng, u, y, yc, du);
     return Ts;
 }
 
@@ -436,6 +326,7 @@ static int run_case(int ci, uint64_t seed0, long count, const char *dump)
     for (long j = 0; j < count; j++) {
         const uint64_t seed = seed0 + (uint64_t)j;
         const double Ts = make_record(c, seed, u, y, yc, du);
+        if (Ts == 0.0) return 2;
         if (fd && fwrite(buf, sizeof *buf, 3 * n, fd) != 3 * n) return 2;
         if (identify_print(ci, seed, c->plant == PLANT_FOPDT ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT,
                            Ts, u, y, n) != 0)
