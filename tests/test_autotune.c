@@ -357,6 +357,7 @@ static void test_sopdt_pulse(void **state)
     plant_t p;
     pdt_model_t m;
     pulse_setup(&c, &p, &m, PDT_MODEL_SOPDT);
+    c.order_auto = false; /* the order an explicit ident.model fixes */
     run_t r;
     run_autotune(&g_at, &c, &p, R(50.0), 100000u, NULL, &r);
     report("SOPDT pulse, decimation 2", &r);
@@ -366,9 +367,10 @@ static void test_sopdt_pulse(void **state)
 
 static void step_setup(pdt_autotune_config_t *c, plant_t *p, double noise_sd);
 
-/* The order chosen by the data (order_auto): the SOPDT plant of the pulse
- * test keeps a SOPDT, the FOPDT plant of the step test a FOPDT; either way
- * the model is validated and the gains pass the robust bound. */
+/* The order chosen by the data (order_auto, the default): the SOPDT plant
+ * of the pulse test keeps a SOPDT, the FOPDT plant of the step test a
+ * FOPDT; either way the model is validated and the gains pass the robust
+ * bound. */
 static void test_order_auto(void **state)
 {
     (void)state;
@@ -376,7 +378,6 @@ static void test_order_auto(void **state)
     plant_t p;
     pdt_model_t m;
     pulse_setup(&c, &p, &m, PDT_MODEL_FOPDT);
-    c.order_auto = true;
     run_t r;
     run_autotune(&g_at, &c, &p, R(50.0), 100000u, NULL, &r);
     report("order auto, SOPDT plant", &r);
@@ -389,7 +390,6 @@ static void test_order_auto(void **state)
 
     step_setup(&c, &p, 0.05);
     c.ident.model = PDT_MODEL_SOPDT; /* ignored: the data choose */
-    c.order_auto = true;
     run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
     report("order auto, FOPDT plant", &r);
     assert_success(&g_at, &c, &r, 2.0);
@@ -401,6 +401,7 @@ static void test_order_auto(void **state)
 
     /* Neither the order choice nor the robust bound: no validation. */
     step_setup(&c, &p, 0.05);
+    c.order_auto = false;
     c.ms_robust = R(0.0);
     run_autotune(&g_at, &c, &p, R(30.0), 100000u, NULL, &r);
     assert_success(&g_at, &c, &r, 2.0);
@@ -873,9 +874,9 @@ static void test_bad_inputs(void **state)
     /* No validation asked for: the identification's share alone. */
     c.ms_robust = R(0.0);
     assert_int_equal(pdt_autotune_workspace_size(&c), 2u * c.capacity * sizeof(pdt_real_t) + only);
+    /* The default (order_auto): both models and the validation. */
     ic.Ts = good.Ts;
-    only = pdt_ident_workspace_size(&ic, good.capacity);
-    assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) + (only > val ? only : val));
+    assert_int_equal(need, 2u * good.capacity * sizeof(pdt_real_t) + share(&ic, good.capacity));
     /* exactly the size asked for works */
     assert_int_equal(pdt_autotune_init(&at, &good, R(30.0), g_work, need), PDT_OK);
 
@@ -924,7 +925,7 @@ static void test_defaults(void **state)
     assert_int_equal(c.ident.model, PDT_MODEL_FOPDT);
     assert_int_equal(c.tune.rule, PDT_TUNE_SIMC);
     assert_true(c.tune.fit_min == R(0.0));
-    assert_false(c.order_auto);
+    assert_true(c.order_auto);
     assert_true(c.ms_robust == R(2.0) && c.relay_agree == R(2.0));
     /* Ts and capacity must be set: the defaults alone are refused */
     assert_int_equal(pdt_autotune_workspace_size(&c), 0u);

@@ -169,7 +169,7 @@ static void test_null_and_init(void **state)
     assert_true(fb->rScanPeriod == R(0.1));
     assert_int_equal(fb->udiDecimation, 1);
     assert_int_equal(fb->iExperiment, PDT_EXCITE_STEP);
-    assert_int_equal(fb->iModel, PDT_MODEL_FOPDT);
+    assert_int_equal(fb->iModel, PDT_FB_AUTOTUNE_MODEL_AUTO);
     assert_int_equal(fb->iRule, PDT_TUNE_SIMC);
     assert_int_equal(fb->iForm, PDT_TUNE_PI);
     assert_true(fb->rFitMin == R(80.0));
@@ -192,13 +192,14 @@ static void test_instance_size(void **state)
     harness_t *h = *state;
     const pdt_cost_kind_t kinds[] = {PDT_COST_SIMULATION, PDT_COST_PREDICTION, PDT_COST_FREQUENCY,
                                      PDT_COST_COMBINED};
-    for (int model = 1; model <= 2; model++) {
+    for (int model = 0; model <= 2; model++) { /* 0: order_auto, the default */
         for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
             pdt_autotune_config_t c;
             pdt_autotune_config_default(&c);
             c.Ts = R(0.1);
             c.capacity = PDT_FB_AUTOTUNE_CAPACITY;
-            c.ident.model = (pdt_model_kind_t)model;
+            c.order_auto = model == 0;
+            c.ident.model = model == 0 ? PDT_MODEL_FOPDT : (pdt_model_kind_t)model;
             c.ident.cost = kinds[k];
             size_t need = pdt_autotune_workspace_size(&c);
             assert_true(need > 0u);

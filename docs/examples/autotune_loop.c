@@ -1,8 +1,9 @@
 /*
- * A minimal firmware loop running one pdtfit autotune on a heater: FOPDT
- * model, PRBS experiment, SIMC PI gains, then the PID (pdt_pid) that runs
- * them, taking over without a bump. The board functions at the bottom
- * stand for the application's own I/O, set-point and timer; replace them.
+ * A minimal firmware loop running one pdtfit autotune on a heater: PRBS
+ * experiment, FOPDT or SOPDT model as the data choose, SIMC PI gains, then
+ * the PID (pdt_pid) that runs them, taking over without a bump. The board
+ * functions at the bottom stand for the application's own I/O, set-point
+ * and timer; replace them.
  * Built (not run) by tests/CMakeLists.txt so that it keeps compiling.
  */
 #include "pdt/pdt.h"
@@ -11,11 +12,12 @@
 #define CAPACITY      600u /* samples recorded: 600 x 0.5 s = 5 min */
 
 /* The workspace: one static array, sized by the compile-time bound (the
- * identification's share for CAPACITY samples plus the record), checked
- * against the exact size query at run time. */
+ * record plus the larger of either model's identification and the
+ * validation for CAPACITY samples), checked against the exact size query
+ * at run time. */
 static pdt_real_t
-    work[PDT_IDENT_WORKSPACE_SIZE(CAPACITY, PDT_IDENT_POPULATION_SOPDT) / sizeof(pdt_real_t) +
-         2u * CAPACITY + 1u];
+    work[PDT_AUTOTUNE_WORKSPACE_SIZE(CAPACITY, PDT_IDENT_POPULATION_SOPDT) / sizeof(pdt_real_t) +
+         1u];
 static pdt_autotune_t at;
 static pdt_pid_t pid;
 
@@ -41,7 +43,8 @@ int main(void)
     cfg.pv_min = 20.0f; /* what the process may see, deg C */
     cfg.pv_max = 90.0f;
     cfg.max_scans = 2000u; /* give up after 1000 s */
-    cfg.ident.model = PDT_MODEL_FOPDT;
+    /* The model order is the data's by default (a FOPDT and a SOPDT are
+     * identified); to fix it: cfg.order_auto = false and cfg.ident.model. */
     cfg.tune.rule = PDT_TUNE_SIMC;
     cfg.tune.form = PDT_TUNE_PI;
 

@@ -148,8 +148,12 @@ static void make_config(const pdt_fb_autotune_t *fb, pdt_autotune_config_t *c)
     default:
         break;
     }
-    /* An unknown model makes the workspace query fail: init refuses it. */
-    c->ident.model = (pdt_model_kind_t)fb->iModel;
+    /* 0 keeps the autotune's default (the data choose the order). An
+     * unknown model makes the workspace query fail: init refuses it. */
+    if (fb->iModel != PDT_FB_AUTOTUNE_MODEL_AUTO) {
+        c->order_auto = false;
+        c->ident.model = (pdt_model_kind_t)fb->iModel;
+    }
     c->tune.rule = (pdt_tune_rule_t)fb->iRule;
     c->tune.form = (pdt_tune_form_t)fb->iForm;
     c->tune.fit_min = fb->rFitMin;
@@ -373,7 +377,7 @@ void pdt_fb_autotune_init(pdt_fb_autotune_t *fb)
     fb->rScanPeriod = FB_R(0.1);
     fb->udiDecimation = 1u;
     fb->iExperiment = (int16_t)PDT_EXCITE_STEP;
-    fb->iModel = (int16_t)PDT_MODEL_FOPDT;
+    fb->iModel = (int16_t)PDT_FB_AUTOTUNE_MODEL_AUTO;
     fb->rAmplitude = FB_R(5.0);
     fb->rOutMin = FB_R(0.0);
     fb->rOutMax = FB_R(100.0);

@@ -98,6 +98,10 @@ extern "C" {
       sizeof(pdt_real_t) - 1u) /                                                                   \
      sizeof(pdt_real_t))
 
+/* iModel: both models identified and the order the data support kept
+ * (the autotune's order_auto, its default). */
+#define PDT_FB_AUTOTUNE_MODEL_AUTO 0
+
 /* Length of sStatus, terminating NUL included: STRING(39). */
 #define PDT_FB_AUTOTUNE_STATUS_LEN 40u
 
@@ -143,7 +147,10 @@ typedef struct pdt_fb_autotune {
                                * evaluations); 0 = 4. Init 0 */
     int16_t iExperiment;      /* pdt_excite_kind_t: 1 step, 2 pulse,
                                * 3 chirp, 4 PRBS(7), 5 relay. Init 1 */
-    int16_t iModel;           /* pdt_model_kind_t: 1 FOPDT, 2 SOPDT. Init 1 */
+    int16_t iModel;           /* 0 (PDT_FB_AUTOTUNE_MODEL_AUTO): FOPDT and
+                               * SOPDT, the data choose; else the
+                               * pdt_model_kind_t fixed: 1 FOPDT, 2 SOPDT.
+                               * Init 0 */
     pdt_real_t rAmplitude;    /* output units: step or pulse change (either
                                * sign), chirp or PRBS half swing, relay
                                * half swing d. Init 5 */

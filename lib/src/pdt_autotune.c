@@ -30,7 +30,7 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg)
     cfg->move = PDT_RECORD_MOVE_ANY;
     pdt_ident_config_default(&cfg->ident);
     pdt_tune_config_default(&cfg->tune);
-    cfg->order_auto = false;
+    cfg->order_auto = true;
     cfg->ms_robust = PDT_R(2.0);
     cfg->relay_agree = PDT_R(2.0);
 }

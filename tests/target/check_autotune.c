@@ -92,9 +92,9 @@ static void at_config(pdt_autotune_config_t *c, double Ts, pdt_model_kind_t kind
     c->u_max = (pdt_real_t)100.0;
     c->pv_min = (pdt_real_t)-100.0;
     c->pv_max = (pdt_real_t)200.0;
+    /* Not used by the default order choice, which the checks below expect
+     * to keep the plant's order. */
     c->ident.model = kind;
-    /* The model asked for, so that the checks below know what to expect. */
-    c->order_auto = false;
 }
 
 static void at_report(const char *name, const at_run_t *r)

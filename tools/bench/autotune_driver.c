@@ -33,14 +33,14 @@
  * deviation (sim_rng64: splitmix64 and Box-Muller, the stream of
  * pdtsupport.rng.SplitMix64(seed)).
  * AT: decimation capacity settle amplitude t_on t_off u_min u_max pv_min
- * pv_max model(1 FOPDT, 2 SOPDT) ident_seed form(0 PI, 1 PID): the
- * autotune's own rule is SIMC of that form.
+ * pv_max model(0 the library's default order, 1 FOPDT, 2 SOPDT) ident_seed
+ * form(0 PI, 1 PID): the autotune's own rule is SIMC of that form.
  * RELAY: d eps skip cycles settle.
  * AT2: kind(0 relay, 1 PRBS, 2 step, 3 pulse) decimation capacity settle
  * tail amplitude(relay: d) p1 p2 u_min u_max pv_min pv_max ident_seed
- * form(0 PI, 1 PID) order(1 auto, 0 FOPDT, -1 SOPDT) ms_robust fit_min
- * relay_agree relay_eps relay_skip relay_cycles n_sp n_load direct(relay: 1
- * for a process of negative gain) relay_settle. p1 p2:
+ * form(0 PI, 1 PID) order(1 the library's default, 0 FOPDT, -1 SOPDT)
+ * ms_robust fit_min relay_agree relay_eps relay_skip relay_cycles n_sp
+ * n_load direct(relay: 1 for a process of negative gain) relay_settle. p1 p2:
  * pulse t_on t_off; step duration -; PRBS scans per chip, bits.
  * Closed loop (at, loop): a unit set-point step held n_sp scans, then a
  * unit load step at the plant input for n_load scans, noise-free.
@@ -238,9 +238,11 @@ static int run_autotune(void)
     cfg.pv_max = (pdt_real_t)v[9];
     cfg.max_scans = (uint32_t)max_scans;
     pdt_ident_config_default(&cfg.ident);
-    cfg.ident.model = v[10] == 1.0 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
-    cfg.order_auto = false; /* this batch compares the two orders (and it is
-                             * the default) */
+    if (v[10] != 0.0) {
+        /* An order the run fixes; 0 keeps the library's default. */
+        cfg.ident.model = v[10] == 1.0 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+        cfg.order_auto = false;
+    }
     cfg.ident.seed = (uint64_t)v[11];
     pdt_tune_config_default(&cfg.tune);
     cfg.tune.rule = PDT_TUNE_SIMC;
@@ -405,9 +407,11 @@ static int run_at(void)
     cfg.ident.seed = (uint64_t)v[12];
     cfg.tune.rule = PDT_TUNE_SIMC;
     cfg.tune.form = v[13] == 0.0 ? PDT_TUNE_PI : PDT_TUNE_PID;
-    cfg.order_auto = v[14] != 0.0;
-    if (!cfg.order_auto) cfg.ident.model = v[14] == 0.0 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
-    if (v[14] < 0.0) cfg.ident.model = PDT_MODEL_SOPDT, cfg.order_auto = false;
+    if (v[14] != 1.0) {
+        /* An order the run fixes; 1 keeps the library's default. */
+        cfg.ident.model = v[14] == 0.0 ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+        cfg.order_auto = false;
+    }
     cfg.ms_robust = (pdt_real_t)v[15];
     cfg.tune.fit_min = (pdt_real_t)v[16];
     cfg.relay_agree = (pdt_real_t)v[17];

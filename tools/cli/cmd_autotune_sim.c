@@ -13,8 +13,8 @@
 
 #define PI_VALUE 3.14159265358979323846
 
-/* --model auto: the autotune's order_auto (both orders, the one the
- * evidence supports). */
+/* --model auto (the default): the autotune's own default, order_auto (both
+ * orders, the one the evidence supports); fopdt or sopdt fix the order. */
 static const char *const at_model_names[] = {"fopdt", "sopdt", "auto", NULL};
 #define AT_MODEL_AUTO (PDT_MODEL_SOPDT + 1)
 
@@ -220,8 +220,10 @@ static void autotune_config(at_args_t *a, pdt_autotune_config_t *cfg)
     if (a->have_lim[1]) cfg->pv_max = (pdt_real_t)a->lim[1];
     if (a->have_lim[2]) cfg->u_min = (pdt_real_t)a->lim[2];
     if (a->have_lim[3]) cfg->u_max = (pdt_real_t)a->lim[3];
-    cfg->order_auto = a->model == AT_MODEL_AUTO;
-    cfg->ident.model = cfg->order_auto ? PDT_MODEL_FOPDT : (pdt_model_kind_t)a->model;
+    if (a->model != AT_MODEL_AUTO) {
+        cfg->order_auto = false;
+        cfg->ident.model = (pdt_model_kind_t)a->model;
+    }
     cfg->ident.seed = a->seed;
     if (a->evaluations) cfg->ident.max_evaluations = (uint32_t)a->evaluations;
     tune_opts_config(&a->t, &cfg->tune);
@@ -345,6 +347,24 @@ static void loop_json(pdtcli_jbuf_t *jb, const at_run_t *run)
     pdtcli_jb_raw(jb, run->loop.stable ? ",\"stable\":true}" : ",\"stable\":false}");
 }
 
+/* "order": the model order kept and both models' BIC with order_auto;
+ * null with a fixed order or before the order was chosen. */
+static void order_json(pdtcli_jbuf_t *jb, const at_run_t *run)
+{
+    const pdt_autotune_result_t *res = &run->res;
+    pdtcli_jb_raw(jb, ",\"order\":");
+    if (!run->cfg.order_auto || !res->has_model || !res->has_valid) {
+        pdtcli_jb_raw(jb, "null");
+        return;
+    }
+    const int sopdt = res->ident.model.kind == PDT_MODEL_SOPDT;
+    pdtcli_jb_printf(jb, "{\"kept\":\"%s\",\"fopdt\":{\"bic\":", sopdt ? "sopdt" : "fopdt");
+    pdtcli_jb_num(jb, (double)(sopdt ? res->bic_other : res->valid.bic));
+    pdtcli_jb_raw(jb, "},\"sopdt\":{\"bic\":");
+    pdtcli_jb_num(jb, (double)(sopdt ? res->valid.bic : res->bic_other));
+    pdtcli_jb_raw(jb, "}}");
+}
+
 static void results_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *run)
 {
     const pdt_autotune_result_t *res = &run->res;
@@ -359,6 +379,7 @@ static void results_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *
     } else {
         pdtcli_jb_raw(jb, "null");
     }
+    order_json(jb, run);
     pdtcli_jb_raw(jb, ",\"tune\":");
     if (res->has_gains)
         tune_json(jb, &a->t, &res->tune, &res->tune.fig, (double)NAN, (double)NAN);
@@ -453,7 +474,7 @@ int cmd_autotune_sim(int argc, char **argv)
     a.amplitude = 1.0;
     a.seed = 1;
     a.kind = PDT_EXCITE_PRBS;
-    a.model = PDT_MODEL_FOPDT;
+    a.model = AT_MODEL_AUTO;
     parse(&a, argc, argv);
     check_args(&a);
     at_run_t *run = calloc(1, sizeof *run);

@@ -286,24 +286,63 @@ static void validate(const ident_data_t *d, const pdt_ident_result_t *r, pdt_val
         cli_fail(EXIT_REFUSED, "cannot identify: --model auto: validation: %s", pdt_status_str(st));
 }
 
+/* --model auto: both models, their validations and the order kept, for
+ * the JSON's "order". */
+typedef struct order_info {
+    int have;
+    pdt_model_kind_t kept;
+    pdt_ident_result_t r[2]; /* FOPDT, SOPDT */
+    pdt_validate_result_t v[2];
+} order_info_t;
+
 /* --model auto: a FOPDT and a SOPDT, and the order the evidence supports. */
-static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_result_t *res)
+static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_result_t *res,
+                        order_info_t *o)
 {
+    memset(o, 0, sizeof *o);
     if (a->model != MODEL_AUTO) {
         identify_kind(a, d, a->model, res);
         return;
     }
-    pdt_ident_result_t fo, so;
-    pdt_validate_result_t vf, vs;
-    pdt_model_kind_t kind;
-    identify_kind(a, d, PDT_MODEL_FOPDT, &fo);
-    identify_kind(a, d, PDT_MODEL_SOPDT, &so);
-    validate(d, &fo, &vf);
-    validate(d, &so, &vs);
-    const pdt_status_t st = pdt_ident_select_order(&vf, &vs, &kind);
+    identify_kind(a, d, PDT_MODEL_FOPDT, &o->r[0]);
+    identify_kind(a, d, PDT_MODEL_SOPDT, &o->r[1]);
+    validate(d, &o->r[0], &o->v[0]);
+    validate(d, &o->r[1], &o->v[1]);
+    const pdt_status_t st = pdt_ident_select_order(&o->v[0], &o->v[1], &o->kept);
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: --model auto: %s", pdt_status_str(st));
-    *res = kind == PDT_MODEL_SOPDT ? so : fo;
+    o->have = 1;
+    *res = o->r[o->kept == PDT_MODEL_SOPDT];
+}
+
+/* The gain's std and the whole covariance finite: the first thing
+ * pdt_ident_select_order weighs. */
+static int determined(const pdt_validate_result_t *v)
+{
+    int ok = isfinite((double)v->std.std[0]);
+    for (uint32_t i = 0; i < v->std.count; i++)
+        for (uint32_t j = 0; j < v->std.count; j++) ok = ok && isfinite((double)v->std.cov[i][j]);
+    return ok;
+}
+
+/* ,"order":{"kept",...,"fopdt":{...},"sopdt":{...}}: the evidence each
+ * model had, in the order pdt_ident_select_order weighs it. */
+static void order_json(pdtcli_jbuf_t *jb, const order_info_t *o)
+{
+    static const char *const names[2] = {"fopdt", "sopdt"};
+    pdtcli_jb_printf(jb, ",\"order\":{\"kept\":\"%s\"", names[o->kept == PDT_MODEL_SOPDT]);
+    for (int k = 0; k < 2; k++) {
+        const pdt_validate_result_t *v = &o->v[k];
+        pdtcli_jb_printf(jb, ",\"%s\":{\"determined\":%s,\"independent\":%s,\"bic\":", names[k],
+                         determined(v) ? "true" : "false", v->independent ? "true" : "false");
+        pdtcli_jb_num(jb, (double)v->bic);
+        pdtcli_jb_key(jb, "aic", (double)v->aic);
+        pdtcli_jb_raw(jb, v->white ? ",\"white\":true" : ",\"white\":false");
+        pdtcli_jb_key(jb, "sigma", (double)v->sigma);
+        pdtcli_jb_key(jb, "fit", (double)o->r[k].fit);
+        pdtcli_jb_raw(jb, "}");
+    }
+    pdtcli_jb_raw(jb, "}");
 }
 
 /* --method elms|eiv: the least-squares delay scan, as a GA result. */
@@ -394,11 +433,21 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
     return warned;
 }
 
-static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r)
+static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
+                         const order_info_t *o)
 {
     char buf[4096];
     int len = pdtcli_ident_json(r, d->u, d->y, d->s.Ts, d->s.n, buf, sizeof buf);
     if (len < 0) cli_fail(EXIT_REFUSED, "result too long");
+    if (o->have) {
+        /* In place of the closing brace, which comes back after it. */
+        pdtcli_jbuf_t jb;
+        pdtcli_jb_init(&jb, buf + len - 1, sizeof buf - (size_t)len + 1);
+        order_json(&jb, o);
+        pdtcli_jb_raw(&jb, "}");
+        if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "result too long");
+        len = (int)strlen(buf);
+    }
     if (a->tune) {
         pdt_tune_result_t tr;
         memset(&tr, 0, sizeof tr);
@@ -427,13 +476,15 @@ int cmd_identify(int argc, char **argv)
     memset(&d, 0, sizeof d);
     read_data(&a, &d);
     pdt_ident_result_t res;
+    order_info_t order;
+    memset(&order, 0, sizeof order);
     size_t delay_max = 0;
     if (a.method == METHOD_GA)
-        identify_ga(&a, &d, &res);
+        identify_ga(&a, &d, &res, &order);
     else
         identify_ls(&a, &d, &res, &delay_max);
     const int warned = suspect(&a, &d, &res, delay_max);
-    print_result(&a, &d, &res);
+    print_result(&a, &d, &res, &order);
     free(d.u);
     free(d.y);
     pdtcli_series_free(&d.s);

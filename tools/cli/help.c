@@ -194,8 +194,9 @@ static const char *const autotune_text[] = {
     "  --decimation N        scans per identification sample (default 4)\n"
     "  --capacity N          samples recorded (default: settle + the experiment\n"
     "                        + a settling time 4 sum(lags) + D)\n"
-    "  --model fopdt|sopdt|auto  identified model (default fopdt; auto: both, the\n"
-    "                        one the evidence supports); --evaluations N\n"
+    "  --model fopdt|sopdt|auto  identified model (default auto: both, the one\n"
+    "                        the evidence supports; fopdt, sopdt fix the order);\n"
+    "                        --evaluations N\n"
     "  --rule, --form, --tau-c, --lambda, --ms-max, --deriv-filter, --u-span,\n"
     "  --y-span, --fit-min   as for tune\n"
     "  --noise STD, --seed N Gaussian noise on pv; seed of noise and search\n"
@@ -208,9 +209,9 @@ static const char *const autotune_text[] = {
     "                        reads it: pv is taken as y)\n"
     "  Prints {\"status\" (pdt_status_t, 0 ok),\"reason\",[\"failed_in\"],\n"
     "  \"scan_period\",\"decimation\",\"capacity\",\"samples\",\"scans\",\"experiment\",\n"
-    "  \"phases\",\"ident\" (as identify),\"tune\" (as tune),[\"relay\"]}; printed also\n"
-    "  when the autotune aborts or refuses, with exit status 1 and the reason\n"
-    "  on stderr.\n",
+    "  \"phases\",\"ident\" (as identify),\"order\" (auto: the order kept, both\n"
+    "  BICs),\"tune\" (as tune),\"loop\",[\"relay\"]}; printed also when the\n"
+    "  autotune aborts or refuses, with exit status 1 and the reason on stderr.\n",
 };
 
 static const char exit_text[] =

@@ -518,16 +518,34 @@ def test_bad_value_cell_is_named(tmp_path, fopdt_record):
 
 def test_model_auto_chooses_the_order(tmp_path):
     """--model auto identifies both models and prints the one the evidence
-    supports: a FOPDT for a first-order process, a SOPDT for two lags."""
+    supports: a FOPDT for a first-order process, a SOPDT for two lags; its
+    "order" says which was kept and what each model's validation gave."""
     u = multistep_input(N, U0, 5.0, 25, 60, 20, seed=7)
     y1 = Y0 + simulate([2.0], [5.0, 1.0], 1.3, u - U0, TS) + noise(N, 0.02, 11)
     y2 = Y0 + simulate([2.0], [5.0, 6.0, 1.0], 1.3, u - U0, TS) + noise(N, 0.02, 11)
     t = np.arange(N) * TS
     p1 = write_csv(tmp_path / "one.csv", {"t": t, "u": u, "y": y1})
     p2 = write_csv(tmp_path / "two.csv", {"t": t, "u": u, "y": y2})
-    assert parse_output(run(["identify", "--model", "auto", p1]))["model"] == "fopdt"
+    keys = ["determined", "independent", "bic", "aic", "white", "sigma", "fit"]
+    one = parse_output(run(["identify", "--model", "auto", p1]))
+    assert one["model"] == "fopdt"
+    assert list(one)[-1] == "order" and list(one["order"]) == ["kept", "fopdt", "sopdt"]
+    order = one["order"]
+    assert order["kept"] == "fopdt" and order["fopdt"]["fit"] == one["fit"]
+    assert list(order["fopdt"]) == keys and list(order["sopdt"]) == keys
+    # What pdt_ident_select_order weighs, in its order, keeps the FOPDT.
+    f, so = order["fopdt"], order["sopdt"]
+    assert ((f["determined"] and not so["determined"])
+            or (f["independent"] and not so["independent"]) or so["bic"] >= f["bic"] - 2)
     out = parse_output(run(["identify", "--model", "auto", p2]))
     assert out["model"] == "sopdt" and out["tau1"] == pytest.approx(5.0, rel=0.05)
+    order = out["order"]
+    assert order["kept"] == "sopdt" and order["sopdt"]["fit"] == out["fit"]
+    assert order["sopdt"]["bic"] < order["fopdt"]["bic"] - 2
+    # After --tune's tuning too; a fixed order has no "order".
+    tuned = parse_output(run(["identify", "--model", "auto", "--tune", "simc", p2]))
+    assert list(tuned)[-2:] == ["order", "tune"] and tuned["order"] == order
+    assert "order" not in parse_output(run(["identify", "--model", "sopdt", p2]))
     assert_usage_error(run(["identify", "--model", "auto", "--method", "elms", p1]),
                        "--model auto needs --method ga")
 

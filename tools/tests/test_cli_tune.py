@@ -272,7 +272,7 @@ def test_help_mentions_the_commands():
 # pdt_status_t values (lib/include/pdt/pdt_status.h).
 PV_LIMIT, OUTPUT_LIMIT, POOR_FIT = "PDT_ERR_PV_LIMIT", "PDT_ERR_OUTPUT_LIMIT", "PDT_ERR_POOR_FIT"
 AT_KEYS = ["status", "reason", "scan_period", "decimation", "capacity", "samples", "scans",
-           "experiment", "phases", "ident", "tune", "loop"]
+           "experiment", "phases", "ident", "order", "tune", "loop"]
 FOPDT_PLANT = ["--plant-gain", "2", "--plant-lags", "5", "--plant-delay", "1.3"]
 
 
@@ -312,8 +312,9 @@ def check_run(out, kind):
 
 
 def test_autotune_fopdt_prbs():
-    out = autotune(*FOPDT_PLANT)
+    out = autotune(*FOPDT_PLANT, "--model", "fopdt")
     check_run(out, "prbs")
+    assert out["order"] is None
     assert out["scan_period"] == pytest.approx(6.3 / 200, rel=1e-6)
     assert out["decimation"] == 4
     # Chips of whole identification samples, about the lag long.
@@ -333,7 +334,8 @@ def test_autotune_fopdt_prbs():
 
 @pytest.mark.parametrize("kind", ["step", "pulse", "chirp"])
 def test_autotune_other_experiments(kind):
-    out = autotune(*FOPDT_PLANT, "--experiment", kind, "--u0", "50", "--y0", "20")
+    out = autotune(*FOPDT_PLANT, "--model", "fopdt", "--experiment", kind, "--u0", "50",
+                   "--y0", "20")
     check_run(out, kind)
     m = out["ident"]
     assert m["u0"] == 50 and m["y0"] == pytest.approx(20, abs=0.01)
@@ -532,9 +534,29 @@ def test_autotune_closes_the_loop_on_the_true_plant():
 ])
 def test_autotune_complex_and_integrating_plants(plant):
     """--plant-wn/--plant-zeta add a complex pair, --plant-integrating an
-    integrator; --model auto lets the autotune choose the order."""
-    out = autotune(*plant, "--model", "auto")
+    integrator; the autotune's default order choice keeps the SOPDT."""
+    out = autotune(*plant)
     assert out["status"] == "PDT_OK" and out["ident"]["model"] == "sopdt"
+    assert out["order"]["kept"] == "sopdt"
     assert out["loop"]["stable"] and out["loop"]["Ms_true"] < 2.5
     if "--plant-integrating" in plant:
         assert out["ident"]["b"] == 0 and out["ident"]["Ki"] == pytest.approx(0.1, rel=0.05)
+
+
+def test_autotune_order_is_the_librarys_default():
+    """Without --model the autotune chooses the order (order_auto, the
+    library's default), exactly as --model auto; "order" names the model
+    kept and both BICs. --model fopdt|sopdt fixes the order: no "order"."""
+    two = ["--plant-gain", "2", "--plant-lags", "5,2", "--plant-delay", "1", "--noise", "0.01"]
+    res = run(["autotune-sim", *two])
+    assert res.returncode == 0, res.stderr
+    assert res.stdout == run(["autotune-sim", *two, "--model", "auto"]).stdout
+    out = parse_output(res)
+    check_run(out, "prbs")
+    order = out["order"]
+    assert list(order) == ["kept", "fopdt", "sopdt"] and order["kept"] == out["ident"]["model"]
+    assert order["kept"] == "sopdt" and order["sopdt"]["bic"] < order["fopdt"]["bic"] - 2
+    assert out["ident"]["tau1"] == pytest.approx(5.0, rel=0.05)
+    for model in ("fopdt", "sopdt"):
+        fixed = autotune(*two, "--model", model)
+        assert fixed["ident"]["model"] == model and fixed["order"] is None

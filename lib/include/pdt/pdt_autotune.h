@@ -2,7 +2,8 @@
  * pdtfit autotune: one state machine that a PLC task or an MCU loop calls
  * once per scan. It holds the output while it measures the operating point,
  * runs an experiment (step, pulse, chirp, PRBS or relay) inside safety
- * limits while recording, identifies a FOPDT or SOPDT in bounded steps, and
+ * limits while recording, identifies a FOPDT and a SOPDT and keeps the
+ * order the data support (or the one model asked for) in bounded steps, and
  * turns the model into PI/PID gains with robustness figures, or refuses.
  *
  * Per scan:
@@ -37,8 +38,8 @@
  * pdt_validate_margin (200 frequencies), at most 9 tune calls.
  *
  * Decisions by evidence (docs/autotune.md): the model is validated
- * against the record (residual tests, parameter covariance), with
- * order_auto a FOPDT and a SOPDT are identified and the data choose, and
+ * against the record (residual tests, parameter covariance), by default
+ * (order_auto) a FOPDT and a SOPDT are identified and the data choose, and
  * the gains must keep the robust Ms bound at most ms_robust, the knob
  * raised until they do; else PDT_ERR_MODEL_INVALID or PDT_ERR_UNCERTAIN.
  */
@@ -107,8 +108,8 @@ typedef struct pdt_autotune_config {
     /* Model order. true: a FOPDT and a SOPDT (which covers the
      * underdamped and the integrating process) are identified on the
      * record and pdt_ident_select_order picks one; ident.model is then
-     * ignored. false: ident.model only, the caller's explicit choice.
-     * Default false (set it: docs/autotune.md) */
+     * not used (init still checks it). false: ident.model only, an
+     * order the caller fixes. Default true (docs/autotune.md) */
     bool order_auto;
     /* The decision by evidence (pdt_validate.h). The gains must keep the
      * robust bound of the true loop's Ms (pdt_validate_margin: the model
