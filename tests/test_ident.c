@@ -792,11 +792,12 @@ static void test_control_band(void **state)
     check_fopdt("control, combined", &res, &m, FO_K, 0.03, FO_TD);
     check_fit(&res, 99.0);
     assert_close(res.y0, 100.0, 0.0, 0.1);
-    /* The band comes from the time-cost stage's model, before the
-     * refinement: close to the truth's, not equal to it. */
+    /* The band comes from the time-cost stage's GA best, before any
+     * refinement: close to the truth's (within 2 %: its crossover moves with
+     * the unrefined tau and Td), not equal to it. */
     print_message("    %-22s f_band %.6f Hz, want %.6f (%.2e)\n", "", (double)res.f_band, want,
                   rel_err((double)res.f_band, want));
-    assert_close(res.f_band, want, 0.01, 0.0);
+    assert_close(res.f_band, want, 0.02, 0.0);
 
     /* AUTO is CONTROL for a FOPDT: the same search, bit for bit. */
     cfg.weight = PDT_IDENT_WEIGHT_AUTO;

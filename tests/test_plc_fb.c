@@ -504,6 +504,10 @@ static void test_pv_limit(void **state)
     fb->rPvMax = R(200.0);
     start_edge(h);
     run_until_idle(h, MAX_CYCLES);
+    if (!fb->xDone) {
+        print_message("after the limit: error %d, phase %d, %s\n", (int)fb->iErrorID,
+                      (int)fb->iPhase, fb->sStatus);
+    }
     assert_true(fb->xDone);
 }
 

@@ -25,6 +25,7 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
     cfg->phi_t = PDT_R(1.0);
     cfg->phi_f = PDT_R(1.0);
     cfg->weight = PDT_IDENT_WEIGHT_AUTO;
+    cfg->offset = PDT_IDENT_OFFSET_AUTO;
     cfg->delay_mode = PDT_DELAY_FRACTIONAL;
     cfg->zeta_min = PDT_R(0.2);
     cfg->integrating = true;
@@ -73,7 +74,7 @@ static pdt_weight_kind_t cost_weight(const pdt_ident_config_t *cfg)
 }
 
 /* The cost configuration the identification runs on. */
-static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t y0,
+static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t y0, bool rest,
                         size_t delay_max, pdt_cost_config_t *cc)
 {
     pdt_cost_config_default(cc);
@@ -90,7 +91,9 @@ static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t
         cc->kind = cfg->time_kind;
     }
     cc->delay_mode = cfg->delay_mode;
-    cc->estimate_offset = true;
+    /* The output offset: the level of the rest window, or fitted with the
+     * model (see rest_offset). */
+    cc->estimate_offset = !rest;
     /* The paper's window would drop the first Td_max / Ts samples: where a
      * step test shows its dead time. */
     cc->whole_record = true;
@@ -264,6 +267,10 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
         cfg->cost != PDT_COST_FREQUENCY && cfg->cost != PDT_COST_COMBINED) {
         return PDT_ERR_ARG;
     }
+    if (cfg->offset != PDT_IDENT_OFFSET_AUTO && cfg->offset != PDT_IDENT_OFFSET_ESTIMATE &&
+        cfg->offset != PDT_IDENT_OFFSET_REST) {
+        return PDT_ERR_ARG;
+    }
     if (cfg->delay_mode != PDT_DELAY_FRACTIONAL && cfg->delay_mode != PDT_DELAY_INTEGER) {
         return PDT_ERR_ARG;
     }
@@ -325,7 +332,7 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
     }
     /* The delay bound init gives the cost (a smaller FFT for a larger
      * bound: the size must be init's own). */
-    cost_config(cfg, PDT_R(0.0), PDT_R(0.0), samples_in(b.Td_max, cfg->Ts, n) + 1u, &cc);
+    cost_config(cfg, PDT_R(0.0), PDT_R(0.0), false, samples_in(b.Td_max, cfg->Ts, n) + 1u, &cc);
     size_t cost_bytes = pdt_cost_workspace_size(&cc, n);
     if (cc.use_frequency && cost_bytes == 0u) {
         return 0u;
@@ -335,10 +342,9 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
     return cost_bytes + own_reals(population_of(cfg), genes_of(cfg->model), n) * sizeof(pdt_real_t);
 }
 
-/* The output level before the input first moves: the mean of y over that
- * stretch (and the shortest dead time after it), at least one sample. Only
- * the start of the search uses it; the model re-estimates the offset. */
-static pdt_real_t initial_level(const pdt_ident_data_t *d, size_t quiet_extra)
+/* Samples before the input first moves, and the shortest dead time after
+ * them (at most half the record): the rest window. */
+static size_t rest_window(const pdt_ident_data_t *d, size_t quiet_extra)
 {
     size_t k = 1u;
     while (k < d->n && d->u[k] == d->u[0]) {
@@ -348,6 +354,60 @@ static pdt_real_t initial_level(const pdt_ident_data_t *d, size_t quiet_extra)
     if (k > d->n / 2u) {
         k = d->n / 2u > 0u ? d->n / 2u : 1u;
     }
+    return k;
+}
+
+/* The rest window's level as the output offset (pdt_ident_rest.c). A model
+ * that cannot follow the process exactly (a FOPDT of a higher order
+ * process) trades its gain against a fitted offset: on the
+ * Astrom-Hagglund batch the fitted offset pulled K of 1/(s+1)^4 down by
+ * 1-2 %. The level of a record that starts at rest is information the fit
+ * need not guess. AUTO considers it when the window holds at least
+ * REST_MIN_DIV-th of the record (and PDT_MIN_SAMPLES) and the output is
+ * flat over it. */
+#define REST_MIN_DIV 40u
+
+/* Whether y over its first k samples is flat: the means of the two halves
+ * differ by at most four standard errors of the noise about them. A
+ * process still settling from an earlier move (a test restarted too soon)
+ * is not at rest, and its level is no operating point. */
+static bool flat(const pdt_real_t *y, size_t k)
+{
+    const size_t h = k / 2u;
+    pdt_real_t m[2] = {PDT_R(0.0), PDT_R(0.0)};
+    pdt_real_t ss = PDT_R(0.0);
+    for (size_t i = 0; i < 2u * h; i++) {
+        m[i / h] += y[i] - y[0];
+    }
+    m[0] /= (pdt_real_t)h;
+    m[1] /= (pdt_real_t)h;
+    for (size_t i = 0; i < 2u * h; i++) {
+        const pdt_real_t e = y[i] - y[0] - m[i / h];
+        ss += e * e;
+    }
+    const pdt_real_t var = ss / (pdt_real_t)(2u * h - 2u);
+    const pdt_real_t d = m[1] - m[0];
+    return d * d <= PDT_R(16.0) * PDT_R(2.0) * var / (pdt_real_t)h;
+}
+
+/* AUTO: the rest window's samples when the record has one to use (a time
+ * criterion, the window long and flat), else 0. */
+static uint32_t rest_usable(const pdt_ident_config_t *cfg, const pdt_ident_data_t *d,
+                            size_t quiet_extra)
+{
+    if (cfg->offset != PDT_IDENT_OFFSET_AUTO || pdt_ident_uses_frequency(cfg->cost)) {
+        return 0u;
+    }
+    const size_t k = rest_window(d, quiet_extra);
+    return (k >= PDT_MIN_SAMPLES && k >= d->n / REST_MIN_DIV && flat(d->y, k)) ? (uint32_t)k : 0u;
+}
+
+/* The output level before the input first moves: the mean of y over that
+ * stretch (and the shortest dead time after it), at least one sample. Only
+ * the start of the search uses it; the model re-estimates the offset. */
+static pdt_real_t initial_level(const pdt_ident_data_t *d, size_t quiet_extra)
+{
+    const size_t k = rest_window(d, quiet_extra);
     pdt_real_t shift = d->y[0];
     pdt_real_t sum = PDT_R(0.0);
     for (size_t i = 0; i < k; i++) {
@@ -446,9 +506,10 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     c.cfg.population = population_of(cfg);
     c.data = *data;
     c.genes = genes_of(cfg->model);
-    pdt_real_t y0 = initial_level(data, samples_in(b.Td_min, cfg->Ts, data->n));
+    const size_t quiet = samples_in(b.Td_min, cfg->Ts, data->n);
+    pdt_real_t y0 = initial_level(data, quiet);
     pdt_cost_config_t cc;
-    cost_config(cfg, data->u[0], y0, delay_max, &cc);
+    cost_config(cfg, data->u[0], y0, cfg->offset == PDT_IDENT_OFFSET_REST, delay_max, &cc);
     size_t cost_bytes = pdt_cost_workspace_size(&cc, data->n);
     st = pdt_cost_init(&c.cost, &cc, data->u, data->y, data->n, work, cost_bytes);
     if (st != PDT_OK) {
@@ -494,6 +555,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         c.hi[j] = ghi[j];
     }
     c.td_offset = td_offset(cfg, &b);
+    c.rest = rest_usable(cfg, data, quiet);
 
     c.vote.searches = searches_of(cfg);
     c.vote.budget = cfg->max_evaluations / c.vote.searches;
@@ -543,6 +605,9 @@ static void run_stage(pdt_ident_t *c)
     case PH_FINISH:
         pdt_ident_finish(c);
         break;
+    case PH_REST:
+        pdt_ident_rest_start(c);
+        break;
     default: /* PH_STD */
         pdt_ident_std(c);
         break;
@@ -568,6 +633,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_DELAY_SCAN] = NEEDS_BUDGET | EVALUATES,
         [PH_DELAY_REFINE] = NEEDS_BUDGET | EVALUATES,
         [PH_FINISH] = NEEDS_BUDGET | EVALUATES,
+        [PH_REST] = HEAVY,
         [PH_STD] = HEAVY,
     };
     uint32_t budget = max_evaluations;

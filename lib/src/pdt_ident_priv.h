@@ -10,6 +10,7 @@
  *   pdt_ident_refine.c  Nelder-Mead from the best niches (nm)
  *   pdt_ident_scan.c    the dead time of the frequency criterion (scan)
  *   pdt_ident_vote.c    the answer of a search, the searches' agreement
+ *   pdt_ident_rest.c    the output offset from the rest window (rest)
  *
  * A stage function does at most one evaluation, or one preparation as
  * costly as init, and sets c->phase to what comes next.
@@ -31,6 +32,7 @@ enum {
     PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
     PH_DELAY_REFINE, /* its golden section */
     PH_FINISH,       /* a search's answer; may re-score once (an integrator) */
+    PH_REST,         /* AUTO offset: the answer polished on the rest level */
     PH_STD,          /* the parameters' uncertainty */
     PH_DONE,
     PH_COUNT
@@ -123,6 +125,16 @@ void pdt_ident_scan_golden(pdt_ident_t *c);
 /* ---- pdt_ident_vote.c */
 
 void pdt_ident_finish(pdt_ident_t *c);
+
+/* ---- pdt_ident_rest.c */
+
+/* After the searches concluded: PH_REST when the answer's fitted offset
+ * disagrees with the rest window's level, else PH_STD. */
+void pdt_ident_rest_check(pdt_ident_t *c);
+void pdt_ident_rest_start(pdt_ident_t *c);
+
+/* ---- the refinement's polish of the best (pdt_ident_refine.c) */
+void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget);
 void pdt_ident_std(pdt_ident_t *c);
 
 #endif /* PDT_IDENT_PRIV_H */

@@ -289,3 +289,16 @@ void pdt_ident_refine_step(pdt_ident_t *c)
         c->phase = PH_FINISH;
     }
 }
+
+void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    /* The polish of the best (start_i == nstarts) within budget: the
+     * running search's budget is set so that left_of gives it. */
+    nm->nstarts = 0u;
+    nm->start_i = 0u;
+    c->vote.base = c->evaluations;
+    c->vote.budget = budget + pdt_ident_late_reserve(&c->cfg);
+    nm_start(c);
+    c->phase = PH_REFINE;
+}

@@ -17,6 +17,10 @@
 #define AGREE_GENES    PDT_R(0.01)
 /* 99 % quantile of chi-square with one degree of freedom. */
 #define CHI2_1_99      PDT_R(6.635)
+/* Normalised costs closer than this are the real type's rounding, not the
+ * data's (float: an RMS of about 1e-4 of the record's range): a noise-free
+ * integrator's fit is not beaten by a lag that fits its rounding. */
+#define COST_FLOOR     (PDT_REAL_EPS / PDT_R(8.0))
 /* A gene this close to its bound (normalised) lies on it. */
 #define BOUND_TOL      PDT_R(1e-3)
 
@@ -121,7 +125,10 @@ static void searches_conclude(pdt_ident_t *c)
     c->best.cost = cb;
     c->flags = flags;
     c->runner_up = runner;
-    c->phase = PH_STD;
+    for (uint32_t j = 0; j < c->genes; j++) {
+        c->best.genes[j] = c->vote.genes[best][j];
+    }
+    pdt_ident_rest_check(c);
 }
 
 /* A search ended: keep what it found, then another search or the answer.
@@ -166,7 +173,8 @@ void pdt_ident_finish(pdt_ident_t *c)
          * DC gain the data do not determine. Told apart means the lag's
          * cost is lower by more than chance explains: n ln(C_int / C_lag)
          * above the 99 % quantile of chi-square with one degree of freedom
-         * (the one parameter b), the likelihood-ratio test. Reporting the
+         * (the one parameter b), the likelihood-ratio test, and by more
+         * than the real type's rounding (COST_FLOOR). Reporting the
          * integrator whatever the costs left the answer 1 % above the
          * optimum on 9 of 24000 records of the certainty battery. */
         pdt_real_t a = m.p.sopdt.a, b = m.p.sopdt.b, disc = a * a - PDT_R(4.0) * b;
@@ -187,7 +195,8 @@ void pdt_ident_finish(pdt_ident_t *c)
                 ghi = c->best.gain;
             }
             if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) == PDT_OK &&
-                !(pr.ncost > c->best.cost * pdt_exp(CHI2_1_99 / (pdt_real_t)c->data.n))) {
+                !(pr.ncost >
+                  c->best.cost * pdt_exp(CHI2_1_99 / (pdt_real_t)c->data.n) + COST_FLOOR)) {
                 m.p.sopdt.b = PDT_R(0.0);
                 m.p.sopdt.k = shape.p.sopdt.k * pr.gain;
                 c->best.gain = pr.gain;
@@ -200,6 +209,12 @@ void pdt_ident_finish(pdt_ident_t *c)
     c->y0 = c->cost.cfg.y0 + c->best.offset;
     if (pdt_cost_fit(&c->cost, &m, c->best.offset, c->scratch, &c->fit) != PDT_OK) {
         c->fit = PDT_R(0.0);
+    }
+    if (c->rest_stage == 1u) {
+        /* The polish on the rest level: this is the answer. */
+        c->rest_stage = 2u;
+        c->phase = PH_STD;
+        return;
     }
     search_end(c);
 }

@@ -12,6 +12,8 @@ static const char *const weight_names[] = {"auto", "control", "uniform", "band",
 static const pdt_ident_weight_t weight_kinds[] = {PDT_IDENT_WEIGHT_AUTO, PDT_IDENT_WEIGHT_CONTROL,
                                                   PDT_IDENT_WEIGHT_UNIFORM, PDT_IDENT_WEIGHT_BAND};
 static const char *const unit_names[] = {"s", "ms", "us", NULL};
+/* --offset: in pdt_ident_offset_t's order. */
+static const char *const offset_names[] = {"auto", "estimate", "rest", NULL};
 
 #define GA CLI_GA_ONLY
 
@@ -31,6 +33,7 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--cost", OPT_CHOICE, &a->cost, NULL, 0, 0, 0, cost_names, "cost", GA},
         {"--weight", OPT_CHOICE, &a->weight, &a->have_weight, 0, 0, 0, weight_names, "weight", GA},
         {"--band", OPT_TEXT, &a->band, NULL, 0, 0, 0, NULL, NULL, GA},
+        {"--offset", OPT_CHOICE, &a->offset, NULL, 0, 0, 0, offset_names, "offset", GA},
         {"--phi-t", OPT_REAL, &a->phi_t, &a->have_phi_t, CHK_GE0, 0, 0, NULL, "a weight >= 0",
          GA | CLI_REAL_FITS},
         {"--phi-f", OPT_REAL, &a->phi_f, &a->have_phi_f, CHK_GE0, 0, 0, NULL, "a weight >= 0",
@@ -236,6 +239,7 @@ static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
     if (a->have_population) cfg->population = (uint32_t)a->population;
     if (a->have_td_max) cfg->Td_max = (pdt_real_t)a->td_max;
     if (a->have_weight) cfg->weight = weight_kinds[a->weight];
+    cfg->offset = (pdt_ident_offset_t)a->offset;
     cfg->f_lo = (pdt_real_t)a->f_lo;
     cfg->f_hi = (pdt_real_t)a->f_hi;
     if (a->have_phi_t) cfg->phi_t = (pdt_real_t)a->phi_t;

@@ -61,6 +61,21 @@ typedef enum pdt_ident_weight {
                                    * else UNIFORM */
 } pdt_ident_weight_t;
 
+/* The output operating point y0 of the answer. */
+typedef enum pdt_ident_offset {
+    PDT_IDENT_OFFSET_AUTO = 0,     /* ESTIMATE, then, for a time criterion on
+                                    * a record that starts with a rest window
+                                    * (the input still, plus Td_min) of at
+                                    * least n / 40 samples and
+                                    * PDT_MIN_SAMPLES over which the output is
+                                    * flat, REST when the fitted offset lies
+                                    * more than three standard errors from
+                                    * the window's level: the answer is then
+                                    * polished on that level */
+    PDT_IDENT_OFFSET_ESTIMATE = 1, /* fitted with the model */
+    PDT_IDENT_OFFSET_REST = 2      /* the output's mean over the rest window */
+} pdt_ident_offset_t;
+
 typedef struct pdt_ident_config {
     pdt_model_kind_t model;    /* FOPDT or SOPDT. Default FOPDT */
     pdt_real_t Ts;             /* sampling period, s. Must be set (> 0) */
@@ -73,6 +88,7 @@ typedef struct pdt_ident_config {
     pdt_real_t f_lo;
     pdt_real_t f_hi;
     const pdt_real_t *weights;
+    pdt_ident_offset_t offset;   /* Default AUTO */
     pdt_delay_mode_t delay_mode; /* FRACTIONAL: Td continuous (default);
                                   * INTEGER: Td in whole samples, the paper */
     /* Search bounds. A pair left at 0, 0 is derived from Ts and the record
@@ -268,6 +284,10 @@ typedef struct pdt_ident {
     uint32_t band_stage;  /* CONTROL weighting: 1 while the search runs on
                            * the time cost, 2 after; 0 otherwise */
     pdt_real_t f_band;    /* CONTROL weighting: the band's edge, Hz */
+    uint32_t rest;        /* AUTO offset: the rest window's samples, 0 when
+                           * the record has none to use */
+    uint32_t rest_stage;  /* 1 while the answer is polished on the rest
+                           * level, 2 after */
     pdt_ident_best_t best;
     pdt_ident_ga_t ga;
     pdt_ident_refine_t nm;
