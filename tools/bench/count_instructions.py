@@ -40,7 +40,7 @@ def sources(tree):
 
 def includes(tree):
     return ["-I" + str(tree / "lib" / "include"), "-I" + str(tree / "lib" / "src"),
-            "-I" + str(ROOT / "port")]
+            "-I" + str(ROOT / "port"), "-I" + str(ROOT / "tests" / "support")]
 
 
 def parse_cases(text):
