@@ -17,6 +17,7 @@
  */
 #include "test_util.h"
 
+#include "sim_process.h"
 #include "sim_rng.h"
 
 #define NMAX       1200u
@@ -118,43 +119,6 @@ static double make_record(const record_spec_t *s)
         g_y[k] = (pdt_real_t)y;
     }
     return hi - lo;
-}
-
-static pdt_model_t fopdt(double K, double tau, double Td)
-{
-    pdt_model_t m;
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = (pdt_real_t)K;
-    m.p.fopdt.tau = (pdt_real_t)tau;
-    m.p.fopdt.Td = (pdt_real_t)Td;
-    return m;
-}
-
-static pdt_model_t sopdt_tc(double K, double T1, double T2, double Td)
-{
-    pdt_model_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
-    pdt_model_t m;
-    m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_model_sopdt_from_tc(&tc, &m.p.sopdt), PDT_OK);
-    return m;
-}
-
-static pdt_model_t sopdt_natural(double K, double wn, double zeta, double Td)
-{
-    pdt_model_natural_t nat = {(pdt_real_t)K, (pdt_real_t)wn, (pdt_real_t)zeta, (pdt_real_t)Td};
-    pdt_model_t m;
-    m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_model_sopdt_from_natural(&nat, &m.p.sopdt), PDT_OK);
-    return m;
-}
-
-static pdt_model_t sopdt_integ(double Ki, double T, double Td)
-{
-    pdt_model_integ_t in = {(pdt_real_t)Ki, (pdt_real_t)T, (pdt_real_t)Td};
-    pdt_model_t m;
-    m.kind = PDT_MODEL_SOPDT;
-    assert_int_equal(pdt_model_sopdt_from_integ(&in, &m.p.sopdt), PDT_OK);
-    return m;
 }
 
 /* ---- Running ---------------------------------------------------------- */
@@ -289,27 +253,27 @@ static void test_recover_fopdt(void **state)
 {
     (void)state;
     /* Noise-free: the search itself must land on the truth. */
-    fopdt_case("no noise", fopdt(2.0, 12.0, 4.37), 0.0, 0.0, 1.0, 0.0, false, 1e-3, 1e-3, 1e-3,
-               99.9);
+    fopdt_case("no noise", model_fopdt(2.0, 12.0, 4.37), 0.0, 0.0, 1.0, 0.0, false, 1e-3, 1e-3,
+               1e-3, 99.9);
     /* Fractional dead time, 30 dB. */
-    fopdt_case("fractional Td", fopdt(2.0, 12.0, 4.37), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
-               FO_TD, 95.0);
-    /* Long dead time, Td = 3 tau. */
-    fopdt_case("Td = 3 tau", fopdt(1.5, 6.0, 18.0), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU, FO_TD,
-               95.0);
-    /* Short dead time, Td = 0.1 tau. */
-    fopdt_case("Td = 0.1 tau", fopdt(0.8, 25.0, 2.5), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
-               FO_TD, 95.0);
-    /* Reverse acting. */
-    fopdt_case("reverse acting", fopdt(-1.7, 10.0, 3.3), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
-               FO_TD, 95.0);
-    /* Engineering units: u around 40 (+-5), y around 350; y0 estimated. */
-    fopdt_case("u0 = 40, y0 = 350", fopdt(3.0, 15.0, 6.6), 40.0, 350.0, 5.0, 30.0, false, FO_K,
+    fopdt_case("fractional Td", model_fopdt(2.0, 12.0, 4.37), 0.0, 0.0, 1.0, 30.0, false, FO_K,
                FO_TAU, FO_TD, 95.0);
+    /* Long dead time, Td = 3 tau. */
+    fopdt_case("Td = 3 tau", model_fopdt(1.5, 6.0, 18.0), 0.0, 0.0, 1.0, 30.0, false, FO_K, FO_TAU,
+               FO_TD, 95.0);
+    /* Short dead time, Td = 0.1 tau. */
+    fopdt_case("Td = 0.1 tau", model_fopdt(0.8, 25.0, 2.5), 0.0, 0.0, 1.0, 30.0, false, FO_K,
+               FO_TAU, FO_TD, 95.0);
+    /* Reverse acting. */
+    fopdt_case("reverse acting", model_fopdt(-1.7, 10.0, 3.3), 0.0, 0.0, 1.0, 30.0, false, FO_K,
+               FO_TAU, FO_TD, 95.0);
+    /* Engineering units: u around 40 (+-5), y around 350; y0 estimated. */
+    fopdt_case("u0 = 40, y0 = 350", model_fopdt(3.0, 15.0, 6.6), 40.0, 350.0, 5.0, 30.0, false,
+               FO_K, FO_TAU, FO_TD, 95.0);
     /* Quantised sensor: 1 % of the output range, no other noise (an
      * error of 0.29 % of the range rms: about 40 dB here). */
-    fopdt_case("quantised 1 %", fopdt(2.0, 12.0, 4.37), 40.0, 350.0, 5.0, 0.0, true, FO_K, FO_TAU,
-               FO_TD, 95.0);
+    fopdt_case("quantised 1 %", model_fopdt(2.0, 12.0, 4.37), 40.0, 350.0, 5.0, 0.0, true, FO_K,
+               FO_TAU, FO_TD, 95.0);
 }
 
 /* SOPDT tolerances at 30 dB, a few times the worst measured (K 0.2 %, wn
@@ -335,7 +299,7 @@ static void test_recover_sopdt(void **state)
     pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)0.5);
     (void)state;
     /* Overdamped, T1 = 5 T2. */
-    pdt_model_t m = sopdt_tc(2.0, 10.0, 2.0, 3.3);
+    pdt_model_t m = model_sopdt_tc(2.0, 10.0, 2.0, 3.3);
     sopdt_record(m, 30.0);
     identify(&cfg, 1000u, &res);
     check_sopdt("overdamped T1 = 5 T2", &res, &m, SO_K, SO_WN, SO_ZETA, SO_TD);
@@ -349,13 +313,13 @@ static void test_recover_sopdt(void **state)
         assert_close(g.T2, 2.0, 0.10, 0.0);
     }
     /* Critically damped. */
-    m = sopdt_natural(1.2, 0.2, 1.0, 2.2);
+    m = model_sopdt_natural(1.2, 0.2, 1.0, 2.2);
     sopdt_record(m, 30.0);
     identify(&cfg, 1000u, &res);
     check_sopdt("critically damped", &res, &m, SO_K, SO_WN, SO_ZETA, SO_TD);
     check_fit(&res, 95.0);
     /* Underdamped, zeta 0.3. */
-    m = sopdt_natural(-0.9, 0.3, 0.3, 4.1);
+    m = model_sopdt_natural(-0.9, 0.3, 0.3, 4.1);
     sopdt_record(m, 30.0);
     identify(&cfg, 1000u, &res);
     check_sopdt("underdamped zeta 0.3", &res, &m, SO_K, SO_WN, SO_ZETA, SO_TD);
@@ -370,7 +334,7 @@ static void test_recover_integrating(void **state)
     (void)state;
     /* Integrator with a lag: a symmetric random binary input keeps the
      * output bounded. */
-    pdt_model_t m = sopdt_integ(0.05, 3.0, 2.7);
+    pdt_model_t m = model_integ(0.05, 3.0, 2.7);
     record_spec_t s = {m, (pdt_real_t)0.5, 1000u, 10.0, 50.0, 2.0, 30.0, false, 5u};
     make_prbs(g_dev, s.n, 10u, 12u, 11u);
     make_record(&s);
@@ -403,7 +367,7 @@ static void test_recover_integer_delay(void **state)
 {
     pdt_ident_result_t res;
     (void)state;
-    pdt_model_t m = fopdt(2.0, 12.0, 5.0);
+    pdt_model_t m = model_fopdt(2.0, 12.0, 5.0);
     record_spec_t s = {m, (pdt_real_t)1.0, 800u, 0.0, 0.0, 1.0, 30.0, false, 99u};
     make_prbs(g_dev, s.n, 10u, 8u, 7u);
     make_record(&s);
@@ -422,7 +386,7 @@ static void test_recover_prediction(void **state)
 {
     pdt_ident_result_t res;
     (void)state;
-    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
     record_spec_t s = {m, (pdt_real_t)1.0, 800u, 40.0, 350.0, 5.0, 0.0, false, 1u};
     make_prbs(g_dev, s.n, 10u, 8u, 7u);
     make_record(&s);
@@ -433,7 +397,7 @@ static void test_recover_prediction(void **state)
     check_fit(&res, 99.0);
     assert_close(res.y0, 350.0, 0.0, 0.05);
 
-    m = sopdt_tc(2.0, 10.0, 2.0, 3.3);
+    m = model_sopdt_tc(2.0, 10.0, 2.0, 3.3);
     sopdt_record(m, 0.0);
     cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)0.5);
     cfg.cost = PDT_COST_PREDICTION;
@@ -454,7 +418,7 @@ static void test_recover_criteria_pulse(void **state)
 {
     pdt_ident_result_t res;
     (void)state;
-    pdt_model_t m = fopdt(1.5, 10.0, 4.6);
+    pdt_model_t m = model_fopdt(1.5, 10.0, 4.6);
     static const pdt_cost_kind_t kinds[] = {PDT_COST_SIMULATION, PDT_COST_COMBINED,
                                             PDT_COST_FREQUENCY};
     static const char *const names[] = {"pulses, simulation", "pulses, combined",
@@ -559,7 +523,7 @@ static pdt_ident_result_t stepping_matches_blocking(const pdt_ident_config_t *cf
 static void test_stepping(void **state)
 {
     (void)state;
-    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
     record_spec_t s = {m, (pdt_real_t)1.0, 400u, 40.0, 350.0, 5.0, 30.0, false, 99u};
     make_prbs(g_dev, s.n, 10u, 8u, 7u);
     make_record(&s);
@@ -588,7 +552,7 @@ static void test_stepping(void **state)
         }
     }
     /* SOPDT, plain and integrating. */
-    pdt_model_t so = sopdt_tc(2.0, 10.0, 2.0, 3.3);
+    pdt_model_t so = model_sopdt_tc(2.0, 10.0, 2.0, 3.3);
     record_spec_t s2 = {so, (pdt_real_t)0.5, 500u, 10.0, 50.0, 2.0, 30.0, false, 5u};
     make_prbs(g_dev, s2.n, 10u, 12u, 11u);
     make_record(&s2);
@@ -604,7 +568,7 @@ static void test_budget(void **state)
 {
     pdt_ident_result_t res;
     (void)state;
-    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
     record_spec_t s = {m, (pdt_real_t)1.0, 400u, 0.0, 0.0, 1.0, 30.0, false, 99u};
     make_prbs(g_dev, s.n, 10u, 8u, 7u);
     make_record(&s);
@@ -656,7 +620,7 @@ static void test_determinism(void **state)
 {
     pdt_ident_result_t a, b, c;
     (void)state;
-    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
     record_spec_t s = {m, (pdt_real_t)1.0, 800u, 0.0, 0.0, 1.0, 30.0, false, 99u};
     make_prbs(g_dev, s.n, 10u, 8u, 7u);
     make_record(&s);
@@ -682,7 +646,7 @@ static void test_gain_bounds(void **state)
     pdt_ident_result_t res;
     pdt_real_t K;
     (void)state;
-    pdt_model_t m = fopdt(2.0, 12.0, 4.37);
+    pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
     record_spec_t s = {m, (pdt_real_t)1.0, 600u, 0.0, 0.0, 1.0, 30.0, false, 99u};
     make_prbs(g_dev, s.n, 10u, 8u, 7u);
     make_record(&s);
@@ -712,7 +676,7 @@ static void test_gain_bounds(void **state)
     assert_true(res.model.p.fopdt.K >= (pdt_real_t)0.0);
 
     /* SOPDT: the bound is on the DC gain. */
-    m = sopdt_tc(2.0, 10.0, 2.0, 3.3);
+    m = model_sopdt_tc(2.0, 10.0, 2.0, 3.3);
     sopdt_record(m, 30.0);
     cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)0.5);
     cfg.integrating = false;
@@ -777,7 +741,7 @@ static void test_control_default(void **state)
 static void test_control_band(void **state)
 {
     pdt_ident_result_t res, res_auto;
-    const pdt_model_t m = fopdt(2.0, 5.0, 2.0);
+    const pdt_model_t m = model_fopdt(2.0, 5.0, 2.0);
     const double want = half_crossover_hz(5.0, 2.0);
     (void)state;
     /* scipy.optimize.brentq on the same equation gives w180 =
@@ -824,7 +788,7 @@ static void test_control_band_off(void **state)
 {
     pdt_ident_result_t res, res_uniform;
     (void)state;
-    control_record(fopdt(2.0, 5.0, 2.0));
+    control_record(model_fopdt(2.0, 5.0, 2.0));
     pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)CB_TS);
 
     cfg.cost = PDT_COST_COMBINED;
@@ -859,7 +823,7 @@ static void test_control_band_off(void **state)
     }
 
     /* AUTO is UNIFORM for a SOPDT. */
-    pdt_model_t so = sopdt_tc(2.0, 5.0, 1.5, 2.0);
+    pdt_model_t so = model_sopdt_tc(2.0, 5.0, 1.5, 2.0);
     control_record(so);
     cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)CB_TS);
     cfg.cost = PDT_COST_COMBINED;
@@ -886,7 +850,7 @@ static void test_control_band_off(void **state)
 static void test_control_band_no_dead_time(void **state)
 {
     pdt_ident_result_t res;
-    const pdt_model_t m = fopdt(2.0, 5.0, 0.0);
+    const pdt_model_t m = model_fopdt(2.0, 5.0, 0.0);
     (void)state;
     control_record(m);
     static const pdt_cost_kind_t kinds[] = {PDT_COST_COMBINED, PDT_COST_FREQUENCY};
@@ -911,7 +875,7 @@ static void test_control_band_no_dead_time(void **state)
 
 static void error_record(void)
 {
-    pdt_model_t m = fopdt(2.0, 8.0, 3.0);
+    pdt_model_t m = model_fopdt(2.0, 8.0, 3.0);
     record_spec_t s = {m, (pdt_real_t)1.0, ERR_N, 40.0, 350.0, 5.0, 30.0, false, 99u};
     make_prbs(g_dev, s.n, 5u, 6u, 7u);
     /* Back at rest for the last 60 samples (7 time constants), as the
@@ -1125,7 +1089,7 @@ static void test_errors_data(void **state)
      * that stays up, then an output that ends off its starting level (an
      * integrator's pulse response) while u is back. The time costs take
      * both. */
-    pdt_model_t m = fopdt(2.0, 8.0, 3.0);
+    pdt_model_t m = model_fopdt(2.0, 8.0, 3.0);
     record_spec_t step = {m, (pdt_real_t)1.0, ERR_N, 40.0, 350.0, 5.0, 30.0, false, 99u};
     for (size_t k = 0; k < ERR_N; k++) {
         g_dev[k] = k < 10u ? (pdt_real_t)0.0 : (pdt_real_t)1.0;

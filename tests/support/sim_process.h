@@ -42,6 +42,19 @@ static inline pdt_model_t model_sopdt_tc(double K, double T1, double T2, double 
     return m;
 }
 
+/* K wn^2 e^{-Td s} / (s^2 + 2 zeta wn s + wn^2); refused parameters as
+ * above. */
+static inline pdt_model_t model_sopdt_natural(double K, double wn, double zeta, double Td)
+{
+    const pdt_model_natural_t nat = {(pdt_real_t)K, (pdt_real_t)wn, (pdt_real_t)zeta,
+                                     (pdt_real_t)Td};
+    pdt_model_t m;
+    memset(&m, 0, sizeof m);
+    m.kind = PDT_MODEL_SOPDT;
+    (void)pdt_model_sopdt_from_natural(&nat, &m.p.sopdt);
+    return m;
+}
+
 /* Ki e^{-Td s} / (s (T s + 1)); refused parameters as above. */
 static inline pdt_model_t model_integ(double Ki, double T, double Td)
 {

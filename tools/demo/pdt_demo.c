@@ -21,6 +21,7 @@
 #include "pdt/pdt.h"
 #include "pdt/pdt_ident.h"
 #include "plant17.h"
+#include "sim_process.h"
 #include "sim_rng.h"
 
 #define FS        20.0
@@ -116,25 +117,6 @@ static struct merit judge(const pdt_model_t *m)
     return r;
 }
 
-static pdt_model_t fopdt(double K, double tau, double Td)
-{
-    pdt_model_t m;
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = (pdt_real_t)K;
-    m.p.fopdt.tau = (pdt_real_t)tau;
-    m.p.fopdt.Td = (pdt_real_t)Td;
-    return m;
-}
-
-static pdt_model_t sopdt(double K, double T1, double T2, double Td)
-{
-    pdt_model_tc_t tc = {(pdt_real_t)K, (pdt_real_t)T1, (pdt_real_t)T2, false, (pdt_real_t)Td};
-    pdt_model_t m;
-    m.kind = PDT_MODEL_SOPDT;
-    if (pdt_model_sopdt_from_tc(&tc, &m.p.sopdt) != PDT_OK) exit(1);
-    return m;
-}
-
 static void print_model(const char *who, const pdt_model_t *m, const char *note)
 {
     struct merit q = judge(m);
@@ -223,15 +205,15 @@ int main(void)
 
     size_t n = record(CHIRP);
     header("Table 1: FOPDT from the chirp record", false);
-    pdt_model_t m = fopdt(1.04, 3.28, 1.4);
+    pdt_model_t m = model_fopdt(1.04, 3.28, 1.4);
     print_model("paper ELMS", &m, "");
-    m = fopdt(0.98, 2.99, 1.45);
+    m = model_fopdt(0.98, 2.99, 1.45);
     print_model("paper E-IV-LMS", &m, "");
-    m = fopdt(1.05, 3.34, 1.4);
+    m = model_fopdt(1.05, 3.34, 1.4);
     print_model("paper GA_t", &m, "");
     identify("pdtfit GA, prediction", n, PDT_MODEL_FOPDT, PDT_COST_PREDICTION, PDT_COST_PREDICTION);
     identify("pdtfit GA, simulation", n, PDT_MODEL_FOPDT, PDT_COST_SIMULATION, PDT_COST_SIMULATION);
-    m = fopdt(1.0, 2.4, 1.55);
+    m = model_fopdt(1.0, 2.4, 1.55);
     print_model("paper GA (combined)", &m, "");
     identify("pdtfit GA, prediction + frequency", n, PDT_MODEL_FOPDT, PDT_COST_COMBINED,
              PDT_COST_PREDICTION);
@@ -239,11 +221,11 @@ int main(void)
              PDT_COST_SIMULATION);
     identify_w("pdtfit GA, sim. + freq., uniform W", n, PDT_MODEL_FOPDT, PDT_COST_COMBINED,
                PDT_COST_SIMULATION, PDT_IDENT_WEIGHT_UNIFORM);
-    m = fopdt(1.0, 2.5, 1.47);
+    m = model_fopdt(1.0, 2.5, 1.47);
     print_model("Skogestad half rule (model known)", &m, "");
-    m = fopdt(1.0, 2.86, 1.57);
+    m = model_fopdt(1.0, 2.86, 1.57);
     print_model("Sung et al. (model known)", &m, "");
-    m = fopdt(1.0, 2.48, 1.58);
+    m = model_fopdt(1.0, 2.48, 1.58);
     print_model("best FOPDT by IAE", &m, "(reference value)");
 
     header("Table 2: SOPDT", true);
@@ -257,7 +239,7 @@ int main(void)
         char who[64];
         n = record(paper2[i].e);
         snprintf(who, sizeof who, "paper GA, %s", exc_name[paper2[i].e]);
-        m = sopdt(paper2[i].K, paper2[i].a2, paper2[i].a1, paper2[i].Td);
+        m = model_sopdt_tc(paper2[i].K, paper2[i].a2, paper2[i].a1, paper2[i].Td);
         print_model(who, &m, "");
         snprintf(who, sizeof who, "pdtfit %s, simulation", exc_name[paper2[i].e]);
         identify(who, n, PDT_MODEL_SOPDT, PDT_COST_SIMULATION, PDT_COST_SIMULATION);
@@ -266,11 +248,11 @@ int main(void)
         snprintf(who, sizeof who, "pdtfit %s, simulation + frequency", exc_name[paper2[i].e]);
         identify(who, n, PDT_MODEL_SOPDT, PDT_COST_COMBINED, PDT_COST_SIMULATION);
     }
-    m = sopdt(1.0, 2.0, 1.2, 0.77);
+    m = model_sopdt_tc(1.0, 2.0, 1.2, 0.77);
     print_model("Skogestad half rule (model known)", &m, "");
-    m = sopdt(1.0, 1.99, 1.29, 0.9);
+    m = model_sopdt_tc(1.0, 1.99, 1.29, 0.9);
     print_model("Sung et al. (model known)", &m, "");
-    m = sopdt(1.0, 1.91, 1.19, 0.86);
+    m = model_sopdt_tc(1.0, 1.91, 1.19, 0.86);
     print_model("best SOPDT by IAE", &m, "(reference value)");
     printf("\nThe time constants are printed larger first (the paper's a1, a2 order varies).\n"
            "'uniform W': the paper's W = 1 on every bin instead of the control band;\n"
