@@ -24,6 +24,7 @@
 
 #include "csv.h"
 #include "json.h"
+#include "model_record.h"
 #include "pdt/pdt.h"
 #include "pdt/pdt_ident.h"
 #include "pdt/pdt_ls.h"
@@ -125,37 +126,6 @@ static pdt_real_t *to_real(const double *x, size_t n)
     return r;
 }
 
-/* A model on a record by the library's own calls: its output from rest on
- * u - u0, plus y0 (pdt_cost_simulate, into ysim unless NULL), and the fit
- * pdt_ident reports for its answers (pdt_cost_fit, into fit unless NULL). */
-static pdt_status_t model_on_record(const pdt_model_t *m, double Ts, const pdt_real_t *u,
-                                    const pdt_real_t *y, size_t n, pdt_real_t u0, pdt_real_t y0,
-                                    pdt_real_t *ysim, pdt_real_t *fit)
-{
-    pdt_cost_config_t cc;
-    pdt_cost_config_default(&cc);
-    cc.Ts = (pdt_real_t)Ts;
-    cc.u0 = u0;
-    cc.y0 = y0;
-    cc.delay_max = 0;
-    cc.whole_record = true;
-    cc.use_frequency = false;
-    cc.kind = PDT_COST_SIMULATION;
-    pdt_cost_t cost;
-    pdt_discrete_t d;
-    /* the cost's workspace, then n reals of scratch for the fit */
-    const size_t wlen = pdt_cost_workspace_size(&cc, n);
-    pdt_real_t *work = wlen ? malloc(wlen + n * sizeof *work) : NULL;
-    pdt_status_t st = work ? pdt_cost_init(&cost, &cc, u, y, n, work, wlen) : PDT_ERR_NOMEM;
-    if (st == PDT_OK && ysim) {
-        st = pdt_discrete_init(m, (pdt_real_t)Ts, &d);
-        if (st == PDT_OK) st = pdt_cost_simulate(&cost, &d, ysim);
-    }
-    if (st == PDT_OK && fit) st = pdt_cost_fit(&cost, m, 0, work + wlen / sizeof *work, fit);
-    free(work);
-    return st;
-}
-
 /* method ELMS or E-IV-LMS: the least-squares delay scan, reported as
  * `pdtfit identify --method elms|eiv` reports it. */
 static int identify_ls(const pdt_real_t *u, const pdt_real_t *y, size_t n, double Ts,
@@ -184,7 +154,7 @@ static int identify_ls(const pdt_real_t *u, const pdt_real_t *y, size_t n, doubl
     res->y0 = r.y0;
     res->cost = r.cost;
     res->fit = (pdt_real_t)NAN;
-    (void)model_on_record(&r.model, Ts, u, y, n, r.u0, r.y0, NULL, &res->fit);
+    (void)pdtcli_model_on_record(&r.model, Ts, u, y, n, r.u0, r.y0, NULL, &res->fit);
     res->evaluations = (uint32_t)(delay_max - cfg.delay_min + 1u);
     return PDT_OK;
 }
@@ -250,7 +220,7 @@ int pdtpy_simulate(const double *model, double Ts, const double *u, const double
     pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n), *ys = to_real(y, n);
     st = PDTPY_ERR_NOMEM;
     if (ur && yr && ys) {
-        st = model_on_record(&m, Ts, ur, yr, n, (pdt_real_t)u0, (pdt_real_t)y0, ys, NULL);
+        st = pdtcli_model_on_record(&m, Ts, ur, yr, n, (pdt_real_t)u0, (pdt_real_t)y0, ys, NULL);
         if (st == PDT_OK)
             for (size_t k = 0; k < n; k++) ysim[k] = (double)ys[k];
     }

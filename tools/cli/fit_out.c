@@ -5,45 +5,20 @@
 #include <math.h>
 
 #include "identify.h"
+#include "model_record.h"
 
 double ident_simulate(const pdt_model_t *m, double Ts, const ident_data_t *d, pdt_real_t u0,
                       pdt_real_t y0, double *ysim)
 {
     const size_t n = d->s.n;
-    pdt_cost_config_t cc;
-    pdt_cost_config_default(&cc);
-    cc.Ts = (pdt_real_t)Ts;
-    cc.u0 = u0;
-    cc.y0 = y0;
-    cc.delay_max = 0;
-    cc.whole_record = true;
-    cc.use_frequency = false;
-    cc.kind = PDT_COST_SIMULATION;
-    pdt_cost_t cost;
-    pdt_discrete_t dm;
-    /* The cost keeps its normalised copy of the record after the output. */
-    const size_t wlen = pdt_cost_workspace_size(&cc, n);
-    pdt_real_t *ys = malloc(n * sizeof *ys + wlen);
+    pdt_real_t *ys = malloc(n * sizeof *ys);
     if (!ys) cli_fail(EXIT_REFUSED, "out of memory");
-    double fit = (double)NAN;
-    if (wlen > 0 && pdt_cost_init(&cost, &cc, d->u, d->y, n, ys + n, wlen) == PDT_OK &&
-        pdt_discrete_init(m, (pdt_real_t)Ts, &dm) == PDT_OK &&
-        pdt_cost_simulate(&cost, &dm, ys) == PDT_OK) {
-        double mean = 0.0, e2 = 0.0, v2 = 0.0;
-        for (size_t k = 0; k < n; k++) mean += (double)d->y[k];
-        mean /= (double)n;
-        for (size_t k = 0; k < n; k++) {
-            double e = (double)d->y[k] - (double)ys[k], v = (double)d->y[k] - mean;
-            e2 += e * e;
-            v2 += v * v;
-            if (ysim) ysim[k] = (double)ys[k];
-        }
-        if (v2 > 0.0) fit = 100.0 * (1.0 - sqrt(e2 / v2));
-    } else if (ysim) {
-        for (size_t k = 0; k < n; k++) ysim[k] = (double)NAN;
-    }
+    pdt_real_t fit = 0;
+    const pdt_status_t st = pdtcli_model_on_record(m, Ts, d->u, d->y, n, u0, y0, ys, &fit);
+    if (st == PDT_ERR_NOMEM) cli_fail(EXIT_REFUSED, "out of memory");
+    for (size_t k = 0; ysim && k < n; k++) ysim[k] = st == PDT_OK ? (double)ys[k] : (double)NAN;
     free(ys);
-    return fit;
+    return st == PDT_OK ? (double)fit : (double)NAN;
 }
 
 void ident_write_sim(const char *path, const ident_data_t *d, const pdt_ident_result_t *r)
