@@ -172,7 +172,7 @@ static void test_null_and_init(void **state)
     assert_int_equal(fb->iModel, PDT_FB_AUTOTUNE_MODEL_AUTO);
     assert_int_equal(fb->iRule, PDT_TUNE_SIMC);
     assert_int_equal(fb->iForm, PDT_TUNE_PI);
-    assert_true(fb->rFitMin == R(80.0));
+    assert_true(fb->rFitMin == R(0.0));
     assert_true(fb->rMsMax == R(2.0));
     assert_false(fb->xAuto || fb->xAutoActive || fb->xLimited);
     assert_true(fb->rSpWeightP == R(1.0) && fb->rSpWeightD == R(0.0) && fb->rRateMax == R(0.0) &&

@@ -385,7 +385,7 @@ void pdt_fb_autotune_init(pdt_fb_autotune_t *fb)
     fb->rPvMax = FB_R(1.0e30);
     fb->iRule = (int16_t)PDT_TUNE_SIMC;
     fb->iForm = (int16_t)PDT_TUNE_PI;
-    fb->rFitMin = FB_R(80.0);
+    fb->rFitMin = FB_R(0.0);
     fb->rMsMax = FB_R(2.0);
     fb->rSpWeightP = FB_R(1.0);
     text_set(fb->sStatus, NULL, "idle");

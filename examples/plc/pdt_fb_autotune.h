@@ -171,7 +171,8 @@ typedef struct pdt_fb_autotune {
     int16_t iRule;            /* pdt_tune_rule_t: 0 SIMC, 1 IMC, 2 AMIGO,
                                * 3 Ziegler-Nichols. Init 0 */
     int16_t iForm;            /* pdt_tune_form_t: 0 PI, 1 PID. Init 0 */
-    pdt_real_t rFitMin;       /* refuse gains below this fit, %. Init 80 */
+    pdt_real_t rFitMin;       /* refuse gains below this fit, %; 0: the
+                               * evidence decides alone. Init 0 */
     pdt_real_t rMsMax;        /* refuse gains above this Ms; 0: no limit,
                                * else > 1. Init 2 */
     /* VAR_INPUT: PID parameters, taken at Done and on a rising edge of
