@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from pdtsupport import cli
+from pdtsupport import records as shared
 from pdtsupport.rng import Lcg64
 
 
@@ -17,31 +18,19 @@ def pytest_runtest_setup(item):
 
 
 def multistep(n, u0, amp, seed, rest=20):
-    """Steps of random length and level around u0, after `rest` samples at u0."""
-    rng = Lcg64(seed)
-    u = np.full(n, float(u0))
-    k, sign = rest, 1.0
-    while k < n:
-        hold = 20 + int(rng.uniform() * 40)
-        u[k:k + hold] = u0 + sign * amp * (0.4 + 0.6 * rng.uniform())
-        sign = -sign
-        k += hold
-    return u
+    """Steps of 20 to 59 samples at random levels around u0, after `rest`
+    samples at u0 (the tools' shared record maker)."""
+    return shared.multistep_input(n, u0, amp, 20, 59, rest, seed)
 
 
 def sopdt_response(u, u0, y0, K, T1, T2, delay, noise, seed):
-    """Two first-order lags in series (exact ZOH per lag, Ts = 1 per sample
-    of T1, T2 in samples) and a whole-sample delay, plus noise."""
-    a1, a2 = np.exp(-1.0 / T1), (np.exp(-1.0 / T2) if T2 else 0.0)
-    x1 = x2 = 0.0
-    y = np.empty(len(u))
+    """K e^{-delay s} / ((T1 s + 1)(T2 s + 1)), times in samples (Ts = 1),
+    from rest behind a zero-order hold (the tools' shared simulator), plus
+    noise."""
+    den = np.polymul([T1, 1.0], [T2, 1.0]) if T2 else np.array([T1, 1.0])
+    y = y0 + shared.simulate([K], den, float(delay), np.asarray(u, float) - u0, 1.0)
     rng = Lcg64(seed + 1)
-    for k in range(len(u)):
-        y[k] = y0 + x2 + noise * rng.gauss()
-        uk = u[k - delay] - u0 if k >= delay else 0.0
-        x1 = a1 * x1 + K * (1.0 - a1) * uk
-        x2 = a2 * x2 + (1.0 - a2) * x1
-    return y
+    return y + noise * np.array([rng.gauss() for _ in range(len(u))])
 
 
 @pytest.fixture(scope="session")

@@ -13,7 +13,7 @@ import pytest
 
 from pdtsupport.cli import LS_FOPDT_KEYS, LS_SOPDT_KEYS, assert_usage_error, parse_output, run, \
     write_csv
-from pdtsupport.rng import Lcg64
+from pdtsupport import records
 
 pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 
@@ -148,16 +148,8 @@ TS = 0.1
 
 
 def multistep(n, u0, seed):
-    rng = Lcg64(seed)
-    u = np.full(n, u0)
-    k, sign = 20, 1.0
-    while k < n:
-        state = rng.next()
-        hold = 25 + (state >> 40) % 40
-        u[k:k + hold] = u0 + sign * (2.0 + (state >> 20) % 1000 / 500.0)
-        sign = -sign
-        k += hold
-    return u
+    """Steps of 25 to 64 samples, 1.6 to 4 around u0, after 20 at rest."""
+    return records.multistep_input(n, u0, 4.0, 25, 64, 20, seed)
 
 
 def fopdt_record(K=2.0, tau=5.0, l=13, n=600, u0=50.0, y0=20.0):
