@@ -69,7 +69,7 @@ typedef enum pdt_ident_offset {
                                     * least n / 40 samples and
                                     * PDT_MIN_SAMPLES over which the output is
                                     * flat, REST when the fitted offset lies
-                                    * more than three standard errors from
+                                    * more than 4.5 standard errors from
                                     * the window's level: the answer is then
                                     * polished on that level */
     PDT_IDENT_OFFSET_ESTIMATE = 1, /* fitted with the model */
