@@ -601,6 +601,11 @@ def speed_memory_doc(speed, mem, load_before, load_after):
             doc.append(f"- {model.upper()} at N = 2000: {ms:.2f} ms against the {lim:g} ms "
                        f"target: **{'met' if ms <= lim else 'missed'}**; {su:.1f} x faster "
                        f"than the fast reference.")
+    doc.append("- Read the ratio with care: it is only as steady as the reference's wall "
+               "time, which moves far more between machines of this type than pdtfit's "
+               "(a FOPDT of N = 2000: 16.6 ms in a run on 2026-11-24, 82 ms in one on "
+               "2026-11-25, while pdtfit took 6.6 ms and 5.6 ms). The instruction counts "
+               "are the measure of pdtfit's work.")
     doc.append("")
 
     doc.append("## 5. Memory\n")
