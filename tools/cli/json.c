@@ -86,7 +86,8 @@ static void sopdt_keys(pdtcli_jbuf_t *jb, const pdt_model_sopdt_t *m, const pdt_
     pdt_model_natural_t nat;
     pdt_model_tc_t tc;
     pdt_model_integ_t integ;
-    double K = NAN, Ki = NAN, wn = NAN, zeta = NAN, tau1 = NAN, tau2 = NAN;
+    double K = (double)NAN, Ki = (double)NAN, wn = (double)NAN, zeta = (double)NAN;
+    double tau1 = (double)NAN, tau2 = (double)NAN;
     int integrating = 0;
     if (pdt_model_sopdt_to_natural(m, &nat) == PDT_OK) {
         K = (double)nat.K;

@@ -30,8 +30,9 @@
  * Work per call (worst case): settle and excite, O(1); the first identify
  * call prepares the identification (O(n), plus O(N_f log N_f) for the
  * frequency or combined criterion); every other identify call at most
- * evals_per_scan cost evaluations (O(n) each, O(N_f) for the frequency
- * part) plus one GA breeding step (O(P^2)); one identify call per model
+ * evals_per_scan cost evaluations, or PDT_VECTOR_LANES where that is
+ * larger (O(n) each, O(N_f) for the frequency part) plus one GA breeding
+ * step (O(P^2)); one identify call per model
  * validated (pdt_validate_model: O(n) per parameter, O(20 n) and
  * O(78 n) for the residual tests); each tune call, one pdt_tune_compute
  * (a few thousand loop evaluations, see pdt_tune.h) and one

@@ -332,7 +332,8 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
 pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                             const pdt_ident_data_t *data, void *work, size_t work_len);
 
-/* Advances the search by at most max_evaluations cost evaluations (each
+/* Advances the search by at most max_evaluations cost evaluations, or one
+ * group of PDT_VECTOR_LANES (pdt_config.h) when asked for fewer (each
  * O(n) time domain, O(N_f / 2) frequency domain) plus at most one breeding
  * step (O(P^2 genes) for the sharing) or one preparation of the spectra
  * (O(N_f log N_f), as in init: COMBINED re-centres them once before the
