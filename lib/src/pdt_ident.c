@@ -569,6 +569,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 #define NEEDS_BUDGET 1u /* an evaluation left in this call */
 #define EVALUATES    2u /* uses them: one, or one per evaluation made */
 #define HEAVY        4u /* as costly as init: one per call */
+#define GROUP        8u /* evaluates a group of the population at once */
 
 /* A switch, not a table of function pointers: the call graph stays static,
  * so the stack bound stays provable (tools/stack_bound.py). */
@@ -623,9 +624,9 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         return PDT_ERR_STATE;
     }
     static const uint8_t STAGE_NEEDS[PH_COUNT] = {
-        [PH_INIT_POP] = NEEDS_BUDGET | EVALUATES,
+        [PH_INIT_POP] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_BREED] = NEEDS_BUDGET | HEAVY,
-        [PH_EVAL_OFF] = NEEDS_BUDGET | EVALUATES,
+        [PH_EVAL_OFF] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_BAND] = HEAVY,
         [PH_RECENTRE] = HEAVY,
         [PH_REFINE_START] = 0u,
@@ -645,8 +646,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         const uint32_t needs = STAGE_NEEDS[ctx->phase];
         /* A population group needs the budget for all its members; one
          * larger than a whole call's budget still runs, alone. */
-        const bool group = ctx->phase == PH_INIT_POP || ctx->phase == PH_EVAL_OFF;
-        uint32_t want = group ? pdt_ident_ga_group(ctx) : 1u;
+        uint32_t want = (needs & GROUP) != 0u ? pdt_ident_ga_group(ctx) : 1u;
         want = want < max_evaluations ? want : max_evaluations;
         if (((needs & NEEDS_BUDGET) != 0u && budget < want) || ((needs & HEAVY) != 0u && heavy)) {
             return PDT_RUNNING;
