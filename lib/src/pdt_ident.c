@@ -42,6 +42,7 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
     cfg->p_mutation = PDT_R(0.0);
     cfg->sigma_share = PDT_R(0.1);
     cfg->elite = 2u;
+    cfg->decimation = 0u;
 }
 
 static uint32_t genes_of(pdt_model_kind_t kind)
@@ -559,6 +560,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 
     c.vote.searches = searches_of(cfg);
     c.vote.budget = cfg->max_evaluations / c.vote.searches;
+    pdt_ident_coarse_init(&c, &cc, work, c.cost_work_len);
     pdt_ident_ga_start(&c);
     c.magic = IDENT_MAGIC;
     *ctx = c;
@@ -606,6 +608,9 @@ static void run_stage(pdt_ident_t *c)
     case PH_FINISH:
         pdt_ident_finish(c);
         break;
+    case PH_FINE:
+        pdt_ident_coarse_fine(c);
+        break;
     case PH_REST:
         pdt_ident_rest_start(c);
         break;
@@ -634,6 +639,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_DELAY_SCAN] = NEEDS_BUDGET | EVALUATES,
         [PH_DELAY_REFINE] = NEEDS_BUDGET | EVALUATES,
         [PH_FINISH] = NEEDS_BUDGET | EVALUATES,
+        [PH_FINE] = HEAVY,
         [PH_REST] = HEAVY,
         [PH_STD] = HEAVY,
     };
@@ -689,6 +695,7 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.searches = ctx->vote.done;
     r.runner_up = ctx->runner_up;
     r.std = ctx->std;
+    r.decimation = ctx->coarse.factor;
     *out = r;
     return PDT_OK;
 }

@@ -11,6 +11,7 @@
  *   pdt_ident_scan.c    the dead time of the frequency criterion (scan)
  *   pdt_ident_vote.c    the answer of a search, the searches' agreement
  *   pdt_ident_rest.c    the output offset from the rest window (rest)
+ *   pdt_ident_coarse.c  the searches' coarse record, the whole one after
  *
  * A stage function does at most one evaluation, or one preparation as
  * costly as init, and sets c->phase to what comes next.
@@ -32,6 +33,7 @@ enum {
     PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
     PH_DELAY_REFINE, /* its golden section */
     PH_FINISH,       /* a search's answer; may re-score once (an integrator) */
+    PH_FINE,         /* the whole record after the coarse one's searches */
     PH_REST,         /* AUTO offset: the answer polished on the rest level */
     PH_STD,          /* the parameters' uncertainty */
     PH_DONE,
@@ -125,6 +127,8 @@ void pdt_ident_scan_golden(pdt_ident_t *c);
 /* ---- pdt_ident_vote.c */
 
 void pdt_ident_finish(pdt_ident_t *c);
+/* Flags on the answer's genes (AT_BOUND) after the whole record's polish. */
+uint32_t pdt_ident_bound_flags(const pdt_ident_t *c);
 
 /* ---- pdt_ident_rest.c */
 
@@ -133,8 +137,25 @@ void pdt_ident_finish(pdt_ident_t *c);
 void pdt_ident_rest_check(pdt_ident_t *c);
 void pdt_ident_rest_start(pdt_ident_t *c);
 
+/* ---- pdt_ident_coarse.c */
+
+/* At init, after the whole record's cost (fine) was prepared in work:
+ * the decimation, and the coarse record's cost in its place when there is
+ * one. Writes only c and work; the whole record's cost stays in c->cost
+ * when the record is searched whole. */
+void pdt_ident_coarse_init(pdt_ident_t *c, const pdt_cost_config_t *fine, void *work,
+                           size_t work_len);
+/* The searches concluded on the coarse record: PH_FINE. */
+bool pdt_ident_coarse_pending(pdt_ident_t *c);
+/* PH_FINE: the whole record's cost, then the answer polished on it, or
+ * the searches run again on it when the answer is too fast for the
+ * coarse record. */
+void pdt_ident_coarse_fine(pdt_ident_t *c);
+
 /* ---- the refinement's polish of the best (pdt_ident_refine.c) */
-void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget);
+/* A Nelder-Mead run from the best within budget, its first simplex step
+ * of the normalised genes (0: the refinement's own). */
+void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget, pdt_real_t step);
 void pdt_ident_std(pdt_ident_t *c);
 
 #endif /* PDT_IDENT_PRIV_H */

@@ -90,7 +90,7 @@ static void nm_start(pdt_ident_t *c)
         }
         if (i > 0u) {
             size_t j = i - 1u;
-            pdt_real_t step = NM_STEP * (c->hi[j] - c->lo[j]);
+            pdt_real_t step = nm->step * (c->hi[j] - c->lo[j]);
             pdt_real_t x = x0[j] + step;
             if (x > c->hi[j]) {
                 x = x0[j] - step;
@@ -125,6 +125,7 @@ static void nm_start(pdt_ident_t *c)
 void pdt_ident_refine_begin(pdt_ident_t *c)
 {
     c->best.cost = PDT_REAL_MAX;
+    c->nm.step = NM_STEP;
     refine_starts(c);
     nm_start(c);
     c->phase = PH_REFINE;
@@ -290,9 +291,10 @@ void pdt_ident_refine_step(pdt_ident_t *c)
     }
 }
 
-void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget)
+void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget, pdt_real_t step)
 {
     pdt_ident_refine_t *nm = &c->nm;
+    nm->step = step > PDT_R(0.0) ? step : NM_STEP;
     /* The polish of the best (start_i == nstarts) within budget: the
      * running search's budget is set so that left_of gives it. */
     nm->nstarts = 0u;

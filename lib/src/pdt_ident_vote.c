@@ -116,19 +116,25 @@ static void searches_conclude(pdt_ident_t *c)
     if (!confirmed) {
         flags |= PDT_IDENT_FLAG_UNCONFIRMED;
     }
-    if (on_bound(c, c->vote.genes[best]) || gain_on_bound(c, model_gain(&c->vote.found[best]))) {
-        flags |= PDT_IDENT_FLAG_AT_BOUND;
-    }
     c->model = c->vote.found[best];
     c->y0 = c->vote.y0[best];
     c->fit = c->vote.fit[best];
     c->best.cost = cb;
-    c->flags = flags;
     c->runner_up = runner;
     for (uint32_t j = 0; j < c->genes; j++) {
         c->best.genes[j] = c->vote.genes[best][j];
     }
-    pdt_ident_rest_check(c);
+    c->flags = flags | pdt_ident_bound_flags(c);
+    if (!pdt_ident_coarse_pending(c)) {
+        pdt_ident_rest_check(c);
+    }
+}
+
+uint32_t pdt_ident_bound_flags(const pdt_ident_t *c)
+{
+    return (on_bound(c, c->best.genes) || gain_on_bound(c, model_gain(&c->model)))
+               ? PDT_IDENT_FLAG_AT_BOUND
+               : 0u;
 }
 
 /* A search ended: keep what it found, then another search or the answer.
@@ -196,7 +202,7 @@ void pdt_ident_finish(pdt_ident_t *c)
             }
             if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) == PDT_OK &&
                 !(pr.ncost >
-                  c->best.cost * pdt_exp(CHI2_1_99 / (pdt_real_t)c->data.n) + COST_FLOOR)) {
+                  c->best.cost * pdt_exp(CHI2_1_99 / (pdt_real_t)c->cost.n) + COST_FLOOR)) {
                 m.p.sopdt.b = PDT_R(0.0);
                 m.p.sopdt.k = shape.p.sopdt.k * pr.gain;
                 c->best.gain = pr.gain;
@@ -209,6 +215,14 @@ void pdt_ident_finish(pdt_ident_t *c)
     c->y0 = c->cost.cfg.y0 + c->best.offset;
     if (pdt_cost_fit(&c->cost, &m, c->best.offset, c->scratch, &c->fit) != PDT_OK) {
         c->fit = PDT_R(0.0);
+    }
+    if (c->coarse.stage == 2u) {
+        /* The coarse searches' answer polished on the whole record: the
+         * searches' verdict stands, its bounds are the polish's. */
+        c->coarse.stage = 3u;
+        c->flags = (c->flags & ~PDT_IDENT_FLAG_AT_BOUND) | pdt_ident_bound_flags(c);
+        pdt_ident_rest_check(c);
+        return;
     }
     if (c->rest_stage == 1u) {
         /* The polish on the rest level: this is the answer. */

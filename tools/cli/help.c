@@ -239,9 +239,14 @@ static void print_budget(void)
     printf("  --evaluations N       cost evaluations in all, search and refinement\n"
            "                        (default %lu; too few are refused with the minimum)\n"
            "  --population N        GA individuals, even, 4 .. %u (default %u for fopdt,\n"
-           "                        %u for sopdt)\n",
+           "                        %u for sopdt)\n"
+           "  --decimation D        search a record D times coarser, then polish the\n"
+           "                        answer on the whole one (cost simulation with\n"
+           "                        fractional dead times; 1: the whole record only;\n"
+           "                        default 0: automatic, about %u samples)\n",
            (unsigned long)def.max_evaluations, (unsigned)PDT_IDENT_MAX_POPULATION,
-           (unsigned)PDT_IDENT_POPULATION_FOPDT, (unsigned)PDT_IDENT_POPULATION_SOPDT);
+           (unsigned)PDT_IDENT_POPULATION_FOPDT, (unsigned)PDT_IDENT_POPULATION_SOPDT,
+           (unsigned)PDT_IDENT_COARSE_SAMPLES);
 }
 
 static void print_section(const char *const *text, size_t n)

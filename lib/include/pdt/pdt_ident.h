@@ -44,6 +44,9 @@ extern "C" {
  * arrays only through the workspace; this bounds the O(P^2) sharing work). */
 #define PDT_IDENT_MAX_POPULATION 256u
 
+/* The samples the automatic decimation aims the coarse record at. */
+#define PDT_IDENT_COARSE_SAMPLES 128u
+
 /* The automatic population (population = 0) of each model. */
 #define PDT_IDENT_POPULATION_FOPDT 24u
 #define PDT_IDENT_POPULATION_SOPDT 40u
@@ -134,6 +137,17 @@ typedef struct pdt_ident_config {
     pdt_real_t p_mutation;       /* per gene; 0 means 1 / genes. Default 0 */
     pdt_real_t sigma_share;      /* niche radius, normalised distance. Default 0.1 */
     uint32_t elite;              /* best individuals kept each generation. Default 2 */
+    uint32_t decimation;         /* SIMULATION with FRACTIONAL dead times:
+                               * the searches run on a record D times
+                               * coarser (blocks of D samples), then the
+                               * answer is polished on the whole record
+                               * (docs/ident-engine.md). 1: the whole
+                               * record throughout. 0: automatic, about
+                               * PDT_IDENT_COARSE_SAMPLES samples, coarser
+                               * only where the output keeps its shape.
+                               * Either way the whole record is searched
+                               * again when the answer is too fast for the
+                               * coarse record. Default 0 */
 } pdt_ident_config_t;
 
 /* One record: n samples of input u and output y, every Ts seconds, in the
@@ -187,6 +201,8 @@ typedef struct pdt_ident_result {
                                * that a search ended in, over the answer's
                                * (> 1.01); 0 when every search agreed */
     pdt_ident_std_t std;  /* the parameters' uncertainty */
+    uint32_t decimation;  /* the searches' record was D times coarser;
+                               * 1: they searched the whole record */
 } pdt_ident_result_t;
 
 /* pdt_ident_result_t.flags. An answer with any flag set is the best the
@@ -245,6 +261,7 @@ typedef struct pdt_ident_refine {
     uint32_t nstarts;
     uint32_t start_i; /* nstarts: the final polish of the best */
     uint32_t half;    /* budget the niche runs share */
+    pdt_real_t step;  /* the first simplex's size, normalised */
 } pdt_ident_refine_t;
 
 typedef struct pdt_ident_scan {
@@ -265,6 +282,12 @@ typedef struct pdt_ident_vote {
     pdt_real_t fit[PDT_IDENT_MAX_SEARCHES];
     pdt_real_t genes[PDT_IDENT_MAX_SEARCHES][3];
 } pdt_ident_vote_t;
+
+typedef struct pdt_ident_coarse {
+    uint32_t factor;        /* D of the searches' record, 1: the whole */
+    uint32_t stage;         /* 1 searching coarse, 2 polishing whole, 3 done */
+    pdt_cost_config_t fine; /* the whole record's cost */
+} pdt_ident_coarse_t;
 
 typedef struct pdt_ident {
     pdt_ident_config_t cfg;
@@ -293,6 +316,7 @@ typedef struct pdt_ident {
     pdt_ident_refine_t nm;
     pdt_ident_scan_t scan;
     pdt_ident_vote_t vote;
+    pdt_ident_coarse_t coarse;
     /* The answer, once done. */
     pdt_model_t model;
     pdt_real_t y0;

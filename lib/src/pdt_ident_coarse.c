@@ -1,0 +1,226 @@
+/*
+ * The searches' coarse record. A search spends nearly all its evaluations
+ * telling basins apart, and a basin is a feature of the record at the
+ * scale of the process's time constants, not of its sampling: records are
+ * sampled ten to a hundred times faster than the process moves. So the
+ * searches run on a record D times coarser (the input's mean over each
+ * block of D samples, the output's centred mean at the block's start: the
+ * same zero-order-hold model at the period D Ts), and only the answer is
+ * polished on the whole record. Two checks keep the coarse record honest:
+ * before, the output must keep its shape when seen only every D samples;
+ * after, the answer must be slow against D Ts. An answer that fails the
+ * second is searched for again on the whole record.
+ */
+#include "pdt_ident_priv.h"
+#include "pdt_internal.h"
+
+/* The output's variance the coarse record may lose (its centred means,
+ * joined by straight lines, against the output), noise apart: 0.5 %. A
+ * step response of time constant tau loses that at D of about tau / (3
+ * Ts) on a multi-step record; a relay's oscillation at about an eighth of
+ * its period. */
+#define COARSE_LOSS PDT_R(0.002)
+/* The answer's time scale must be at least this many coarse periods. */
+#define COARSE_SCALE PDT_R(2.0)
+/* The whole record's polish starts near its optimum: its first simplex
+ * is a fifth of the refinement's. */
+#define POLISH_STEP PDT_R(0.01)
+/* Largest automatic decimation. */
+#define COARSE_MAX 32u
+
+/* Centred mean of y over [k - h, k + h], clipped to the record. */
+static pdt_real_t centred_mean(const pdt_real_t *y, size_t n, size_t k, size_t h)
+{
+    const size_t a = k > h ? k - h : 0u;
+    const size_t b = k + h < n ? k + h : n - 1u;
+    pdt_real_t s = PDT_R(0.0);
+    for (size_t i = a; i <= b; i++) {
+        s += y[i] - y[k];
+    }
+    return y[k] + s / (pdt_real_t)(b - a + 1u);
+}
+
+/* Whether the output keeps its shape at decimation D: the variance of y
+ * about the coarse record's means, joined linearly, is at most
+ * COARSE_LOSS of y's variance, both less the noise's. The noise's
+ * variance comes from the second differences (6 sigma^2 for white noise;
+ * a process sampled this finely adds little to them). */
+static bool keeps_shape(const pdt_real_t *y, size_t n, size_t D)
+{
+    const size_t blocks = n / D;
+    const size_t m = blocks * D; /* the samples the coarse record covers */
+    /* Sums of squares in units of the output's range: no underflow or
+     * overflow at any scale the record has. */
+    pdt_real_t lo = y[0], hi = y[0];
+    for (size_t i = 0; i < m; i++) {
+        lo = y[i] < lo ? y[i] : lo;
+        hi = y[i] > hi ? y[i] : hi;
+    }
+    const pdt_real_t r = PDT_R(1.0) / (hi - lo);
+    pdt_real_t mean = PDT_R(0.0), d2 = PDT_R(0.0);
+    for (size_t i = 0; i < m; i++) {
+        mean += (y[i] - y[0]) * r;
+        if (i >= 2u) {
+            const pdt_real_t e = ((y[i] - y[i - 1u]) - (y[i - 1u] - y[i - 2u])) * r;
+            d2 += e * e;
+        }
+    }
+    mean = mean / (pdt_real_t)m;
+    const pdt_real_t noise = d2 / (PDT_R(6.0) * (pdt_real_t)(m - 2u)) * (pdt_real_t)m;
+    pdt_real_t var = PDT_R(0.0), lost = PDT_R(0.0);
+    pdt_real_t prev = centred_mean(y, n, 0u, D / 2u);
+    for (size_t k = 0; k < blocks; k++) {
+        /* The line from this block's point to the next one's (the last
+         * block holds its level). */
+        const size_t next = (k + 1u) * D;
+        const pdt_real_t nextv = next < n ? centred_mean(y, n, next, D / 2u) : prev;
+        for (size_t j = 0; j < D; j++) {
+            const size_t i = k * D + j;
+            const pdt_real_t line = prev + (nextv - prev) * (pdt_real_t)j / (pdt_real_t)D;
+            const pdt_real_t e = (y[i] - line) * r, d = (y[i] - y[0]) * r - mean;
+            lost += e * e;
+            var += d * d;
+        }
+        prev = nextv;
+    }
+    return var > noise && lost - noise <= COARSE_LOSS * (var - noise);
+}
+
+/* The decimation: 1 where the criterion or the dead-time mode has no
+ * coarse record, the caller's, or the largest power-of-two fraction of
+ * n / PDT_IDENT_COARSE_SAMPLES at which the output keeps its shape. */
+static size_t factor_of(const pdt_ident_t *c)
+{
+    const pdt_ident_config_t *cfg = &c->cfg;
+    const size_t n = c->data.n;
+    if (cfg->cost != PDT_COST_SIMULATION || cfg->delay_mode != PDT_DELAY_FRACTIONAL ||
+        cfg->decimation == 1u) {
+        return 1u;
+    }
+    if (cfg->decimation != 0u) {
+        return (n / cfg->decimation >= PDT_MIN_SAMPLES) ? cfg->decimation : 1u;
+    }
+    size_t D = n / PDT_IDENT_COARSE_SAMPLES;
+    D = D < COARSE_MAX ? D : COARSE_MAX;
+    while (D >= 2u && !keeps_shape(c->data.y, n, D)) {
+        D /= 2u;
+    }
+    return D >= 2u ? D : 1u;
+}
+
+void pdt_ident_coarse_init(pdt_ident_t *c, const pdt_cost_config_t *fine, void *work,
+                           size_t work_len)
+{
+    c->coarse.factor = 1u;
+    c->coarse.stage = 0u;
+    c->coarse.fine = *fine;
+    /* The searches on the coarse record leave the polish its share of
+     * the budget: a budget too small for both searches the whole record. */
+    const uint32_t need =
+        c->cfg.population + c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg);
+    const uint32_t each = (c->cfg.max_evaluations - c->cfg.refine_evaluations) / c->vote.searches;
+    const size_t D = each >= need ? factor_of(c) : 1u;
+    if (D < 2u) {
+        return;
+    }
+    /* The coarse record in the scratch (2 n / D <= n reals), until its
+     * cost has copied it. */
+    const size_t nc = c->data.n / D;
+    pdt_real_t *u = c->scratch, *y = c->scratch + nc;
+    for (size_t k = 0; k < nc; k++) {
+        pdt_real_t s = PDT_R(0.0);
+        for (size_t j = 0; j < D; j++) {
+            s += c->data.u[k * D + j] - c->data.u[k * D];
+        }
+        u[k] = c->data.u[k * D] + s / (pdt_real_t)D;
+        y[k] = centred_mean(c->data.y, c->data.n, k * D, D / 2u);
+    }
+    pdt_cost_config_t cc = *fine;
+    cc.Ts = fine->Ts * (pdt_real_t)D;
+    cc.delay_max = fine->delay_max / D + 2u;
+    cc.delay_max = cc.delay_max < nc ? cc.delay_max : nc - 1u;
+    pdt_cost_t coarse;
+    const size_t bytes = pdt_cost_workspace_size(&cc, nc);
+    if (bytes == 0u || bytes > work_len ||
+        pdt_cost_init(&coarse, &cc, u, y, nc, work, bytes) != PDT_OK) {
+        /* Not a record its cost takes (a block mean left the input
+         * still): the whole record, prepared again over what was
+         * written. */
+        (void)pdt_cost_init(&c->cost, fine, c->data.u, c->data.y, c->data.n, work, work_len);
+        return;
+    }
+    c->cost = coarse;
+    c->coarse.factor = (uint32_t)D;
+    c->coarse.stage = 1u;
+    /* The whole record's polish keeps its refinement budget. */
+    c->vote.budget = each;
+}
+
+bool pdt_ident_coarse_pending(pdt_ident_t *c)
+{
+    if (c->coarse.stage != 1u) {
+        return false;
+    }
+    c->phase = PH_FINE;
+    return true;
+}
+
+/* The answer's time scale, s: how fast its response moves. A FOPDT's
+ * tau; a SOPDT's sum of time constants a / b when overdamped, 1 / wn when
+ * underdamped, its lag 1 / a when it integrates. */
+static pdt_real_t time_scale(const pdt_model_t *m)
+{
+    if (m->kind == PDT_MODEL_FOPDT) {
+        return m->p.fopdt.tau;
+    }
+    const pdt_real_t a = m->p.sopdt.a, b = m->p.sopdt.b;
+    if (!(b > PDT_R(0.0))) {
+        return PDT_R(1.0) / a;
+    }
+    return a * a >= PDT_R(4.0) * b ? a / b : PDT_R(1.0) / pdt_sqrt(b);
+}
+
+void pdt_ident_coarse_fine(pdt_ident_t *c)
+{
+    const pdt_real_t period = c->cfg.Ts * (pdt_real_t)c->coarse.factor;
+    /* The whole record's cost over the coarse one's, in the same
+     * workspace: init prepared it once, so it cannot fail now. */
+    if (pdt_cost_init(&c->cost, &c->coarse.fine, c->data.u, c->data.y, c->data.n, c->cost_work,
+                      c->cost_work_len) != PDT_OK) {
+        c->phase = PH_DONE;
+        return;
+    }
+    c->best.cost = PDT_REAL_MAX;
+    c->best.gain = PDT_R(0.0);
+    c->best.offset = PDT_R(0.0);
+    const uint32_t left =
+        c->cfg.max_evaluations > c->evaluations ? c->cfg.max_evaluations - c->evaluations : 0u;
+    const uint32_t need =
+        c->cfg.population + c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg);
+    if (!(time_scale(&c->model) >= COARSE_SCALE * period)) {
+        if (left >= need) {
+            /* Too fast for the coarse record: its basins may not be the
+             * whole record's. The searches again, on the whole record,
+             * with what is left of the budget. */
+            uint32_t searches = left / need;
+            searches = searches < c->vote.searches ? searches : c->vote.searches;
+            c->coarse.factor = 1u;
+            c->coarse.stage = 0u;
+            c->vote.searches = searches;
+            c->vote.done = 0u;
+            c->vote.budget = left / searches;
+            c->flags = 0u;
+            c->runner_up = PDT_R(0.0);
+            pdt_ident_ga_start(c);
+            return;
+        }
+        /* No budget left to search the whole record: the answer is
+         * polished, but nothing on the whole record confirmed it. */
+        c->flags |= PDT_IDENT_FLAG_UNCONFIRMED;
+    }
+    c->coarse.stage = 2u;
+    const uint32_t reserve = pdt_ident_late_reserve(&c->cfg);
+    const uint32_t room = left > reserve ? left - reserve : 0u;
+    const uint32_t budget = room < c->cfg.refine_evaluations ? room : c->cfg.refine_evaluations;
+    pdt_ident_refine_polish(c, budget > c->genes + 1u ? budget : c->genes + 1u, POLISH_STEP);
+}
