@@ -847,6 +847,79 @@ static void test_control_band_off(void **state)
 /* No dead time: the time-cost stage's model has none or a tiny one, whose
  * phase crossover lies at or beyond the Nyquist frequency. The band is
  * then the whole spectrum, and nothing fails. */
+/* ---- The coarse record (docs/ident-engine.md) ------------------------ */
+
+/* A slow process sampled finely: the searches run on a coarse record and
+ * the polished answer is the whole record's optimum, the one the whole
+ * record's searches find. */
+static void test_coarse_default(void **state)
+{
+    pdt_ident_result_t coarse, whole;
+    (void)state;
+    record_spec_t s = {model_fopdt(2.0, 12.0, 4.37), (pdt_real_t)0.1, 1200u, 0.0, 0.0, 1.0, 30.0,
+                       false, 3u};
+    make_prbs(g_dev, s.n, 20u, 40u, 11u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    identify(&cfg, s.n, &coarse);
+    assert_true(coarse.coarse >= 2u);
+    assert_int_equal(coarse.flags, 0u);
+    cfg.coarse = 1u;
+    identify(&cfg, s.n, &whole);
+    assert_int_equal(whole.coarse, 1u);
+    assert_true(fabs((double)(coarse.cost - whole.cost)) <= 1e-3 * (double)whole.cost);
+    assert_true(fabs((double)(coarse.model.p.fopdt.K / whole.model.p.fopdt.K) - 1.0) < 1e-3);
+    assert_true(fabs((double)(coarse.model.p.fopdt.Td - whole.model.p.fopdt.Td)) < 0.01);
+}
+
+/* A process too fast for the decimation asked for: the coarse answer is
+ * not trusted, the whole record is searched within the same budget. */
+static void test_coarse_fallback(void **state)
+{
+    pdt_ident_result_t res;
+    (void)state;
+    record_spec_t s = {model_fopdt(-1.5, 0.4, 0.3), (pdt_real_t)0.1, 1200u, 0.0, 0.0, 1.0, 30.0,
+                       false, 5u};
+    make_prbs(g_dev, s.n, 20u, 6u, 12u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    cfg.coarse = 8u;
+    identify(&cfg, s.n, &res);
+    assert_int_equal(res.coarse, 1u);
+    assert_true(res.evaluations <= cfg.max_evaluations);
+    assert_true(fabs((double)res.model.p.fopdt.K / -1.5 - 1.0) < 0.02);
+    assert_true(fabs((double)res.model.p.fopdt.tau / 0.4 - 1.0) < 0.05);
+    assert_true(fabs((double)res.model.p.fopdt.Td - 0.3) < 0.02);
+    /* Automatic: the output of this record changes within a few samples,
+     * so the whole record is searched from the start. */
+    cfg.coarse = 0u;
+    identify(&cfg, s.n, &res);
+    assert_true(res.coarse <= 2u);
+}
+
+/* Only the output error with fractional dead times searches a coarse
+ * record; the others, the whole one. */
+static void test_coarse_criteria(void **state)
+{
+    pdt_ident_result_t res;
+    (void)state;
+    record_spec_t s = {model_fopdt(2.0, 12.0, 4.37), (pdt_real_t)0.1, 1200u, 0.0, 0.0, 1.0, 30.0,
+                       false, 3u};
+    make_prbs(g_dev, s.n, 20u, 40u, 11u);
+    make_record(&s);
+    for (int kind = PDT_COST_PREDICTION; kind <= PDT_COST_SIMULATION; kind++) {
+        for (int integer = 0; integer <= 1; integer++) {
+            pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+            cfg.cost = (pdt_cost_kind_t)kind;
+            cfg.delay_mode = integer ? PDT_DELAY_INTEGER : PDT_DELAY_FRACTIONAL;
+            cfg.coarse = 4u;
+            identify(&cfg, s.n, &res);
+            const bool coarse = kind == PDT_COST_SIMULATION && !integer;
+            assert_int_equal(res.coarse, coarse ? 4u : 1u);
+        }
+    }
+}
+
 static void test_control_band_no_dead_time(void **state)
 {
     pdt_ident_result_t res;
@@ -1251,6 +1324,9 @@ int main(void)
         cmocka_unit_test(test_control_band),
         cmocka_unit_test(test_control_band_off),
         cmocka_unit_test(test_control_band_no_dead_time),
+        cmocka_unit_test(test_coarse_default),
+        cmocka_unit_test(test_coarse_fallback),
+        cmocka_unit_test(test_coarse_criteria),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -153,6 +153,25 @@ pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t 
     return clamp(x + dq * range, lo, hi);
 }
 
+/* The sharing function of one pair: 1 - (d / sigma)^alpha inside the
+ * niche, 0 outside. Symmetric bit for bit: (xj - xi) is -(xi - xj)
+ * exactly, so pair (i, j) and pair (j, i) give the same value. */
+static inline pdt_real_t share_pair(const pdt_real_t *xi, const pdt_real_t *xj, size_t g,
+                             const pdt_real_t *lo, const pdt_real_t *hi, pdt_real_t sigma,
+                             pdt_real_t alpha)
+{
+    pdt_real_t d2 = PDT_R(0.0);
+    for (size_t k = 0; k < g; k++) {
+        pdt_real_t t = (xi[k] - xj[k]) / (hi[k] - lo[k]);
+        d2 += t * t;
+    }
+    pdt_real_t ratio = pdt_sqrt(d2) / sigma;
+    if (!(ratio < PDT_R(1.0))) {
+        return PDT_R(0.0);
+    }
+    return PDT_R(1.0) - (alpha == PDT_R(1.0) ? ratio : pdt_pow(ratio, alpha));
+}
+
 void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t *lo,
                   const pdt_real_t *hi, const pdt_real_t *cost, pdt_real_t sigma, pdt_real_t alpha,
                   pdt_real_t *shared)
@@ -160,27 +179,34 @@ void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t 
     PDT_ASSERT(n == 0u || (genes != NULL && cost != NULL && shared != NULL));
     PDT_ASSERT(g == 0u || (lo != NULL && hi != NULL));
     PDT_ASSERT(sigma > PDT_R(0.0) && alpha > PDT_R(0.0));
-    /* One row at a time, reading only cost[i] before writing shared[i], so
-     * shared may be the cost array itself. */
-    for (size_t i = 0; i < n; i++) {
-        const pdt_real_t *xi = genes + i * g;
-        pdt_real_t m = PDT_R(1.0); /* j == i */
-        for (size_t j = 0; j < n; j++) {
-            if (j == i) {
-                continue;
+    if (shared == cost) {
+        /* In place: one row at a time, reading only cost[i] before
+         * writing shared[i]. */
+        for (size_t i = 0; i < n; i++) {
+            pdt_real_t m = PDT_R(1.0); /* j == i */
+            for (size_t j = 0; j < n; j++) {
+                if (j != i) {
+                    m += share_pair(genes + i * g, genes + j * g, g, lo, hi, sigma, alpha);
+                }
             }
-            const pdt_real_t *xj = genes + j * g;
-            pdt_real_t d2 = PDT_R(0.0);
-            for (size_t k = 0; k < g; k++) {
-                pdt_real_t t = (xi[k] - xj[k]) / (hi[k] - lo[k]);
-                d2 += t * t;
-            }
-            pdt_real_t ratio = pdt_sqrt(d2) / sigma;
-            if (ratio < PDT_R(1.0)) {
-                m += PDT_R(1.0) - (alpha == PDT_R(1.0) ? ratio : pdt_pow(ratio, alpha));
-            }
+            shared[i] = cost[i] * m;
         }
-        shared[i] = cost[i] * m;
+        return;
+    }
+    /* Each pair once, half the work: the niche counts gather in shared.
+     * Count i still adds its pairs in the order j = 0 .. n - 1 (those with
+     * j < i arrive from the earlier rows, in order), so the sums are the
+     * row-at-a-time ones bit for bit. */
+    for (size_t i = 0; i < n; i++) {
+        shared[i] = PDT_R(1.0);
+    }
+    for (size_t i = 0; i < n; i++) {
+        for (size_t j = i + 1u; j < n; j++) {
+            const pdt_real_t s = share_pair(genes + i * g, genes + j * g, g, lo, hi, sigma, alpha);
+            shared[i] += s;
+            shared[j] += s;
+        }
+        shared[i] *= cost[i];
     }
 }
 

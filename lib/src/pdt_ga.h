@@ -61,8 +61,9 @@ pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t 
  * shared[i] = cost[i] * m_i with the niche count
  * m_i = sum_j sh(d_ij), sh(d) = 1 - (d / sigma)^alpha for d < sigma else 0,
  * d_ij = sqrt(sum_k ((x_ik - x_jk) / (hi_k - lo_k))^2), j over all
- * individuals including i (so m_i >= 1). O(n^2 g), no memory beyond
- * shared[0..n-1]; shared may be the cost array itself (in place). */
+ * individuals including i (so m_i >= 1). O(n^2 g), each pair once (twice
+ * in place), no memory beyond shared[0..n-1]; shared may be the cost
+ * array itself (in place). */
 void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t *lo,
                   const pdt_real_t *hi, const pdt_real_t *cost, pdt_real_t sigma, pdt_real_t alpha,
                   pdt_real_t *shared);

@@ -42,7 +42,7 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
     cfg->p_mutation = PDT_R(0.0);
     cfg->sigma_share = PDT_R(0.1);
     cfg->elite = 2u;
-    cfg->decimation = 0u;
+    cfg->coarse = 0u;
 }
 
 static uint32_t genes_of(pdt_model_kind_t kind)
@@ -695,7 +695,7 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.searches = ctx->vote.done;
     r.runner_up = ctx->runner_up;
     r.std = ctx->std;
-    r.decimation = ctx->coarse.factor;
+    r.coarse = ctx->coarse.factor;
     *out = r;
     return PDT_OK;
 }

@@ -94,11 +94,11 @@ static size_t factor_of(const pdt_ident_t *c)
     const pdt_ident_config_t *cfg = &c->cfg;
     const size_t n = c->data.n;
     if (cfg->cost != PDT_COST_SIMULATION || cfg->delay_mode != PDT_DELAY_FRACTIONAL ||
-        cfg->decimation == 1u) {
+        cfg->coarse == 1u) {
         return 1u;
     }
-    if (cfg->decimation != 0u) {
-        return (n / cfg->decimation >= PDT_MIN_SAMPLES) ? cfg->decimation : 1u;
+    if (cfg->coarse != 0u) {
+        return (n / cfg->coarse >= PDT_MIN_SAMPLES) ? cfg->coarse : 1u;
     }
     size_t D = n / PDT_IDENT_COARSE_SAMPLES;
     D = D < COARSE_MAX ? D : COARSE_MAX;

@@ -190,16 +190,18 @@ def _opt(v):
 
 
 _GA_ONLY = ("cost", "seed", "evaluations", "population", "weight", "band", "phi_t", "phi_f",
-            "integer_delay")
+            "integer_delay", "coarse")
 
 
 def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None,
              method="ga", evaluations=None, population=None, td_max=None, weight=None,
-             band=None, phi_t=None, phi_f=None, integer_delay=False):
+             band=None, phi_t=None, phi_f=None, integer_delay=False, coarse=None):
     """Identifies a FOPDT or SOPDT model from a record with the options of
     `pdtfit identify`: the genetic-algorithm search (method "ga",
     pdt_identify) or the least-squares delay scans "elms" and "eiv"
-    (pdt_ls_identify, which take model and td_max only). Give the sampling
+    (pdt_ls_identify, which take model and td_max only). coarse is the
+    library's decimation of the searches' record (None: automatic, 1: the
+    whole record; `pdtfit identify --coarse`). Give the sampling
     rate as fs (Hz) or Ts (s). Returns an IdentResult; raises PdtError when
     the library refuses the data or the options."""
     if (fs is None) == (Ts is None):
@@ -214,7 +216,7 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     if o.method != _lib.METHODS["ga"]:
         given = dict(cost=cost != "simulation", seed=seed != 1, evaluations=evaluations,
                      population=population, weight=weight, band=band, phi_t=phi_t,
-                     phi_f=phi_f, integer_delay=integer_delay)
+                     phi_f=phi_f, integer_delay=integer_delay, coarse=coarse)
         extra = [k for k in _GA_ONLY if given[k] not in (None, False)]
         if extra:
             raise ValueError(f"{', '.join(extra)}: options of method='ga' only")
@@ -228,6 +230,7 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     o.seed = int(seed)
     o.evaluations = int(evaluations or 0)
     o.population = int(population or 0)
+    o.coarse = int(coarse or 0)
     o.td_max, o.phi_t, o.phi_f = _opt(td_max), _opt(phi_t), _opt(phi_f)
     native = (ctypes.c_double * 5)()
     buf = ctypes.create_string_buffer(_JSON_LEN)

@@ -171,6 +171,7 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
     if (o->integer_delay) cfg.delay_mode = PDT_DELAY_INTEGER;
     if (o->evaluations) cfg.max_evaluations = o->evaluations;
     if (o->population) cfg.population = o->population;
+    cfg.coarse = o->coarse;
     if (!isnan(o->td_max)) cfg.Td_max = (pdt_real_t)o->td_max;
     if (o->weight >= 0) cfg.weight = (pdt_ident_weight_t)o->weight;
     cfg.f_lo = (pdt_real_t)o->f_lo;

@@ -40,6 +40,7 @@ typedef struct pdtpy_ident_opts {
     uint32_t evaluations; /* 0 default */
     uint32_t population;  /* 0 default */
     double td_max, f_lo, f_hi, phi_t, phi_f;
+    uint32_t coarse; /* 0 automatic */
 } pdtpy_ident_opts_t;
 
 typedef struct pdtpy_tune_opts {

@@ -70,6 +70,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.max_evaluations = 40u + (uint32_t)fz_u8(&f) * 2u;
     cfg.refine_evaluations = (uint32_t)(fz_u8(&f) % 40u);
     cfg.seed = fz_u32(&f);
+    /* Automatic, the whole record, or a coarse record of any factor. */
+    cfg.coarse = (uint32_t)(fz_u8(&f) % 12u);
     size_t n = (size_t)((((unsigned)fz_u8(&f) << 8) | fz_u8(&f)) % (NMAX + 1u));
     for (size_t i = 0; i < NMAX + 1u; i++) {
         g_weights[i] = (pdt_real_t)1.0;

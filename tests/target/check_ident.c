@@ -121,7 +121,7 @@ static pdt_status_t identify(pdt_model_kind_t kind, const record_t *r, pdt_ident
  * fit 95 %, output level 0.5 % of the swing. */
 static int check_fopdt(void)
 {
-    record_t r = {model_fopdt(2.0, 12.0, 4.37), 1.0, 800u, 0.0, 0.0, 30.0, 99u, 0.0};
+    record_t r = {model_fopdt(2.0, 12.0, 4.37), 1.0, 1000u, 0.0, 0.0, 30.0, 99u, 0.0};
     pdt_ident_result_t res;
     uint64_t ticks = 0;
     size_t stack = 0;
@@ -140,7 +140,7 @@ static int check_fopdt(void)
     }
     tline_t l;
     tl_init(&l);
-    tl_str(&l, "identify FOPDT K=2 tau=12 Td=4.37, n=800, 30 dB: ");
+    tl_str(&l, "identify FOPDT K=2 tau=12 Td=4.37, n=1000, 30 dB: ");
     if (st != PDT_OK) {
         tl_str(&l, pdt_status_str(st));
         return t_verdict(false, &l);
@@ -157,7 +157,7 @@ static int check_fopdt(void)
     tl_str(&l, " tau (max 0.015, 0.02, 0.02)");
     int failed = t_verdict(ok, &l);
     tl_init(&l);
-    tl_str(&l, "identify FOPDT n=800: ");
+    tl_str(&l, "identify FOPDT n=1000: ");
     tl_uint(&l, res.evaluations);
     tl_str(&l, " evaluations, ");
     tl_uint(&l, res.generations);

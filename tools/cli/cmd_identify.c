@@ -44,7 +44,7 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--population", OPT_UINT, &a->population, &a->have_population, 0, 4,
          PDT_IDENT_MAX_POPULATION, NULL, "an even number from 4 to the library's maximum",
          GA | CLI_EVEN},
-        {"--decimation", OPT_UINT, &a->decimation, NULL, 0, 0, UINT32_MAX, NULL,
+        {"--coarse", OPT_UINT, &a->coarse, NULL, 0, 0, UINT32_MAX, NULL,
          "a whole number >= 0", GA},
         {"--fs", OPT_REAL, &a->fs, &a->have_fs, CHK_GT0, 0, 0, NULL, "a sampling frequency > 0 Hz",
          0},
@@ -239,7 +239,7 @@ static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
     if (a->integer_delay) cfg->delay_mode = PDT_DELAY_INTEGER;
     if (a->have_evaluations) cfg->max_evaluations = (uint32_t)a->evaluations;
     if (a->have_population) cfg->population = (uint32_t)a->population;
-    cfg->decimation = (uint32_t)a->decimation;
+    cfg->coarse = (uint32_t)a->coarse;
     if (a->have_td_max) cfg->Td_max = (pdt_real_t)a->td_max;
     if (a->have_weight) cfg->weight = weight_kinds[a->weight];
     cfg->offset = (pdt_ident_offset_t)a->offset;

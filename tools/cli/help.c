@@ -240,7 +240,7 @@ static void print_budget(void)
            "                        (default %lu; too few are refused with the minimum)\n"
            "  --population N        GA individuals, even, 4 .. %u (default %u for fopdt,\n"
            "                        %u for sopdt)\n"
-           "  --decimation D        search a record D times coarser, then polish the\n"
+           "  --coarse D            search a record D times coarser, then polish the\n"
            "                        answer on the whole one (cost simulation with\n"
            "                        fractional dead times; 1: the whole record only;\n"
            "                        default 0: automatic, about %u samples)\n",

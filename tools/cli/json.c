@@ -127,7 +127,7 @@ static void certainty_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
                  {PDT_IDENT_FLAG_AMBIGUOUS, "ambiguous"},
                  {PDT_IDENT_FLAG_AT_BOUND, "at_bound"}};
     pdtcli_jb_uint(jb, "searches", (unsigned long)r->searches);
-    pdtcli_jb_uint(jb, "decimation", (unsigned long)r->decimation);
+    pdtcli_jb_uint(jb, "coarse", (unsigned long)r->coarse);
     pdtcli_jb_key(jb, "runner_up", (double)r->runner_up);
     pdtcli_jb_raw(jb, ",\"flags\":[");
     const char *sep = "";

@@ -406,7 +406,7 @@ def test_weight_control_reports_band(at_rest_csv):
     """The band's edge is half the phase crossover of the model the time
     cost finds first: the truth's within 1 % on this record."""
     out = parse_output(identify_rest(at_rest_csv, "--weight", "control"))
-    assert list(out) == FOPDT_KEYS[:-6] + ["f_band", "searches", "runner_up", "flags", "std",
+    assert list(out) == FOPDT_KEYS[:-7] + ["f_band", "searches", "coarse", "runner_up", "flags", "std",
                                            "Ts", "n"]
     assert out["f_band"] == pytest.approx(half_crossover_hz(5.0, 1.3), rel=0.01)
     assert out["f_band"] <= 0.5 / TS
@@ -558,3 +558,17 @@ def test_std_matches_the_spread(fopdt_csv):
     assert list(sd) == ["K", "tau", "Td", "y0"] and all(v > 0 for v in sd.values())
     for key, true in (("K", 2.0), ("tau", 5.0), ("Td", 1.3)):
         assert abs(out[key] - true) < 4 * sd[key] + 1e-6, key
+
+
+@slow
+def test_coarse_record(fopdt_csv):
+    """The searches run on a coarse record by default and the polished
+    answer is the one the whole record's searches find (--coarse 1); a
+    factor asked for is used when the answer is slow enough for it."""
+    auto = parse_output(run(["identify", "--model", "fopdt", fopdt_csv]))
+    whole = parse_output(run(["identify", "--model", "fopdt", "--coarse", "1", fopdt_csv]))
+    asked = parse_output(run(["identify", "--model", "fopdt", "--coarse", "3", fopdt_csv]))
+    assert auto["coarse"] >= 2 and whole["coarse"] == 1 and asked["coarse"] == 3
+    for out in (auto, whole, asked):
+        check_fopdt(out, 2.0, 5.0, 1.3)
+        assert out["cost"] == pytest.approx(whole["cost"], rel=1e-3)

@@ -137,7 +137,7 @@ typedef struct pdt_ident_config {
     pdt_real_t p_mutation;       /* per gene; 0 means 1 / genes. Default 0 */
     pdt_real_t sigma_share;      /* niche radius, normalised distance. Default 0.1 */
     uint32_t elite;              /* best individuals kept each generation. Default 2 */
-    uint32_t decimation;         /* SIMULATION with FRACTIONAL dead times:
+    uint32_t coarse;             /* SIMULATION with FRACTIONAL dead times:
                                * the searches run on a record D times
                                * coarser (blocks of D samples), then the
                                * answer is polished on the whole record
@@ -201,7 +201,7 @@ typedef struct pdt_ident_result {
                                * that a search ended in, over the answer's
                                * (> 1.01); 0 when every search agreed */
     pdt_ident_std_t std;  /* the parameters' uncertainty */
-    uint32_t decimation;  /* the searches' record was D times coarser;
+    uint32_t coarse;      /* the searches' record was D times coarser;
                                * 1: they searched the whole record */
 } pdt_ident_result_t;
 
