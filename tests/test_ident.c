@@ -856,8 +856,8 @@ static void test_coarse_default(void **state)
 {
     pdt_ident_result_t coarse, whole;
     (void)state;
-    record_spec_t s = {model_fopdt(2.0, 12.0, 4.37), (pdt_real_t)0.1, 1200u, 0.0, 0.0, 1.0, 30.0,
-                       false, 3u};
+    record_spec_t s = {
+        model_fopdt(2.0, 12.0, 4.37), (pdt_real_t)0.1, 1200u, 0.0, 0.0, 1.0, 30.0, false, 3u};
     make_prbs(g_dev, s.n, 20u, 40u, 11u);
     make_record(&s);
     pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
@@ -878,8 +878,8 @@ static void test_coarse_fallback(void **state)
 {
     pdt_ident_result_t res;
     (void)state;
-    record_spec_t s = {model_fopdt(-1.5, 0.4, 0.3), (pdt_real_t)0.1, 1200u, 0.0, 0.0, 1.0, 30.0,
-                       false, 5u};
+    record_spec_t s = {
+        model_fopdt(-1.5, 0.4, 0.3), (pdt_real_t)0.1, 1200u, 0.0, 0.0, 1.0, 30.0, false, 5u};
     make_prbs(g_dev, s.n, 20u, 6u, 12u);
     make_record(&s);
     pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
@@ -903,8 +903,8 @@ static void test_coarse_criteria(void **state)
 {
     pdt_ident_result_t res;
     (void)state;
-    record_spec_t s = {model_fopdt(2.0, 12.0, 4.37), (pdt_real_t)0.1, 1200u, 0.0, 0.0, 1.0, 30.0,
-                       false, 3u};
+    record_spec_t s = {
+        model_fopdt(2.0, 12.0, 4.37), (pdt_real_t)0.1, 1200u, 0.0, 0.0, 1.0, 30.0, false, 3u};
     make_prbs(g_dev, s.n, 20u, 40u, 11u);
     make_record(&s);
     for (int kind = PDT_COST_PREDICTION; kind <= PDT_COST_SIMULATION; kind++) {

@@ -157,8 +157,8 @@ pdt_real_t pdt_ga_mutate(pdt_real_t x, pdt_real_t lo, pdt_real_t hi, pdt_real_t 
  * niche, 0 outside. Symmetric bit for bit: (xj - xi) is -(xi - xj)
  * exactly, so pair (i, j) and pair (j, i) give the same value. */
 static inline pdt_real_t share_pair(const pdt_real_t *xi, const pdt_real_t *xj, size_t g,
-                             const pdt_real_t *lo, const pdt_real_t *hi, pdt_real_t sigma,
-                             pdt_real_t alpha)
+                                    const pdt_real_t *lo, const pdt_real_t *hi, pdt_real_t sigma,
+                                    pdt_real_t alpha)
 {
     pdt_real_t d2 = PDT_R(0.0);
     for (size_t k = 0; k < g; k++) {

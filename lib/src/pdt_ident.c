@@ -560,7 +560,19 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 
     c.vote.searches = searches_of(cfg);
     c.vote.budget = cfg->max_evaluations / c.vote.searches;
-    pdt_ident_coarse_init(&c, &cc, work, c.cost_work_len);
+    /* The searches' coarse record, its cost over the whole record's (the
+     * same workspace: PH_FINE prepares the whole one again). */
+    const size_t nc = pdt_ident_coarse_prepare(&c, &cc);
+    if (nc != 0u) {
+        const bool ok = pdt_cost_init(&c.cost, &cc, c.scratch, &c.scratch[nc], nc, work,
+                                      pdt_cost_workspace_size(&cc, nc)) == PDT_OK;
+        pdt_ident_coarse_begin(&c, ok, &cc);
+        if (!ok) {
+            /* Not a record its cost takes (a block mean left the input
+             * still): the whole one, prepared again over what was written. */
+            (void)pdt_cost_init(&c.cost, &cc, data->u, data->y, data->n, work, c.cost_work_len);
+        }
+    }
     pdt_ident_ga_start(&c);
     c.magic = IDENT_MAGIC;
     *ctx = c;

@@ -19,14 +19,13 @@
  * step response of time constant tau loses that at D of about tau / (3
  * Ts) on a multi-step record; a relay's oscillation at about an eighth of
  * its period. */
-#define COARSE_LOSS PDT_R(0.002)
+#define COARSE_LOSS  PDT_R(0.002)
 /* The answer's time scale must be at least this many coarse periods. */
 #define COARSE_SCALE PDT_R(2.0)
 /* The whole record's polish starts near its optimum: its first simplex
  * is a fifth of the refinement's. */
-#define POLISH_STEP PDT_R(0.01)
 /* Largest automatic decimation. */
-#define COARSE_MAX 32u
+#define COARSE_MAX   32u
 
 /* Centred mean of y over [k - h, k + h], clipped to the record. */
 static pdt_real_t centred_mean(const pdt_real_t *y, size_t n, size_t k, size_t h)
@@ -37,7 +36,8 @@ static pdt_real_t centred_mean(const pdt_real_t *y, size_t n, size_t k, size_t h
     for (size_t i = a; i <= b; i++) {
         s += y[i] - y[k];
     }
-    return y[k] + s / (pdt_real_t)(b - a + 1u);
+    const size_t count = b - a + 1u;
+    return y[k] + (s / (pdt_real_t)count);
 }
 
 /* Whether the output keeps its shape at decimation D: the variance of y
@@ -66,7 +66,8 @@ static bool keeps_shape(const pdt_real_t *y, size_t n, size_t D)
         }
     }
     mean = mean / (pdt_real_t)m;
-    const pdt_real_t noise = d2 / (PDT_R(6.0) * (pdt_real_t)(m - 2u)) * (pdt_real_t)m;
+    const size_t diffs = m - 2u;
+    const pdt_real_t noise = d2 / (PDT_R(6.0) * (pdt_real_t)diffs) * (pdt_real_t)m;
     pdt_real_t var = PDT_R(0.0), lost = PDT_R(0.0);
     pdt_real_t prev = centred_mean(y, n, 0u, D / 2u);
     for (size_t k = 0; k < blocks; k++) {
@@ -98,7 +99,7 @@ static size_t factor_of(const pdt_ident_t *c)
         return 1u;
     }
     if (cfg->coarse != 0u) {
-        return (n / cfg->coarse >= PDT_MIN_SAMPLES) ? cfg->coarse : 1u;
+        return (n / cfg->coarse >= (size_t)PDT_MIN_SAMPLES) ? cfg->coarse : 1u;
     }
     size_t D = n / PDT_IDENT_COARSE_SAMPLES;
     D = D < COARSE_MAX ? D : COARSE_MAX;
@@ -108,12 +109,11 @@ static size_t factor_of(const pdt_ident_t *c)
     return D >= 2u ? D : 1u;
 }
 
-void pdt_ident_coarse_init(pdt_ident_t *c, const pdt_cost_config_t *fine, void *work,
-                           size_t work_len)
+size_t pdt_ident_coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
 {
     c->coarse.factor = 1u;
     c->coarse.stage = 0u;
-    c->coarse.fine = *fine;
+    c->coarse.delay_max = (uint32_t)cc->delay_max;
     /* The searches on the coarse record leave the polish its share of
      * the budget: a budget too small for both searches the whole record. */
     const uint32_t need =
@@ -121,7 +121,7 @@ void pdt_ident_coarse_init(pdt_ident_t *c, const pdt_cost_config_t *fine, void *
     const uint32_t each = (c->cfg.max_evaluations - c->cfg.refine_evaluations) / c->vote.searches;
     const size_t D = each >= need ? factor_of(c) : 1u;
     if (D < 2u) {
-        return;
+        return 0u;
     }
     /* The coarse record in the scratch (2 n / D <= n reals), until its
      * cost has copied it. */
@@ -130,30 +130,31 @@ void pdt_ident_coarse_init(pdt_ident_t *c, const pdt_cost_config_t *fine, void *
     for (size_t k = 0; k < nc; k++) {
         pdt_real_t s = PDT_R(0.0);
         for (size_t j = 0; j < D; j++) {
-            s += c->data.u[k * D + j] - c->data.u[k * D];
+            s += c->data.u[(k * D) + j] - c->data.u[k * D];
         }
-        u[k] = c->data.u[k * D] + s / (pdt_real_t)D;
+        u[k] = c->data.u[k * D] + (s / (pdt_real_t)D);
         y[k] = centred_mean(c->data.y, c->data.n, k * D, D / 2u);
     }
-    pdt_cost_config_t cc = *fine;
-    cc.Ts = fine->Ts * (pdt_real_t)D;
-    cc.delay_max = fine->delay_max / D + 2u;
-    cc.delay_max = cc.delay_max < nc ? cc.delay_max : nc - 1u;
-    pdt_cost_t coarse;
-    const size_t bytes = pdt_cost_workspace_size(&cc, nc);
-    if (bytes == 0u || bytes > work_len ||
-        pdt_cost_init(&coarse, &cc, u, y, nc, work, bytes) != PDT_OK) {
-        /* Not a record its cost takes (a block mean left the input
-         * still): the whole record, prepared again over what was
-         * written. */
-        (void)pdt_cost_init(&c->cost, fine, c->data.u, c->data.y, c->data.n, work, work_len);
+    /* The whole record's configuration at the coarse period: the polish
+     * gets it back from the coarse cost's copy (Ts, delay_max). */
+    cc->Ts = c->cfg.Ts * (pdt_real_t)D;
+    cc->delay_max = (c->coarse.delay_max / D) + 2u;
+    cc->delay_max = cc->delay_max < nc ? cc->delay_max : nc - 1u;
+    c->coarse.factor = (uint32_t)D;
+    return nc;
+}
+
+void pdt_ident_coarse_begin(pdt_ident_t *c, bool prepared, pdt_cost_config_t *cc)
+{
+    if (!prepared) {
+        /* Searched whole: the configuration back to the whole record's. */
+        c->coarse.factor = 1u;
+        cc->Ts = c->cfg.Ts;
+        cc->delay_max = c->coarse.delay_max;
         return;
     }
-    c->cost = coarse;
-    c->coarse.factor = (uint32_t)D;
     c->coarse.stage = 1u;
-    /* The whole record's polish keeps its refinement budget. */
-    c->vote.budget = each;
+    c->vote.budget = (c->cfg.max_evaluations - c->cfg.refine_evaluations) / c->vote.searches;
 }
 
 bool pdt_ident_coarse_pending(pdt_ident_t *c)
@@ -185,7 +186,10 @@ void pdt_ident_coarse_fine(pdt_ident_t *c)
     const pdt_real_t period = c->cfg.Ts * (pdt_real_t)c->coarse.factor;
     /* The whole record's cost over the coarse one's, in the same
      * workspace: init prepared it once, so it cannot fail now. */
-    if (pdt_cost_init(&c->cost, &c->coarse.fine, c->data.u, c->data.y, c->data.n, c->cost_work,
+    pdt_cost_config_t cc = c->cost.cfg;
+    cc.Ts = c->cfg.Ts;
+    cc.delay_max = c->coarse.delay_max;
+    if (pdt_cost_init(&c->cost, &cc, c->data.u, c->data.y, c->data.n, c->cost_work,
                       c->cost_work_len) != PDT_OK) {
         c->phase = PH_DONE;
         return;
@@ -222,5 +226,5 @@ void pdt_ident_coarse_fine(pdt_ident_t *c)
     const uint32_t reserve = pdt_ident_late_reserve(&c->cfg);
     const uint32_t room = left > reserve ? left - reserve : 0u;
     const uint32_t budget = room < c->cfg.refine_evaluations ? room : c->cfg.refine_evaluations;
-    pdt_ident_refine_polish(c, budget > c->genes + 1u ? budget : c->genes + 1u, POLISH_STEP);
+    pdt_ident_refine_polish(c, budget > c->genes + 1u ? budget : c->genes + 1u);
 }

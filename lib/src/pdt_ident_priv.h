@@ -139,12 +139,14 @@ void pdt_ident_rest_start(pdt_ident_t *c);
 
 /* ---- pdt_ident_coarse.c */
 
-/* At init, after the whole record's cost (fine) was prepared in work:
- * the decimation, and the coarse record's cost in its place when there is
- * one. Writes only c and work; the whole record's cost stays in c->cost
- * when the record is searched whole. */
-void pdt_ident_coarse_init(pdt_ident_t *c, const pdt_cost_config_t *fine, void *work,
-                           size_t work_len);
+/* At init, after the whole record's cost (cc) was prepared: the
+ * decimation D and the coarse record of n / D samples in the scratch (u,
+ * then y), cc changed to its cost's configuration; 0 when the record is
+ * searched whole (cc unchanged). Init then prepares the coarse record's
+ * cost over the whole one's and says whether that succeeded: if not, cc
+ * is set back and the whole record is searched. */
+size_t pdt_ident_coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc);
+void pdt_ident_coarse_begin(pdt_ident_t *c, bool prepared, pdt_cost_config_t *cc);
 /* The searches concluded on the coarse record: PH_FINE. */
 bool pdt_ident_coarse_pending(pdt_ident_t *c);
 /* PH_FINE: the whole record's cost, then the answer polished on it, or
@@ -153,9 +155,9 @@ bool pdt_ident_coarse_pending(pdt_ident_t *c);
 void pdt_ident_coarse_fine(pdt_ident_t *c);
 
 /* ---- the refinement's polish of the best (pdt_ident_refine.c) */
-/* A Nelder-Mead run from the best within budget, its first simplex step
- * of the normalised genes (0: the refinement's own). */
-void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget, pdt_real_t step);
+/* A Nelder-Mead run from the best within budget (after searches on a
+ * coarse record, from a smaller first simplex). */
+void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget);
 void pdt_ident_std(pdt_ident_t *c);
 
 #endif /* PDT_IDENT_PRIV_H */

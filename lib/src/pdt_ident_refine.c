@@ -13,8 +13,17 @@ enum { NM_VERTEX = 1, NM_REFLECT, NM_EXPAND, NM_CONTRACT, NM_SHRINK, NM_END };
 #define NM_STEP PDT_R(0.05)
 #define NM_XTOL PDT_R(1e-5)
 
+/* The whole record's polish after searches on a coarse record starts
+ * near its optimum: its first simplex is a fifth of the refinement's. */
+#define NM_STEP_WHOLE PDT_R(0.01)
+
 /* Most refinement starts (niches refined). */
 #define NM_STARTS 3u
+
+static pdt_real_t step_of(const pdt_ident_t *c)
+{
+    return c->coarse.stage == 2u ? NM_STEP_WHOLE : NM_STEP;
+}
 
 /* Evaluations the running search may still use before its late reserve. */
 static uint32_t left_of(const pdt_ident_t *c)
@@ -90,7 +99,7 @@ static void nm_start(pdt_ident_t *c)
         }
         if (i > 0u) {
             size_t j = i - 1u;
-            pdt_real_t step = nm->step * (c->hi[j] - c->lo[j]);
+            pdt_real_t step = step_of(c) * (c->hi[j] - c->lo[j]);
             pdt_real_t x = x0[j] + step;
             if (x > c->hi[j]) {
                 x = x0[j] - step;
@@ -125,7 +134,6 @@ static void nm_start(pdt_ident_t *c)
 void pdt_ident_refine_begin(pdt_ident_t *c)
 {
     c->best.cost = PDT_REAL_MAX;
-    c->nm.step = NM_STEP;
     refine_starts(c);
     nm_start(c);
     c->phase = PH_REFINE;
@@ -291,10 +299,9 @@ void pdt_ident_refine_step(pdt_ident_t *c)
     }
 }
 
-void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget, pdt_real_t step)
+void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget)
 {
     pdt_ident_refine_t *nm = &c->nm;
-    nm->step = step > PDT_R(0.0) ? step : NM_STEP;
     /* The polish of the best (start_i == nstarts) within budget: the
      * running search's budget is set so that left_of gives it. */
     nm->nstarts = 0u;

@@ -59,5 +59,5 @@ void pdt_ident_rest_start(pdt_ident_t *c)
     c->rest_stage = 1u;
     c->best.cost = PDT_REAL_MAX;
     c->best.offset = PDT_R(0.0);
-    pdt_ident_refine_polish(c, polish_budget(c), PDT_R(0.0));
+    pdt_ident_refine_polish(c, polish_budget(c));
 }

@@ -261,7 +261,6 @@ typedef struct pdt_ident_refine {
     uint32_t nstarts;
     uint32_t start_i; /* nstarts: the final polish of the best */
     uint32_t half;    /* budget the niche runs share */
-    pdt_real_t step;  /* the first simplex's size, normalised */
 } pdt_ident_refine_t;
 
 typedef struct pdt_ident_scan {
@@ -284,9 +283,9 @@ typedef struct pdt_ident_vote {
 } pdt_ident_vote_t;
 
 typedef struct pdt_ident_coarse {
-    uint32_t factor;        /* D of the searches' record, 1: the whole */
-    uint32_t stage;         /* 1 searching coarse, 2 polishing whole, 3 done */
-    pdt_cost_config_t fine; /* the whole record's cost */
+    uint32_t factor;    /* D of the searches' record, 1: the whole */
+    uint32_t stage;     /* 1 searching coarse, 2 polishing whole, 3 done */
+    uint32_t delay_max; /* the whole record's cost's */
 } pdt_ident_coarse_t;
 
 typedef struct pdt_ident {
