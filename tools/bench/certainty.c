@@ -272,9 +272,10 @@ static int identify_print(int index, uint64_t seed, pdt_model_kind_t model, doub
             printf(",\"model\":\"sopdt\",\"k\":%.10g,\"a\":%.10g,\"b\":%.10g,\"Td\":%.10g",
                    (double)m->k, (double)m->a, (double)m->b, (double)m->Td);
         }
-        printf(",\"y0\":%.12g,\"cost\":%.9g,\"fit\":%.6g,\"evaluations\":%lu,\"generations\":%lu",
+        printf(",\"y0\":%.12g,\"cost\":%.9g,\"fit\":%.6g,\"evaluations\":%lu,\"generations\":%lu"
+               ",\"coarse\":%lu",
                (double)res.y0, (double)res.cost, (double)res.fit, (unsigned long)res.evaluations,
-               (unsigned long)res.generations);
+               (unsigned long)res.generations, (unsigned long)res.coarse);
     }
     printf(",\"seconds\":%.6g}\n", dt);
     free(ur);

@@ -120,7 +120,8 @@ def judge(u, y, Ts, kind, truth, line):
     """One run's verdict: the driver's line plus the reference optimum and
     the cost ratio."""
     out = {"seed": line["seed"], "status": line["status"],
-           "evaluations": line.get("evaluations"), "seconds": line.get("seconds")}
+           "evaluations": line.get("evaluations"), "seconds": line.get("seconds"),
+           "coarse": line.get("coarse")}
     if line["status"] != 0:
         out["verdict"] = "refused"
         out["status_name"] = line.get("status_name")
@@ -196,6 +197,7 @@ def batches(n_seeds):
 def summarise(rows):
     v = [r["verdict"] for r in rows]
     ev = [r["evaluations"] for r in rows if r.get("evaluations")]
+    co = [r["coarse"] for r in rows if r.get("coarse")]
     return {"n": len(rows), "right": v.count("right"), "wrong": v.count("wrong"),
             "far": sum(1 for r in rows if r["verdict"] == "wrong" and r["ratio"] > FAR),
             "flagged_right": v.count("flagged-right"), "flagged_wrong": v.count("flagged-wrong"),
@@ -203,15 +205,17 @@ def summarise(rows):
             "ref9_missed": sum(1 for r in rows if r.get("ref9_missed")),
             "search_missed": sum(1 for r in rows if r.get("search_missed")),
             "ev_med": int(np.median(ev)) if ev else 0,
+            "coarse_med": int(np.median(co)) if co else 0,
+            "whole": sum(1 for d in co if d == 1),
             "worst": max((r["ratio"] for r in rows if "ratio" in r), default=math.nan)}
 
 
 def table(groups):
     lines = ["| case | seeds | OK, right | **OK, wrong** (of which cost > 1.1 x) | "
              "flagged, right | flagged, wrong | "
-             "refused | worst cost ratio | evaluations median | reference: 9 starts / both searches "
-             "missed |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "refused | worst cost ratio | evaluations median | coarse D median / whole | "
+             "reference: 9 starts / both searches missed |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     tot = {"n": 0, "wrong": 0, "far": 0}
     for label, rows in groups:
         s = summarise(rows)
@@ -220,8 +224,8 @@ def table(groups):
         worst = "-" if math.isnan(s["worst"]) else f"{s['worst']:.3g}"
         lines.append(f"| {label} | {s['n']} | {s['right']} | **{s['wrong']}** ({s['far']}) | "
                      f"{s['flagged_right']} | {s['flagged_wrong']} | {s['refused']} | "
-                     f"{worst} | {s['ev_med']} | {s['ref9_missed']} / "
-                     f"{s['search_missed']} |")
+                     f"{worst} | {s['ev_med']} | {s['coarse_med'] or '-'} / {s['whole']} | "
+                     f"{s['ref9_missed']} / {s['search_missed']} |")
     return lines, tot
 
 
@@ -297,7 +301,11 @@ search, were more than 1 % above the optimum: a check of the reference, not
 of pdtfit (the nine starts alone are misled by relay records, whose cost
 has a local minimum at every relay period of dead time; the second count
 says how often the optimum came only from the starts at the truth or at
-pdtfit's answer).
+pdtfit's answer). *Coarse D median / whole*: the factor of the coarse
+record the searches ran on (`pdt_ident_result_t.coarse`, docs/ident-engine.md),
+the median over the answers, and how many answers came from searches on
+the whole record (the factor 1: a record the shape check kept whole, or
+an answer too fast for its coarse record searched for again).
 """
 
 
