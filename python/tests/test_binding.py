@@ -67,6 +67,16 @@ def test_options_reach_the_library_as_on_the_command_line(records, write_csv):
 
 
 @cli_test
+@pytest.mark.parametrize("coarse", [1, 3])
+def test_coarse_reaches_the_library_as_on_the_command_line(records, write_csv, coarse):
+    u, y, fs = records["fopdt"]
+    path = write_csv("uy.csv", {"u": u, "y": y})
+    want = cli_json("identify", "--model", "fopdt", "--fs", fs, "--coarse", coarse, path)
+    r = pdtfit.identify(u, y, fs, coarse=coarse)
+    assert r.as_dict() == want and r.coarse == coarse
+
+
+@cli_test
 @pytest.mark.parametrize("method,model,td_max", [("elms", "fopdt", None), ("eiv", "fopdt", 4.0),
                                                  ("elms", "sopdt", None), ("eiv", "sopdt", None)])
 def test_least_squares_equals_the_program(records, write_csv, method, model, td_max):
