@@ -146,17 +146,20 @@ static void run_autotune(pdt_autotune_t *at, const pdt_autotune_config_t *c, pla
             upset(p, before, out->scans);
         }
         pdt_real_t pv = plant_pv(p);
-        uint32_t e0 = 0;
+        uint64_t s0 = 0;
         bool counting = before == PDT_AUTOTUNE_IDENTIFY && at->ident_started;
         if (counting) {
-            e0 = at->ident.evaluations;
+            s0 = at->ident.samples;
         }
         pdt_real_t u = R(-777.0);
         out->st = pdt_autotune_scan(at, pv, &u);
         out->scans++;
         out->phase_scans[before]++;
         if (counting && at->ident_started) {
-            uint32_t de = at->ident.evaluations - e0;
+            /* Evaluations of the whole record's worth (pdt_ident_step): a
+             * coarse record's take a D-th each. */
+            const uint64_t n = at->ident.data.n;
+            uint32_t de = (uint32_t)((at->ident.samples - s0 + n - 1u) / n);
             if (de > out->max_evals) {
                 out->max_evals = de;
             }
@@ -225,10 +228,13 @@ static void assert_success(pdt_autotune_t *at, const pdt_autotune_config_t *c, c
     assert_int_equal(s->scans, r->scans);
     assert_true(s->samples >= (size_t)c->settle + PDT_MIN_SAMPLES && s->samples <= c->capacity);
     assert_true(s->scans_experiment >= s->samples * c->decimation);
-    /* Identification calls: one to prepare, then at least evaluations /
-     * evals_per_scan. */
-    assert_true((uint64_t)r->phase_scans[PDT_AUTOTUNE_IDENTIFY] * c->evals_per_scan + 1u >=
-                (uint64_t)s->ident.evaluations);
+    /* Identification calls: one to prepare, then at least the whole
+     * record's evaluations' worth / evals_per_scan (the last model's
+     * search alone gives a lower bound). */
+    assert_true((uint64_t)r->phase_scans[PDT_AUTOTUNE_IDENTIFY] * c->evals_per_scan *
+                        at->ident.data.n +
+                    at->ident.data.n >=
+                at->ident.samples);
     assert_true((double)s->ident.fit >= (double)c->tune.fit_min);
     /* Sane robustness; the controller acts against the process gain. */
     assert_true((double)s->tune.fig.Ms >= 1.0 && (double)s->tune.fig.Ms <= 2.0);

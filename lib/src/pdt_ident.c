@@ -655,25 +655,29 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_REST] = HEAVY,
         [PH_STD] = HEAVY,
     };
-    uint32_t budget = max_evaluations;
+    /* The budget counts the samples the evaluations score: an evaluation
+     * of a coarse record of n / D samples is a D-th of one of the whole. */
+    const uint64_t cap = (uint64_t)max_evaluations * ctx->data.n;
+    uint64_t budget = cap;
     bool heavy = false;
     while (ctx->phase != PH_DONE) {
         if (ctx->phase < PH_INIT_POP || ctx->phase > PH_STD) {
             return PDT_ERR_STATE;
         }
         const uint32_t needs = STAGE_NEEDS[ctx->phase];
+        const uint64_t one = ctx->cost.n;
         /* A population group needs the budget for all its members; one
          * larger than a whole call's budget still runs, alone. */
-        uint32_t want = (needs & GROUP) != 0u ? pdt_ident_ga_group(ctx) : 1u;
-        want = want < max_evaluations ? want : max_evaluations;
+        uint64_t want = ((needs & GROUP) != 0u ? pdt_ident_ga_group(ctx) : 1u) * one;
+        want = want < cap ? want : cap;
         if (((needs & NEEDS_BUDGET) != 0u && budget < want) || ((needs & HEAVY) != 0u && heavy)) {
             return PDT_RUNNING;
         }
-        const uint32_t before = ctx->evaluations;
+        const uint64_t before = ctx->samples;
         run_stage(ctx);
         if ((needs & EVALUATES) != 0u) {
-            const uint32_t used = ctx->evaluations - before;
-            const uint32_t units = used > 1u ? used : 1u;
+            const uint64_t used = ctx->samples - before;
+            const uint64_t units = used > one ? used : one;
             budget = budget > units ? budget - units : 0u;
         }
         heavy = heavy || (needs & HEAVY) != 0u;

@@ -149,6 +149,7 @@ void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, p
     pdt_ident_shape(c, g, &shape);
     pdt_ident_gain_bounds(c, &shape, &glo, &ghi);
     c->evaluations++;
+    c->samples += c->cost.n;
     const bool ok =
         pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) == PDT_OK;
     take(&pr, ok, cost, gain, offset);
@@ -186,6 +187,7 @@ void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count
         }
     }
     c->evaluations += count;
+    c->samples += (uint64_t)count * c->cost.n;
     for (uint32_t i = 0; i < count; i++) {
         if (cost[i] < PDT_REAL_MAX) {
             track_best(c, &g[i * G], &pr[i]);

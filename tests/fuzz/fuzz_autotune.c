@@ -106,14 +106,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             pv += (pdt_real_t)(b & 0x0Fu) * (pdt_real_t)0.01;
         }
         pdt_autotune_phase_t ph = pdt_autotune_phase(&at);
-        uint32_t e0 = at.ident_started ? at.ident.evaluations : 0u;
+        uint64_t s0 = at.ident_started ? at.ident.samples : 0u;
         bool started = at.ident_started;
         st = pdt_autotune_scan(&at, pv, &u);
         FZ_CHECK(isfinite((double)u) && u >= c.u_min && u <= c.u_max);
         if (started && at.ident_started) {
             /* A group of the population may exceed a smaller budget. */
-            FZ_CHECK(at.ident.evaluations - e0 <=
-                     (c.evals_per_scan > PDT_VECTOR_LANES ? c.evals_per_scan : PDT_VECTOR_LANES));
+            FZ_CHECK(at.ident.samples - s0 <= (uint64_t)(c.evals_per_scan > PDT_VECTOR_LANES
+                                                             ? c.evals_per_scan
+                                                             : PDT_VECTOR_LANES) *
+                                                  at.ident.data.n);
         }
         if (ph == PDT_AUTOTUNE_IDENTIFY || ph == PDT_AUTOTUNE_TUNE) {
             over = true;

@@ -58,12 +58,15 @@ static bool at_run(const pdt_autotune_config_t *c, sim_process_t *p, at_run_t *r
         pdt_real_t pv = sim_process_pv(p);
         pdt_real_t u;
         bool counting = ph == PDT_AUTOTUNE_IDENTIFY && g_at.ident_started;
-        uint32_t e0 = counting ? g_at.ident.evaluations : 0u;
+        uint64_t s0 = counting ? g_at.ident.samples : 0u;
         uint64_t t0 = pdt_port_ticks();
         r->st = pdt_autotune_scan(&g_at, pv, &u);
         uint64_t dt = pdt_port_ticks() - t0;
-        if (counting && g_at.ident.evaluations - e0 > r->max_evals) {
-            r->max_evals = g_at.ident.evaluations - e0;
+        if (counting) {
+            /* Whole-record evaluations' worth (a coarse one is a D-th). */
+            const uint64_t n = g_at.ident.data.n;
+            const uint32_t de = (uint32_t)((g_at.ident.samples - s0 + n - 1u) / n);
+            r->max_evals = de > r->max_evals ? de : r->max_evals;
         }
         if ((unsigned)ph < 7u) {
             r->calls[ph]++;

@@ -30,8 +30,10 @@
  * Work per call (worst case): settle and excite, O(1); the first identify
  * call prepares the identification (O(n), plus O(N_f log N_f) for the
  * frequency or combined criterion); every other identify call at most
- * evals_per_scan cost evaluations, or PDT_VECTOR_LANES where that is
- * larger (O(n) each, O(N_f) for the frequency part) plus one GA breeding
+ * evals_per_scan cost evaluations of the whole record, or PDT_VECTOR_LANES
+ * where that is larger (O(n) each, O(N_f) for the frequency part; on the
+ * identification's coarse record D evaluations take the time of one,
+ * pdt_ident_step) plus one GA breeding
  * step (O(P^2)); one identify call per model
  * validated (pdt_validate_model: O(n) per parameter, O(20 n) and
  * O(78 n) for the residual tests); each tune call, one pdt_tune_compute
@@ -85,7 +87,8 @@ typedef struct pdt_autotune_config {
                                * the excitation ends (the process is still
                                * responding); 0: until the record is full.
                                * Default 0 */
-    uint32_t evals_per_scan; /* cost evaluations per scan while identifying,
+    uint32_t evals_per_scan; /* cost evaluations of the whole record per
+                               * scan while identifying (pdt_ident_step),
                                * >= 1. Default 4 */
     /* The experiment. Set kind, levels and timing; the autotune sets Ts
      * (the scan period), u0 (the output at init) and pre (the settle

@@ -300,6 +300,9 @@ typedef struct pdt_ident {
     uint32_t genes;
     uint32_t evaluations;
     uint32_t generations;
+    uint64_t samples; /* samples the evaluations scored: n each on the whole
+                       * record, n / D on a coarse one; what the budget of
+                       * pdt_ident_step counts */
     pdt_real_t lo[3]; /* gene bounds */
     pdt_real_t hi[3];
     pdt_real_t td_offset; /* c0 of the dead-time gene log(Td + c0), s */
@@ -355,15 +358,20 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
 pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                             const pdt_ident_data_t *data, void *work, size_t work_len);
 
-/* Advances the search by at most max_evaluations cost evaluations, or one
- * group of PDT_VECTOR_LANES (pdt_config.h) when asked for fewer (each
- * O(n) time domain, O(N_f / 2) frequency domain) plus at most one breeding
- * step (O(P^2 genes) for the sharing) or one preparation of the spectra
- * (O(N_f log N_f), as in init: COMBINED re-centres them once before the
- * refinement, and the CONTROL weighting sets its band once) or the
- * answer's uncertainty (once, O(n) per parameter). Returns PDT_RUNNING while there is
- * work left, PDT_OK when done (also on every later call), PDT_ERR_ARG for
- * NULL or max_evaluations = 0, PDT_ERR_STATE if ctx was not initialised. */
+/* Advances the search by at most max_evaluations cost evaluations of the
+ * whole record, or one group of PDT_VECTOR_LANES (pdt_config.h) when
+ * asked for fewer (each O(n) time domain, O(N_f / 2) frequency domain).
+ * The budget counts the samples scored: a search on a coarse record of
+ * n / D samples makes D evaluations for one (each still has the fixed
+ * part of discretising its model, a few hundred instructions). Plus at
+ * most one breeding step (O(P^2 genes) for the sharing) or one
+ * preparation (of the spectra, O(N_f log N_f) as in init: COMBINED
+ * re-centres them once before the refinement, and the CONTROL weighting
+ * sets its band once; of the whole record's cost after a coarse one's
+ * searches, O(n)) or the answer's uncertainty (once, O(n) per
+ * parameter). Returns PDT_RUNNING while there is work left, PDT_OK when
+ * done (also on every later call), PDT_ERR_ARG for NULL or
+ * max_evaluations = 0, PDT_ERR_STATE if ctx was not initialised. */
 pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations);
 
 /* The result once pdt_ident_step has returned PDT_OK. PDT_ERR_STATE before

@@ -1,0 +1,183 @@
+#!/usr/bin/env python3
+"""The coarse record against the whole record: writes docs/coarse-benchmark.md.
+
+Usage (from the repository root):
+
+    python3 tools/bench/coarse_bench.py [--seeds 40] [--jobs N] [--out FILE]
+
+Every record is identified twice by the `pdtfit` command line (float build
+in build/bench, made by the certainty or identification benchmark, or
+PDTFIT_BIN): with the defaults, whose searches run on a coarse record
+where the record allows (docs/ident-engine.md), and with `--coarse 1`,
+the whole record throughout. Both answers are scored by the same
+criterion (the identification's own cost, which the JSON reports), so an
+answer of the default that is worse than the whole record's by more than
+1 % with no flag is a loss the coarse record caused. The plants are chosen
+to include processes too fast for a coarse record (a time constant of 1.5
+samples) and noisy records (10 dB), where the shape check or the answer's
+check must send the search back to the whole record.
+
+Everything is seeded; the same build gives the same document.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing as mp
+import os
+import pathlib
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))
+from pdtsupport.records import simulate  # noqa: E402
+
+PDTFIT = pathlib.Path(os.environ.get("PDTFIT_BIN", ROOT / "build" / "bench" / "tools" / "pdtfit"))
+N = 1200
+TS = 1.0
+TAUS = (1.5, 4.0, 12.0, 40.0)   # samples
+SNRS = (10, 20, 30)              # dB
+EXCITATIONS = ("steps", "prbs")
+MODELS = ("fopdt", "sopdt")
+WORSE = 1.01
+
+
+def excitation(kind, tau, rng):
+    """Multi-level steps held 2 to 6 time constants (at least 10 samples),
+    or a PRBS whose bit lasts a third of the time constant (at least one
+    sample), after 40 samples at rest."""
+    u = np.zeros(N)
+    k, level = 40, 1.0
+    if kind == "steps":
+        lo, hi = max(10, int(2 * tau)), max(20, int(6 * tau))
+    else:
+        lo = hi = max(1, int(round(tau / 3)))
+    while k < N:
+        hold = int(rng.integers(lo, hi + 1))
+        u[k:k + hold] = level * (0.5 + 0.5 * rng.random()) if kind == "steps" else level
+        level = -level if kind == "prbs" or rng.random() < 0.7 else level
+        k += hold
+    return u
+
+
+def record(model, tau, kind, snr, seed):
+    rng = np.random.default_rng([seed, int(tau * 10), snr, EXCITATIONS.index(kind),
+                                 MODELS.index(model)])
+    u = excitation(kind, tau, rng)
+    # A dead time of half the time constant plus 2.3 samples, on the
+    # simulator's grid of a twentieth of a sample.
+    Td = round((0.5 * tau + 2.3) * 20) / 20 * TS
+    if model == "fopdt":
+        num, den = [1.5], [tau * TS, 1.0]
+    else:
+        den = np.polymul([tau * TS, 1.0], [tau * TS / 3, 1.0])
+        num = [1.5]
+    y = simulate(num, den, Td, u, TS)
+    sd = np.std(y) * 10 ** (-snr / 20)
+    return 40.0 + u, 350.0 + y + sd * rng.standard_normal(N)
+
+
+def identify(path, model, extra):
+    r = subprocess.run([str(PDTFIT), "identify", "--model", model, "--fs", "1", *extra, path],
+                       capture_output=True, text=True)
+    if not r.stdout:
+        return {"refused": r.stderr.strip()}
+    return json.loads(r.stdout)
+
+
+def task(args):
+    model, tau, kind, snr, seed = args
+    u, y = record(model, tau, kind, snr, seed)
+    with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
+        f.write("u,y\n")
+        for a, b in zip(u, y):
+            f.write(f"{float(a)!r},{float(b)!r}\n")
+        path = f.name
+    try:
+        d = identify(path, model, [])
+        w = identify(path, model, ["--coarse", "1"])
+    finally:
+        os.unlink(path)
+    return args, d, w
+
+
+def verdict(d, w):
+    if "refused" in d or "refused" in w:
+        return "refused"
+    if d["flags"]:
+        return "flagged"
+    if d["cost"] > WORSE * w["cost"]:
+        return "worse"
+    if w["cost"] > WORSE * d["cost"]:
+        return "better"
+    return "same"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", type=int, default=40)
+    ap.add_argument("--jobs", type=int, default=os.cpu_count())
+    ap.add_argument("--out", default=str(ROOT / "docs" / "coarse-benchmark.md"))
+    a = ap.parse_args()
+    if not PDTFIT.exists():
+        sys.exit(f"{PDTFIT} not found: run tools/bench/certainty.py or run_ident_bench.py first, "
+                 "or set PDTFIT_BIN")
+    tasks = [(m, t, k, s, seed) for m in MODELS for t in TAUS for k in EXCITATIONS
+             for s in SNRS for seed in range(1, a.seeds + 1)]
+    with mp.Pool(a.jobs) as pool:
+        results = pool.map(task, tasks, chunksize=8)
+    rows = {}
+    for (m, t, k, s, _), d, w in results:
+        rows.setdefault((m, t, k, s), []).append((d, w))
+    total = {"worse": 0, "n": 0}
+    lines = ["| model | tau (samples) | input | SNR | records | coarse D median | searched whole "
+             "| same | default better | **default worse** | flagged | refused | evaluations "
+             "median: default / whole |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for (m, t, k, s), pairs in rows.items():
+        v = [verdict(d, w) for d, w in pairs]
+        ok = [d for d, _ in pairs if "refused" not in d]
+        co = [d["coarse"] for d in ok]
+        ev_d = [d["evaluations"] for d in ok]
+        ev_w = [w["evaluations"] for _, w in pairs if "refused" not in w]
+        total["worse"] += v.count("worse")
+        total["n"] += len(v)
+        lines.append(f"| {m} | {t:g} | {k} | {s} dB | {len(v)} | "
+                     f"{int(np.median(co)) if co else '-'} | {sum(1 for c in co if c == 1)} | "
+                     f"{v.count('same')} | {v.count('better')} | **{v.count('worse')}** | "
+                     f"{v.count('flagged')} | {v.count('refused')} | "
+                     f"{int(np.median(ev_d)) if ev_d else '-'} / "
+                     f"{int(np.median(ev_w)) if ev_w else '-'} |")
+    doc = ["# The coarse record against the whole record", "",
+           "Generated by `python3 tools/bench/coarse_bench.py --seeds "
+           f"{a.seeds}` (tools/bench/); do not edit by hand.", "",
+           "Each record is identified twice by `pdtfit identify` (float build): with the "
+           "defaults, whose searches run on a coarse record where the record allows "
+           "([ident-engine.md](ident-engine.md#the-coarse-record)), and with `--coarse 1`, "
+           "the whole record throughout, the same seed. Both answers are scored by the "
+           "identification's own criterion (the output error's mean square, the JSON's "
+           "`cost`). **Default worse**: the default's answer has no flag and a cost more "
+           f"than {WORSE} x the whole record's: a loss the coarse record caused. *Default "
+           "better*: the reverse (each search is a different random search, so either can "
+           "end short of the other). *Flagged*: the default's answer carries a flag. "
+           "*Searched whole*: the default's searches ran on the whole record (the shape "
+           "check kept it whole, or the answer was too fast for its coarse record).", "",
+           f"Records: {N} samples at Ts = 1 s after 40 at rest; a FOPDT 1.5 / (tau s + 1) or "
+           "a SOPDT 1.5 / ((tau s + 1)(tau s / 3 + 1)), dead time tau / 2 + 2.3 samples "
+           "(fractional), around u0 = 40, y0 = 350; *steps*: levels held 2 to 6 tau (at "
+           "least 10 samples), *prbs*: a random binary sequence of bits tau / 3 long (at "
+           "least 1 sample); white Gaussian noise on y at the SNR given (the noise-free "
+           "output's deviation over 10^(SNR/20)). Seeds 1 to "
+           f"{a.seeds} per row.", "",
+           f"**{total['worse']} answers of the default worse than the whole record's, with "
+           f"no flag, in {total['n']} records.**", ""] + lines + [""]
+    pathlib.Path(a.out).write_text("\n".join(doc))
+    print(f"wrote {a.out}: {total['worse']} worse in {total['n']}")
+
+
+if __name__ == "__main__":
+    main()
