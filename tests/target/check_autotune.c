@@ -35,8 +35,11 @@ typedef struct at_run {
     uint32_t scans;
     uint64_t worst[7]; /* ticks of the slowest call in each phase */
     uint32_t calls[7];
-    uint32_t max_evals; /* most cost evaluations in one call */
-    size_t stack;       /* bytes below this function's frame */
+    uint32_t max_evals;    /* most cost evaluations in one call */
+    uint64_t worst_search; /* ticks of the slowest identify call that
+                            * evaluated (the search's, not a preparation or
+                            * a validation) */
+    size_t stack;          /* bytes below this function's frame */
 } at_run_t;
 
 /* One autotune to the end, timing every call. The stack is painted once
@@ -67,6 +70,9 @@ static bool at_run(const pdt_autotune_config_t *c, sim_process_t *p, at_run_t *r
             const uint64_t n = g_at.ident.data.n;
             const uint32_t de = (uint32_t)((g_at.ident.samples - s0 + n - 1u) / n);
             r->max_evals = de > r->max_evals ? de : r->max_evals;
+            if (g_at.ident.samples != s0 && g_at.ident_started && dt > r->worst_search) {
+                r->worst_search = dt;
+            }
         }
         if ((unsigned)ph < 7u) {
             r->calls[ph]++;
@@ -125,7 +131,9 @@ static void at_report(const char *name, const at_run_t *r)
     tl_uint(&l, r->res.ident.evaluations);
     tl_str(&l, " evaluations, at most ");
     tl_uint(&l, r->max_evals);
-    tl_str(&l, " per call; ");
+    tl_str(&l, " per call, the slowest such call ");
+    tl_uint(&l, t_ticks_to_instructions(r->worst_search));
+    tl_str(&l, " instructions; ");
     tl_uint(&l, r->scans);
     tl_str(&l, " scans; stack ");
     tl_uint(&l, r->stack);
