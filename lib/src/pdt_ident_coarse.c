@@ -15,15 +15,14 @@
 #include "pdt_internal.h"
 
 /* The output's variance the coarse record may lose (its centred means,
- * joined by straight lines, against the output), noise apart: 0.5 %. A
- * step response of time constant tau loses that at D of about tau / (3
- * Ts) on a multi-step record; a relay's oscillation at about an eighth of
- * its period. */
+ * joined by straight lines, against the output), noise apart: 0.2 %.
+ * docs/ident-engine.md gives the factors that passes on step and relay
+ * records; the check of the answer (COARSE_SCALE) catches what it lets
+ * through. */
 #define COARSE_LOSS  PDT_R(0.002)
-/* The answer's time scale must be at least this many coarse periods. */
+/* The answer's time scale must be at least this many coarse periods:
+ * below, the block means blur its response. */
 #define COARSE_SCALE PDT_R(2.0)
-/* The whole record's polish starts near its optimum: its first simplex
- * is a fifth of the refinement's. */
 /* Largest automatic decimation. */
 #define COARSE_MAX   32u
 
@@ -191,6 +190,9 @@ void pdt_ident_coarse_fine(pdt_ident_t *c)
     cc.delay_max = c->coarse.delay_max;
     if (pdt_cost_init(&c->cost, &cc, c->data.u, c->data.y, c->data.n, c->cost_work,
                       c->cost_work_len) != PDT_OK) {
+        /* Should it fail all the same, the coarse answer stands, said to
+         * be unconfirmed on the whole record. */
+        c->flags |= PDT_IDENT_FLAG_UNCONFIRMED;
         c->phase = PH_DONE;
         return;
     }
