@@ -135,8 +135,8 @@ def main():
         rows.setdefault((m, t, k, s), []).append((d, w))
     total = {"worse": 0, "n": 0}
     lines = ["| model | tau (samples) | input | SNR | records | coarse D median | searched whole "
-             "| same | default better | **default worse** | flagged | refused | evaluations "
-             "median: default / whole |",
+             "| same | default better | **default worse** | flagged: default / whole | refused "
+             "| evaluations median: default / whole |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for (m, t, k, s), pairs in rows.items():
         v = [verdict(d, w) for d, w in pairs]
@@ -144,12 +144,13 @@ def main():
         co = [d["coarse"] for d in ok]
         ev_d = [d["evaluations"] for d in ok]
         ev_w = [w["evaluations"] for _, w in pairs if "refused" not in w]
+        flag_w = sum(1 for _, w in pairs if "refused" not in w and w["flags"])
         total["worse"] += v.count("worse")
         total["n"] += len(v)
         lines.append(f"| {m} | {t:g} | {k} | {s} dB | {len(v)} | "
                      f"{int(np.median(co)) if co else '-'} | {sum(1 for c in co if c == 1)} | "
                      f"{v.count('same')} | {v.count('better')} | **{v.count('worse')}** | "
-                     f"{v.count('flagged')} | {v.count('refused')} | "
+                     f"{v.count('flagged')} / {flag_w} | {v.count('refused')} | "
                      f"{int(np.median(ev_d)) if ev_d else '-'} / "
                      f"{int(np.median(ev_w)) if ev_w else '-'} |")
     doc = ["# The coarse record against the whole record", "",
@@ -163,7 +164,8 @@ def main():
            "`cost`). **Default worse**: the default's answer has no flag and a cost more "
            f"than {WORSE} x the whole record's: a loss the coarse record caused. *Default "
            "better*: the reverse (each search is a different random search, so either can "
-           "end short of the other). *Flagged*: the default's answer carries a flag. "
+           "end short of the other). *Flagged*: the default's answer carries a flag (not "
+           "counted as worse or better), and how many of the whole record's answers do. "
            "*Searched whole*: the default's searches ran on the whole record (the shape "
            "check kept it whole, or the answer was too fast for its coarse record).", "",
            f"Records: {N} samples at Ts = 1 s after 40 at rest; a FOPDT 1.5 / (tau s + 1) or "
