@@ -192,7 +192,7 @@ static pdt_status_t gene_bounds(const pdt_ident_config_t *cfg, const bounds_t *b
 /* The least budget of one search: one population (two with the CONTROL
  * weighting, which scores it once per cost), one simplex and the late
  * reserve. */
-static uint64_t search_need(const pdt_ident_config_t *cfg)
+uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg)
 {
     const uint64_t populations = pdt_ident_control_band(cfg) ? 2u : 1u;
     return populations * population_of(cfg) + cfg->refine_evaluations + pdt_ident_late_reserve(cfg);
@@ -204,7 +204,7 @@ static uint64_t search_need(const pdt_ident_config_t *cfg)
  * the budget does not cover the searches asked for. */
 static uint32_t searches_of(const pdt_ident_config_t *cfg)
 {
-    const uint64_t need = search_need(cfg);
+    const uint64_t need = pdt_ident_search_need(cfg);
     if (pdt_ident_uses_frequency(cfg->cost)) {
         return cfg->max_evaluations >= need ? 1u : 0u;
     }

@@ -115,9 +115,8 @@ size_t pdt_ident_coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
     c->coarse.delay_max = (uint32_t)cc->delay_max;
     /* The searches on the coarse record leave the polish its share of
      * the budget: a budget too small for both searches the whole record. */
-    const uint32_t need =
-        c->cfg.population + c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg);
     const uint32_t each = (c->cfg.max_evaluations - c->cfg.refine_evaluations) / c->vote.searches;
+    const uint64_t need = pdt_ident_search_need(&c->cfg);
     const size_t D = each >= need ? factor_of(c) : 1u;
     if (D < 2u) {
         return 0u;
@@ -201,14 +200,13 @@ void pdt_ident_coarse_fine(pdt_ident_t *c)
     c->best.offset = PDT_R(0.0);
     const uint32_t left =
         c->cfg.max_evaluations > c->evaluations ? c->cfg.max_evaluations - c->evaluations : 0u;
-    const uint32_t need =
-        c->cfg.population + c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg);
+    const uint64_t need = pdt_ident_search_need(&c->cfg);
     if (!(time_scale(&c->model) >= COARSE_SCALE * period)) {
         if (left >= need) {
             /* Too fast for the coarse record: its basins may not be the
              * whole record's. The searches again, on the whole record,
              * with what is left of the budget. */
-            uint32_t searches = left / need;
+            uint32_t searches = (uint32_t)(left / need);
             searches = searches < c->vote.searches ? searches : c->vote.searches;
             c->coarse.factor = 1u;
             c->coarse.stage = 0u;

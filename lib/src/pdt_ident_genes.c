@@ -36,6 +36,12 @@ uint32_t pdt_ident_late_reserve(const pdt_ident_config_t *cfg)
     return r;
 }
 
+void pdt_ident_counted(pdt_ident_t *c, uint32_t count, size_t n)
+{
+    c->evaluations += count;
+    c->samples += (uint64_t)count * n;
+}
+
 uint32_t pdt_ident_used(const pdt_ident_t *c)
 {
     return c->evaluations - c->vote.base;
@@ -148,8 +154,7 @@ void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, p
     const pdt_cost_hint_t hint = {c->best.gain, c->best.offset, c->best.cost};
     pdt_ident_shape(c, g, &shape);
     pdt_ident_gain_bounds(c, &shape, &glo, &ghi);
-    c->evaluations++;
-    c->samples += c->cost.n;
+    pdt_ident_counted(c, 1u, c->cost.n);
     const bool ok =
         pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) == PDT_OK;
     take(&pr, ok, cost, gain, offset);
@@ -186,8 +191,7 @@ void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count
             take(&pr[i], true, &cost[i], &gain[i], &offset[i]);
         }
     }
-    c->evaluations += count;
-    c->samples += (uint64_t)count * c->cost.n;
+    pdt_ident_counted(c, count, c->cost.n);
     for (uint32_t i = 0; i < count; i++) {
         if (cost[i] < PDT_REAL_MAX) {
             track_best(c, &g[i * G], &pr[i]);

@@ -65,6 +65,14 @@ uint32_t pdt_ident_late_reserve(const pdt_ident_config_t *cfg);
 /* Evaluations the running search has used. */
 uint32_t pdt_ident_used(const pdt_ident_t *c);
 
+/* The least budget of one search (pdt_ident.c): one population (two with
+ * the CONTROL weighting), one simplex and the late reserve. */
+uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg);
+
+/* Books count evaluations, each scoring a record of n samples: the
+ * evaluations reported and the samples the step budget counts. */
+void pdt_ident_counted(pdt_ident_t *c, uint32_t count, size_t n);
+
 /* Dead time of a dead-time gene, and back (clamped to the gene's range). */
 pdt_real_t pdt_ident_td_of_gene(const pdt_ident_t *c, pdt_real_t g);
 pdt_real_t pdt_ident_gene_of_td(const pdt_ident_t *c, pdt_real_t Td);

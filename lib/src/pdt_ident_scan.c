@@ -19,8 +19,7 @@ static pdt_real_t scan_cost(pdt_ident_t *c, pdt_real_t Td, pdt_real_t gain, pdt_
     }
     g[c->genes - 1u] = pdt_ident_gene_of_td(c, Td);
     pdt_ident_shape(c, g, &shape);
-    c->evaluations++;
-    c->samples += c->scan.cost_time.n;
+    pdt_ident_counted(c, 1u, c->scan.cost_time.n);
     if (pdt_cost_profile(&c->scan.cost_time, &shape, gain, gain, c->scratch, &pr) != PDT_OK ||
         !(pr.ncost == pr.ncost)) {
         *offset = PDT_R(0.0);

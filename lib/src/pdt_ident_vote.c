@@ -192,8 +192,7 @@ void pdt_ident_finish(pdt_ident_t *c)
             shape.p.sopdt.b = PDT_R(0.0);
             shape.p.sopdt.k = pdt_ident_sopdt_unit(c, &shape.p.sopdt);
             pdt_ident_gain_bounds(c, &shape, &glo, &ghi);
-            c->evaluations++;
-            c->samples += c->cost.n;
+            pdt_ident_counted(c, 1u, c->cost.n);
             /* Gain and offset solved again for the integrator (the
              * frequency criterion keeps its gain: its sign came from the
              * dead-time scan). */
