@@ -265,6 +265,23 @@ size_t pdt_cost_outlier(const pdt_real_t *x, size_t n)
     return (high == 1u && first == 1u) ? 0u : first;
 }
 
+/* The record's scales as multipliers (pdt_cost_t.pow2): a product with a
+ * normal power of two rounds exactly as ldexp does, and costs a fraction
+ * of the call the evaluation would otherwise make several times. */
+enum { POW2_TO_NORM_GAIN = 0, POW2_TO_GAIN, POW2_TO_OUT, POW2_TO_COST };
+
+static pdt_real_t pow2_of(int e)
+{
+    const pdt_real_t s = pdt_ldexp(PDT_R(1.0), e);
+    return (s >= PDT_REAL_MIN_NORMAL && s <= PDT_REAL_MAX) ? s : PDT_R(0.0);
+}
+
+/* v 2^e, by the multiplier s = pow2_of(e) when it is one. */
+static pdt_real_t by_pow2(pdt_real_t v, pdt_real_t s, int e)
+{
+    return (s > PDT_R(0.0)) ? v * s : pdt_ldexp(v, e);
+}
+
 /* Copies x - x0 into out scaled by a power of two into (-1, 1) and
  * returns the exponent e: x - x0 = out 2^e. The difference is formed at
  * half scale, which cannot overflow. */
@@ -395,6 +412,10 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
     yn = un + n;
     t.u_exp = normalise(u, cfg->u0, n, un);
     t.y_exp = normalise(y, cfg->y0, n, yn);
+    t.pow2[POW2_TO_NORM_GAIN] = pow2_of(t.u_exp - t.y_exp);
+    t.pow2[POW2_TO_GAIN] = pow2_of(t.y_exp - t.u_exp);
+    t.pow2[POW2_TO_OUT] = pow2_of(t.y_exp);
+    t.pow2[POW2_TO_COST] = pow2_of(2 * t.y_exp);
     t.u = un;
     t.y = yn;
     for (k = 0u; k < 2u; k++) {
@@ -548,13 +569,13 @@ static inline pdt_real_t u_dev(const pdt_cost_t *c, size_t k, size_t back)
  * be in the normalised output's units. */
 static pdt_real_t unit_ratio(const pdt_cost_t *c)
 {
-    return pdt_ldexp(PDT_R(1.0), c->u_exp - c->y_exp);
+    return by_pow2(PDT_R(1.0), c->pow2[POW2_TO_NORM_GAIN], c->u_exp - c->y_exp);
 }
 
 /* A normalised cost (mean square) in output units squared. */
 static pdt_real_t cost_units(const pdt_cost_t *c, pdt_real_t v)
 {
-    return pdt_ldexp(v, 2 * c->y_exp);
+    return by_pow2(v, c->pow2[POW2_TO_COST], 2 * c->y_exp);
 }
 
 /* Simulation state in delta form: ys = ysim(k-1), dys = ysim(k-1) -
@@ -907,7 +928,7 @@ static pdt_real_t best_gain(pdt_real_t a, pdt_real_t kt, pdt_real_t b, pdt_real_
  * units) in normalised units, saturated. */
 static pdt_real_t gain_to_norm(const pdt_cost_t *c, pdt_real_t g)
 {
-    pdt_real_t v = pdt_ldexp(g, c->u_exp - c->y_exp);
+    pdt_real_t v = by_pow2(g, c->pow2[POW2_TO_NORM_GAIN], c->u_exp - c->y_exp);
     if (!pdt_finite(v)) {
         v = (v > PDT_R(0.0)) ? PDT_REAL_MAX : -PDT_REAL_MAX;
     }
@@ -1297,14 +1318,14 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     r.cost = cost_units(c, total);
     r.ct = cost_units(c, ct);
     r.cf = cost_units(c, cf);
-    r.gain = pdt_ldexp(K, c->y_exp - c->u_exp);
+    r.gain = by_pow2(K, c->pow2[POW2_TO_GAIN], c->y_exp - c->u_exp);
     /* A bound near the end of the real range does not map exactly into the
      * normalised units (underflow, or clamped at the largest real): the
      * gain returned keeps the caller's bounds exactly. */
     if (bounded) {
         r.gain = r.gain < gain_min ? gain_min : (r.gain > gain_max ? gain_max : r.gain);
     }
-    r.offset = pdt_ldexp(off, c->y_exp);
+    r.offset = by_pow2(off, c->pow2[POW2_TO_OUT], c->y_exp);
     *out = r;
 }
 

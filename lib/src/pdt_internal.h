@@ -31,6 +31,7 @@
 #define pdt_hypot    hypot
 #define PDT_REAL_EPS 2.220446049250313e-16
 #define PDT_REAL_MAX 1.7976931348623157e308
+#define PDT_REAL_MIN_NORMAL 2.2250738585072014e-308
 #else
 #define PDT_R(x)     (x##f)
 #define pdt_sqrt     sqrtf
@@ -50,6 +51,7 @@
 #define pdt_hypot    hypotf
 #define PDT_REAL_EPS 1.1920929e-07f
 #define PDT_REAL_MAX 3.4028235e+38f
+#define PDT_REAL_MIN_NORMAL 1.17549435e-38f
 #endif
 
 #define PDT_PI PDT_R(3.14159265358979323846)

@@ -127,6 +127,8 @@ typedef struct pdt_cost {
     size_t n;              /* samples */
     int u_exp;             /* scales of the normalised record: powers of */
     int y_exp;             /* two, so mapping back is exact */
+    pdt_real_t pow2[4];    /* 2^(u_exp - y_exp), 2^(y_exp - u_exp), 2^y_exp,
+                              * 4^y_exp, each 0 when not a normal number */
     pdt_real_t ysum[2];    /* sum y and sum (y - mean)^2 of the normalised */
     pdt_real_t yvar[2];    /* y over the simulation's scored samples, by
                               * model order - 1 */
