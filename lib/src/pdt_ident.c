@@ -585,6 +585,12 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 #define HEAVY        4u /* as costly as init: one per call */
 #define GROUP        8u /* evaluates a group of the population at once */
 
+/* The candidates a GROUP stage evaluates together. */
+static uint32_t group_of(const pdt_ident_t *c)
+{
+    return c->phase == PH_POLISH ? pdt_ident_polish_group(c) : pdt_ident_ga_group(c);
+}
+
 /* A switch, not a table of function pointers: the call graph stays static,
  * so the stack bound stays provable (tools/stack_bound.py). */
 static void run_stage(pdt_ident_t *c)
@@ -626,6 +632,9 @@ static void run_stage(pdt_ident_t *c)
     case PH_REST:
         pdt_ident_rest_start(c);
         break;
+    case PH_POLISH:
+        pdt_ident_polish_step(c);
+        break;
     default: /* PH_STD */
         pdt_ident_std(c);
         break;
@@ -653,6 +662,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_FINISH] = NEEDS_BUDGET | EVALUATES,
         [PH_FINE] = HEAVY,
         [PH_REST] = HEAVY,
+        [PH_POLISH] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_STD] = HEAVY,
     };
     /* The budget counts the samples the evaluations score: an evaluation
@@ -668,7 +678,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         const uint64_t one = ctx->cost.n;
         /* A population group needs the budget for all its members; one
          * larger than a whole call's budget still runs, alone. */
-        uint64_t want = ((needs & GROUP) != 0u ? pdt_ident_ga_group(ctx) : 1u) * one;
+        uint64_t want = ((needs & GROUP) != 0u ? group_of(ctx) : 1u) * one;
         want = want < cap ? want : cap;
         if (((needs & NEEDS_BUDGET) != 0u && budget < want) || ((needs & HEAVY) != 0u && heavy)) {
             return PDT_RUNNING;

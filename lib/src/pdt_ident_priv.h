@@ -8,6 +8,7 @@
  *   pdt_ident_ga.c      the population: start, breeding, survival (ga)
  *   pdt_ident_band.c    the CONTROL weighting's band, between two GA runs
  *   pdt_ident_refine.c  Nelder-Mead from the best niches (nm)
+ *   pdt_ident_polish.c  Newton on differences: one answer polished (polish)
  *   pdt_ident_scan.c    the dead time of the frequency criterion (scan)
  *   pdt_ident_vote.c    the answer of a search, the searches' agreement
  *   pdt_ident_rest.c    the output offset from the rest window (rest)
@@ -35,6 +36,7 @@ enum {
     PH_FINISH,       /* a search's answer; may re-score once (an integrator) */
     PH_FINE,         /* the whole record after the coarse one's searches */
     PH_REST,         /* AUTO offset: the answer polished on the rest level */
+    PH_POLISH,       /* Newton polish of one answer (after PH_FINE, PH_REST) */
     PH_STD,          /* the parameters' uncertainty */
     PH_DONE,
     PH_COUNT
@@ -162,10 +164,20 @@ bool pdt_ident_coarse_pending(pdt_ident_t *c);
  * coarse record. */
 void pdt_ident_coarse_fine(pdt_ident_t *c);
 
-/* ---- the refinement's polish of the best (pdt_ident_refine.c) */
-/* A Nelder-Mead run from the best within budget (after searches on a
- * coarse record, from a smaller first simplex). */
+/* ---- the polish of one answer (pdt_ident_refine.c, pdt_ident_polish.c) */
+/* The best polished within budget evaluations: Newton on differences
+ * (PH_POLISH), Nelder-Mead where that cannot go on. */
 void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget);
+/* Nelder-Mead from the best with what is left of the polish's budget. */
+void pdt_ident_refine_nm_best(pdt_ident_t *c);
+/* What follows a refinement: the dead-time scan of the frequency
+ * criterion, else the search's answer. */
+void pdt_ident_refine_end(pdt_ident_t *c);
+/* From the best. */
+void pdt_ident_polish_begin(pdt_ident_t *c);
+/* The points the next PH_POLISH step evaluates together. */
+uint32_t pdt_ident_polish_group(const pdt_ident_t *c);
+void pdt_ident_polish_step(pdt_ident_t *c);
 void pdt_ident_std(pdt_ident_t *c);
 
 #endif /* PDT_IDENT_PRIV_H */

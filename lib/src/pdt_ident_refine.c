@@ -292,6 +292,11 @@ void pdt_ident_refine_step(pdt_ident_t *c)
             return;
         }
     }
+    pdt_ident_refine_end(c);
+}
+
+void pdt_ident_refine_end(pdt_ident_t *c)
+{
     if (c->cfg.cost == PDT_COST_FREQUENCY) {
         pdt_ident_scan_start(c);
     } else {
@@ -301,13 +306,22 @@ void pdt_ident_refine_step(pdt_ident_t *c)
 
 void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget)
 {
-    pdt_ident_refine_t *nm = &c->nm;
     /* The polish of the best (start_i == nstarts) within budget: the
      * running search's budget is set so that left_of gives it. */
-    nm->nstarts = 0u;
-    nm->start_i = 0u;
     c->vote.base = c->evaluations;
     c->vote.budget = budget + pdt_ident_late_reserve(&c->cfg);
+    pdt_ident_polish_begin(c);
+}
+
+void pdt_ident_refine_nm_best(pdt_ident_t *c)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    nm->nstarts = 0u;
+    nm->start_i = 0u;
+    if (left_of(c) < c->genes + 1u) {
+        pdt_ident_refine_end(c);
+        return;
+    }
     nm_start(c);
     c->phase = PH_REFINE;
 }

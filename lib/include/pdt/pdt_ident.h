@@ -263,6 +263,21 @@ typedef struct pdt_ident_refine {
     uint32_t half;    /* budget the niche runs share */
 } pdt_ident_refine_t;
 
+typedef struct pdt_ident_polish {
+    pdt_real_t x[3];     /* the centre */
+    pdt_real_t f0;       /* its cost */
+    pdt_real_t h;        /* the next stencil's difference step, normalised */
+    pdt_real_t f[12];    /* the costs about the centre */
+    pdt_real_t trial[3]; /* the Newton step's point */
+    pdt_real_t len;      /* its distance, normalised */
+    uint32_t state;
+    uint32_t next;    /* next point about the centre */
+    uint32_t iter;    /* Newton steps taken */
+    uint32_t back;    /* halvings of the running step */
+    pdt_real_t width; /* the running stencil's difference step */
+    bool cut;         /* the running step was cut to its reach */
+} pdt_ident_polish_t;
+
 typedef struct pdt_ident_scan {
     pdt_cost_t cost_time; /* the time cost the dead time is scanned on */
     uint32_t i;
@@ -316,6 +331,7 @@ typedef struct pdt_ident {
     pdt_ident_best_t best;
     pdt_ident_ga_t ga;
     pdt_ident_refine_t nm;
+    pdt_ident_polish_t polish;
     pdt_ident_scan_t scan;
     pdt_ident_vote_t vote;
     pdt_ident_coarse_t coarse;

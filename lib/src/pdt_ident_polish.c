@@ -1,0 +1,343 @@
+/*
+ * The polish of one answer on the record it is judged on (after searches
+ * on a coarse record, and on the rest level): a Newton iteration on a
+ * quadratic model from central differences.
+ *
+ * The answer comes from a search that already found its basin, so the cost
+ * around it is close to a quadratic. Its gradient and Hessian in the genes
+ * (2 for a FOPDT, 3 for a SOPDT: gain and offset are closed form) come
+ * from G (G + 1) points about the centre, evaluated in groups of up to
+ * PDT_VECTOR_LANES in one pass over the record; the Newton step then goes
+ * to the model's minimum. Two or three such steps reach where Nelder-Mead
+ * took 50 (FOPDT) to 90 (SOPDT) evaluations of the whole record, one at a
+ * time. Where the model is not trustworthy (a Hessian that is not
+ * positive definite, a step that does not lower the cost, a centre too
+ * close to a gene's bound for the points about it), Nelder-Mead polishes
+ * from the best point seen, as before, with what is left of the budget.
+ */
+#include "pdt_ident_priv.h"
+#include "pdt_internal.h"
+
+enum { POLISH_CENTRE = 1, POLISH_STENCIL, POLISH_TRIAL };
+
+/* The differences' width is set by how far the cost rises across them:
+ * RISE (a tenth of the centre's cost) keeps them where the cost is close
+ * to its quadratic and far above the rounding of a float cost. A stencil
+ * that rose more than RISE_MAX is too wide for a Newton step at all. */
+#define POLISH_RISE     PDT_R(0.1)
+#define POLISH_RISE_MAX PDT_R(2.0)
+
+/* The narrowest difference step, normalised gene units. */
+#define POLISH_H_MIN PDT_R(1e-6)
+
+/* An accepted step shorter than XTOL (normalised), or one that lowered
+ * the cost by less than FTOL of it, ends the polish: the next would not
+ * move the answer measurably. */
+#define POLISH_XTOL PDT_R(1e-6)
+#define POLISH_FTOL (PDT_R(16.0) * PDT_REAL_EPS)
+
+/* The first difference step, normalised gene units. The answer of a
+ * coarse record's search lies within a few thousandths of the whole
+ * record's optimum, and there a SOPDT's cost already rises to twice its
+ * minimum 0.01 away: the differences must stay where the cost is close to
+ * its quadratic. */
+#define POLISH_H0 PDT_R(1e-3)
+
+/* The widest difference step. */
+#define POLISH_H_MAX PDT_R(1e-2)
+
+/* A step goes at most this many difference steps from the centre. */
+#define POLISH_REACH PDT_R(4.0)
+
+/* Halvings of a step that did not lower the cost before Nelder-Mead. */
+#define POLISH_BACKTRACK 2u
+
+/* Newton steps at most. */
+#define POLISH_ITERATIONS 8u
+
+/* Points about the centre: +/- each gene, and +/- each pair together. */
+static uint32_t points_of(const pdt_ident_t *c)
+{
+    return c->genes * (c->genes + 1u);
+}
+
+/* Evaluations the polish may still use (the budget pdt_ident_refine_polish
+ * set, less the late reserve). */
+static uint32_t left_of(const pdt_ident_t *c)
+{
+    const uint32_t left = c->vote.budget - pdt_ident_late_reserve(&c->cfg);
+    const uint32_t used = pdt_ident_used(c);
+    return left > used ? left - used : 0u;
+}
+
+/* Difference step of gene j, in its own units. */
+static pdt_real_t step_of(const pdt_ident_t *c, uint32_t j)
+{
+    return c->polish.width * (c->hi[j] - c->lo[j]);
+}
+
+/* Point k of the stencil: k < 2G is +e_i (k even) or -e_i, i = k / 2;
+ * after that +(e_i + e_j) or -(e_i + e_j) for the pairs i < j in order. */
+static void stencil_point(const pdt_ident_t *c, uint32_t k, pdt_real_t *out)
+{
+    const uint32_t G = c->genes;
+    uint32_t i, j;
+    for (uint32_t m = 0; m < G; m++) {
+        out[m] = c->polish.x[m];
+    }
+    const pdt_real_t sign = (k % 2u == 0u) ? PDT_R(1.0) : PDT_R(-1.0);
+    if (k < 2u * G) {
+        i = k / 2u;
+        out[i] += sign * step_of(c, i);
+        return;
+    }
+    const uint32_t pair = (k - 2u * G) / 2u;
+    /* pairs in order (0,1), (0,2), (1,2) */
+    i = pair < G - 1u ? 0u : 1u;
+    j = pair < G - 1u ? pair + 1u : 2u;
+    out[i] += sign * step_of(c, i);
+    out[j] += sign * step_of(c, j);
+}
+
+/* Whether every stencil point lies inside the gene bounds. */
+static bool stencil_fits(const pdt_ident_t *c)
+{
+    for (uint32_t j = 0; j < c->genes; j++) {
+        const pdt_real_t d = step_of(c, j);
+        if (!(c->polish.x[j] - d >= c->lo[j] && c->polish.x[j] + d <= c->hi[j])) {
+            return false;
+        }
+    }
+    return true;
+}
+
+static void stencil_begin(pdt_ident_t *c);
+
+/* Nelder-Mead from the best point seen, with what is left. */
+static void fall_back(pdt_ident_t *c)
+{
+    pdt_ident_refine_nm_best(c);
+}
+
+/* The Newton step of the quadratic through the stencil, in normalised gene
+ * units (x_j + s_j (hi_j - lo_j)); false when the Hessian is not positive
+ * definite. */
+static bool newton_step(const pdt_ident_t *c, pdt_real_t *s)
+{
+    const pdt_ident_polish_t *p = &c->polish;
+    const uint32_t G = c->genes;
+    const pdt_real_t f0 = p->f0, h = p->width;
+    pdt_real_t g[3], H[3][3], L[3][3];
+    for (uint32_t i = 0; i < G; i++) {
+        const pdt_real_t fp = p->f[2u * i], fm = p->f[2u * i + 1u];
+        g[i] = (fp - fm) / (PDT_R(2.0) * h);
+        H[i][i] = (fp + fm - PDT_R(2.0) * f0) / (h * h);
+    }
+    uint32_t k = 2u * G;
+    for (uint32_t i = 0; i < G; i++) {
+        for (uint32_t j = i + 1u; j < G; j++) {
+            /* f(+e_i+e_j) + f(-e_i-e_j) - [f(+-e_i)] - [f(+-e_j)] + 2 f0
+             * = 2 h^2 H_ij + O(h^4). */
+            const pdt_real_t sum = p->f[k] + p->f[k + 1u] - p->f[2u * i] - p->f[2u * i + 1u] -
+                                   p->f[2u * j] - p->f[2u * j + 1u] + PDT_R(2.0) * f0;
+            H[i][j] = sum / (PDT_R(2.0) * h * h);
+            H[j][i] = H[i][j];
+            k += 2u;
+        }
+    }
+    /* Cholesky, H = L L^T; a pivot that is not clearly positive (relative
+     * to the diagonal it came from) means no minimum of the model. */
+    for (uint32_t i = 0; i < G; i++) {
+        for (uint32_t j = 0; j <= i; j++) {
+            pdt_real_t v = H[i][j];
+            for (uint32_t m = 0; m < j; m++) {
+                v -= L[i][m] * L[j][m];
+            }
+            if (i == j) {
+                if (!(v > PDT_R(64.0) * PDT_REAL_EPS * H[i][i])) {
+                    return false;
+                }
+                L[i][i] = pdt_sqrt(v);
+            } else {
+                L[i][j] = v / L[j][j];
+            }
+        }
+    }
+    /* L L^T s = -g */
+    pdt_real_t z[3];
+    for (uint32_t i = 0; i < G; i++) {
+        pdt_real_t v = -g[i];
+        for (uint32_t m = 0; m < i; m++) {
+            v -= L[i][m] * z[m];
+        }
+        z[i] = v / L[i][i];
+    }
+    for (uint32_t i = G; i-- > 0u;) {
+        pdt_real_t v = z[i];
+        for (uint32_t m = i + 1u; m < G; m++) {
+            v -= L[m][i] * s[m];
+        }
+        s[i] = v / L[i][i];
+    }
+    for (uint32_t i = 0; i < G; i++) {
+        if (!pdt_finite(s[i])) {
+            return false;
+        }
+    }
+    return true;
+}
+
+/* After the stencil: the trial point of the Newton step, or Nelder-Mead. */
+static void propose(pdt_ident_t *c)
+{
+    pdt_ident_polish_t *p = &c->polish;
+    const uint32_t G = c->genes;
+    pdt_real_t s[3];
+    pdt_real_t rise = PDT_R(0.0);
+    for (uint32_t k = 0; k < points_of(c); k++) {
+        const pdt_real_t r = p->f[k] / p->f0 - PDT_R(1.0);
+        rise = r > rise ? r : rise;
+    }
+    /* The width for the next differences: a rise of about POLISH_RISE. */
+    const pdt_real_t h = p->width;
+    p->h = rise > PDT_R(0.0) ? h * pdt_sqrt(POLISH_RISE / rise) : POLISH_H_MAX;
+    p->h = p->h < POLISH_H_MIN ? POLISH_H_MIN : (p->h > POLISH_H_MAX ? POLISH_H_MAX : p->h);
+    if (rise > POLISH_RISE_MAX && p->h < h) {
+        stencil_begin(c);
+        return;
+    }
+    if (!newton_step(c, s) || left_of(c) < 1u) {
+        fall_back(c);
+        return;
+    }
+    pdt_real_t len = PDT_R(0.0);
+    for (uint32_t j = 0; j < G; j++) {
+        len = pdt_fabs(s[j]) > len ? pdt_fabs(s[j]) : len;
+    }
+    const pdt_real_t reach = POLISH_REACH * (h > p->h ? h : p->h);
+    const pdt_real_t scale = len > reach ? reach / len : PDT_R(1.0);
+    p->cut = len > reach;
+    p->back = 0u;
+    p->len = PDT_R(0.0);
+    for (uint32_t j = 0; j < G; j++) {
+        const pdt_real_t x = pdt_ident_clamp(c, j, p->x[j] + scale * s[j] * (c->hi[j] - c->lo[j]));
+        const pdt_real_t d = pdt_fabs(x - p->x[j]) / (c->hi[j] - c->lo[j]);
+        p->len = d > p->len ? d : p->len;
+        p->trial[j] = x;
+    }
+    p->state = POLISH_TRIAL;
+}
+
+/* A stencil about the centre, or Nelder-Mead when it does not fit. */
+static void stencil_begin(pdt_ident_t *c)
+{
+    pdt_ident_polish_t *p = &c->polish;
+    if (p->iter >= POLISH_ITERATIONS || left_of(c) < points_of(c) + 1u) {
+        pdt_ident_refine_end(c);
+        return;
+    }
+    p->width = p->h;
+    if (!stencil_fits(c)) {
+        fall_back(c);
+        return;
+    }
+    p->next = 0u;
+    p->state = POLISH_STENCIL;
+}
+
+void pdt_ident_polish_begin(pdt_ident_t *c)
+{
+    pdt_ident_polish_t *p = &c->polish;
+    for (uint32_t j = 0; j < c->genes; j++) {
+        p->x[j] = c->best.genes[j];
+    }
+    p->h = POLISH_H0 > POLISH_H_MIN ? POLISH_H0 : POLISH_H_MIN;
+    p->iter = 0u;
+    p->state = POLISH_CENTRE;
+    c->phase = PH_POLISH;
+}
+
+uint32_t pdt_ident_polish_group(const pdt_ident_t *c)
+{
+    const pdt_ident_polish_t *p = &c->polish;
+    if (p->state != POLISH_STENCIL) {
+        return 1u;
+    }
+    const uint32_t left = points_of(c) - p->next;
+    return left < PDT_VECTOR_LANES ? left : PDT_VECTOR_LANES;
+}
+
+void pdt_ident_polish_step(pdt_ident_t *c)
+{
+    pdt_ident_polish_t *p = &c->polish;
+    const uint32_t G = c->genes;
+    pdt_real_t f, gain, offset;
+    if (p->state == POLISH_CENTRE) {
+        pdt_ident_evaluate(c, p->x, &f, &gain, &offset);
+        p->f0 = f;
+        if (!(f < PDT_REAL_MAX)) {
+            fall_back(c);
+            return;
+        }
+        stencil_begin(c);
+        return;
+    }
+    if (p->state == POLISH_STENCIL) {
+        pdt_real_t pts[PDT_COST_MANY * 3u] = {PDT_R(0.0)};
+        pdt_real_t cost[PDT_COST_MANY], gains[PDT_COST_MANY], offsets[PDT_COST_MANY];
+        const uint32_t count = pdt_ident_polish_group(c);
+        for (uint32_t i = 0; i < count; i++) {
+            stencil_point(c, p->next + i, &pts[i * G]);
+        }
+        if (count == 1u) {
+            pdt_ident_evaluate(c, pts, cost, gains, offsets);
+        } else {
+            pdt_ident_evaluate_many(c, pts, count, cost, gains, offsets);
+        }
+        for (uint32_t i = 0; i < count; i++) {
+            p->f[p->next + i] = cost[i];
+        }
+        p->next += count;
+        if (p->next == points_of(c)) {
+            propose(c);
+        }
+        return;
+    }
+    /* POLISH_TRIAL */
+    pdt_ident_evaluate(c, p->trial, &f, &gain, &offset);
+    if (!(f < p->f0)) {
+        if (p->len < POLISH_XTOL) {
+            /* At the resolution of the differences: the centre stands. */
+            pdt_ident_refine_end(c);
+        } else if (p->back < POLISH_BACKTRACK && left_of(c) >= 1u) {
+            /* The model overshot: half the step. */
+            for (uint32_t j = 0; j < G; j++) {
+                p->trial[j] = p->x[j] + PDT_R(0.5) * (p->trial[j] - p->x[j]);
+            }
+            p->len *= PDT_R(0.5);
+            p->back++;
+        } else {
+            fall_back(c);
+        }
+        return;
+    }
+    p->iter++;
+    for (uint32_t j = 0; j < G; j++) {
+        p->x[j] = p->trial[j];
+    }
+    const pdt_real_t gain_f = p->f0 - f;
+    p->f0 = f;
+    if (p->len < POLISH_XTOL || gain_f <= POLISH_FTOL * (f + gain_f)) {
+        pdt_ident_refine_end(c);
+        return;
+    }
+    if (p->cut) {
+        /* The model's minimum lies beyond the step's reach: a long valley
+         * (a SOPDT's second lag vanishing towards its bound), which
+         * Nelder-Mead follows in fewer evaluations than short Newton
+         * steps. */
+        fall_back(c);
+        return;
+    }
+    stencil_begin(c);
+}
