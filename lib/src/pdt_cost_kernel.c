@@ -281,24 +281,34 @@ void pdt_cost_kernel_many(const pdt_real_t *u, const pdt_real_t *y, size_t n, si
 {
     size_t i;
 #if PDT_COST_KERNEL_VECTOR
-    if (count == 4u && d[1].order == d[0].order && d[2].order == d[0].order &&
-        d[3].order == d[0].order) {
+    bool same = count >= 2u && count <= 4u;
+    for (i = 1; i < count && same; i++) {
+        same = d[i].order == d[0].order;
+    }
+    if (same) {
+        /* Two or three candidates still take one pass: the free lanes
+         * repeat the first (the pass costs what four cost, less than two
+         * alone). */
+        pdt_discrete_t dl[4];
         pdt_cost_sums_t t[4];
         kstate_t st[4];
         size_t l1[4], kmax = k0;
         for (i = 0; i < 4u; i++) {
-            l1[i] = (d[i].delay < n) ? d[i].delay + 1u : n;
+            dl[i] = d[i < count ? i : 0u];
+            l1[i] = (dl[i].delay < n) ? dl[i].delay + 1u : n;
             kmax = (l1[i] > kmax) ? l1[i] : kmax;
         }
         for (i = 0; i < 4u; i++) {
             t[i] = (pdt_cost_sums_t){PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
             st[i] = (kstate_t){PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
-            kernel_range(u, y, n, k0, kmax, &d[i], K0, c0, &st[i], &t[i]);
+            if (i < count) {
+                kernel_range(u, y, n, k0, kmax, &dl[i], K0, c0, &st[i], &t[i]);
+            }
         }
         if (kmax < n) {
-            many_body(u, y, kmax, n, d, l1, K0, c0, st, t);
+            many_body(u, y, kmax, n, dl, l1, K0, c0, st, t);
         }
-        for (i = 0; i < 4u; i++) {
+        for (i = 0; i < count; i++) {
             out[i] = t[i];
         }
         return;

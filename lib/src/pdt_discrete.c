@@ -5,12 +5,13 @@
  * The denominator is built from the poles with expm1 and half-angle forms, so
  * that its delta form d[] (the numbers that set the gain when the poles are
  * close to 1) keeps full relative accuracy; the numerator comes from samples
- * of the delay-free step response (pdt_model_step), which is itself free of
+ * of the delay-free step response (pdt_model_sopdt_unit_step), itself free of
  * cancellation at small times.
  */
 #include "pdt/pdt_discrete.h"
 
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 /* Splits Td/Ts into whole samples l and a fraction f in [0, 1). A fraction
  * within rounding of 1 means Td was meant as a whole number of samples. */
@@ -86,13 +87,10 @@ static void zoh_sopdt(const pdt_model_sopdt_t *p, pdt_real_t Ts, pdt_real_t f, p
      * (2+m) Ts (m = 1 - f): with g the increments of those samples,
      * b0 = g1, b1 = g2 + a0 g1, b2 = g3 + a0 g2 + a1 g1. */
     pdt_real_t m = PDT_R(1.0) - f;
-    pdt_model_t lag;
-    lag.kind = PDT_MODEL_SOPDT;
-    lag.p.sopdt = *p;
-    lag.p.sopdt.Td = PDT_R(0.0);
-    pdt_real_t t[3] = {m * Ts, (PDT_R(1.0) + m) * Ts, (PDT_R(2.0) + m) * Ts};
     pdt_real_t h[3];
-    (void)pdt_model_step(&lag, t, 3u, h);
+    for (size_t i = 0; i < 3u; i++) {
+        h[i] = p->k * pdt_model_sopdt_unit_step(p->a, p->b, ((pdt_real_t)i + m) * Ts);
+    }
     pdt_real_t g1 = h[0];
     pdt_real_t g2 = h[1] - h[0];
     pdt_real_t g3 = h[2] - h[1];

@@ -588,7 +588,10 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 /* The candidates a GROUP stage evaluates together. */
 static uint32_t group_of(const pdt_ident_t *c)
 {
-    return c->phase == PH_POLISH ? pdt_ident_polish_group(c) : pdt_ident_ga_group(c);
+    if (c->phase == PH_POLISH) {
+        return pdt_ident_polish_group(c);
+    }
+    return c->phase == PH_REFINE ? pdt_ident_refine_group(c) : pdt_ident_ga_group(c);
 }
 
 /* A switch, not a table of function pointers: the call graph stays static,
@@ -656,7 +659,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_BAND] = HEAVY,
         [PH_RECENTRE] = HEAVY,
         [PH_REFINE_START] = 0u,
-        [PH_REFINE] = NEEDS_BUDGET | EVALUATES,
+        [PH_REFINE] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_DELAY_SCAN] = NEEDS_BUDGET | EVALUATES,
         [PH_DELAY_REFINE] = NEEDS_BUDGET | EVALUATES,
         [PH_FINISH] = NEEDS_BUDGET | EVALUATES,

@@ -127,6 +127,9 @@ void pdt_ident_band_start(pdt_ident_t *c);
 void pdt_ident_refine_recentre(pdt_ident_t *c);
 void pdt_ident_refine_begin(pdt_ident_t *c);
 void pdt_ident_refine_step(pdt_ident_t *c);
+/* The points the next PH_REFINE step evaluates together: one of each
+ * running niche run, up to PDT_VECTOR_LANES; 1 in the final polish. */
+uint32_t pdt_ident_refine_group(const pdt_ident_t *c);
 
 /* ---- pdt_ident_scan.c */
 

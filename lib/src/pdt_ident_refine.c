@@ -1,7 +1,10 @@
 /*
  * The identification's local refinement: Nelder-Mead by reverse
- * communication (propose a point, take its cost), from the best of up to
- * three niches of the final population, then a polish of the best point.
+ * communication (a run says which point it needs, then takes its cost),
+ * from the best of up to three niches of the final population, then a
+ * polish of the best point. The niche runs go side by side, one point of
+ * each in one pass over the record (pdt_ident_evaluate_many): on the host
+ * three candidates in vector lanes cost about what one costs alone.
  */
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
@@ -84,18 +87,14 @@ static void refine_starts(pdt_ident_t *c)
     nm->start_i = 0u;
 }
 
-/* A Nelder-Mead run from starts[start_i]. The niche runs share half of
- * what the refinement has; a last run then polishes the best point found
- * with all that is left (start_i == nstarts): a restarted simplex also
- * escapes the premature collapse Nelder-Mead is prone to. */
-static void nm_start(pdt_ident_t *c)
+/* A simplex about x0, within budget. */
+static void simplex_start(const pdt_ident_t *c, pdt_ident_simplex_t *sx, const pdt_real_t *x0,
+                          uint32_t budget)
 {
-    pdt_ident_refine_t *nm = &c->nm;
     const size_t G = c->genes;
-    const pdt_real_t *x0 = nm->start_i < nm->nstarts ? nm->starts[nm->start_i] : c->best.genes;
     for (size_t i = 0; i <= G; i++) {
         for (size_t j = 0; j < G; j++) {
-            nm->x[i][j] = x0[j];
+            sx->x[i][j] = x0[j];
         }
         if (i > 0u) {
             size_t j = i - 1u;
@@ -104,28 +103,45 @@ static void nm_start(pdt_ident_t *c)
             if (x > c->hi[j]) {
                 x = x0[j] - step;
             }
-            nm->x[i][j] = pdt_ident_clamp(c, j, x);
+            sx->x[i][j] = pdt_ident_clamp(c, j, x);
         }
     }
-    nm->state = NM_VERTEX;
-    nm->index = 0u;
+    sx->state = NM_VERTEX;
+    sx->index = 0u;
+    sx->budget = budget;
+}
+
+/* The niche runs, side by side: they share half of what the refinement
+ * has. A last run then polishes the best point found with all that is
+ * left (start_i == nstarts): a restarted simplex also escapes the
+ * premature collapse Nelder-Mead is prone to. */
+static void niches_start(pdt_ident_t *c)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    const uint32_t G = c->genes;
     const uint32_t left = left_of(c);
-    if (nm->start_i == 0u) {
-        /* Fewer starts when half the budget cannot give each a whole
-         * simplex; the first always fits (refine_evaluations >= genes + 1). */
-        uint32_t per = (left / 2u) / (uint32_t)(G + 1u);
-        if (nm->nstarts > per) {
-            nm->nstarts = per > 0u ? per : 1u;
-        }
-        nm->half = left / 2u;
+    /* Fewer starts when half the budget cannot give each a whole simplex;
+     * the first always fits (refine_evaluations >= genes + 1). */
+    const uint32_t per = (left / 2u) / (G + 1u);
+    if (nm->nstarts > per) {
+        nm->nstarts = per > 0u ? per : 1u;
     }
-    if (nm->start_i < nm->nstarts) {
-        uint32_t share = nm->half / nm->nstarts;
-        nm->budget = share > G + 1u ? share : (uint32_t)(G + 1u);
-        nm->budget = nm->budget < left ? nm->budget : left;
-    } else {
-        nm->budget = left;
+    const uint32_t share = (left / 2u) / nm->nstarts;
+    uint32_t budget = share > G + 1u ? share : G + 1u;
+    budget = budget < left ? budget : left;
+    for (uint32_t k = 0; k < nm->nstarts; k++) {
+        simplex_start(c, &nm->run[k], nm->starts[k], budget);
     }
+    nm->start_i = 0u;
+    nm->next = 0u;
+}
+
+/* The polish of the best with what is left, in run[0]. */
+static void polish_start(pdt_ident_t *c)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    nm->start_i = nm->nstarts;
+    simplex_start(c, &nm->run[0], c->best.genes, left_of(c));
 }
 
 /* The cost scale may have changed (re-centred spectra): the best is
@@ -135,164 +151,243 @@ void pdt_ident_refine_begin(pdt_ident_t *c)
 {
     c->best.cost = PDT_REAL_MAX;
     refine_starts(c);
-    nm_start(c);
+    niches_start(c);
     c->phase = PH_REFINE;
 }
 
-static void nm_order(pdt_ident_refine_t *nm, size_t G)
+static void nm_order(pdt_ident_simplex_t *sx, size_t G)
 {
     /* Insertion sort of G + 1 <= 4 vertices by cost. */
     for (size_t i = 1; i <= G; i++) {
-        for (size_t k = i; k > 0u && nm->f[k] < nm->f[k - 1u]; k--) {
-            pdt_real_t tf = nm->f[k];
-            nm->f[k] = nm->f[k - 1u];
-            nm->f[k - 1u] = tf;
+        for (size_t k = i; k > 0u && sx->f[k] < sx->f[k - 1u]; k--) {
+            pdt_real_t tf = sx->f[k];
+            sx->f[k] = sx->f[k - 1u];
+            sx->f[k - 1u] = tf;
             for (size_t j = 0; j < G; j++) {
-                pdt_real_t t = nm->x[k][j];
-                nm->x[k][j] = nm->x[k - 1u][j];
-                nm->x[k - 1u][j] = t;
+                pdt_real_t t = sx->x[k][j];
+                sx->x[k][j] = sx->x[k - 1u][j];
+                sx->x[k - 1u][j] = t;
             }
         }
     }
 }
 
 /* Point = centroid of the best G vertices + coef (centroid - worst). */
-static void nm_point(const pdt_ident_t *c, pdt_real_t coef, pdt_real_t *out)
+static void nm_point(const pdt_ident_t *c, const pdt_ident_simplex_t *sx, pdt_real_t coef,
+                     pdt_real_t *out)
 {
-    const pdt_ident_refine_t *nm = &c->nm;
     const size_t G = c->genes;
     for (size_t j = 0; j < G; j++) {
         pdt_real_t cen = PDT_R(0.0);
         for (size_t i = 0; i < G; i++) {
-            cen += nm->x[i][j];
+            cen += sx->x[i][j];
         }
         cen /= (pdt_real_t)G;
-        out[j] = pdt_ident_clamp(c, j, cen + coef * (cen - nm->x[G][j]));
+        out[j] = pdt_ident_clamp(c, j, cen + coef * (cen - sx->x[G][j]));
     }
 }
 
-static bool nm_converged(const pdt_ident_t *c)
+static bool nm_converged(const pdt_ident_t *c, const pdt_ident_simplex_t *sx)
 {
-    const pdt_ident_refine_t *nm = &c->nm;
     const size_t G = c->genes;
     pdt_real_t size = PDT_R(0.0);
     for (size_t i = 1; i <= G; i++) {
         for (size_t j = 0; j < G; j++) {
-            pdt_real_t d = pdt_fabs(nm->x[i][j] - nm->x[0][j]) / (c->hi[j] - c->lo[j]);
+            pdt_real_t d = pdt_fabs(sx->x[i][j] - sx->x[0][j]) / (c->hi[j] - c->lo[j]);
             size = d > size ? d : size;
         }
     }
     return size < NM_XTOL;
 }
 
-static void nm_replace_worst(pdt_ident_refine_t *nm, size_t G, const pdt_real_t *x, pdt_real_t f)
+static void nm_replace_worst(pdt_ident_simplex_t *sx, size_t G, const pdt_real_t *x, pdt_real_t f)
 {
     for (size_t j = 0; j < G; j++) {
-        nm->x[G][j] = x[j];
+        sx->x[G][j] = x[j];
     }
-    nm->f[G] = f;
+    sx->f[G] = f;
 }
 
 /* Sets up the next trial after the simplex changed; NM_END when done. */
-static void nm_next_iteration(pdt_ident_t *c)
+static void nm_next_iteration(const pdt_ident_t *c, pdt_ident_simplex_t *sx)
 {
-    pdt_ident_refine_t *nm = &c->nm;
-    nm_order(nm, c->genes);
-    if (nm->budget == 0u || nm_converged(c)) {
-        nm->state = NM_END;
+    nm_order(sx, c->genes);
+    if (sx->budget == 0u || nm_converged(c, sx)) {
+        sx->state = NM_END;
         return;
     }
-    nm_point(c, PDT_R(1.0), nm->trial);
-    nm->state = NM_REFLECT;
+    nm_point(c, sx, PDT_R(1.0), sx->trial);
+    sx->state = NM_REFLECT;
 }
 
-/* One Nelder-Mead evaluation. */
-static void nm_advance(pdt_ident_t *c)
+/* The point a run evaluates next. */
+static const pdt_real_t *nm_pending(const pdt_ident_simplex_t *sx)
 {
-    pdt_ident_refine_t *nm = &c->nm;
+    switch (sx->state) {
+    case NM_REFLECT:
+        return sx->trial;
+    case NM_EXPAND:
+    case NM_CONTRACT:
+        return sx->trial2;
+    default: /* NM_VERTEX, NM_SHRINK */
+        return sx->x[sx->index];
+    }
+}
+
+/* A run takes the cost f of its pending point. */
+static void nm_take(const pdt_ident_t *c, pdt_ident_simplex_t *sx, pdt_real_t f)
+{
     const uint32_t G = c->genes;
-    pdt_real_t f, gain, offset;
-    switch (nm->state) {
+    switch (sx->state) {
     case NM_VERTEX:
     case NM_SHRINK:
-        pdt_ident_evaluate(c, nm->x[nm->index], &f, &gain, &offset);
-        nm->f[nm->index] = f;
-        nm->index++;
-        if (nm->index > G) {
-            nm_next_iteration(c);
+        sx->f[sx->index] = f;
+        sx->index++;
+        if (sx->index > G) {
+            nm_next_iteration(c, sx);
         }
         break;
     case NM_REFLECT:
-        pdt_ident_evaluate(c, nm->trial, &f, &gain, &offset);
-        nm->ftrial = f;
-        if (f < nm->f[0]) {
-            nm_point(c, PDT_R(2.0), nm->trial2);
-            nm->state = NM_EXPAND;
-        } else if (f < nm->f[G - 1u]) {
-            nm_replace_worst(nm, G, nm->trial, f);
-            nm_next_iteration(c);
+        sx->ftrial = f;
+        if (f < sx->f[0]) {
+            nm_point(c, sx, PDT_R(2.0), sx->trial2);
+            sx->state = NM_EXPAND;
+        } else if (f < sx->f[G - 1u]) {
+            nm_replace_worst(sx, G, sx->trial, f);
+            nm_next_iteration(c, sx);
         } else {
             /* Contract outside when the reflection beat the worst, inside
              * otherwise. */
-            nm_point(c, f < nm->f[G] ? PDT_R(0.5) : PDT_R(-0.5), nm->trial2);
-            nm->state = NM_CONTRACT;
+            nm_point(c, sx, f < sx->f[G] ? PDT_R(0.5) : PDT_R(-0.5), sx->trial2);
+            sx->state = NM_CONTRACT;
         }
         break;
     case NM_EXPAND:
-        pdt_ident_evaluate(c, nm->trial2, &f, &gain, &offset);
-        if (f < nm->ftrial) {
-            nm_replace_worst(nm, G, nm->trial2, f);
+        if (f < sx->ftrial) {
+            nm_replace_worst(sx, G, sx->trial2, f);
         } else {
-            nm_replace_worst(nm, G, nm->trial, nm->ftrial);
+            nm_replace_worst(sx, G, sx->trial, sx->ftrial);
         }
-        nm_next_iteration(c);
+        nm_next_iteration(c, sx);
         break;
     case NM_CONTRACT:
-        pdt_ident_evaluate(c, nm->trial2, &f, &gain, &offset);
-        if (f < nm->ftrial && f < nm->f[G]) {
-            nm_replace_worst(nm, G, nm->trial2, f);
-            nm_next_iteration(c);
+        if (f < sx->ftrial && f < sx->f[G]) {
+            nm_replace_worst(sx, G, sx->trial2, f);
+            nm_next_iteration(c, sx);
         } else {
             for (uint32_t i = 1; i <= G; i++) {
                 for (uint32_t j = 0; j < G; j++) {
-                    nm->x[i][j] = nm->x[0][j] + PDT_R(0.5) * (nm->x[i][j] - nm->x[0][j]);
+                    sx->x[i][j] = sx->x[0][j] + PDT_R(0.5) * (sx->x[i][j] - sx->x[0][j]);
                 }
             }
-            nm->state = NM_SHRINK;
-            nm->index = 1u;
+            sx->state = NM_SHRINK;
+            sx->index = 1u;
         }
         break;
     default:
-        nm->state = NM_END;
+        sx->state = NM_END;
         break;
     }
-    if (nm->budget > 0u) {
-        nm->budget--;
+    if (sx->budget > 0u) {
+        sx->budget--;
     }
-    if (nm->budget == 0u && nm->state != NM_END && (nm->state != NM_VERTEX || nm->index > G)) {
-        nm->state = NM_END;
+    if (sx->budget == 0u && sx->state != NM_END && (sx->state != NM_VERTEX || sx->index > G)) {
+        sx->state = NM_END;
     }
 }
 
-/* One evaluation; when a run ends, the next niche, then the polish of the
- * best (start_i == nstarts) if a whole simplex still fits, then the
+/* The niche runs whose points the next step evaluates: up to
+ * PDT_VECTOR_LANES running ones from run `next` on, in turn. Fixed by the
+ * runs' states alone, so the answer does not depend on how the work is
+ * split into calls. */
+static uint32_t niche_group(const pdt_ident_t *c, uint32_t *which)
+{
+    const pdt_ident_refine_t *nm = &c->nm;
+    uint32_t count = 0u;
+    for (uint32_t i = 0; i < nm->nstarts && count < PDT_VECTOR_LANES; i++) {
+        const uint32_t k = (nm->next + i) % nm->nstarts;
+        if (nm->run[k].state != NM_END) {
+            which[count] = k;
+            count++;
+        }
+    }
+    return count;
+}
+
+uint32_t pdt_ident_refine_group(const pdt_ident_t *c)
+{
+    uint32_t which[3];
+    if (c->nm.start_i >= c->nm.nstarts) {
+        return 1u;
+    }
+    const uint32_t count = niche_group(c, which);
+    return count > 0u ? count : 1u;
+}
+
+/* One evaluation of each niche run of the group, in one pass over the
+ * record where the build has vector lanes. */
+static void niches_step(pdt_ident_t *c)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    const uint32_t G = c->genes;
+    uint32_t which[3];
+    pdt_real_t pts[3u * 3u] = {PDT_R(0.0)};
+    pdt_real_t cost[3], gain[3], offset[3];
+    const uint32_t count = niche_group(c, which);
+    for (uint32_t i = 0; i < count; i++) {
+        const pdt_real_t *x = nm_pending(&nm->run[which[i]]);
+        for (uint32_t j = 0; j < G; j++) {
+            pts[i * G + j] = x[j];
+        }
+    }
+    if (count == 1u) {
+        pdt_ident_evaluate(c, pts, cost, gain, offset);
+    } else if (count > 1u) {
+        pdt_ident_evaluate_many(c, pts, count, cost, gain, offset);
+    }
+    for (uint32_t i = 0; i < count; i++) {
+        nm_take(c, &nm->run[which[i]], cost[i]);
+    }
+    if (count > 0u) {
+        nm->next = (which[count - 1u] + 1u) % nm->nstarts;
+    }
+}
+
+static bool niches_running(const pdt_ident_t *c)
+{
+    for (uint32_t k = 0; k < c->nm.nstarts; k++) {
+        if (c->nm.run[k].state != NM_END) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* One evaluation (a group of the niche runs); when they end, the polish of
+ * the best (start_i == nstarts) if a whole simplex still fits, then the
  * frequency criterion's dead-time scan or the answer. */
 void pdt_ident_refine_step(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
-    nm_advance(c);
-    if (nm->state != NM_END) {
-        return;
-    }
     if (nm->start_i < nm->nstarts) {
-        const uint32_t left = left_of(c);
-        nm->start_i++;
-        if (left >= c->genes + 1u) {
-            nm_start(c);
+        niches_step(c);
+        if (niches_running(c)) {
             return;
         }
+        if (left_of(c) >= c->genes + 1u) {
+            polish_start(c);
+            return;
+        }
+        pdt_ident_refine_end(c);
+        return;
     }
-    pdt_ident_refine_end(c);
+    pdt_ident_simplex_t *sx = &nm->run[0];
+    pdt_real_t f, gain, offset;
+    pdt_ident_evaluate(c, nm_pending(sx), &f, &gain, &offset);
+    nm_take(c, sx, f);
+    if (sx->state == NM_END) {
+        pdt_ident_refine_end(c);
+    }
 }
 
 void pdt_ident_refine_end(pdt_ident_t *c)
@@ -317,11 +412,10 @@ void pdt_ident_refine_nm_best(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     nm->nstarts = 0u;
-    nm->start_i = 0u;
     if (left_of(c) < c->genes + 1u) {
         pdt_ident_refine_end(c);
         return;
     }
-    nm_start(c);
+    polish_start(c);
     c->phase = PH_REFINE;
 }

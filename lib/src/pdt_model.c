@@ -3,7 +3,7 @@
  *
  * The SOPDT step response is evaluated from closed forms arranged so that no
  * term cancels badly at small times, where discretisation needs it most
- * (Ts/tau of 0.01 is the normal case): see sopdt_unit_step().
+ * (Ts/tau of 0.01 is the normal case): see pdt_model_sopdt_unit_step().
  */
 #include "pdt/pdt_model.h"
 
@@ -305,7 +305,7 @@ static pdt_real_t one_minus_sinc(pdt_real_t u)
     return PDT_R(1.0) - pdt_sin(z) / z;
 }
 
-static pdt_real_t sopdt_unit_step(pdt_real_t a, pdt_real_t b, pdt_real_t t)
+pdt_real_t pdt_model_sopdt_unit_step(pdt_real_t a, pdt_real_t b, pdt_real_t t)
 {
     if (!(t > PDT_R(0.0))) {
         return PDT_R(0.0);
@@ -389,7 +389,7 @@ pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n,
     } else {
         const pdt_model_sopdt_t *p = &m->p.sopdt;
         for (size_t i = 0; i < n; i++) {
-            y[i] = p->k * sopdt_unit_step(p->a, p->b, t[i] - p->Td);
+            y[i] = p->k * pdt_model_sopdt_unit_step(p->a, p->b, t[i] - p->Td);
         }
     }
     return PDT_OK;

@@ -21,4 +21,9 @@ pdt_real_t pdt_model_shape_phase(const pdt_model_t *m, pdt_real_t w);
  * pi / Td, so bisection on [0, pi / Td] finds it; 0 without a dead time. */
 pdt_real_t pdt_model_phase_crossover(const pdt_model_t *m);
 
+/* The step response of k = 1, dead time 0, of the SOPDT 1 / (s^2 + a s +
+ * b) at t (0 for t <= 0): what pdt_model_step gives per time, without its
+ * checks, for the discretisation's three samples per evaluation. */
+pdt_real_t pdt_model_sopdt_unit_step(pdt_real_t a, pdt_real_t b, pdt_real_t t);
+
 #endif /* PDT_MODEL_PRIV_H */

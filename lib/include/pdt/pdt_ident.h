@@ -248,8 +248,8 @@ typedef struct pdt_ident_ga {
     pdt_real_t *shared; /* P shared costs */
 } pdt_ident_ga_t;
 
-typedef struct pdt_ident_refine {
-    pdt_real_t x[4][3]; /* the simplex: at most 3 genes, 4 vertices */
+typedef struct pdt_ident_simplex {
+    pdt_real_t x[4][3]; /* at most 3 genes, 4 vertices */
     pdt_real_t f[4];
     pdt_real_t trial[3];
     pdt_real_t trial2[3];
@@ -257,10 +257,15 @@ typedef struct pdt_ident_refine {
     uint32_t state;
     uint32_t index;
     uint32_t budget;
-    pdt_real_t starts[3][3]; /* the best of up to 3 niches */
+} pdt_ident_simplex_t;
+
+typedef struct pdt_ident_refine {
+    pdt_ident_simplex_t run[3]; /* one per niche, run side by side; the
+                                 * polish of the best uses run[0] */
+    pdt_real_t starts[3][3];    /* the best of up to 3 niches */
     uint32_t nstarts;
     uint32_t start_i; /* nstarts: the final polish of the best */
-    uint32_t half;    /* budget the niche runs share */
+    uint32_t next;    /* the niche run whose point comes next */
 } pdt_ident_refine_t;
 
 typedef struct pdt_ident_polish {
