@@ -633,6 +633,11 @@ static void test_determinism(void **state)
     identify(&cfg, s.n, &a);
     identify(&cfg, s.n, &b);
     assert_same_result(&a, &b);
+    /* A restart with the context's own settings: init reads them before
+     * it writes the context. */
+    size_t need = pdt_ident_workspace_size(&cfg, s.n);
+    assert_int_equal(pdt_identify(&g_ctx, &g_ctx.cfg, &g_ctx.data, g_work, need, &b), PDT_OK);
+    assert_same_result(&a, &b);
     for (uint64_t seed = 2u; seed < 6u; seed++) {
         cfg.seed = seed;
         identify(&cfg, s.n, &c);

@@ -268,7 +268,10 @@ size_t pdt_cost_outlier(const pdt_real_t *x, size_t n)
 /* The record's scales as multipliers (pdt_cost_t.pow2): a product with a
  * normal power of two rounds exactly as ldexp does, and costs a fraction
  * of the call the evaluation would otherwise make several times. */
-enum { POW2_TO_NORM_GAIN = 0, POW2_TO_GAIN, POW2_TO_OUT, POW2_TO_COST };
+#define POW2_TO_NORM_GAIN 0u
+#define POW2_TO_GAIN      1u
+#define POW2_TO_OUT       2u
+#define POW2_TO_COST      3u
 
 static pdt_real_t pow2_of(int e)
 {
@@ -298,8 +301,9 @@ static int normalise(const pdt_real_t *x, pdt_real_t x0, size_t n, pdt_real_t *o
     if (top > PDT_R(0.0)) {
         (void)pdt_frexp(top, &e);
     }
+    const pdt_real_t s = pow2_of(-e);
     for (k = 0u; k < n; k++) {
-        out[k] = pdt_ldexp(PDT_R(0.5) * x[k] - h0, -e);
+        out[k] = by_pow2(PDT_R(0.5) * x[k] - h0, s, -e);
     }
     return e + 1;
 }

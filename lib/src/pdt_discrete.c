@@ -36,18 +36,28 @@ static pdt_status_t split_delay(pdt_real_t Td, pdt_real_t Ts, size_t *l, pdt_rea
     return PDT_OK;
 }
 
+/* e^{-x} from em = e^{-x} - 1 where 1 + em keeps its accuracy (x below
+ * a half: |em| < 0.4), else by its own call. The evaluation discretises
+ * every candidate, and most have Ts well below their time constant. */
+static pdt_real_t exp_from_expm1(pdt_real_t x, pdt_real_t em)
+{
+    return x < PDT_R(0.5) ? PDT_R(1.0) + em : pdt_exp(-x);
+}
+
 /* FOPDT: alpha = e^{-Ts/tau}, b0 = K (1 - alpha^m), b1 = K alpha^m (1 - alpha^f). */
 static void zoh_fopdt(const pdt_model_fopdt_t *p, pdt_real_t Ts, pdt_real_t f, pdt_discrete_t *out)
 {
     pdt_real_t x = Ts / p->tau;
     pdt_real_t m = PDT_R(1.0) - f;
+    pdt_real_t e1 = pdt_expm1(-x);
+    pdt_real_t em = pdt_expm1(-m * x);
     out->order = 1u;
-    out->a[0] = -pdt_exp(-x);
+    out->a[0] = -exp_from_expm1(x, e1);
     out->a[1] = PDT_R(0.0);
-    out->d[0] = -pdt_expm1(-x);
+    out->d[0] = -e1;
     out->d[1] = PDT_R(0.0);
-    out->b[0] = -p->K * pdt_expm1(-m * x);
-    out->b[1] = -p->K * pdt_exp(-m * x) * pdt_expm1(-f * x);
+    out->b[0] = -p->K * em;
+    out->b[1] = -p->K * exp_from_expm1(m * x, em) * pdt_expm1(-f * x);
     out->b[2] = PDT_R(0.0);
 }
 
@@ -57,6 +67,7 @@ static void zoh_sopdt(const pdt_model_sopdt_t *p, pdt_real_t Ts, pdt_real_t f, p
     pdt_real_t sigma = PDT_R(0.5) * p->a;
     pdt_real_t disc = sigma * sigma - p->b;
     pdt_real_t a0;
+    pdt_real_t a1;
     pdt_real_t d0;
     pdt_real_t d1;
     if (disc >= PDT_R(0.0)) {
@@ -69,19 +80,21 @@ static void zoh_sopdt(const pdt_model_sopdt_t *p, pdt_real_t Ts, pdt_real_t f, p
         d0 = -(e1 + e2);
         d1 = e1 * e2;
         a0 = -(PDT_R(2.0) + e1 + e2);
+        /* a1 = e^{-a Ts} = z1 z2 */
+        a1 = exp_from_expm1(l1 * Ts, e1) * exp_from_expm1(l2 * Ts, e2);
     } else {
         /* z = e^{-sigma Ts} e^{+/- j wd Ts}: 1 - 2 E cos + E^2 written as
          * (1 - E)^2 + 4 E sin^2(wd Ts / 2), and 2 - 2 E cos likewise. */
         pdt_real_t wd = pdt_sqrt(-disc);
         pdt_real_t em = pdt_expm1(-sigma * Ts);
-        pdt_real_t e = pdt_exp(-sigma * Ts);
+        pdt_real_t e = exp_from_expm1(sigma * Ts, em);
         pdt_real_t s = pdt_sin(PDT_R(0.5) * wd * Ts);
         pdt_real_t q = PDT_R(4.0) * e * s * s;
         d0 = q - PDT_R(2.0) * em;
         d1 = em * em + q;
         a0 = PDT_R(-2.0) * e * pdt_cos(wd * Ts);
+        a1 = e * e; /* e^{-a Ts}, a = 2 sigma */
     }
-    pdt_real_t a1 = pdt_exp(-p->a * Ts);
 
     /* Numerator from the delay-free step response at m Ts, (1+m) Ts,
      * (2+m) Ts (m = 1 - f): with g the increments of those samples,

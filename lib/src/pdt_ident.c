@@ -499,20 +499,16 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         return PDT_ERR_NOMEM;
     }
 
-    /* Everything below writes only into locals and the workspace until the
-     * final copy into *ctx. */
-    pdt_ident_t c;
-    c = (pdt_ident_t){0};
-    c.cfg = *cfg;
-    c.cfg.population = population_of(cfg);
-    c.data = *data;
-    c.genes = genes_of(cfg->model);
+    /* The checks that can still fail write only into locals and the
+     * workspace; *ctx is written once they passed (a copy of the whole
+     * context would double the stack init needs). */
     const size_t quiet = samples_in(b.Td_min, cfg->Ts, data->n);
     pdt_real_t y0 = initial_level(data, quiet);
     pdt_cost_config_t cc;
     cost_config(cfg, data->u[0], y0, cfg->offset == PDT_IDENT_OFFSET_REST, delay_max, &cc);
     size_t cost_bytes = pdt_cost_workspace_size(&cc, data->n);
-    st = pdt_cost_init(&c.cost, &cc, data->u, data->y, data->n, work, cost_bytes);
+    pdt_cost_t cost;
+    st = pdt_cost_init(&cost, &cc, data->u, data->y, data->n, work, cost_bytes);
     if (st != PDT_OK) {
         return st;
     }
@@ -521,61 +517,71 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
      * empty and the search blind in it. */
     if ((cfg->cost == PDT_COST_FREQUENCY ||
          (cfg->cost == PDT_COST_COMBINED && cfg->phi_f > PDT_R(0.0))) &&
-        c.cost.k_first > c.cost.k_last) {
+        cost.k_first > cost.k_last) {
         return PDT_ERR_ARG;
     }
-    c.cost_work = work;
-    c.cost_work_len = cost_bytes;
+    /* cfg and data may lie in *ctx (a restart with its own settings). */
+    const pdt_ident_config_t cfg_in = *cfg;
+    const pdt_ident_data_t data_in = *data;
+    pdt_ident_t *const c = ctx;
+    *c = (pdt_ident_t){0};
+    c->cfg = cfg_in;
+    c->cfg.population = population_of(&cfg_in);
+    c->data = data_in;
+    c->genes = genes_of(cfg_in.model);
+    c->cost = cost;
+    c->cost_work = work;
+    c->cost_work_len = cost_bytes;
     cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
     /* work is aligned for pdt_real_t and cost_bytes a whole number of
      * reals, so the rest of the workspace is addressed in reals. */
     pdt_real_t *p = (pdt_real_t *)work + cost_bytes / sizeof(pdt_real_t);
-    size_t P = c.cfg.population, G = c.genes;
-    c.ga.pop = p;
+    size_t P = c->cfg.population, G = c->genes;
+    c->ga.pop = p;
     p += P * G;
-    c.ga.pop_cost = p;
+    c->ga.pop_cost = p;
     p += P;
-    c.ga.pop_gain = p;
+    c->ga.pop_gain = p;
     p += P;
-    c.ga.pop_offset = p;
+    c->ga.pop_offset = p;
     p += P;
-    c.ga.off = p;
+    c->ga.off = p;
     p += P * G;
-    c.ga.off_cost = p;
+    c->ga.off_cost = p;
     p += P;
-    c.ga.off_gain = p;
+    c->ga.off_gain = p;
     p += P;
-    c.ga.off_offset = p;
+    c->ga.off_offset = p;
     p += P;
-    c.ga.shared = p;
+    c->ga.shared = p;
     p += P;
-    c.scratch = p;
+    c->scratch = p;
 
     for (size_t j = 0; j < G; j++) {
-        c.lo[j] = glo[j];
-        c.hi[j] = ghi[j];
+        c->lo[j] = glo[j];
+        c->hi[j] = ghi[j];
     }
-    c.td_offset = td_offset(cfg, &b);
-    c.rest = rest_usable(cfg, data, quiet);
+    c->td_offset = td_offset(&cfg_in, &b);
+    c->rest = rest_usable(&cfg_in, &data_in, quiet);
 
-    c.vote.searches = searches_of(cfg);
-    c.vote.budget = cfg->max_evaluations / c.vote.searches;
+    c->vote.searches = searches_of(&cfg_in);
+    c->vote.budget = cfg_in.max_evaluations / c->vote.searches;
     /* The searches' coarse record, its cost over the whole record's (the
      * same workspace: PH_FINE prepares the whole one again). */
-    const size_t nc = pdt_ident_coarse_prepare(&c, &cc);
+    const size_t nc = pdt_ident_coarse_prepare(c, &cc);
     if (nc != 0u) {
-        const bool ok = pdt_cost_init(&c.cost, &cc, c.scratch, &c.scratch[nc], nc, work,
+        const bool ok = pdt_cost_init(&c->cost, &cc, c->scratch, &c->scratch[nc], nc, work,
                                       pdt_cost_workspace_size(&cc, nc)) == PDT_OK;
-        pdt_ident_coarse_begin(&c, ok, &cc);
+        pdt_ident_coarse_begin(c, ok, &cc);
         if (!ok) {
             /* Not a record its cost takes (a block mean left the input
              * still): the whole one, prepared again over what was written. */
-            (void)pdt_cost_init(&c.cost, &cc, data->u, data->y, data->n, work, c.cost_work_len);
+            (void)pdt_cost_init(&c->cost, &cc, data_in.u, data_in.y, data_in.n, work,
+                                c->cost_work_len);
         }
     }
-    pdt_ident_ga_start(&c);
-    c.magic = IDENT_MAGIC;
-    *ctx = c;
+    pdt_ident_ga_start(c);
+    c->magic = IDENT_MAGIC;
     return PDT_OK;
 }
 

@@ -18,7 +18,10 @@
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
 
-enum { POLISH_CENTRE = 1, POLISH_STENCIL, POLISH_TRIAL };
+/* pdt_ident_polish_t.state */
+#define POLISH_CENTRE  1u
+#define POLISH_STENCIL 2u
+#define POLISH_TRIAL   3u
 
 /* The differences' width is set by how far the cost rises across them:
  * RISE (a tenth of the centre's cost) keeps them where the cost is close
@@ -34,7 +37,7 @@ enum { POLISH_CENTRE = 1, POLISH_STENCIL, POLISH_TRIAL };
  * the cost by less than FTOL of it, ends the polish: the next would not
  * move the answer measurably. */
 #define POLISH_XTOL PDT_R(1e-6)
-#define POLISH_FTOL (PDT_R(16.0) * PDT_REAL_EPS)
+#define POLISH_FTOL (PDT_R(64.0) * PDT_REAL_EPS)
 
 /* The first difference step, normalised gene units. The answer of a
  * coarse record's search lies within a few thousandths of the whole
@@ -93,8 +96,13 @@ static void stencil_point(const pdt_ident_t *c, uint32_t k, pdt_real_t *out)
     }
     const uint32_t pair = (k - 2u * G) / 2u;
     /* pairs in order (0,1), (0,2), (1,2) */
-    i = pair < G - 1u ? 0u : 1u;
-    j = pair < G - 1u ? pair + 1u : 2u;
+    if (pair < G - 1u) {
+        i = 0u;
+        j = pair + 1u;
+    } else {
+        i = 1u;
+        j = 2u;
+    }
     out[i] += sign * step_of(c, i);
     out[j] += sign * step_of(c, j);
 }
@@ -122,7 +130,7 @@ static void fall_back(pdt_ident_t *c)
 /* The Newton step of the quadratic through the stencil, in normalised gene
  * units (x_j + s_j (hi_j - lo_j)); false when the Hessian is not positive
  * definite. */
-static bool newton_step(const pdt_ident_t *c, pdt_real_t *s)
+static bool newton_step(const pdt_ident_t *c, pdt_real_t *s, pdt_real_t *gs)
 {
     const pdt_ident_polish_t *p = &c->polish;
     const uint32_t G = c->genes;
@@ -164,7 +172,7 @@ static bool newton_step(const pdt_ident_t *c, pdt_real_t *s)
         }
     }
     /* L L^T s = -g */
-    pdt_real_t z[3];
+    pdt_real_t z[3] = {PDT_R(0.0)};
     for (uint32_t i = 0; i < G; i++) {
         pdt_real_t v = -g[i];
         for (uint32_t m = 0; m < i; m++) {
@@ -179,10 +187,12 @@ static bool newton_step(const pdt_ident_t *c, pdt_real_t *s)
         }
         s[i] = v / L[i][i];
     }
+    *gs = PDT_R(0.0);
     for (uint32_t i = 0; i < G; i++) {
         if (!pdt_finite(s[i])) {
             return false;
         }
+        *gs += g[i] * s[i];
     }
     return true;
 }
@@ -192,7 +202,7 @@ static void propose(pdt_ident_t *c)
 {
     pdt_ident_polish_t *p = &c->polish;
     const uint32_t G = c->genes;
-    pdt_real_t s[3];
+    pdt_real_t s[3], gs = PDT_R(0.0);
     pdt_real_t rise = PDT_R(0.0);
     for (uint32_t k = 0; k < points_of(c); k++) {
         const pdt_real_t r = p->f[k] / p->f0 - PDT_R(1.0);
@@ -206,7 +216,7 @@ static void propose(pdt_ident_t *c)
         stencil_begin(c);
         return;
     }
-    if (!newton_step(c, s) || left_of(c) < 1u) {
+    if (!newton_step(c, s, &gs) || left_of(c) < 1u) {
         fall_back(c);
         return;
     }
@@ -218,6 +228,9 @@ static void propose(pdt_ident_t *c)
     const pdt_real_t scale = len > reach ? reach / len : PDT_R(1.0);
     p->cut = len > reach;
     p->back = 0u;
+    /* The model's decrease along the step taken: -g.s scale (1 - scale / 2),
+     * since H s = -g. */
+    p->pred = -gs * scale * (PDT_R(1.0) - PDT_R(0.5) * scale);
     p->len = PDT_R(0.0);
     for (uint32_t j = 0; j < G; j++) {
         const pdt_real_t x = pdt_ident_clamp(c, j, p->x[j] + scale * s[j] * (c->hi[j] - c->lo[j]));
@@ -264,7 +277,7 @@ uint32_t pdt_ident_polish_group(const pdt_ident_t *c)
         return 1u;
     }
     const uint32_t left = points_of(c) - p->next;
-    return left < PDT_VECTOR_LANES ? left : PDT_VECTOR_LANES;
+    return left < (uint32_t)PDT_VECTOR_LANES ? left : (uint32_t)PDT_VECTOR_LANES;
 }
 
 void pdt_ident_polish_step(pdt_ident_t *c)
@@ -306,8 +319,9 @@ void pdt_ident_polish_step(pdt_ident_t *c)
     /* POLISH_TRIAL */
     pdt_ident_evaluate(c, p->trial, &f, &gain, &offset);
     if (!(f < p->f0)) {
-        if (p->len < POLISH_XTOL) {
-            /* At the resolution of the differences: the centre stands. */
+        if (p->len < POLISH_XTOL || p->pred <= POLISH_FTOL * p->f0) {
+            /* At the resolution of the differences, or a decrease below
+             * the cost's rounding: the centre stands. */
             pdt_ident_refine_end(c);
         } else if (p->back < POLISH_BACKTRACK && left_of(c) >= 1u) {
             /* The model overshot: half the step. */
@@ -315,6 +329,7 @@ void pdt_ident_polish_step(pdt_ident_t *c)
                 p->trial[j] = p->x[j] + PDT_R(0.5) * (p->trial[j] - p->x[j]);
             }
             p->len *= PDT_R(0.5);
+            p->pred *= PDT_R(0.5);
             p->back++;
         } else {
             fall_back(c);

@@ -304,7 +304,7 @@ static uint32_t niche_group(const pdt_ident_t *c, uint32_t *which)
 {
     const pdt_ident_refine_t *nm = &c->nm;
     uint32_t count = 0u;
-    for (uint32_t i = 0; i < nm->nstarts && count < PDT_VECTOR_LANES; i++) {
+    for (uint32_t i = 0; i < nm->nstarts && count < (uint32_t)PDT_VECTOR_LANES; i++) {
         const uint32_t k = (nm->next + i) % nm->nstarts;
         if (nm->run[k].state != NM_END) {
             which[count] = k;
@@ -340,17 +340,18 @@ static void niches_step(pdt_ident_t *c)
             pts[i * G + j] = x[j];
         }
     }
+    if (count == 0u) {
+        return;
+    }
     if (count == 1u) {
         pdt_ident_evaluate(c, pts, cost, gain, offset);
-    } else if (count > 1u) {
+    } else {
         pdt_ident_evaluate_many(c, pts, count, cost, gain, offset);
     }
     for (uint32_t i = 0; i < count; i++) {
         nm_take(c, &nm->run[which[i]], cost[i]);
     }
-    if (count > 0u) {
-        nm->next = (which[count - 1u] + 1u) % nm->nstarts;
-    }
+    nm->next = (which[count - 1u] + 1u) % nm->nstarts;
 }
 
 static bool niches_running(const pdt_ident_t *c)

@@ -275,6 +275,7 @@ typedef struct pdt_ident_polish {
     pdt_real_t f[12];    /* the costs about the centre */
     pdt_real_t trial[3]; /* the Newton step's point */
     pdt_real_t len;      /* its distance, normalised */
+    pdt_real_t pred;     /* the cost's decrease the model expects there */
     uint32_t state;
     uint32_t next;    /* next point about the centre */
     uint32_t iter;    /* Newton steps taken */
