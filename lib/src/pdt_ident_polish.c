@@ -39,6 +39,10 @@
 #define POLISH_XTOL PDT_R(1e-6)
 #define POLISH_FTOL (PDT_R(64.0) * PDT_REAL_EPS)
 
+/* A failed step's rise above NOISE FTOL of the cost is the model's
+ * failure, not the cost's rounding. */
+#define POLISH_NOISE PDT_R(8.0)
+
 /* The first difference step, normalised gene units. The answer of a
  * coarse record's search lies within a few thousandths of the whole
  * record's optimum, and there a SOPDT's cost already rises to twice its
@@ -228,6 +232,7 @@ static void propose(pdt_ident_t *c)
     const pdt_real_t scale = len > reach ? reach / len : PDT_R(1.0);
     p->cut = len > reach;
     p->back = 0u;
+    p->rose = false;
     /* The model's decrease along the step taken: -g.s scale (1 - scale / 2),
      * since H s = -g. */
     p->pred = -gs * scale * (PDT_R(1.0) - PDT_R(0.5) * scale);
@@ -319,7 +324,11 @@ void pdt_ident_polish_step(pdt_ident_t *c)
     /* POLISH_TRIAL */
     pdt_ident_evaluate(c, p->trial, &f, &gain, &offset);
     if (!(f < p->f0)) {
-        if (p->len < POLISH_XTOL || p->pred <= POLISH_FTOL * p->f0) {
+        /* A rise beyond the cost's rounding where the model expected a
+         * fall: not a quadratic there (a FOPDT's cost has a kink where its
+         * dead time is a whole number of samples). */
+        p->rose = p->rose || f - p->f0 > POLISH_NOISE * POLISH_FTOL * p->f0;
+        if (p->len < POLISH_XTOL || (!p->rose && p->pred <= POLISH_FTOL * p->f0)) {
             /* At the resolution of the differences, or a decrease below
              * the cost's rounding: the centre stands. */
             pdt_ident_refine_end(c);

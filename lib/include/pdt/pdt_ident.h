@@ -282,6 +282,7 @@ typedef struct pdt_ident_polish {
     uint32_t back;    /* halvings of the running step */
     pdt_real_t width; /* the running stencil's difference step */
     bool cut;         /* the running step was cut to its reach */
+    bool rose;        /* a try of it raised the cost beyond rounding */
 } pdt_ident_polish_t;
 
 typedef struct pdt_ident_scan {
