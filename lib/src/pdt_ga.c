@@ -239,14 +239,44 @@ void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t 
     for (size_t i = 0; i < n; i++) {
         shared[i] = PDT_R(1.0);
     }
+    if (alpha == PDT_R(1.0) && g <= SHARE_GENES) {
+        /* The identification's case (the triangle, at most three genes):
+         * no division and no branch per pair. Whether a pair shares a
+         * niche is a coin toss to a branch predictor, and a division
+         * waits longer than everything else the pair does. */
+        const pdt_real_t inv_sigma = PDT_R(1.0) / sigma;
+        for (size_t i = 0; i < n; i++) {
+            const pdt_real_t *xi = genes + i * g;
+            pdt_real_t m = shared[i];
+            for (size_t j = i + 1u; j < n; j++) {
+                const pdt_real_t *xj = genes + j * g;
+                pdt_real_t d2 = PDT_R(0.0);
+                for (size_t k = 0; k < g; k++) {
+                    const pdt_real_t t = (xi[k] - xj[k]) * inv[k];
+                    d2 += t * t;
+                }
+                const pdt_real_t x = PDT_R(1.0) - pdt_sqrt(d2) * inv_sigma;
+                /* max(x, 0) exactly, as arithmetic: compilers make a
+                 * conditional a branch here. */
+                const pdt_real_t s = PDT_R(0.5) * (x + pdt_fabs(x));
+                m += s;
+                shared[j] += s;
+            }
+            shared[i] = m * cost[i];
+        }
+        return;
+    }
     for (size_t i = 0; i < n; i++) {
+        /* Row i's count in a register: through shared[i] every pair
+         * would wait for the store of the one before. */
+        pdt_real_t m = shared[i];
         for (size_t j = i + 1u; j < n; j++) {
             const pdt_real_t s =
                 share_of(genes + i * g, genes + j * g, g, inv, lo, hi, sigma, alpha);
-            shared[i] += s;
+            m += s;
             shared[j] += s;
         }
-        shared[i] *= cost[i];
+        shared[i] = m * cost[i];
     }
 }
 
