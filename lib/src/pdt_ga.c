@@ -182,6 +182,24 @@ static inline pdt_real_t share_pair(const pdt_real_t *xi, const pdt_real_t *xj, 
     return PDT_R(1.0) - (alpha == PDT_R(1.0) ? ratio : pdt_pow(ratio, alpha));
 }
 
+/* share_pair for alpha = 1 (the triangle) by the reciprocal of sigma too:
+ * no division and no branch. Whether a pair shares a niche is a coin toss
+ * to a branch predictor, and a division waits longer than everything else
+ * the pair does. Symmetric bit for bit like share_pair. */
+static inline pdt_real_t share_tri(const pdt_real_t *xi, const pdt_real_t *xj, size_t g,
+                                   const pdt_real_t *inv, pdt_real_t inv_sigma)
+{
+    pdt_real_t d2 = PDT_R(0.0);
+    for (size_t k = 0; k < g; k++) {
+        const pdt_real_t t = (xi[k] - xj[k]) * inv[k];
+        d2 += t * t;
+    }
+    const pdt_real_t x = PDT_R(1.0) - pdt_sqrt(d2) * inv_sigma;
+    /* max(x, 0) exactly, as arithmetic: compilers make a conditional a
+     * branch here. */
+    return PDT_R(0.5) * (x + pdt_fabs(x));
+}
+
 /* The same with the division per gene, for more than SHARE_GENES. */
 static pdt_real_t share_pair_wide(const pdt_real_t *xi, const pdt_real_t *xj, size_t g,
                                   const pdt_real_t *lo, const pdt_real_t *hi, pdt_real_t sigma,
@@ -203,8 +221,11 @@ static pdt_real_t share_of(const pdt_real_t *xi, const pdt_real_t *xj, size_t g,
                            const pdt_real_t *inv, const pdt_real_t *lo, const pdt_real_t *hi,
                            pdt_real_t sigma, pdt_real_t alpha)
 {
-    return g <= SHARE_GENES ? share_pair(xi, xj, g, inv, sigma, alpha)
-                            : share_pair_wide(xi, xj, g, lo, hi, sigma, alpha);
+    if (g > SHARE_GENES) {
+        return share_pair_wide(xi, xj, g, lo, hi, sigma, alpha);
+    }
+    return alpha == PDT_R(1.0) ? share_tri(xi, xj, g, inv, PDT_R(1.0) / sigma)
+                               : share_pair(xi, xj, g, inv, sigma, alpha);
 }
 
 void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t *lo,
@@ -240,25 +261,12 @@ void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t 
         shared[i] = PDT_R(1.0);
     }
     if (alpha == PDT_R(1.0) && g <= SHARE_GENES) {
-        /* The identification's case (the triangle, at most three genes):
-         * no division and no branch per pair. Whether a pair shares a
-         * niche is a coin toss to a branch predictor, and a division
-         * waits longer than everything else the pair does. */
+        /* The identification's case: the triangle, at most three genes. */
         const pdt_real_t inv_sigma = PDT_R(1.0) / sigma;
         for (size_t i = 0; i < n; i++) {
-            const pdt_real_t *xi = genes + i * g;
             pdt_real_t m = shared[i];
             for (size_t j = i + 1u; j < n; j++) {
-                const pdt_real_t *xj = genes + j * g;
-                pdt_real_t d2 = PDT_R(0.0);
-                for (size_t k = 0; k < g; k++) {
-                    const pdt_real_t t = (xi[k] - xj[k]) * inv[k];
-                    d2 += t * t;
-                }
-                const pdt_real_t x = PDT_R(1.0) - pdt_sqrt(d2) * inv_sigma;
-                /* max(x, 0) exactly, as arithmetic: compilers make a
-                 * conditional a branch here. */
-                const pdt_real_t s = PDT_R(0.5) * (x + pdt_fabs(x));
+                const pdt_real_t s = share_tri(genes + i * g, genes + j * g, g, inv, inv_sigma);
                 m += s;
                 shared[j] += s;
             }
