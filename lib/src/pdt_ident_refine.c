@@ -376,7 +376,15 @@ void pdt_ident_refine_step(pdt_ident_t *c)
             return;
         }
         if (left_of(c) >= c->genes + 1u) {
-            polish_start(c);
+            if (c->cfg.cost == PDT_COST_SIMULATION) {
+                /* The output error is smooth enough for Newton steps
+                 * (pdt_ident_polish.c), which hand over to Nelder-Mead
+                 * where it is not. */
+                nm->start_i = nm->nstarts;
+                pdt_ident_polish_begin(c);
+            } else {
+                polish_start(c);
+            }
             return;
         }
         pdt_ident_refine_end(c);
