@@ -119,19 +119,27 @@ static bool invert(pdt_fisher_matrix_t F, pdt_fisher_matrix_t Inv, uint32_t n, b
 
 /* The residual's lagged products: the running state of one pass. */
 typedef struct lag_sums {
-    pdt_real_t last[PDT_FISHER_LAGS];       /* e(k) at ring position k % LAGS */
+    /* e(k) at ring position r = k % LAGS and again at r + LAGS: the lags
+     * of a sample are then one run of the ring, read without a modulo per
+     * lag (20 per sample, the pass's largest cost). */
+    pdt_real_t last[2u * PDT_FISHER_LAGS];
     pdt_real_t first[PDT_FISHER_LAGS + 1u]; /* sums of the first i residuals */
     pdt_real_t prod[PDT_FISHER_LAGS];       /* sum of e(k) e(k - l) */
     pdt_real_t sum, part_sum;               /* sum of e, its block part */
+    size_t pos;                             /* k % LAGS of the next sample */
 } lag_sums_t;
 
 static void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
 {
     const size_t lags = k < PDT_FISHER_LAGS ? k : PDT_FISHER_LAGS;
+    /* e(k - l) sits at r - l + LAGS. */
+    const size_t top = L->pos + PDT_FISHER_LAGS;
     for (size_t l = 1; l <= lags; l++) {
-        L->prod[l - 1u] += e * L->last[(k - l) % PDT_FISHER_LAGS];
+        L->prod[l - 1u] += e * L->last[top - l];
     }
-    L->last[k % PDT_FISHER_LAGS] = e;
+    L->last[L->pos] = e;
+    L->last[L->pos + PDT_FISHER_LAGS] = e;
+    L->pos = (L->pos + 1u == PDT_FISHER_LAGS) ? 0u : L->pos + 1u;
     L->part_sum += e;
     if (k < PDT_FISHER_LAGS) {
         L->first[k + 1u] = L->first[k] + e;
@@ -192,7 +200,7 @@ pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_
         }
     }
     pdt_real_t part[PDT_FISHER_MAX][PDT_FISHER_MAX] = {{PDT_R(0.0)}};
-    lag_sums_t L = {{PDT_R(0.0)}, {PDT_R(0.0)}, {PDT_R(0.0)}, PDT_R(0.0), PDT_R(0.0)};
+    lag_sums_t L = {{PDT_R(0.0)}, {PDT_R(0.0)}, {PDT_R(0.0)}, PDT_R(0.0), PDT_R(0.0), 0u};
     pdt_real_t se = PDT_R(0.0);
     pdt_real_t sp = PDT_R(0.0);
     bool finite = true;
