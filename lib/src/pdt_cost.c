@@ -1440,9 +1440,10 @@ pdt_status_t pdt_cost_fit(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t 
     }
     {
         const int sh = c->u_exp - c->y_exp;
+        const pdt_real_t ratio = c->pow2[POW2_TO_NORM_GAIN];
         bsum_t se = {PDT_R(0.0), PDT_R(0.0), 0u}, sv = {PDT_R(0.0), PDT_R(0.0), 0u};
         for (k = 0u; k < c->n; k++) {
-            pdt_real_t e = c->y[k] - (pdt_ldexp(scratch[k], sh) + off);
+            pdt_real_t e = c->y[k] - (by_pow2(scratch[k], ratio, sh) + off);
             pdt_real_t dv = c->y[k] - mean;
             bsum_add(&se, e * e);
             bsum_add(&sv, dv * dv);
@@ -1470,8 +1471,9 @@ pdt_status_t pdt_cost_simulate(const pdt_cost_t *c, const pdt_discrete_t *d, pdt
         return PDT_ERR_ARG;
     }
     simulate_dev(c, d, ysim);
+    const pdt_real_t s = pow2_of(c->u_exp);
     for (k = 0u; k < c->n; k++) {
-        ysim[k] = pdt_ldexp(ysim[k], c->u_exp) + c->cfg.y0;
+        ysim[k] = by_pow2(ysim[k], s, c->u_exp) + c->cfg.y0;
     }
     return PDT_OK;
 }
