@@ -119,10 +119,7 @@ static bool invert(pdt_fisher_matrix_t F, pdt_fisher_matrix_t Inv, uint32_t n, b
 
 /* The residual's lagged products: the running state of one pass. */
 typedef struct lag_sums {
-    /* e(k) at ring position r = k % LAGS and again at r + LAGS: the lags
-     * of a sample are then one run of the ring, read without a modulo per
-     * lag (20 per sample, the pass's largest cost). */
-    pdt_real_t last[2u * PDT_FISHER_LAGS];
+    pdt_real_t last[PDT_FISHER_LAGS];       /* e(k) at ring position k % LAGS */
     pdt_real_t first[PDT_FISHER_LAGS + 1u]; /* sums of the first i residuals */
     pdt_real_t prod[PDT_FISHER_LAGS];       /* sum of e(k) e(k - l) */
     pdt_real_t sum, part_sum;               /* sum of e, its block part */
@@ -132,14 +129,19 @@ typedef struct lag_sums {
 static void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
 {
     const size_t lags = k < PDT_FISHER_LAGS ? k : PDT_FISHER_LAGS;
-    /* e(k - l) sits at r - l + LAGS. */
-    const size_t top = L->pos + PDT_FISHER_LAGS;
-    for (size_t l = 1; l <= lags; l++) {
-        L->prod[l - 1u] += e * L->last[top - l];
+    const size_t r = L->pos; /* k % LAGS */
+    /* e(k - l) sits at r - l, then, past the ring's start, at r - l +
+     * LAGS: two runs with no modulo per lag (20 per sample, the pass's
+     * largest cost before). */
+    const size_t near = lags < r ? lags : r;
+    for (size_t l = 1; l <= near; l++) {
+        L->prod[l - 1u] += e * L->last[r - l];
     }
-    L->last[L->pos] = e;
-    L->last[L->pos + PDT_FISHER_LAGS] = e;
-    L->pos = (L->pos + 1u == PDT_FISHER_LAGS) ? 0u : L->pos + 1u;
+    for (size_t l = near + 1u; l <= lags; l++) {
+        L->prod[l - 1u] += e * L->last[r + PDT_FISHER_LAGS - l];
+    }
+    L->last[r] = e;
+    L->pos = (r + 1u == PDT_FISHER_LAGS) ? 0u : r + 1u;
     L->part_sum += e;
     if (k < PDT_FISHER_LAGS) {
         L->first[k + 1u] = L->first[k] + e;
