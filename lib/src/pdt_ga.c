@@ -235,7 +235,7 @@ void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t 
     PDT_ASSERT(n == 0u || (genes != NULL && cost != NULL && shared != NULL));
     PDT_ASSERT(g == 0u || (lo != NULL && hi != NULL));
     PDT_ASSERT(sigma > PDT_R(0.0) && alpha > PDT_R(0.0));
-    pdt_real_t inv[SHARE_GENES] = {PDT_R(0.0)};
+    pdt_real_t inv[SHARE_GENES] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     for (size_t k = 0; k < g && k < SHARE_GENES; k++) {
         inv[k] = PDT_R(1.0) / (hi[k] - lo[k]);
     }
