@@ -1,7 +1,8 @@
 /*
- * The polish of one answer on the record it is judged on (after searches
- * on a coarse record, and on the rest level): a Newton iteration on a
- * quadratic model from central differences.
+ * The polish of one answer (a search's own last polish with the output
+ * error, the whole record's after searches on a coarse one, the rest
+ * level's): a Newton iteration on a quadratic model from central
+ * differences.
  *
  * The answer comes from a search that already found its basin, so the cost
  * around it is close to a quadratic. Its gradient and Hessian in the genes
@@ -11,9 +12,10 @@
  * to the model's minimum. Two or three such steps reach where Nelder-Mead
  * took 50 (FOPDT) to 90 (SOPDT) evaluations of the whole record, one at a
  * time. Where the model is not trustworthy (a Hessian that is not
- * positive definite, a step that does not lower the cost, a centre too
- * close to a gene's bound for the points about it), Nelder-Mead polishes
- * from the best point seen, as before, with what is left of the budget.
+ * positive definite, a centre too close to a gene's bound for the points
+ * about it, a step cut to its reach, a step whose tries raised the cost),
+ * Nelder-Mead polishes from the best point seen, as before, with what is
+ * left of the budget. docs/ident-engine.md, "The polish of one answer".
  */
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
