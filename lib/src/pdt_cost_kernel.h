@@ -35,8 +35,9 @@ void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t 
 
 /* The same for count candidates d[0..count-1] with one reference fit, into
  * out[0..count-1]. Where the compiler offers vector registers (GCC or
- * Clang with SSE2 or NEON) four candidates of one order run in one pass,
- * a lane each; otherwise, and for other counts, one pass each. */
+ * Clang with SSE2 or NEON) two to four candidates of one order run in one
+ * pass, a lane each (the free lanes repeat the first); otherwise, and for
+ * one candidate, one pass each. */
 void pdt_cost_kernel_many(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t k0,
                           const pdt_discrete_t *d, size_t count, pdt_real_t K0, pdt_real_t c0,
                           pdt_cost_sums_t *out);

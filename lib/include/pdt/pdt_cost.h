@@ -359,11 +359,12 @@ pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape
  * reference fit, into out[0..count-1], each with its own gain bounds
  * gain_min[i], gain_max[i]: the same results as count calls, up to
  * rounding. Where the host has vector registers (GCC or Clang with SSE2
- * or NEON) four shapes of one order (all FOPDT or all SOPDT) on a
+ * or NEON) two to four shapes of one order (all FOPDT or all SOPDT) on a
  * SIMULATION time part are simulated side by side in one pass over the
- * record; elsewhere each shape gets its own pass, as in count calls. The
- * identification's population evaluation calls it with four candidates at
- * a time. Returns PDT_ERR_ARG for NULL, count 0 or above PDT_COST_MANY, or
+ * record (fewer than four cost what four cost); elsewhere each shape gets
+ * its own pass, as in count calls. The identification's population
+ * evaluation calls it with four candidates at a time, its niche runs and
+ * its polish with two to four. Returns PDT_ERR_ARG for NULL, count 0 or above PDT_COST_MANY, or
  * any shape pdt_cost_profile refuses (PDT_ERR_BOUNDS for a gain_min above
  * its gain_max); out is then untouched. */
 pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shapes, size_t count,
