@@ -19,6 +19,7 @@
  */
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
+#include "pdt_linalg.h"
 
 /* pdt_ident_polish_t.state */
 #define POLISH_CENTRE  1u
@@ -141,7 +142,7 @@ static bool newton_step(const pdt_ident_t *c, pdt_real_t *s, pdt_real_t *gs)
     const pdt_ident_polish_t *p = &c->polish;
     const uint32_t G = c->genes;
     const pdt_real_t f0 = p->f0, h = p->width;
-    pdt_real_t g[3], H[3][3], L[3][3];
+    pdt_real_t g[3], H[3][3];
     for (uint32_t i = 0; i < G; i++) {
         const pdt_real_t fp = p->f[2u * i], fm = p->f[2u * i + 1u];
         g[i] = (fp - fm) / (PDT_R(2.0) * h);
@@ -159,39 +160,13 @@ static bool newton_step(const pdt_ident_t *c, pdt_real_t *s, pdt_real_t *gs)
             k += 2u;
         }
     }
-    /* Cholesky, H = L L^T; a pivot that is not clearly positive (relative
-     * to the diagonal it came from) means no minimum of the model. */
+    /* H s = -g; a pivot that is not clearly positive (relative to the
+     * diagonal it came from) means no minimum of the model. */
     for (uint32_t i = 0; i < G; i++) {
-        for (uint32_t j = 0; j <= i; j++) {
-            pdt_real_t v = H[i][j];
-            for (uint32_t m = 0; m < j; m++) {
-                v -= L[i][m] * L[j][m];
-            }
-            if (i == j) {
-                if (!(v > PDT_R(64.0) * PDT_REAL_EPS * H[i][i])) {
-                    return false;
-                }
-                L[i][i] = pdt_sqrt(v);
-            } else {
-                L[i][j] = v / L[j][j];
-            }
-        }
+        s[i] = -g[i];
     }
-    /* L L^T s = -g */
-    pdt_real_t z[3] = {PDT_R(0.0)};
-    for (uint32_t i = 0; i < G; i++) {
-        pdt_real_t v = -g[i];
-        for (uint32_t m = 0; m < i; m++) {
-            v -= L[i][m] * z[m];
-        }
-        z[i] = v / L[i][i];
-    }
-    for (uint32_t i = G; i-- > 0u;) {
-        pdt_real_t v = z[i];
-        for (uint32_t m = i + 1u; m < G; m++) {
-            v -= L[m][i] * s[m];
-        }
-        s[i] = v / L[i][i];
+    if (!pdt_chol_solve(&H[0][0], 3u, G, PDT_R(64.0) * PDT_REAL_EPS, s)) {
+        return false;
     }
     *gs = PDT_R(0.0);
     for (uint32_t i = 0; i < G; i++) {

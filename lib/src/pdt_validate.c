@@ -7,6 +7,7 @@
 #include "pdt/pdt_discrete.h"
 #include "pdt_fisher.h"
 #include "pdt_internal.h"
+#include "pdt_linalg.h"
 
 /* The lags the Fisher pass sums are the whiteness test's. */
 typedef char lags_match[(PDT_VALIDATE_LAGS == PDT_FISHER_LAGS) ? 1 : -1];
@@ -29,45 +30,6 @@ static pdt_real_t chi2_99(pdt_real_t nu)
     pdt_real_t c = PDT_R(2.0) / (PDT_R(9.0) * nu);
     pdt_real_t t = PDT_R(1.0) - c + PDT_R(2.3263) * pdt_sqrt(c);
     return nu * t * t * t;
-}
-
-/* Solves A x = b in place for a symmetric positive definite n x n A (row
- * stride PDT_VALIDATE_FIR) by Cholesky; false when A is not positive
- * definite. */
-static bool chol_solve(pdt_real_t A[PDT_VALIDATE_FIR][PDT_VALIDATE_FIR], pdt_real_t *x, uint32_t n)
-{
-    for (uint32_t j = 0; j < n; j++) {
-        pdt_real_t s = A[j][j];
-        for (uint32_t k = 0; k < j; k++) {
-            s -= A[j][k] * A[j][k];
-        }
-        if (!(s > PDT_R(0.0))) {
-            return false;
-        }
-        A[j][j] = pdt_sqrt(s);
-        for (uint32_t i = j + 1u; i < n; i++) {
-            pdt_real_t t = A[i][j];
-            for (uint32_t k = 0; k < j; k++) {
-                t -= A[i][k] * A[j][k];
-            }
-            A[i][j] = t / A[j][j];
-        }
-    }
-    for (uint32_t i = 0; i < n; i++) {
-        pdt_real_t t = x[i];
-        for (uint32_t k = 0; k < i; k++) {
-            t -= A[i][k] * x[k];
-        }
-        x[i] = t / A[i][i];
-    }
-    for (uint32_t ii = n; ii-- > 0u;) {
-        pdt_real_t t = x[ii];
-        for (uint32_t k = ii + 1u; k < n; k++) {
-            t -= A[k][ii] * x[k];
-        }
-        x[ii] = t / A[ii][ii];
-    }
-    return true;
 }
 
 /* The pieces every call shares: argument checks, the input's deviation
@@ -245,7 +207,7 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
         h[i] = bv[i];
     }
     pdt_real_t ess = PDT_R(0.0);
-    if (chol_solve(A, h, PDT_VALIDATE_FIR)) {
+    if (pdt_chol_solve(&A[0][0], PDT_VALIDATE_FIR, PDT_VALIDATE_FIR, PDT_R(0.0), h)) {
         for (uint32_t i = 0; i < PDT_VALIDATE_FIR; i++) {
             ess += h[i] * bv[i];
             r.fir[i] = h[i];
