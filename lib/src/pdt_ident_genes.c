@@ -47,6 +47,13 @@ uint32_t pdt_ident_used(const pdt_ident_t *c)
     return c->evaluations - c->vote.base;
 }
 
+uint32_t pdt_ident_left(const pdt_ident_t *c)
+{
+    const uint32_t left = c->vote.budget - pdt_ident_late_reserve(&c->cfg);
+    const uint32_t used = pdt_ident_used(c);
+    return left > used ? left - used : 0u;
+}
+
 pdt_real_t pdt_ident_td_of_gene(const pdt_ident_t *c, pdt_real_t g)
 {
     pdt_real_t Td = pdt_exp(g) - c->td_offset;

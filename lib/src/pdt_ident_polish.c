@@ -71,15 +71,6 @@ static uint32_t points_of(const pdt_ident_t *c)
     return c->genes * (c->genes + 1u);
 }
 
-/* Evaluations the polish may still use (the budget pdt_ident_refine_polish
- * set, less the late reserve). */
-static uint32_t left_of(const pdt_ident_t *c)
-{
-    const uint32_t left = c->vote.budget - pdt_ident_late_reserve(&c->cfg);
-    const uint32_t used = pdt_ident_used(c);
-    return left > used ? left - used : 0u;
-}
-
 /* Difference step of gene j, in its own units. */
 static pdt_real_t step_of(const pdt_ident_t *c, uint32_t j)
 {
@@ -197,7 +188,7 @@ static void propose(pdt_ident_t *c)
         stencil_begin(c);
         return;
     }
-    if (!newton_step(c, s, &gs) || left_of(c) < 1u) {
+    if (!newton_step(c, s, &gs) || pdt_ident_left(c) < 1u) {
         fall_back(c);
         return;
     }
@@ -227,7 +218,7 @@ static void propose(pdt_ident_t *c)
 static void stencil_begin(pdt_ident_t *c)
 {
     pdt_ident_polish_t *p = &c->polish;
-    if (p->iter >= POLISH_ITERATIONS || left_of(c) < points_of(c) + 1u) {
+    if (p->iter >= POLISH_ITERATIONS || pdt_ident_left(c) < points_of(c) + 1u) {
         pdt_ident_refine_end(c);
         return;
     }
@@ -309,7 +300,7 @@ void pdt_ident_polish_step(pdt_ident_t *c)
             /* At the resolution of the differences, or a decrease below
              * the cost's rounding: the centre stands. */
             pdt_ident_refine_end(c);
-        } else if (p->back < POLISH_BACKTRACK && left_of(c) >= 1u) {
+        } else if (p->back < POLISH_BACKTRACK && pdt_ident_left(c) >= 1u) {
             /* The model overshot: half the step. */
             for (uint32_t j = 0; j < G; j++) {
                 p->trial[j] = p->x[j] + PDT_R(0.5) * (p->trial[j] - p->x[j]);

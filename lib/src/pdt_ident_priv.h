@@ -66,6 +66,9 @@ uint32_t pdt_ident_late_reserve(const pdt_ident_config_t *cfg);
 
 /* Evaluations the running search has used. */
 uint32_t pdt_ident_used(const pdt_ident_t *c);
+/* Evaluations the running search (or polish) may still use before its
+ * late reserve. */
+uint32_t pdt_ident_left(const pdt_ident_t *c);
 
 /* The least budget of one search (pdt_ident.c): one population (two with
  * the CONTROL weighting), one simplex and the late reserve. */

@@ -28,14 +28,6 @@ static pdt_real_t step_of(const pdt_ident_t *c)
     return c->coarse.stage == 2u ? NM_STEP_WHOLE : NM_STEP;
 }
 
-/* Evaluations the running search may still use before its late reserve. */
-static uint32_t left_of(const pdt_ident_t *c)
-{
-    const uint32_t left = c->vote.budget - pdt_ident_late_reserve(&c->cfg);
-    const uint32_t used = pdt_ident_used(c);
-    return left > used ? left - used : 0u;
-}
-
 /* COMBINED: the spectra re-centred on the output level the model
  * estimated, one more preparation of the cost in its own workspace. */
 void pdt_ident_refine_recentre(pdt_ident_t *c)
@@ -119,7 +111,7 @@ static void niches_start(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     const uint32_t G = c->genes;
-    const uint32_t left = left_of(c);
+    const uint32_t left = pdt_ident_left(c);
     /* Fewer starts when half the budget cannot give each a whole simplex;
      * the first always fits (refine_evaluations >= genes + 1). */
     const uint32_t per = (left / 2u) / (G + 1u);
@@ -141,7 +133,7 @@ static void polish_start(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     nm->start_i = nm->nstarts;
-    simplex_start(c, &nm->run[0], c->best.genes, left_of(c));
+    simplex_start(c, &nm->run[0], c->best.genes, pdt_ident_left(c));
 }
 
 /* The cost scale may have changed (re-centred spectra): the best is
@@ -375,7 +367,7 @@ void pdt_ident_refine_step(pdt_ident_t *c)
         if (niches_running(c)) {
             return;
         }
-        if (left_of(c) >= c->genes + 1u) {
+        if (pdt_ident_left(c) >= c->genes + 1u) {
             if (c->cfg.cost == PDT_COST_SIMULATION) {
                 /* The output error is smooth enough for Newton steps
                  * (pdt_ident_polish.c), which hand over to Nelder-Mead
@@ -411,7 +403,7 @@ void pdt_ident_refine_end(pdt_ident_t *c)
 void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget)
 {
     /* The polish of the best (start_i == nstarts) within budget: the
-     * running search's budget is set so that left_of gives it. */
+     * running search's budget is set so that pdt_ident_left gives it. */
     c->vote.base = c->evaluations;
     c->vote.budget = budget + pdt_ident_late_reserve(&c->cfg);
     pdt_ident_polish_begin(c);
@@ -421,7 +413,7 @@ void pdt_ident_refine_nm_best(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     nm->nstarts = 0u;
-    if (left_of(c) < c->genes + 1u) {
+    if (pdt_ident_left(c) < c->genes + 1u) {
         pdt_ident_refine_end(c);
         return;
     }
