@@ -26,12 +26,17 @@
 #define POLISH_STENCIL 2u
 #define POLISH_TRIAL   3u
 
-/* The differences' width is set by how far the cost rises across them:
- * RISE (a tenth of the centre's cost) keeps them where the cost is close
- * to its quadratic and far above the rounding of a float cost. A stencil
- * that rose more than RISE_MAX is too wide for a Newton step at all. */
-#define POLISH_RISE     PDT_R(0.1)
-#define POLISH_RISE_MAX PDT_R(2.0)
+/* Each gene's difference width is set by how far the cost rose across it:
+ * RISE (a tenth of the centre's cost) while the answer is still on its way
+ * (wide differences see the basin's shape from farther off), RISE_FINE
+ * once a whole Newton step succeeded or the centre stood: the truncation
+ * error of differences that wide left the answers of long valleys 1e-4
+ * of the cost above their minimum, and a thousandth is still far above
+ * the rounding of a float cost. A stencil that rose more than RISE_MAX is
+ * too wide for a Newton step at all. */
+#define POLISH_RISE      PDT_R(0.1)
+#define POLISH_RISE_FINE PDT_R(1e-3)
+#define POLISH_RISE_MAX  PDT_R(2.0)
 
 /* The narrowest difference step, normalised gene units. */
 #define POLISH_H_MIN PDT_R(1e-6)
@@ -74,7 +79,7 @@ static uint32_t points_of(const pdt_ident_t *c)
 /* Difference step of gene j, in its own units. */
 static pdt_real_t step_of(const pdt_ident_t *c, uint32_t j)
 {
-    return c->polish.width * (c->hi[j] - c->lo[j]);
+    return c->polish.w[j] * (c->hi[j] - c->lo[j]);
 }
 
 /* Point k of the stencil: k < 2G is +e_i (k even) or -e_i, i = k / 2;
@@ -119,54 +124,91 @@ static bool stencil_fits(const pdt_ident_t *c)
 
 static void stencil_begin(pdt_ident_t *c);
 
+/* Narrow differences from now on: their truncation error (the cost's
+ * cubic terms across a rise of POLISH_RISE) leaves the Newton step a few
+ * hundredths of a width off the minimum, a rise of 1e-4 of the cost. */
+static void go_fine(pdt_ident_polish_t *p, uint32_t G)
+{
+    const pdt_real_t narrow = pdt_sqrt(POLISH_RISE_FINE / POLISH_RISE);
+    p->fine = true;
+    for (uint32_t j = 0; j < G; j++) {
+        p->w[j] = p->w[j] * narrow < POLISH_H_MIN ? POLISH_H_MIN : p->w[j] * narrow;
+    }
+}
+
+/* The centre stands at the wide differences' resolution: once more with
+ * narrow ones, else the end. */
+static void settle(pdt_ident_t *c)
+{
+    if (c->polish.fine) {
+        pdt_ident_refine_end(c);
+        return;
+    }
+    go_fine(&c->polish, c->genes);
+    stencil_begin(c);
+}
+
 /* Nelder-Mead from the best point seen, with what is left. */
 static void fall_back(pdt_ident_t *c)
 {
     pdt_ident_refine_nm_best(c);
 }
 
-/* The Newton step of the quadratic through the stencil, in normalised gene
- * units (x_j + s_j (hi_j - lo_j)); false when the Hessian is not positive
- * definite. */
-static bool newton_step(const pdt_ident_t *c, pdt_real_t *s, pdt_real_t *gs)
+/* The Newton step of the quadratic through the stencil, in units of each
+ * gene's difference step (x_j + z_j w_j (hi_j - lo_j)): there the
+ * differences' Hessian has entries of the same size whatever the genes'
+ * scales. False when it is not positive definite. */
+static bool newton_step(const pdt_ident_t *c, pdt_real_t *z, pdt_real_t *gz)
 {
     const pdt_ident_polish_t *p = &c->polish;
     const uint32_t G = c->genes;
-    const pdt_real_t f0 = p->f0, h = p->width;
+    const pdt_real_t f0 = p->f0;
     pdt_real_t g[3], H[3][3];
     for (uint32_t i = 0; i < G; i++) {
         const pdt_real_t fp = p->f[2u * i], fm = p->f[2u * i + 1u];
-        g[i] = (fp - fm) / (PDT_R(2.0) * h);
-        H[i][i] = (fp + fm - PDT_R(2.0) * f0) / (h * h);
+        g[i] = PDT_R(0.5) * (fp - fm);
+        H[i][i] = fp + fm - PDT_R(2.0) * f0;
     }
     uint32_t k = 2u * G;
     for (uint32_t i = 0; i < G; i++) {
         for (uint32_t j = i + 1u; j < G; j++) {
             /* f(+e_i+e_j) + f(-e_i-e_j) - [f(+-e_i)] - [f(+-e_j)] + 2 f0
-             * = 2 h^2 H_ij + O(h^4). */
+             * = 2 H_ij + O(w^4). */
             const pdt_real_t sum = p->f[k] + p->f[k + 1u] - p->f[2u * i] - p->f[2u * i + 1u] -
                                    p->f[2u * j] - p->f[2u * j + 1u] + PDT_R(2.0) * f0;
-            H[i][j] = sum / (PDT_R(2.0) * h * h);
+            H[i][j] = PDT_R(0.5) * sum;
             H[j][i] = H[i][j];
             k += 2u;
         }
     }
-    /* H s = -g; a pivot that is not clearly positive (relative to the
+    /* H z = -g; a pivot that is not clearly positive (relative to the
      * diagonal it came from) means no minimum of the model. */
     for (uint32_t i = 0; i < G; i++) {
-        s[i] = -g[i];
+        z[i] = -g[i];
     }
-    if (!pdt_chol_solve(&H[0][0], 3u, G, PDT_R(64.0) * PDT_REAL_EPS, s)) {
+    if (!pdt_chol_solve(&H[0][0], 3u, G, PDT_R(64.0) * PDT_REAL_EPS, z)) {
         return false;
     }
-    *gs = PDT_R(0.0);
+    *gz = PDT_R(0.0);
     for (uint32_t i = 0; i < G; i++) {
-        if (!pdt_finite(s[i])) {
+        if (!pdt_finite(z[i])) {
             return false;
         }
-        *gs += g[i] * s[i];
+        *gz += g[i] * z[i];
     }
     return true;
+}
+
+/* The width of gene j's next differences from how far the cost rose
+ * across its last ones: a rise of about POLISH_RISE. */
+static pdt_real_t next_width(const pdt_ident_polish_t *p, uint32_t j)
+{
+    const pdt_real_t fp = p->f[2u * j], fm = p->f[2u * j + 1u];
+    const pdt_real_t rise = (fp > fm ? fp : fm) / p->f0 - PDT_R(1.0);
+    const pdt_real_t target = p->fine ? POLISH_RISE_FINE : POLISH_RISE;
+    pdt_real_t w = rise > PDT_R(0.0) ? p->w[j] * pdt_sqrt(target / rise) : POLISH_H_MAX;
+    w = w < POLISH_H_MIN ? POLISH_H_MIN : w;
+    return w > POLISH_H_MAX ? POLISH_H_MAX : w;
 }
 
 /* After the stencil: the trial point of the Newton step, or Nelder-Mead. */
@@ -174,42 +216,49 @@ static void propose(pdt_ident_t *c)
 {
     pdt_ident_polish_t *p = &c->polish;
     const uint32_t G = c->genes;
-    pdt_real_t s[3], gs = PDT_R(0.0);
+    pdt_real_t z[3], w[3], gz = PDT_R(0.0);
     pdt_real_t rise = PDT_R(0.0);
+    bool narrower = false;
     for (uint32_t k = 0; k < points_of(c); k++) {
         const pdt_real_t r = p->f[k] / p->f0 - PDT_R(1.0);
         rise = r > rise ? r : rise;
     }
-    /* The width for the next differences: a rise of about POLISH_RISE. */
-    const pdt_real_t h = p->width;
-    p->h = rise > PDT_R(0.0) ? h * pdt_sqrt(POLISH_RISE / rise) : POLISH_H_MAX;
-    p->h = p->h < POLISH_H_MIN ? POLISH_H_MIN : (p->h > POLISH_H_MAX ? POLISH_H_MAX : p->h);
-    if (rise > POLISH_RISE_MAX && p->h < h) {
+    for (uint32_t j = 0; j < G; j++) {
+        w[j] = next_width(p, j);
+        narrower = narrower || w[j] < p->w[j];
+    }
+    if (rise > POLISH_RISE_MAX && narrower) {
+        for (uint32_t j = 0; j < G; j++) {
+            p->w[j] = w[j];
+        }
         stencil_begin(c);
         return;
     }
-    if (!newton_step(c, s, &gs) || pdt_ident_left(c) < 1u) {
+    if (!newton_step(c, z, &gz) || pdt_ident_left(c) < 1u) {
         fall_back(c);
         return;
     }
-    pdt_real_t len = PDT_R(0.0);
+    /* Each gene goes at most POLISH_REACH of its wider difference step. */
+    pdt_real_t scale = PDT_R(1.0);
     for (uint32_t j = 0; j < G; j++) {
-        len = pdt_fabs(s[j]) > len ? pdt_fabs(s[j]) : len;
+        const pdt_real_t reach = POLISH_REACH * (w[j] > p->w[j] ? w[j] / p->w[j] : PDT_R(1.0));
+        const pdt_real_t a = pdt_fabs(z[j]);
+        scale = a * scale > reach ? reach / a : scale;
     }
-    const pdt_real_t reach = POLISH_REACH * (h > p->h ? h : p->h);
-    const pdt_real_t scale = len > reach ? reach / len : PDT_R(1.0);
-    p->cut = len > reach;
+    p->cut = scale < PDT_R(1.0);
     p->back = 0u;
     p->rose = false;
-    /* The model's decrease along the step taken: -g.s scale (1 - scale / 2),
-     * since H s = -g. */
-    p->pred = -gs * scale * (PDT_R(1.0) - PDT_R(0.5) * scale);
+    /* The model's decrease along the step taken: -g.z scale (1 - scale / 2),
+     * since H z = -g. */
+    p->pred = -gz * scale * (PDT_R(1.0) - PDT_R(0.5) * scale);
     p->len = PDT_R(0.0);
     for (uint32_t j = 0; j < G; j++) {
-        const pdt_real_t x = pdt_ident_clamp(c, j, p->x[j] + scale * s[j] * (c->hi[j] - c->lo[j]));
+        const pdt_real_t x =
+            pdt_ident_clamp(c, j, p->x[j] + scale * z[j] * p->w[j] * (c->hi[j] - c->lo[j]));
         const pdt_real_t d = pdt_fabs(x - p->x[j]) / (c->hi[j] - c->lo[j]);
         p->len = d > p->len ? d : p->len;
         p->trial[j] = x;
+        p->w[j] = w[j];
     }
     p->state = POLISH_TRIAL;
 }
@@ -222,7 +271,6 @@ static void stencil_begin(pdt_ident_t *c)
         pdt_ident_refine_end(c);
         return;
     }
-    p->width = p->h;
     if (!stencil_fits(c)) {
         fall_back(c);
         return;
@@ -237,8 +285,11 @@ void pdt_ident_polish_begin(pdt_ident_t *c)
     for (uint32_t j = 0; j < c->genes; j++) {
         p->x[j] = c->best.genes[j];
     }
-    p->h = POLISH_H0 > POLISH_H_MIN ? POLISH_H0 : POLISH_H_MIN;
+    for (uint32_t j = 0; j < c->genes; j++) {
+        p->w[j] = POLISH_H0;
+    }
     p->iter = 0u;
+    p->fine = false;
     p->state = POLISH_CENTRE;
     c->phase = PH_POLISH;
 }
@@ -299,7 +350,7 @@ void pdt_ident_polish_step(pdt_ident_t *c)
         if (p->len < POLISH_XTOL || (!p->rose && p->pred <= POLISH_FTOL * p->f0)) {
             /* At the resolution of the differences, or a decrease below
              * the cost's rounding: the centre stands. */
-            pdt_ident_refine_end(c);
+            settle(c);
         } else if (p->back < POLISH_BACKTRACK && pdt_ident_left(c) >= 1u) {
             /* The model overshot: half the step. */
             for (uint32_t j = 0; j < G; j++) {
@@ -320,7 +371,7 @@ void pdt_ident_polish_step(pdt_ident_t *c)
     const pdt_real_t gain_f = p->f0 - f;
     p->f0 = f;
     if (p->len < POLISH_XTOL || gain_f <= POLISH_FTOL * (f + gain_f)) {
-        pdt_ident_refine_end(c);
+        settle(c);
         return;
     }
     if (p->cut) {
@@ -330,6 +381,9 @@ void pdt_ident_polish_step(pdt_ident_t *c)
          * steps. */
         fall_back(c);
         return;
+    }
+    if (!p->fine) {
+        go_fine(p, G);
     }
     stencil_begin(c);
 }

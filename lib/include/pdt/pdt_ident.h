@@ -271,18 +271,18 @@ typedef struct pdt_ident_refine {
 typedef struct pdt_ident_polish {
     pdt_real_t x[3];     /* the centre */
     pdt_real_t f0;       /* its cost */
-    pdt_real_t h;        /* the next stencil's difference step, normalised */
+    pdt_real_t w[3];     /* each gene's difference step, normalised */
     pdt_real_t f[12];    /* the costs about the centre */
     pdt_real_t trial[3]; /* the Newton step's point */
     pdt_real_t len;      /* its distance, normalised */
     pdt_real_t pred;     /* the cost's decrease the model expects there */
     uint32_t state;
-    uint32_t next;    /* next point about the centre */
-    uint32_t iter;    /* Newton steps taken */
-    uint32_t back;    /* halvings of the running step */
-    pdt_real_t width; /* the running stencil's difference step */
-    bool cut;         /* the running step was cut to its reach */
-    bool rose;        /* a try of it raised the cost beyond rounding */
+    uint32_t next; /* next point about the centre */
+    uint32_t iter; /* Newton steps taken */
+    uint32_t back; /* halvings of the running step */
+    bool cut;      /* the running step was cut to its reach */
+    bool rose;     /* a try of it raised the cost beyond rounding */
+    bool fine;     /* a whole Newton step succeeded: narrow differences */
 } pdt_ident_polish_t;
 
 typedef struct pdt_ident_scan {
