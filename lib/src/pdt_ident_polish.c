@@ -79,7 +79,7 @@ static uint32_t points_of(const pdt_ident_t *c)
 /* Difference step of gene j, in its own units. */
 static pdt_real_t step_of(const pdt_ident_t *c, uint32_t j)
 {
-    return c->polish.w[j] * (c->hi[j] - c->lo[j]);
+    return c->nm.late.polish.w[j] * (c->hi[j] - c->lo[j]);
 }
 
 /* Point k of the stencil: k < 2G is +e_i (k even) or -e_i, i = k / 2;
@@ -89,7 +89,7 @@ static void stencil_point(const pdt_ident_t *c, uint32_t k, pdt_real_t *out)
     const uint32_t G = c->genes;
     uint32_t i, j;
     for (uint32_t m = 0; m < G; m++) {
-        out[m] = c->polish.x[m];
+        out[m] = c->nm.late.polish.x[m];
     }
     const pdt_real_t sign = (k % 2u == 0u) ? PDT_R(1.0) : PDT_R(-1.0);
     if (k < 2u * G) {
@@ -115,7 +115,7 @@ static bool stencil_fits(const pdt_ident_t *c)
 {
     for (uint32_t j = 0; j < c->genes; j++) {
         const pdt_real_t d = step_of(c, j);
-        if (!(c->polish.x[j] - d >= c->lo[j] && c->polish.x[j] + d <= c->hi[j])) {
+        if (!(c->nm.late.polish.x[j] - d >= c->lo[j] && c->nm.late.polish.x[j] + d <= c->hi[j])) {
             return false;
         }
     }
@@ -140,11 +140,11 @@ static void go_fine(pdt_ident_polish_t *p, uint32_t G)
  * narrow ones, else the end. */
 static void settle(pdt_ident_t *c)
 {
-    if (c->polish.fine) {
+    if (c->nm.late.polish.fine) {
         pdt_ident_refine_end(c);
         return;
     }
-    go_fine(&c->polish, c->genes);
+    go_fine(&c->nm.late.polish, c->genes);
     stencil_begin(c);
 }
 
@@ -160,7 +160,7 @@ static void fall_back(pdt_ident_t *c)
  * scales. False when it is not positive definite. */
 static bool newton_step(const pdt_ident_t *c, pdt_real_t *z, pdt_real_t *gz)
 {
-    const pdt_ident_polish_t *p = &c->polish;
+    const pdt_ident_polish_t *p = &c->nm.late.polish;
     const uint32_t G = c->genes;
     const pdt_real_t f0 = p->f0;
     pdt_real_t g[3], H[3][3];
@@ -214,7 +214,7 @@ static pdt_real_t next_width(const pdt_ident_polish_t *p, uint32_t j)
 /* After the stencil: the trial point of the Newton step, or Nelder-Mead. */
 static void propose(pdt_ident_t *c)
 {
-    pdt_ident_polish_t *p = &c->polish;
+    pdt_ident_polish_t *p = &c->nm.late.polish;
     const uint32_t G = c->genes;
     pdt_real_t z[3], w[3], gz = PDT_R(0.0);
     pdt_real_t rise = PDT_R(0.0);
@@ -266,7 +266,7 @@ static void propose(pdt_ident_t *c)
 /* A stencil about the centre, or Nelder-Mead when it does not fit. */
 static void stencil_begin(pdt_ident_t *c)
 {
-    pdt_ident_polish_t *p = &c->polish;
+    pdt_ident_polish_t *p = &c->nm.late.polish;
     if (p->iter >= POLISH_ITERATIONS || pdt_ident_left(c) < points_of(c) + 1u) {
         pdt_ident_refine_end(c);
         return;
@@ -281,7 +281,7 @@ static void stencil_begin(pdt_ident_t *c)
 
 void pdt_ident_polish_begin(pdt_ident_t *c)
 {
-    pdt_ident_polish_t *p = &c->polish;
+    pdt_ident_polish_t *p = &c->nm.late.polish;
     for (uint32_t j = 0; j < c->genes; j++) {
         p->x[j] = c->best.genes[j];
     }
@@ -296,7 +296,7 @@ void pdt_ident_polish_begin(pdt_ident_t *c)
 
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c)
 {
-    const pdt_ident_polish_t *p = &c->polish;
+    const pdt_ident_polish_t *p = &c->nm.late.polish;
     if (p->state != POLISH_STENCIL) {
         return 1u;
     }
@@ -306,7 +306,7 @@ uint32_t pdt_ident_polish_group(const pdt_ident_t *c)
 
 void pdt_ident_polish_step(pdt_ident_t *c)
 {
-    pdt_ident_polish_t *p = &c->polish;
+    pdt_ident_polish_t *p = &c->nm.late.polish;
     const uint32_t G = c->genes;
     pdt_real_t f, gain, offset;
     if (p->state == POLISH_CENTRE) {

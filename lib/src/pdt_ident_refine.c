@@ -23,6 +23,17 @@ enum { NM_VERTEX = 1, NM_REFLECT, NM_EXPAND, NM_CONTRACT, NM_SHRINK, NM_END };
 /* Most refinement starts (niches refined). */
 #define NM_STARTS 3u
 
+/* Niche run k (0 to 2). */
+static pdt_ident_simplex_t *run_of(pdt_ident_refine_t *nm, uint32_t k)
+{
+    return k == 0u ? &nm->run0 : &nm->late.more[k - 1u];
+}
+
+static const pdt_ident_simplex_t *run_at(const pdt_ident_refine_t *nm, uint32_t k)
+{
+    return k == 0u ? &nm->run0 : &nm->late.more[k - 1u];
+}
+
 static pdt_real_t step_of(const pdt_ident_t *c)
 {
     return c->coarse.stage == 2u ? NM_STEP_WHOLE : NM_STEP;
@@ -122,18 +133,18 @@ static void niches_start(pdt_ident_t *c)
     uint32_t budget = share > G + 1u ? share : G + 1u;
     budget = budget < left ? budget : left;
     for (uint32_t k = 0; k < nm->nstarts; k++) {
-        simplex_start(c, &nm->run[k], nm->starts[k], budget);
+        simplex_start(c, run_of(nm, k), nm->starts[k], budget);
     }
     nm->start_i = 0u;
     nm->next = 0u;
 }
 
-/* The polish of the best with what is left, in run[0]. */
+/* The polish of the best with what is left, in run0. */
 static void polish_start(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     nm->start_i = nm->nstarts;
-    simplex_start(c, &nm->run[0], c->best.genes, pdt_ident_left(c));
+    simplex_start(c, &nm->run0, c->best.genes, pdt_ident_left(c));
 }
 
 /* The cost scale may have changed (re-centred spectra): the best is
@@ -298,7 +309,7 @@ static uint32_t niche_group(const pdt_ident_t *c, uint32_t *which)
     uint32_t count = 0u;
     for (uint32_t i = 0; i < nm->nstarts && count < (uint32_t)PDT_VECTOR_LANES; i++) {
         const uint32_t k = (nm->next + i) % nm->nstarts;
-        if (nm->run[k].state != NM_END) {
+        if (run_at(nm, k)->state != NM_END) {
             which[count] = k;
             count++;
         }
@@ -327,7 +338,7 @@ static void niches_step(pdt_ident_t *c)
     pdt_real_t cost[3], gain[3], offset[3];
     const uint32_t count = niche_group(c, which);
     for (uint32_t i = 0; i < count; i++) {
-        const pdt_real_t *x = nm_pending(&nm->run[which[i]]);
+        const pdt_real_t *x = nm_pending(run_of(nm, which[i]));
         for (uint32_t j = 0; j < G; j++) {
             pts[i * G + j] = x[j];
         }
@@ -341,7 +352,7 @@ static void niches_step(pdt_ident_t *c)
         pdt_ident_evaluate_many(c, pts, count, cost, gain, offset);
     }
     for (uint32_t i = 0; i < count; i++) {
-        nm_take(c, &nm->run[which[i]], cost[i]);
+        nm_take(c, run_of(nm, which[i]), cost[i]);
     }
     nm->next = (which[count - 1u] + 1u) % nm->nstarts;
 }
@@ -349,7 +360,7 @@ static void niches_step(pdt_ident_t *c)
 static bool niches_running(const pdt_ident_t *c)
 {
     for (uint32_t k = 0; k < c->nm.nstarts; k++) {
-        if (c->nm.run[k].state != NM_END) {
+        if (run_at(&c->nm, k)->state != NM_END) {
             return true;
         }
     }
@@ -382,7 +393,7 @@ void pdt_ident_refine_step(pdt_ident_t *c)
         pdt_ident_refine_end(c);
         return;
     }
-    pdt_ident_simplex_t *sx = &nm->run[0];
+    pdt_ident_simplex_t *sx = &nm->run0;
     pdt_real_t f, gain, offset;
     pdt_ident_evaluate(c, nm_pending(sx), &f, &gain, &offset);
     nm_take(c, sx, f);

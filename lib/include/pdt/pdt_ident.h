@@ -259,15 +259,6 @@ typedef struct pdt_ident_simplex {
     uint32_t budget;
 } pdt_ident_simplex_t;
 
-typedef struct pdt_ident_refine {
-    pdt_ident_simplex_t run[3]; /* one per niche, run side by side; the
-                                 * polish of the best uses run[0] */
-    pdt_real_t starts[3][3];    /* the best of up to 3 niches */
-    uint32_t nstarts;
-    uint32_t start_i; /* nstarts: the final polish of the best */
-    uint32_t next;    /* the niche run whose point comes next */
-} pdt_ident_refine_t;
-
 typedef struct pdt_ident_polish {
     pdt_real_t x[3];     /* the centre */
     pdt_real_t f0;       /* its cost */
@@ -282,8 +273,23 @@ typedef struct pdt_ident_polish {
     uint32_t back; /* halvings of the running step */
     bool cut;      /* the running step was cut to its reach */
     bool rose;     /* a try of it raised the cost beyond rounding */
-    bool fine;     /* a whole Newton step succeeded: narrow differences */
+    bool fine;     /* narrow differences: a whole step succeeded or the
+                    * centre stood */
 } pdt_ident_polish_t;
+
+typedef struct pdt_ident_refine {
+    pdt_ident_simplex_t run0; /* niche run 0; Nelder-Mead's polish of the best */
+    /* Niche runs 1 and 2 end before a Newton polish begins, and a polish
+     * hands over to Nelder-Mead in run0 only: they share storage. */
+    union {
+        pdt_ident_simplex_t more[2]; /* niche runs 1 and 2 */
+        pdt_ident_polish_t polish;   /* the Newton polish */
+    } late;
+    pdt_real_t starts[3][3]; /* the best of up to 3 niches */
+    uint32_t nstarts;
+    uint32_t start_i; /* nstarts: the final polish of the best */
+    uint32_t next;    /* the niche run whose point comes next */
+} pdt_ident_refine_t;
 
 typedef struct pdt_ident_scan {
     pdt_cost_t cost_time; /* the time cost the dead time is scanned on */
@@ -337,8 +343,7 @@ typedef struct pdt_ident {
                            * level, 2 after */
     pdt_ident_best_t best;
     pdt_ident_ga_t ga;
-    pdt_ident_refine_t nm;
-    pdt_ident_polish_t polish;
+    pdt_ident_refine_t nm; /* with the polish's state */
     pdt_ident_scan_t scan;
     pdt_ident_vote_t vote;
     pdt_ident_coarse_t coarse;
