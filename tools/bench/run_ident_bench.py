@@ -178,6 +178,31 @@ def accuracy_task(args):
     return out
 
 
+def missed_seeds(results):
+    """The seeds that missed the target with the default cost: the worst
+    errors and both answers' output-error costs on the record, which tell
+    a search that stopped short from a record whose least-squares answer
+    lies farther from the truth than another local fit."""
+    out = []
+    for r in sorted(results, key=lambda r: (r["set"], r["seed"])):
+        p, f = r.get("pdtfit"), r["ref"]
+        if p is None or p["worst"] <= 1.1 * f["worst"] + FLOOR:
+            continue
+        name = truths()[r["set"][0]].name
+        if "cost" not in p or not f["cost"] > 0:
+            out.append(f"- {name}, {set_label(r['set'])}, seed {r['seed']}: no model to "
+                       f"compare ({p.get('error', 'a model of the wrong kind')}).")
+            continue
+        ratio = p["cost"] / f["cost"]
+        out.append(f"- {name}, {set_label(r['set'])}, seed {r['seed']}: worst error "
+                   f"{fmt(p['worst'])} against the reference's {fmt(f['worst'])}; "
+                   f"output-error cost {ratio:.6f} x the reference's"
+                   f"{' (pdtfit fits the record better)' if ratio < 1 else ''}.")
+    if out:
+        out.insert(0, "\nThe seeds that missed it:\n")
+    return out
+
+
 def pct(x, q):
     x = np.asarray(x, float)
     if x.size == 0:
@@ -778,6 +803,7 @@ def main():
     for name, lab, met, metc, n in summary:
         c = "-" if metc is None else f"{metc}/{n}"
         doc.append(f"| {name} | {lab} | {met}/{n}{'' if met == n else ' (missed)'} | {c} |")
+    doc += missed_seeds(acc)
     doc.append("\nPer set: median and 90th percentile over the seeds.")
     doc += lines
     doc.append("")
