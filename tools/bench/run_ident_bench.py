@@ -179,14 +179,14 @@ def accuracy_task(args):
 
 
 def missed_seeds(results):
-    """The seeds that missed the target with the default cost: the worst
+    """The seeds that missed the target (SNR >= 20 dB) with the default cost: the worst
     errors and both answers' output-error costs on the record, which tell
     a search that stopped short from a record whose least-squares answer
     lies farther from the truth than another local fit."""
     out = []
     for r in sorted(results, key=lambda r: (r["set"], r["seed"])):
         p, f = r.get("pdtfit"), r["ref"]
-        if p is None or p["worst"] <= 1.1 * f["worst"] + FLOOR:
+        if r["set"][2] < 20 or p is None or p["worst"] <= 1.1 * f["worst"] + FLOOR:
             continue
         name = truths()[r["set"][0]].name
         if "cost" not in p or not f["cost"] > 0:
