@@ -284,8 +284,6 @@ void pdt_ident_polish_begin(pdt_ident_t *c)
     pdt_ident_polish_t *p = &c->nm.late.polish;
     for (uint32_t j = 0; j < c->genes; j++) {
         p->x[j] = c->best.genes[j];
-    }
-    for (uint32_t j = 0; j < c->genes; j++) {
         p->w[j] = POLISH_H0;
     }
     p->iter = 0u;
