@@ -70,10 +70,26 @@
 /* Newton steps at most. */
 #define POLISH_ITERATIONS 8u
 
+/* The output error of a fractional dead time has a kink wherever the dead
+ * time is a whole number of samples (the zero-order hold's interpolation
+ * between two input samples changes pair there): its minimum often lies
+ * on one (a plant whose delay is a whole number of scans, as digital loops
+ * have), or the kink is a ridge with a minimum on either side. Between
+ * two whole samples the cost is smooth. So the dead time's differences
+ * stay on the centre's side of its whole samples (keep_off_kinks), and
+ * after the answer's polish two more passes try the kink nearest to it:
+ * the other genes polished with the dead time held on it, then a polish
+ * from the answer's mirror image across it. An answer closer to a whole
+ * sample than PIN_NEAR of one is on it; differences are kept to one side
+ * unless that cuts them below KINK_ROOM of their width. */
+#define PIN_NEAR  PDT_R(1e-3)
+#define KINK_ROOM PDT_R(0.125)
+
 /* Points about the centre: +/- each gene, and +/- each pair together. */
 static uint32_t points_of(const pdt_ident_t *c)
 {
-    return c->genes * (c->genes + 1u);
+    const uint32_t D = c->nm.late.polish.dims;
+    return D * (D + 1u);
 }
 
 /* Difference step of gene j, in its own units. */
@@ -86,9 +102,9 @@ static pdt_real_t step_of(const pdt_ident_t *c, uint32_t j)
  * after that +(e_i + e_j) or -(e_i + e_j) for the pairs i < j in order. */
 static void stencil_point(const pdt_ident_t *c, uint32_t k, pdt_real_t *out)
 {
-    const uint32_t G = c->genes;
+    const uint32_t G = c->nm.late.polish.dims;
     uint32_t i, j;
-    for (uint32_t m = 0; m < G; m++) {
+    for (uint32_t m = 0; m < c->genes; m++) {
         out[m] = c->nm.late.polish.x[m];
     }
     const pdt_real_t sign = (k % 2u == 0u) ? PDT_R(1.0) : PDT_R(-1.0);
@@ -113,7 +129,7 @@ static void stencil_point(const pdt_ident_t *c, uint32_t k, pdt_real_t *out)
 /* Whether every stencil point lies inside the gene bounds. */
 static bool stencil_fits(const pdt_ident_t *c)
 {
-    for (uint32_t j = 0; j < c->genes; j++) {
+    for (uint32_t j = 0; j < c->nm.late.polish.dims; j++) {
         const pdt_real_t d = step_of(c, j);
         if (!(c->nm.late.polish.x[j] - d >= c->lo[j] && c->nm.late.polish.x[j] + d <= c->hi[j])) {
             return false;
@@ -144,13 +160,28 @@ static void settle(pdt_ident_t *c)
         pdt_ident_refine_end(c);
         return;
     }
-    go_fine(&c->nm.late.polish, c->genes);
+    go_fine(&c->nm.late.polish, c->nm.late.polish.dims);
     stencil_begin(c);
 }
 
-/* Nelder-Mead from the best point seen, with what is left. */
+/* Whether the best point lies across the kink from the answer's polish. */
+static bool best_across(const pdt_ident_t *c)
+{
+    const pdt_real_t whole = pdt_floor(c->nm.r + PDT_R(0.5));
+    const pdt_real_t r = pdt_ident_td_of_gene(c, c->best.genes[c->genes - 1u]) / c->cfg.Ts;
+    return (r - whole) * (c->nm.r - whole) < PDT_R(0.0);
+}
+
+/* Nelder-Mead from the best point seen, with what is left. A kink pass is
+ * only a try: the pinned one just ends (Nelder-Mead would move the dead
+ * time off the kink), the one across the kink only hands over where it
+ * made the best point its own. */
 static void fall_back(pdt_ident_t *c)
 {
+    if (c->nm.kink == 1u || (c->nm.kink == 2u && !best_across(c))) {
+        pdt_ident_refine_end(c);
+        return;
+    }
     pdt_ident_refine_nm_best(c);
 }
 
@@ -161,7 +192,7 @@ static void fall_back(pdt_ident_t *c)
 static bool newton_step(const pdt_ident_t *c, pdt_real_t *z, pdt_real_t *gz)
 {
     const pdt_ident_polish_t *p = &c->nm.late.polish;
-    const uint32_t G = c->genes;
+    const uint32_t G = p->dims;
     const pdt_real_t f0 = p->f0;
     pdt_real_t g[3], H[3][3];
     for (uint32_t i = 0; i < G; i++) {
@@ -215,7 +246,7 @@ static pdt_real_t next_width(const pdt_ident_polish_t *p, uint32_t j)
 static void propose(pdt_ident_t *c)
 {
     pdt_ident_polish_t *p = &c->nm.late.polish;
-    const uint32_t G = c->genes;
+    const uint32_t G = p->dims;
     pdt_real_t z[3], w[3], gz = PDT_R(0.0);
     pdt_real_t rise = PDT_R(0.0);
     bool narrower = false;
@@ -260,7 +291,45 @@ static void propose(pdt_ident_t *c)
         p->trial[j] = x;
         p->w[j] = w[j];
     }
+    for (uint32_t j = G; j < c->genes; j++) {
+        p->trial[j] = p->x[j];
+    }
     p->state = POLISH_TRIAL;
+}
+
+/* Whether the dead time's whole samples are kinks of the cost polished:
+ * the whole record's output error with a fractional dead time. */
+static bool has_kinks(const pdt_ident_t *c)
+{
+    return c->cfg.cost == PDT_COST_SIMULATION && c->cfg.delay_mode == PDT_DELAY_FRACTIONAL &&
+           c->coarse.stage != 1u;
+}
+
+/* The dead time's differences kept (to 0.9 of the room) between the
+ * whole samples on either side of the centre, where the cost is smooth:
+ * differences across a kink make no quadratic, and answers a tenth of a
+ * sample from one stopped 1e-5 of the cost above their minimum. A centre
+ * closer to the kink than KINK_ROOM of the differences' own width keeps
+ * them (the kink passes try the kink itself). */
+static void keep_off_kinks(pdt_ident_t *c)
+{
+    pdt_ident_polish_t *p = &c->nm.late.polish;
+    const uint32_t j = c->genes - 1u;
+    if (p->dims < c->genes || !has_kinks(c)) {
+        return;
+    }
+    const pdt_real_t Ts = c->cfg.Ts;
+    const pdt_real_t whole = pdt_floor(pdt_ident_td_of_gene(c, p->x[j]) / Ts);
+    const pdt_real_t below = p->x[j] - pdt_log((whole * Ts) + c->td_offset);
+    const pdt_real_t above = pdt_log(((whole + PDT_R(1.0)) * Ts) + c->td_offset) - p->x[j];
+    const pdt_real_t room = (below < above ? below : above) / (c->hi[j] - c->lo[j]);
+    const pdt_real_t w = PDT_R(0.9) * room;
+    if (w < p->w[j]) {
+        c->nm.near = true;
+        if (w >= KINK_ROOM * p->w[j]) {
+            p->w[j] = w;
+        }
+    }
 }
 
 /* A stencil about the centre, or Nelder-Mead when it does not fit. */
@@ -271,6 +340,7 @@ static void stencil_begin(pdt_ident_t *c)
         pdt_ident_refine_end(c);
         return;
     }
+    keep_off_kinks(c);
     if (!stencil_fits(c)) {
         fall_back(c);
         return;
@@ -279,17 +349,90 @@ static void stencil_begin(pdt_ident_t *c)
     p->state = POLISH_STENCIL;
 }
 
-void pdt_ident_polish_begin(pdt_ident_t *c)
+/* The polish from the best of the first dims genes, the rest held. */
+static void polish_start(pdt_ident_t *c, uint32_t dims)
 {
     pdt_ident_polish_t *p = &c->nm.late.polish;
     for (uint32_t j = 0; j < c->genes; j++) {
         p->x[j] = c->best.genes[j];
         p->w[j] = POLISH_H0;
     }
+    p->dims = dims;
     p->iter = 0u;
     p->fine = false;
     p->state = POLISH_CENTRE;
     c->phase = PH_POLISH;
+}
+
+void pdt_ident_polish_begin(pdt_ident_t *c)
+{
+    c->nm.kink = 0u;
+    c->nm.near = false;
+    polish_start(c, c->genes);
+}
+
+/* A kink pass from x (all genes; dims = genes - 1 holds the dead time).
+ * False where x's dead time lies outside its bounds or the budget does not
+ * cover a stencil and a step. */
+static bool kink_pass(pdt_ident_t *c, uint32_t dims, const pdt_real_t *x)
+{
+    const uint32_t G = c->genes;
+    if (!(x[G - 1u] >= c->lo[G - 1u] && x[G - 1u] <= c->hi[G - 1u]) ||
+        pdt_ident_left(c) < (dims * (dims + 1u)) + 2u) {
+        return false;
+    }
+    polish_start(c, dims);
+    for (uint32_t j = 0; j < G; j++) {
+        c->nm.late.polish.x[j] = pdt_ident_clamp(c, j, x[j]);
+    }
+    return true;
+}
+
+bool pdt_ident_polish_kinks(pdt_ident_t *c)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    const uint32_t G = c->genes;
+    pdt_real_t x[3];
+    if (!has_kinks(c) || !(c->best.cost < PDT_REAL_MAX) || nm->kink >= 2u) {
+        return false;
+    }
+    const pdt_real_t r = pdt_ident_td_of_gene(c, c->best.genes[G - 1u]) / c->cfg.Ts;
+    if (nm->kink == 0u) {
+        if (!nm->near) {
+            /* The dead time's differences never reached a kink: the
+             * polish saw a smooth cost. */
+            return false;
+        }
+        nm->r = r;
+    }
+    const pdt_real_t whole = pdt_floor(nm->r + PDT_R(0.5));
+    if (!(pdt_fabs(r - whole) >= PIN_NEAR)) {
+        /* On the kink: the answer's minimum, or the pinned pass's (then no
+         * ridge to look across). */
+        return false;
+    }
+    for (uint32_t j = 0; j < G; j++) {
+        x[j] = c->best.genes[j];
+    }
+    if (nm->kink == 0u) {
+        nm->kink = 2u; /* no pinned pass, nothing to look across from */
+        x[G - 1u] = pdt_log((whole * c->cfg.Ts) + c->td_offset);
+        if (!kink_pass(c, G - 1u, x)) {
+            return false;
+        }
+        nm->kink = 1u;
+        return true;
+    }
+    /* The pinned pass's centre is the valley's point on the kink (the
+     * other genes follow the dead time along it): the answer's mirror
+     * image through it lies in the valley across the kink. */
+    const pdt_ident_polish_t *p = &nm->late.polish;
+    nm->kink = 2u;
+    nm->f_kink = p->f0;
+    for (uint32_t j = 0; j < G; j++) {
+        x[j] = (PDT_R(2.0) * p->x[j]) - x[j];
+    }
+    return kink_pass(c, G, x);
 }
 
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c)
@@ -310,7 +453,10 @@ void pdt_ident_polish_step(pdt_ident_t *c)
     if (p->state == POLISH_CENTRE) {
         pdt_ident_evaluate(c, p->x, &f, &gain, &offset);
         p->f0 = f;
-        if (!(f < PDT_REAL_MAX)) {
+        if (!(f < PDT_REAL_MAX) || (c->nm.kink == 2u && !(f < c->nm.f_kink))) {
+            /* A minimum across the kink needs the cost to fall away from
+             * it along the valley: a mirror image no lower than the
+             * valley's point on the kink ends that pass at once. */
             fall_back(c);
             return;
         }
@@ -381,7 +527,7 @@ void pdt_ident_polish_step(pdt_ident_t *c)
         return;
     }
     if (!p->fine) {
-        go_fine(p, G);
+        go_fine(p, p->dims);
     }
     stencil_begin(c);
 }

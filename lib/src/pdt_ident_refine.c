@@ -153,6 +153,8 @@ static void polish_start(pdt_ident_t *c)
 void pdt_ident_refine_begin(pdt_ident_t *c)
 {
     c->best.cost = PDT_REAL_MAX;
+    c->nm.kink = 0u;
+    c->nm.near = false;
     refine_starts(c);
     niches_start(c);
     c->phase = PH_REFINE;
@@ -406,7 +408,7 @@ void pdt_ident_refine_end(pdt_ident_t *c)
 {
     if (c->cfg.cost == PDT_COST_FREQUENCY) {
         pdt_ident_scan_start(c);
-    } else {
+    } else if (!pdt_ident_polish_kinks(c)) {
         c->phase = PH_FINISH;
     }
 }

@@ -271,6 +271,7 @@ typedef struct pdt_ident_polish {
     uint32_t next; /* next point about the centre */
     uint32_t iter; /* Newton steps taken */
     uint32_t back; /* halvings of the running step */
+    uint32_t dims; /* genes moved: all, or all but the dead time pinned */
     bool cut;      /* the running step was cut to its reach */
     bool rose;     /* a try of it raised the cost beyond rounding */
     bool fine;     /* narrow differences: a whole step succeeded or the
@@ -287,8 +288,12 @@ typedef struct pdt_ident_refine {
     } late;
     pdt_real_t starts[3][3]; /* the best of up to 3 niches */
     uint32_t nstarts;
-    uint32_t start_i; /* nstarts: the final polish of the best */
-    uint32_t next;    /* the niche run whose point comes next */
+    uint32_t start_i;  /* nstarts: the final polish of the best */
+    uint32_t next;     /* the niche run whose point comes next */
+    uint32_t kink;     /* kink passes begun after the answer's polish (0-2) */
+    pdt_real_t r;      /* that polish's dead time, samples */
+    pdt_real_t f_kink; /* the pinned pass's least cost */
+    bool near;         /* its dead time's differences reached a kink */
 } pdt_ident_refine_t;
 
 typedef struct pdt_ident_scan {
