@@ -410,6 +410,8 @@ void pdt_ident_refine_end(pdt_ident_t *c)
         pdt_ident_scan_start(c);
     } else if (!pdt_ident_polish_kinks(c)) {
         c->phase = PH_FINISH;
+    } else {
+        /* A kink pass polishes (PH_POLISH) and ends here again. */
     }
 }
 
