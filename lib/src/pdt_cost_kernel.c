@@ -238,6 +238,8 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
         (d[0].order == 2u) ? (kvec_t){d[0].d[1], d[1].d[1], d[2].d[1], d[3].d[1]} : kv(PDT_R(0.0));
     const kvec_t e0 = dd0 - dd1;
     const kvec_t vk0 = kv(K0), vc0 = kv(c0);
+    const bool taps2 = d[0].b[2] == PDT_R(0.0) && d[1].b[2] == PDT_R(0.0) &&
+                       d[2].b[2] == PDT_R(0.0) && d[3].b[2] == PDT_R(0.0);
     kvec_t ys = {st[0].ys, st[1].ys, st[2].ys, st[3].ys};
     kvec_t dys = {st[0].dys, st[1].dys, st[2].dys, st[3].dys};
     kvec_t p1 = {st[0].p1, st[1].p1, st[2].p1, st[3].p1};
@@ -252,6 +254,14 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
                 dys += ((b0 * uk + b1 * p1 + b2 * p2) - e0 * dys) - dd1 * ys;
                 ys += dys;
                 p2 = p1;
+                p1 = uk;
+                KV_SCORE();
+            }
+        } else if (taps2) {
+            /* Every FOPDT: no third tap to multiply by zero. */
+            for (; k < stop; k++) {
+                kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                ys += (b0 * uk + b1 * p1) - dd0 * ys;
                 p1 = uk;
                 KV_SCORE();
             }
