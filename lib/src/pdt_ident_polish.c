@@ -77,11 +77,13 @@
  * have), or the kink is a ridge with a minimum on either side. Between
  * two whole samples the cost is smooth. So the dead time's differences
  * stay on the centre's side of its whole samples (keep_off_kinks), and
- * after the answer's polish two more passes try the kink nearest to it:
- * the other genes polished with the dead time held on it, then a polish
- * from the answer's mirror image across it. An answer closer to a whole
- * sample than PIN_NEAR of one is on it; differences are kept to one side
- * unless that cuts them below KINK_ROOM of their width. */
+ * where they reached a kink, two more passes follow the answer's polish:
+ * the other genes polished with the dead time held on the nearest whole
+ * sample, then, where the cost falls across it, a polish from the
+ * answer's mirror image through the first pass's point
+ * (docs/ident-engine.md, step 5 of the polish). An answer closer to a
+ * whole sample than PIN_NEAR of one is on it; differences are kept to one
+ * side unless that cuts them below KINK_ROOM of their width. */
 #define PIN_NEAR  PDT_R(1e-3)
 #define KINK_ROOM PDT_R(0.125)
 
