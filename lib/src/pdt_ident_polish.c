@@ -352,7 +352,7 @@ static void stencil_begin(pdt_ident_t *c)
 }
 
 /* The polish from the best of the first dims genes, the rest held. */
-static void polish_start(pdt_ident_t *c, uint32_t dims)
+static void newton_start(pdt_ident_t *c, uint32_t dims)
 {
     pdt_ident_polish_t *p = &c->nm.late.polish;
     for (uint32_t j = 0; j < c->genes; j++) {
@@ -370,7 +370,7 @@ void pdt_ident_polish_begin(pdt_ident_t *c)
 {
     c->nm.kink = 0u;
     c->nm.near = false;
-    polish_start(c, c->genes);
+    newton_start(c, c->genes);
 }
 
 /* A kink pass from x (all genes; dims = genes - 1 holds the dead time).
@@ -383,7 +383,7 @@ static bool kink_pass(pdt_ident_t *c, uint32_t dims, const pdt_real_t *x)
         pdt_ident_left(c) < (dims * (dims + 1u)) + 2u) {
         return false;
     }
-    polish_start(c, dims);
+    newton_start(c, dims);
     for (uint32_t j = 0; j < G; j++) {
         c->nm.late.polish.x[j] = pdt_ident_clamp(c, j, x[j]);
     }
