@@ -166,11 +166,39 @@ static void settle(pdt_ident_t *c)
     stencil_begin(c);
 }
 
+/* Whether the dead time's whole samples are kinks of the cost polished:
+ * the whole record's output error with a fractional dead time. */
+static bool has_kinks(const pdt_ident_t *c)
+{
+    return c->cfg.cost == PDT_COST_SIMULATION && c->cfg.delay_mode == PDT_DELAY_FRACTIONAL &&
+           c->coarse.stage != 1u;
+}
+
+/* The dead time of gene value g, in samples. */
+static pdt_real_t samples_of(const pdt_ident_t *c, pdt_real_t g)
+{
+    return pdt_ident_td_of_gene(c, g) / c->cfg.Ts;
+}
+
+/* The dead-time gene of r samples, not clamped (pdt_ident_gene_of_td
+ * clamps to the bounds, where a kink's distance and a pass's bound check
+ * need the value itself). */
+static pdt_real_t gene_at(const pdt_ident_t *c, pdt_real_t r)
+{
+    return pdt_log((r * c->cfg.Ts) + c->td_offset);
+}
+
+/* The whole sample nearest to r. */
+static pdt_real_t nearest_whole(pdt_real_t r)
+{
+    return pdt_floor(r + PDT_R(0.5));
+}
+
 /* Whether the best point lies across the kink from the answer's polish. */
 static bool best_across(const pdt_ident_t *c)
 {
-    const pdt_real_t whole = pdt_floor(c->nm.r + PDT_R(0.5));
-    const pdt_real_t r = pdt_ident_td_of_gene(c, c->best.genes[c->genes - 1u]) / c->cfg.Ts;
+    const pdt_real_t whole = nearest_whole(c->nm.r);
+    const pdt_real_t r = samples_of(c, c->best.genes[c->genes - 1u]);
     return (r - whole) * (c->nm.r - whole) < PDT_R(0.0);
 }
 
@@ -299,14 +327,6 @@ static void propose(pdt_ident_t *c)
     p->state = POLISH_TRIAL;
 }
 
-/* Whether the dead time's whole samples are kinks of the cost polished:
- * the whole record's output error with a fractional dead time. */
-static bool has_kinks(const pdt_ident_t *c)
-{
-    return c->cfg.cost == PDT_COST_SIMULATION && c->cfg.delay_mode == PDT_DELAY_FRACTIONAL &&
-           c->coarse.stage != 1u;
-}
-
 /* The dead time's differences kept (to 0.9 of the room) between the
  * whole samples on either side of the centre, where the cost is smooth:
  * differences across a kink make no quadratic, and answers a tenth of a
@@ -320,10 +340,9 @@ static void keep_off_kinks(pdt_ident_t *c)
     if (p->dims < c->genes || !has_kinks(c)) {
         return;
     }
-    const pdt_real_t Ts = c->cfg.Ts;
-    const pdt_real_t whole = pdt_floor(pdt_ident_td_of_gene(c, p->x[j]) / Ts);
-    const pdt_real_t below = p->x[j] - pdt_log((whole * Ts) + c->td_offset);
-    const pdt_real_t above = pdt_log(((whole + PDT_R(1.0)) * Ts) + c->td_offset) - p->x[j];
+    const pdt_real_t whole = pdt_floor(samples_of(c, p->x[j]));
+    const pdt_real_t below = p->x[j] - gene_at(c, whole);
+    const pdt_real_t above = gene_at(c, whole + PDT_R(1.0)) - p->x[j];
     const pdt_real_t room = (below < above ? below : above) / (c->hi[j] - c->lo[j]);
     const pdt_real_t w = PDT_R(0.9) * room;
     if (w < p->w[j]) {
@@ -398,7 +417,7 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
     if (!has_kinks(c) || !(c->best.cost < PDT_REAL_MAX) || nm->kink >= 2u) {
         return false;
     }
-    const pdt_real_t r = pdt_ident_td_of_gene(c, c->best.genes[G - 1u]) / c->cfg.Ts;
+    const pdt_real_t r = samples_of(c, c->best.genes[G - 1u]);
     if (nm->kink == 0u) {
         if (!nm->near) {
             /* The dead time's differences never reached a kink: the
@@ -407,7 +426,7 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
         }
         nm->r = r;
     }
-    const pdt_real_t whole = pdt_floor(nm->r + PDT_R(0.5));
+    const pdt_real_t whole = nearest_whole(nm->r);
     if (!(pdt_fabs(r - whole) >= PIN_NEAR)) {
         /* On the kink: the answer's minimum, or the pinned pass's (then no
          * ridge to look across). */
@@ -418,7 +437,7 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
     }
     if (nm->kink == 0u) {
         nm->kink = 2u; /* no pinned pass, nothing to look across from */
-        x[G - 1u] = pdt_log((whole * c->cfg.Ts) + c->td_offset);
+        x[G - 1u] = gene_at(c, whole);
         if (!kink_pass(c, G - 1u, x)) {
             return false;
         }
