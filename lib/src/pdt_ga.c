@@ -5,6 +5,8 @@
  */
 #include "pdt_ga.h"
 
+#include <string.h>
+
 #include "pdt_internal.h"
 
 #define PDT_PCG_MULT 6364136223846793005ULL
@@ -200,6 +202,74 @@ static inline pdt_real_t share_tri(const pdt_real_t *xi, const pdt_real_t *xj, s
     return PDT_R(0.5) * (x + pdt_fabs(x));
 }
 
+#if PDT_VECTOR_LANES == 4
+#define SHARE_VECTOR 1
+typedef pdt_real_t svec_t __attribute__((vector_size(4 * sizeof(pdt_real_t))));
+#if PDT_REAL_DOUBLE
+typedef int64_t smask_t __attribute__((vector_size(4 * sizeof(int64_t))));
+#define SHARE_SIGN ((smask_t){INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN})
+#else
+typedef int32_t smask_t __attribute__((vector_size(4 * sizeof(int32_t))));
+#define SHARE_SIGN ((smask_t){INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN})
+#endif
+#define sv(x) ((svec_t){(x), (x), (x), (x)})
+
+/* Row i of the triangle's pairs, four partners j a turn: share_tri in
+ * the lanes of a vector, each lane the scalar operations bit for bit (a
+ * vector square root rounds as the scalar one does), and the counts added
+ * in the order j = i + 1, i + 2, ... as the scalar loop does. The pairs
+ * are most of a search's breeding on a short record. Returns the first j
+ * left to the scalar loop. */
+static inline size_t share_tri_row(const pdt_real_t *genes, size_t n, size_t g, size_t i,
+                                   const pdt_real_t *inv, pdt_real_t inv_sigma, pdt_real_t *shared,
+                                   pdt_real_t *m)
+{
+    const pdt_real_t *xi = genes + i * g;
+    size_t j = i + 1u;
+    for (; j + 4u <= n; j += 4u) {
+        const pdt_real_t *xj = genes + j * g;
+        svec_t d2 = sv(PDT_R(0.0));
+        for (size_t k = 0; k < g; k++) {
+            const svec_t xk = {xj[k], xj[g + k], xj[2u * g + k], xj[3u * g + k]};
+            const svec_t t = (sv(xi[k]) - xk) * sv(inv[k]);
+            d2 += t * t;
+        }
+        /* Square roots a lane at a time: C has no vector one, and each
+         * is the scalar one's result anyway. */
+        const svec_t r = {pdt_sqrt(d2[0]), pdt_sqrt(d2[1]), pdt_sqrt(d2[2]), pdt_sqrt(d2[3])};
+        const svec_t x = sv(PDT_R(1.0)) - r * sv(inv_sigma);
+        const svec_t s = sv(PDT_R(0.5)) * (x + (svec_t)((smask_t)x & ~SHARE_SIGN));
+        *m += s[0];
+        *m += s[1];
+        *m += s[2];
+        *m += s[3];
+        svec_t sj;
+        (void)memcpy(&sj, &shared[j], sizeof sj);
+        sj += s;
+        (void)memcpy(&shared[j], &sj, sizeof sj);
+    }
+    return j;
+}
+
+/* share_tri_row with the gene count a constant, so that the loop over the
+ * genes unrolls (a FOPDT has two, a SOPDT three). */
+static size_t share_row(const pdt_real_t *genes, size_t n, size_t g, size_t i,
+                        const pdt_real_t *inv, pdt_real_t inv_sigma, pdt_real_t *shared,
+                        pdt_real_t *m)
+{
+    switch (g) {
+    case 2u:
+        return share_tri_row(genes, n, 2u, i, inv, inv_sigma, shared, m);
+    case 3u:
+        return share_tri_row(genes, n, 3u, i, inv, inv_sigma, shared, m);
+    default:
+        return share_tri_row(genes, n, g, i, inv, inv_sigma, shared, m);
+    }
+}
+#else
+#define SHARE_VECTOR 0
+#endif
+
 /* The same with the division per gene, for more than SHARE_GENES. */
 static pdt_real_t share_pair_wide(const pdt_real_t *xi, const pdt_real_t *xj, size_t g,
                                   const pdt_real_t *lo, const pdt_real_t *hi, pdt_real_t sigma,
@@ -265,7 +335,11 @@ void pdt_ga_share(const pdt_real_t *genes, size_t n, size_t g, const pdt_real_t 
         const pdt_real_t inv_sigma = PDT_R(1.0) / sigma;
         for (size_t i = 0; i < n; i++) {
             pdt_real_t m = shared[i];
-            for (size_t j = i + 1u; j < n; j++) {
+            size_t j = i + 1u;
+#if SHARE_VECTOR
+            j = share_row(genes, n, g, i, inv, inv_sigma, shared, &m);
+#endif
+            for (; j < n; j++) {
                 const pdt_real_t s = share_tri(genes + i * g, genes + j * g, g, inv, inv_sigma);
                 m += s;
                 shared[j] += s;

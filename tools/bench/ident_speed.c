@@ -139,7 +139,7 @@ int main(int argc, char **argv)
             if (identify(&cfg, &data, work, len, &res) != 0) {
                 return 1;
             }
-            printf("{\"n\":%zu,\"evaluations\":%u}\n", n, (unsigned)res.evaluations);
+            printf("{\"n\":%zu,\"evaluations\":%u,\"coarse\":%u,\"searches\":%u}\n", n, (unsigned)res.evaluations, (unsigned)res.coarse, (unsigned)res.searches);
             return 0;
         }
         for (r = 0; r < reps; r++) {
