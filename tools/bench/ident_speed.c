@@ -9,7 +9,8 @@
  *       file size). Prints one JSON line: n, evaluations, the median and
  *       the least wall time of REPEATS identifications (s), evaluations/s.
  *   pdt_ident_speed once FILE Ts fopdt|sopdt
- *       one identification (for callgrind); prints its evaluations.
+ *       one identification (for callgrind); prints its evaluations, the
+ *       coarse record's factor and the searches run.
  *   pdt_ident_speed workspace N
  *       pdt_ident_workspace_size for each model and criterion at N samples.
  */
@@ -139,7 +140,8 @@ int main(int argc, char **argv)
             if (identify(&cfg, &data, work, len, &res) != 0) {
                 return 1;
             }
-            printf("{\"n\":%zu,\"evaluations\":%u,\"coarse\":%u,\"searches\":%u}\n", n, (unsigned)res.evaluations, (unsigned)res.coarse, (unsigned)res.searches);
+            printf("{\"n\":%zu,\"evaluations\":%u,\"coarse\":%u,\"searches\":%u}\n", n,
+                   (unsigned)res.evaluations, (unsigned)res.coarse, (unsigned)res.searches);
             return 0;
         }
         for (r = 0; r < reps; r++) {
