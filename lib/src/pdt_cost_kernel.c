@@ -210,11 +210,8 @@ void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t 
  * loads of y and its control are shared. Each lane reads its own delayed
  * input; the lanes start together once every candidate's input has
  * arrived (before that each runs alone). */
-typedef pdt_real_t kvec_t __attribute__((vector_size(4 * sizeof(pdt_real_t))));
-
-/* A macro, not a function: a vector return value would tie the ABI to
- * the vector width (GCC warns for 32-byte vectors without AVX). */
-#define kv(x) ((kvec_t){(x), (x), (x), (x)})
+typedef pdt_vec4_t kvec_t;
+#define kv(x) PDT_VEC4(x)
 
 /* The scoring of sample k in every lane, shared by both orders' loops. */
 #define KV_SCORE()                                                                                 \

@@ -10,6 +10,7 @@
  */
 #include "pdt/pdt_discrete.h"
 
+#include "pdt_discrete_priv.h"
 #include "pdt_internal.h"
 #include "pdt_model_priv.h"
 
@@ -171,29 +172,10 @@ static bool dmodel_valid(const pdt_discrete_t *d)
     return d != NULL && (d->order == 1u || d->order == 2u);
 }
 
-/* B(q) u at sample k, with u = 0 before sample 0 (the start of the record,
- * where the indices k-1-l .. k-3-l may be negative). */
-static pdt_real_t input_from(const pdt_discrete_t *d, const pdt_real_t *u, pdt_real_t u0, size_t k)
-{
-    pdt_real_t s = PDT_R(0.0);
-    if (k <= d->delay) {
-        return s;
-    }
-    size_t j = k - d->delay; /* >= 1: u index of b[0] is j - 1 */
-    s += d->b[0] * (u[j - 1u] - u0);
-    if (j >= 2u) {
-        s += d->b[1] * (u[j - 2u] - u0);
-    }
-    if (j >= 3u) {
-        s += d->b[2] * (u[j - 3u] - u0);
-    }
-    return s;
-}
-
 /* u - 0 is u exactly: the simulation's start is the step's input. */
 static pdt_real_t input_at_start(const pdt_discrete_t *d, const pdt_real_t *u, size_t k)
 {
-    return input_from(d, u, PDT_R(0.0), k);
+    return pdt_discrete_input(d, u, PDT_R(0.0), k);
 }
 
 static size_t start_len(const pdt_discrete_t *d, size_t n)
@@ -296,14 +278,5 @@ pdt_status_t pdt_discrete_predict(const pdt_discrete_t *d, const pdt_real_t *u, 
 pdt_real_t pdt_discrete_step(const pdt_discrete_t *d, pdt_discrete_state_t *s, const pdt_real_t *u,
                              pdt_real_t u0, size_t k)
 {
-    /* The simulation's recurrence (pdt_discrete_simulate), one sample. */
-    const pdt_real_t in = input_from(d, u, u0, k);
-    if (d->order == 1u) {
-        s->y1 = s->y1 - d->d[0] * s->y1 + in;
-        return s->y1;
-    }
-    s->dy = s->dy - d->d[0] * s->dy - d->d[1] * s->y2 + in;
-    s->y2 = s->y1;
-    s->y1 = s->y1 + s->dy;
-    return s->y1;
+    return pdt_discrete_advance(d, s, u, u0, k);
 }

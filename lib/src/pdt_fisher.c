@@ -4,7 +4,9 @@
  */
 #include "pdt_fisher.h"
 
-#include "pdt/pdt_discrete.h"
+#include <string.h>
+
+#include "pdt_discrete_priv.h"
 #include "pdt_internal.h"
 
 /* Partial sums over this many samples before they join the total, so that
@@ -119,29 +121,40 @@ static bool invert(pdt_fisher_matrix_t F, pdt_fisher_matrix_t Inv, uint32_t n, b
 
 /* The residual's lagged products: the running state of one pass. */
 typedef struct lag_sums {
-    pdt_real_t last[PDT_FISHER_LAGS];       /* e(k) at ring position k % LAGS */
+    /* e(k - l) at recent[at + l - 1] for l = 1 .. LAGS before sample k is
+     * added: the ring written twice, LAGS apart and backwards, so that the
+     * lags are one contiguous run with no wrap and no modulo. Before the
+     * record's LAGS-th sample it holds zeros, whose products add nothing. */
+    pdt_real_t recent[2u * PDT_FISHER_LAGS];
     pdt_real_t first[PDT_FISHER_LAGS + 1u]; /* sums of the first i residuals */
     pdt_real_t prod[PDT_FISHER_LAGS];       /* sum of e(k) e(k - l) */
     pdt_real_t sum, part_sum;               /* sum of e, its block part */
-    size_t pos;                             /* k % LAGS of the next sample */
+    size_t at;
 } lag_sums_t;
 
 static void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
 {
-    const size_t lags = k < PDT_FISHER_LAGS ? k : PDT_FISHER_LAGS;
-    const size_t r = L->pos; /* k % LAGS */
-    /* e(k - l) sits at r - l, then, past the ring's start, at r - l +
-     * LAGS: two runs with no modulo per lag (20 per sample, the pass's
-     * largest cost before). */
-    const size_t near = lags < r ? lags : r;
-    for (size_t l = 1; l <= near; l++) {
-        L->prod[l - 1u] += e * L->last[r - l];
+    const pdt_real_t *back = &L->recent[L->at];
+    /* Every lag, even those before the record's start: their zeros add
+     * +-0 to the sums, which leaves them as they were. Four a turn, in
+     * the lanes of a vector where the host has them. */
+    for (size_t l = 0; l < PDT_FISHER_LAGS; l += 4u) {
+#if PDT_VECTOR_LANES == 4
+        pdt_vec4_t p, b;
+        (void)memcpy(&p, &L->prod[l], sizeof p);
+        (void)memcpy(&b, &back[l], sizeof b);
+        p += PDT_VEC4(e) * b;
+        (void)memcpy(&L->prod[l], &p, sizeof p);
+#else
+        L->prod[l] += e * back[l];
+        L->prod[l + 1u] += e * back[l + 1u];
+        L->prod[l + 2u] += e * back[l + 2u];
+        L->prod[l + 3u] += e * back[l + 3u];
+#endif
     }
-    for (size_t l = near + 1u; l <= lags; l++) {
-        L->prod[l - 1u] += e * L->last[r + PDT_FISHER_LAGS - l];
-    }
-    L->last[r] = e;
-    L->pos = (r + 1u == PDT_FISHER_LAGS) ? 0u : r + 1u;
+    L->at = (L->at == 0u) ? PDT_FISHER_LAGS - 1u : L->at - 1u;
+    L->recent[L->at] = e;
+    L->recent[L->at + PDT_FISHER_LAGS] = e;
     L->part_sum += e;
     if (k < PDT_FISHER_LAGS) {
         L->first[k + 1u] = L->first[k] + e;
@@ -167,11 +180,23 @@ static void lags_rho(const lag_sums_t *L, size_t n, pdt_real_t sse, pdt_real_t *
         if (l >= n) {
             continue;
         }
-        tail += L->last[(n - l) % PDT_FISHER_LAGS];
+        tail += L->recent[L->at + l - 1u]; /* e(n - l) */
         const pdt_real_t later = L->sum - L->first[l];
         const pdt_real_t earlier = L->sum - tail;
         const pdt_real_t s = L->prod[l - 1u] - m * (later + earlier) + (pdt_real_t)(n - l) * m * m;
         rho[l - 1u] = r0 > PDT_R(0.0) ? s / r0 : PDT_R(0.0);
+    }
+}
+
+/* part += jr jr^T, the upper triangle. Inline and called with the count
+ * a constant, so that the loops unroll: this is most of the pass's work. */
+static inline void outer_add(pdt_real_t part[PDT_FISHER_MAX][PDT_FISHER_MAX], const pdt_real_t *jr,
+                             uint32_t nj)
+{
+    for (uint32_t i = 0; i < nj; i++) {
+        for (uint32_t j = i; j < nj; j++) {
+            part[i][j] += jr[i] * jr[j];
+        }
     }
 }
 
@@ -213,17 +238,17 @@ pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_
     }
     for (size_t k = 0; k < n; k++) {
         pdt_real_t jr[PDT_FISHER_MAX];
-        const pdt_real_t ys = pdt_discrete_step(&d[0], &s[0], u, u[0], k);
+        const pdt_real_t ys = pdt_discrete_advance(&d[0], &s[0], u, u[0], k);
         finite = finite && pdt_finite(ys);
         jr[0] = ys / gain;
         for (uint32_t i = 1; i < nm; i++) {
-            jr[i] = (pdt_discrete_step(&d[i], &s[i], u, u[0], k) - ys) / h[i];
+            jr[i] = (pdt_discrete_advance(&d[i], &s[i], u, u[0], k) - ys) / h[i];
         }
         jr[nm] = PDT_R(1.0);
-        for (uint32_t i = 0; i < nj; i++) {
-            for (uint32_t j = i; j < nj; j++) {
-                part[i][j] += jr[i] * jr[j];
-            }
+        if (nj == 4u) {
+            outer_add(part, jr, 4u);
+        } else {
+            outer_add(part, jr, 5u);
         }
         const pdt_real_t e = y[k] - y0 - ys;
         sp += e * e;

@@ -204,7 +204,7 @@ static inline pdt_real_t share_tri(const pdt_real_t *xi, const pdt_real_t *xj, s
 
 #if PDT_VECTOR_LANES == 4
 #define SHARE_VECTOR 1
-typedef pdt_real_t svec_t __attribute__((vector_size(4 * sizeof(pdt_real_t))));
+typedef pdt_vec4_t svec_t;
 #if PDT_REAL_DOUBLE
 typedef int64_t smask_t __attribute__((vector_size(4 * sizeof(int64_t))));
 #define SHARE_SIGN ((smask_t){INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN})
@@ -212,7 +212,7 @@ typedef int64_t smask_t __attribute__((vector_size(4 * sizeof(int64_t))));
 typedef int32_t smask_t __attribute__((vector_size(4 * sizeof(int32_t))));
 #define SHARE_SIGN ((smask_t){INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN})
 #endif
-#define sv(x) ((svec_t){(x), (x), (x), (x)})
+#define sv(x) PDT_VEC4(x)
 
 /* Row i of the triangle's pairs, four partners j a turn: share_tri in
  * the lanes of a vector, each lane the scalar operations bit for bit (a

@@ -61,6 +61,18 @@ static inline bool pdt_finite(pdt_real_t x)
     return isfinite(x) != 0;
 }
 
+#if PDT_VECTOR_LANES == 4
+/* Four reals in the lanes of a host vector (the GCC and Clang vector
+ * extension): the kernel's candidates, the sharing's pairs, the Fisher
+ * pass's lags. Each lane's operations round as the scalar ones do, so a
+ * lane's result is the scalar code's bit for bit. */
+typedef pdt_real_t pdt_vec4_t __attribute__((vector_size(4 * sizeof(pdt_real_t))));
+
+/* A macro, not a function: a vector return value would tie the ABI to
+ * the vector width (GCC warns for 32-byte vectors without AVX). */
+#define PDT_VEC4(x) ((pdt_vec4_t){(x), (x), (x), (x)})
+#endif
+
 /* True when p is aligned for pdt_real_t arrays. */
 static inline bool pdt_aligned(const void *p)
 {
