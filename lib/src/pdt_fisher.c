@@ -119,42 +119,65 @@ static bool invert(pdt_fisher_matrix_t F, pdt_fisher_matrix_t Inv, uint32_t n, b
     return true;
 }
 
+/* Where the host has vector lanes the ring of recent residuals is written
+ * twice, LAGS apart, so that the lags are one contiguous run: four a turn
+ * in a vector, no wrap. A Cortex-M has no lanes and keeps its stack: one
+ * ring, two runs. */
+#if PDT_VECTOR_LANES == 4
+#define RING_TWICE 1
+#define RING_LEN   (2u * PDT_FISHER_LAGS)
+#else
+#define RING_TWICE 0
+#define RING_LEN   PDT_FISHER_LAGS
+#endif
+
 /* The residual's lagged products: the running state of one pass. */
 typedef struct lag_sums {
-    /* e(k - l) at recent[at + l - 1] for l = 1 .. LAGS before sample k is
-     * added: the ring written twice, LAGS apart and backwards, so that the
-     * lags are one contiguous run with no wrap and no modulo. Before the
-     * record's LAGS-th sample it holds zeros, whose products add nothing. */
-    pdt_real_t recent[2u * PDT_FISHER_LAGS];
+    /* e(k - 1 - i) at recent[at + i] (modulo LAGS in the one ring) for
+     * i = 0 .. LAGS - 1 before sample k is added: the ring is written
+     * backwards. Before the record's LAGS-th sample it holds zeros, whose
+     * products add +-0 to the sums, which leaves them as they were, so
+     * every lag is summed from the first sample on. */
+    pdt_real_t recent[RING_LEN];
     pdt_real_t first[PDT_FISHER_LAGS + 1u]; /* sums of the first i residuals */
     pdt_real_t prod[PDT_FISHER_LAGS];       /* sum of e(k) e(k - l) */
     pdt_real_t sum, part_sum;               /* sum of e, its block part */
     size_t at;
 } lag_sums_t;
 
+/* e(k - 1 - i) before sample k is added. */
+static pdt_real_t lag_back(const lag_sums_t *L, size_t i)
+{
+    const size_t j = L->at + i;
+    return L->recent[(RING_TWICE != 0 || j < PDT_FISHER_LAGS) ? j : j - PDT_FISHER_LAGS];
+}
+
 static void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
 {
+#if RING_TWICE
     const pdt_real_t *back = &L->recent[L->at];
-    /* Every lag, even those before the record's start: their zeros add
-     * +-0 to the sums, which leaves them as they were. Four a turn, in
-     * the lanes of a vector where the host has them. */
     for (size_t l = 0; l < PDT_FISHER_LAGS; l += 4u) {
-#if PDT_VECTOR_LANES == 4
         pdt_vec4_t p, b;
         (void)memcpy(&p, &L->prod[l], sizeof p);
         (void)memcpy(&b, &back[l], sizeof b);
         p += PDT_VEC4(e) * b;
         (void)memcpy(&L->prod[l], &p, sizeof p);
-#else
-        L->prod[l] += e * back[l];
-        L->prod[l + 1u] += e * back[l + 1u];
-        L->prod[l + 2u] += e * back[l + 2u];
-        L->prod[l + 3u] += e * back[l + 3u];
-#endif
     }
+#else
+    const size_t run = PDT_FISHER_LAGS - L->at; /* the lags before the wrap */
+    size_t l = 0;
+    for (; l < run; l++) {
+        L->prod[l] += e * L->recent[L->at + l];
+    }
+    for (; l < PDT_FISHER_LAGS; l++) {
+        L->prod[l] += e * L->recent[l - run];
+    }
+#endif
     L->at = (L->at == 0u) ? PDT_FISHER_LAGS - 1u : L->at - 1u;
     L->recent[L->at] = e;
+#if RING_TWICE
     L->recent[L->at + PDT_FISHER_LAGS] = e;
+#endif
     L->part_sum += e;
     if (k < PDT_FISHER_LAGS) {
         L->first[k + 1u] = L->first[k] + e;
@@ -180,7 +203,7 @@ static void lags_rho(const lag_sums_t *L, size_t n, pdt_real_t sse, pdt_real_t *
         if (l >= n) {
             continue;
         }
-        tail += L->recent[L->at + l - 1u]; /* e(n - l) */
+        tail += lag_back(L, l - 1u); /* e(n - l) */
         const pdt_real_t later = L->sum - L->first[l];
         const pdt_real_t earlier = L->sum - tail;
         const pdt_real_t s = L->prod[l - 1u] - m * (later + earlier) + (pdt_real_t)(n - l) * m * m;

@@ -16,7 +16,7 @@
 #define PDT_FISHER_MAX 5u
 
 /* Lags of the residual's autocorrelation (PDT_VALIDATE_LAGS); a multiple
- * of four (pdt_fisher.c takes them four a turn). */
+ * of four (with vector lanes pdt_fisher.c takes them four a turn). */
 #define PDT_FISHER_LAGS 20u
 
 typedef pdt_real_t pdt_fisher_matrix_t[PDT_FISHER_MAX][PDT_FISHER_MAX];
