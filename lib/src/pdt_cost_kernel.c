@@ -214,9 +214,9 @@ typedef pdt_vec4_t kvec_t;
 #define kv(x) PDT_VEC4(x)
 
 /* The scoring of sample k in every lane, shared by both orders' loops. */
-#define KV_SCORE()                                                                                 \
+#define KV_SCORE(yk)                                                                               \
     do {                                                                                           \
-        kvec_t e = (kv(y[k]) - vc0) - vk0 * ys;                                                    \
+        kvec_t e = (kv(yk) - vc0) - vk0 * ys;                                                      \
         s += ys;                                                                                   \
         ss += ys * ys;                                                                             \
         ee += e * e;                                                                               \
@@ -246,13 +246,29 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
         size_t stop = (n - k > KERNEL_BLOCK) ? k + KERNEL_BLOCK : n;
         kvec_t s = kv(PDT_R(0.0)), ss = s, ee = s, es = s;
         if (d[0].order == 2u) {
-            for (; k < stop; k++) {
+            /* Two samples a turn: the input taps rotate instead of being
+             * moved, and the loop's control is shared. */
+            for (; k + 2u <= stop; k += 2u) {
+                kvec_t ua = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                kvec_t ub = {u[k + 1u - l1[0]], u[k + 1u - l1[1]], u[k + 1u - l1[2]],
+                             u[k + 1u - l1[3]]};
+                dys += ((b0 * ua + b1 * p1 + b2 * p2) - e0 * dys) - dd1 * ys;
+                ys += dys;
+                KV_SCORE(y[k]);
+                dys += ((b0 * ub + b1 * ua + b2 * p1) - e0 * dys) - dd1 * ys;
+                ys += dys;
+                KV_SCORE(y[k + 1u]);
+                p2 = ua;
+                p1 = ub;
+            }
+            if (k < stop) {
                 kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
                 dys += ((b0 * uk + b1 * p1 + b2 * p2) - e0 * dys) - dd1 * ys;
                 ys += dys;
                 p2 = p1;
                 p1 = uk;
-                KV_SCORE();
+                KV_SCORE(y[k]);
+                k++;
             }
         } else if (taps2) {
             /* Every FOPDT: no third tap to multiply by zero. */
@@ -260,7 +276,7 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
                 kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
                 ys += (b0 * uk + b1 * p1) - dd0 * ys;
                 p1 = uk;
-                KV_SCORE();
+                KV_SCORE(y[k]);
             }
         } else {
             for (; k < stop; k++) {
@@ -268,7 +284,7 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
                 ys += (b0 * uk + b1 * p1 + b2 * p2) - dd0 * ys;
                 p2 = p1;
                 p1 = uk;
-                KV_SCORE();
+                KV_SCORE(y[k]);
             }
         }
         ts += s;
