@@ -33,7 +33,7 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
     cfg->max_evaluations = 9000u;
     cfg->searches = 0u;
     cfg->refine_evaluations = 300u;
-    cfg->tolerance = PDT_R(0.0);
+    cfg->tolerance = PDT_R(1e-4);
     cfg->stall_generations = 10u;
     cfg->seed = 1u;
     cfg->eta_c = PDT_R(15.0);
@@ -58,22 +58,6 @@ static uint32_t population_of(const pdt_ident_config_t *cfg)
         return cfg->population;
     }
     return cfg->model == PDT_MODEL_SOPDT ? PDT_IDENT_POPULATION_SOPDT : PDT_IDENT_POPULATION_FOPDT;
-}
-
-/* The stall rule's tolerance, the automatic one resolved. With the output
- * error the refinement ends in Newton steps (pdt_ident_polish.c), which
- * descend a basin for a fraction of one generation's evaluations: the
- * generations are spent on finding basins, and only an improvement of
- * the best by more than a tenth counts as progress. The other criteria's
- * Nelder-Mead refinement and their stages that read the GA's own best
- * (the CONTROL band, the delay scan) keep the GA descending. */
-static pdt_real_t tolerance_of(const pdt_ident_config_t *cfg)
-{
-    if (cfg->tolerance != PDT_R(0.0)) {
-        return cfg->tolerance;
-    }
-    return cfg->cost == PDT_COST_SIMULATION ? PDT_IDENT_TOLERANCE_SIMULATION
-                                            : PDT_IDENT_TOLERANCE_OTHER;
 }
 
 /* The cost's weighting: the identification's own, CONTROL uniform until
@@ -543,7 +527,6 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     *c = (pdt_ident_t){0};
     c->cfg = cfg_in;
     c->cfg.population = population_of(&cfg_in);
-    c->cfg.tolerance = tolerance_of(&cfg_in);
     c->data = data_in;
     c->genes = genes_of(cfg_in.model);
     c->cost = cost;

@@ -16,11 +16,6 @@ enum { NM_VERTEX = 1, NM_REFLECT, NM_EXPAND, NM_CONTRACT, NM_SHRINK, NM_END };
 #define NM_STEP PDT_R(0.05)
 #define NM_XTOL PDT_R(1e-5)
 
-/* The niche runs' stopping size with the output error: they only decide
- * which niche's point the Newton polish starts from, and the polish takes
- * that point to the bottom of its basin in a few steps. */
-#define NM_XTOL_NICHE PDT_R(1e-3)
-
 /* The whole record's polish after searches on a coarse record starts
  * near its optimum: its first simplex is a fifth of the refinement's. */
 #define NM_STEP_WHOLE PDT_R(0.01)
@@ -207,8 +202,7 @@ static bool nm_converged(const pdt_ident_t *c, const pdt_ident_simplex_t *sx)
             size = d > size ? d : size;
         }
     }
-    const bool niche = c->nm.start_i < c->nm.nstarts && c->cfg.cost == PDT_COST_SIMULATION;
-    return size < (niche ? NM_XTOL_NICHE : NM_XTOL);
+    return size < NM_XTOL;
 }
 
 static void nm_replace_worst(pdt_ident_simplex_t *sx, size_t G, const pdt_real_t *x, pdt_real_t f)

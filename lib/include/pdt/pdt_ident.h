@@ -51,13 +51,6 @@ extern "C" {
 #define PDT_IDENT_POPULATION_FOPDT 24u
 #define PDT_IDENT_POPULATION_SOPDT 40u
 
-/* The automatic stall tolerance (tolerance = 0): with the output error
- * (SIMULATION), whose refinement's Newton steps descend a basin cheaply,
- * the GA only counts improvements of its best by more than a tenth; with
- * the other criteria by more than 1e-4. docs/ident-engine.md. */
-#define PDT_IDENT_TOLERANCE_SIMULATION ((pdt_real_t)0.1)
-#define PDT_IDENT_TOLERANCE_OTHER      ((pdt_real_t)1e-4)
-
 /* Frequency weighting of FREQUENCY and COMBINED in the identification: the
  * cost's own three (pdt_weight_kind_t), and two the identification
  * resolves itself. docs/equations.md and docs/benchmarks.md give the why. */
@@ -135,9 +128,7 @@ typedef struct pdt_ident_config {
                                   * best gets the rest */
     pdt_real_t tolerance;        /* stop the GA when the best cost improved by
                                * less than this fraction over stall_generations.
-                               * 0: PDT_IDENT_TOLERANCE_SIMULATION with the
-                               * output error, PDT_IDENT_TOLERANCE_OTHER with
-                               * the other criteria (the default) */
+                               * Default 1e-4 */
     uint32_t stall_generations;  /* Default 10 */
     uint64_t seed;               /* PCG32 seed. Default 1 */
     pdt_real_t eta_c;            /* SBX distribution index. Default 15 */
