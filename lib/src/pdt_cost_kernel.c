@@ -210,13 +210,10 @@ void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t 
  * loads of y and its control are shared. Each lane reads its own delayed
  * input; the lanes start together once every candidate's input has
  * arrived (before that each runs alone). */
-typedef pdt_vec4_t kvec_t;
-#define kv(x) PDT_VEC4(x)
-
 /* The scoring of sample k in every lane, shared by both orders' loops. */
 #define KV_SCORE(yk)                                                                               \
     do {                                                                                           \
-        kvec_t e = (kv(yk) - vc0) - vk0 * ys;                                                      \
+        pdt_vec4_t e = (PDT_VEC4(yk) - vc0) - vk0 * ys;                                            \
         s += ys;                                                                                   \
         ss += ys * ys;                                                                             \
         ee += e * e;                                                                               \
@@ -227,31 +224,32 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
                       const pdt_discrete_t *d, const size_t l1[4], pdt_real_t K0, pdt_real_t c0,
                       kstate_t st[4], pdt_cost_sums_t t[4])
 {
-    const kvec_t b0 = {d[0].b[0], d[1].b[0], d[2].b[0], d[3].b[0]};
-    const kvec_t b1 = {d[0].b[1], d[1].b[1], d[2].b[1], d[3].b[1]};
-    const kvec_t b2 = {d[0].b[2], d[1].b[2], d[2].b[2], d[3].b[2]};
-    const kvec_t dd0 = {d[0].d[0], d[1].d[0], d[2].d[0], d[3].d[0]};
-    const kvec_t dd1 =
-        (d[0].order == 2u) ? (kvec_t){d[0].d[1], d[1].d[1], d[2].d[1], d[3].d[1]} : kv(PDT_R(0.0));
-    const kvec_t e0 = dd0 - dd1;
-    const kvec_t vk0 = kv(K0), vc0 = kv(c0);
+    const pdt_vec4_t b0 = {d[0].b[0], d[1].b[0], d[2].b[0], d[3].b[0]};
+    const pdt_vec4_t b1 = {d[0].b[1], d[1].b[1], d[2].b[1], d[3].b[1]};
+    const pdt_vec4_t b2 = {d[0].b[2], d[1].b[2], d[2].b[2], d[3].b[2]};
+    const pdt_vec4_t dd0 = {d[0].d[0], d[1].d[0], d[2].d[0], d[3].d[0]};
+    const pdt_vec4_t dd1 = (d[0].order == 2u)
+                               ? (pdt_vec4_t){d[0].d[1], d[1].d[1], d[2].d[1], d[3].d[1]}
+                               : PDT_VEC4(PDT_R(0.0));
+    const pdt_vec4_t e0 = dd0 - dd1;
+    const pdt_vec4_t vk0 = PDT_VEC4(K0), vc0 = PDT_VEC4(c0);
     const bool taps2 = d[0].b[2] == PDT_R(0.0) && d[1].b[2] == PDT_R(0.0) &&
                        d[2].b[2] == PDT_R(0.0) && d[3].b[2] == PDT_R(0.0);
-    kvec_t ys = {st[0].ys, st[1].ys, st[2].ys, st[3].ys};
-    kvec_t dys = {st[0].dys, st[1].dys, st[2].dys, st[3].dys};
-    kvec_t p1 = {st[0].p1, st[1].p1, st[2].p1, st[3].p1};
-    kvec_t p2 = {st[0].p2, st[1].p2, st[2].p2, st[3].p2};
-    kvec_t ts = kv(PDT_R(0.0)), tss = ts, tee = ts, tes = ts;
+    pdt_vec4_t ys = {st[0].ys, st[1].ys, st[2].ys, st[3].ys};
+    pdt_vec4_t dys = {st[0].dys, st[1].dys, st[2].dys, st[3].dys};
+    pdt_vec4_t p1 = {st[0].p1, st[1].p1, st[2].p1, st[3].p1};
+    pdt_vec4_t p2 = {st[0].p2, st[1].p2, st[2].p2, st[3].p2};
+    pdt_vec4_t ts = PDT_VEC4(PDT_R(0.0)), tss = ts, tee = ts, tes = ts;
     while (k < n) {
         size_t stop = (n - k > KERNEL_BLOCK) ? k + KERNEL_BLOCK : n;
-        kvec_t s = kv(PDT_R(0.0)), ss = s, ee = s, es = s;
+        pdt_vec4_t s = PDT_VEC4(PDT_R(0.0)), ss = s, ee = s, es = s;
         if (d[0].order == 2u) {
             /* Two samples a turn: the input taps rotate instead of being
              * moved, and the loop's control is shared. */
             for (; k + 2u <= stop; k += 2u) {
-                kvec_t ua = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
-                kvec_t ub = {u[k + 1u - l1[0]], u[k + 1u - l1[1]], u[k + 1u - l1[2]],
-                             u[k + 1u - l1[3]]};
+                pdt_vec4_t ua = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                pdt_vec4_t ub = {u[k + 1u - l1[0]], u[k + 1u - l1[1]], u[k + 1u - l1[2]],
+                                 u[k + 1u - l1[3]]};
                 dys += ((b0 * ua + b1 * p1 + b2 * p2) - e0 * dys) - dd1 * ys;
                 ys += dys;
                 KV_SCORE(y[k]);
@@ -262,7 +260,7 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
                 p1 = ub;
             }
             if (k < stop) {
-                kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                pdt_vec4_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
                 dys += ((b0 * uk + b1 * p1 + b2 * p2) - e0 * dys) - dd1 * ys;
                 ys += dys;
                 p2 = p1;
@@ -273,14 +271,14 @@ static void many_body(const pdt_real_t *u, const pdt_real_t *y, size_t k, size_t
         } else if (taps2) {
             /* Every FOPDT: no third tap to multiply by zero. */
             for (; k < stop; k++) {
-                kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                pdt_vec4_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
                 ys += (b0 * uk + b1 * p1) - dd0 * ys;
                 p1 = uk;
                 KV_SCORE(y[k]);
             }
         } else {
             for (; k < stop; k++) {
-                kvec_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
+                pdt_vec4_t uk = {u[k - l1[0]], u[k - l1[1]], u[k - l1[2]], u[k - l1[3]]};
                 ys += (b0 * uk + b1 * p1 + b2 * p2) - dd0 * ys;
                 p2 = p1;
                 p1 = uk;

@@ -211,18 +211,6 @@ static void lags_rho(const lag_sums_t *L, size_t n, pdt_real_t sse, pdt_real_t *
     }
 }
 
-/* part += jr jr^T, the upper triangle. Inline and called with the count
- * a constant, so that the loops unroll: this is most of the pass's work. */
-static inline void outer_add(pdt_real_t part[PDT_FISHER_MAX][PDT_FISHER_MAX], const pdt_real_t *jr,
-                             uint32_t nj)
-{
-    for (uint32_t i = 0; i < nj; i++) {
-        for (uint32_t j = i; j < nj; j++) {
-            part[i][j] += jr[i] * jr[j];
-        }
-    }
-}
-
 pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_t *u,
                             const pdt_real_t *y, size_t n, pdt_real_t y0, pdt_fisher_matrix_t F,
                             pdt_fisher_sums_t *out)
@@ -268,10 +256,10 @@ pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_
             jr[i] = (pdt_discrete_advance(&d[i], &s[i], u, u[0], k) - ys) / h[i];
         }
         jr[nm] = PDT_R(1.0);
-        if (nj == 4u) {
-            outer_add(part, jr, 4u);
-        } else {
-            outer_add(part, jr, 5u);
+        for (uint32_t i = 0; i < nj; i++) {
+            for (uint32_t j = i; j < nj; j++) {
+                part[i][j] += jr[i] * jr[j];
+            }
         }
         const pdt_real_t e = y[k] - y0 - ys;
         sp += e * e;

@@ -204,7 +204,6 @@ static inline pdt_real_t share_tri(const pdt_real_t *xi, const pdt_real_t *xj, s
 
 #if PDT_VECTOR_LANES == 4
 #define SHARE_VECTOR 1
-typedef pdt_vec4_t svec_t;
 #if PDT_REAL_DOUBLE
 typedef int64_t smask_t __attribute__((vector_size(4 * sizeof(int64_t))));
 #define SHARE_SIGN ((smask_t){INT64_MIN, INT64_MIN, INT64_MIN, INT64_MIN})
@@ -212,7 +211,6 @@ typedef int64_t smask_t __attribute__((vector_size(4 * sizeof(int64_t))));
 typedef int32_t smask_t __attribute__((vector_size(4 * sizeof(int32_t))));
 #define SHARE_SIGN ((smask_t){INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN})
 #endif
-#define sv(x) PDT_VEC4(x)
 
 /* Row i of the triangle's pairs, four partners j a turn: share_tri in
  * the lanes of a vector, each lane the scalar operations bit for bit (a
@@ -228,22 +226,22 @@ static inline size_t share_tri_row(const pdt_real_t *genes, size_t n, size_t g, 
     size_t j = i + 1u;
     for (; j + 4u <= n; j += 4u) {
         const pdt_real_t *xj = genes + j * g;
-        svec_t d2 = sv(PDT_R(0.0));
+        pdt_vec4_t d2 = PDT_VEC4(PDT_R(0.0));
         for (size_t k = 0; k < g; k++) {
-            const svec_t xk = {xj[k], xj[g + k], xj[2u * g + k], xj[3u * g + k]};
-            const svec_t t = (sv(xi[k]) - xk) * sv(inv[k]);
+            const pdt_vec4_t xk = {xj[k], xj[g + k], xj[2u * g + k], xj[3u * g + k]};
+            const pdt_vec4_t t = (PDT_VEC4(xi[k]) - xk) * PDT_VEC4(inv[k]);
             d2 += t * t;
         }
         /* Square roots a lane at a time: C has no vector one, and each
          * is the scalar one's result anyway. */
-        const svec_t r = {pdt_sqrt(d2[0]), pdt_sqrt(d2[1]), pdt_sqrt(d2[2]), pdt_sqrt(d2[3])};
-        const svec_t x = sv(PDT_R(1.0)) - r * sv(inv_sigma);
-        const svec_t s = sv(PDT_R(0.5)) * (x + (svec_t)((smask_t)x & ~SHARE_SIGN));
+        const pdt_vec4_t r = {pdt_sqrt(d2[0]), pdt_sqrt(d2[1]), pdt_sqrt(d2[2]), pdt_sqrt(d2[3])};
+        const pdt_vec4_t x = PDT_VEC4(PDT_R(1.0)) - r * PDT_VEC4(inv_sigma);
+        const pdt_vec4_t s = PDT_VEC4(PDT_R(0.5)) * (x + (pdt_vec4_t)((smask_t)x & ~SHARE_SIGN));
         *m += s[0];
         *m += s[1];
         *m += s[2];
         *m += s[3];
-        svec_t sj;
+        pdt_vec4_t sj;
         (void)memcpy(&sj, &shared[j], sizeof sj);
         sj += s;
         (void)memcpy(&shared[j], &sj, sizeof sj);
