@@ -9,7 +9,13 @@ Usage (from the repository root):
     options: --seeds N (closed-loop and hard cases), --set-seeds N (the other
     benchmark sets), --jobs N (worker processes, default: all cores),
     --out FILE, --json FILE (every run's verdict, one line each, written as
-    the batches finish)
+    the batches finish), --cases REGEX (only the cases whose label matches),
+    --reference FILE (a previous run's --json: its reference optimum of each
+    record instead of the nine-start fit and the grid search, which take
+    most of the time; the reference is then the least of it and this run's
+    polishes, so a verdict can only be stricter)
+    environment: PDT_CERTAINTY_DRIVER, a driver built elsewhere to use
+    instead of building build/bench (to compare two versions of the library)
 
 It builds tools/bench/certainty.c (the driver: closed-loop records of known
 plants, pdt_identify with the library's defaults) into build/bench, then,
@@ -37,6 +43,7 @@ import math
 import multiprocessing as mp
 import os
 import pathlib
+import re
 import subprocess
 import sys
 import tempfile
@@ -45,18 +52,24 @@ import time
 import numpy as np
 
 from pdtbench import benchlib as bl
+from pdtbench import coarse_bench as cb
 from pdtbench import fastref
 from pdtbench import run_ident_bench as rb
 from pdtbench.benchlib import ROOT, models
 
 BUILD = ROOT / "build" / "bench"
-DRIVER = BUILD / "tools" / "bench" / "pdt_certainty"
+# PDT_CERTAINTY_DRIVER: a driver built elsewhere (another build of the
+# library), used as it is instead of building build/bench.
+DRIVER = pathlib.Path(os.environ.get("PDT_CERTAINTY_DRIVER",
+                                     BUILD / "tools" / "bench" / "pdt_certainty"))
 WRONG = 1.01          # cost ratio to the reference optimum that counts as wrong
 FAR = 1.1             # ... and as clearly another basin rather than a short polish
 BATCH = 25            # seeds per driver call
 
 
 def build():
+    if "PDT_CERTAINTY_DRIVER" in os.environ:
+        return
     cfg = ["cmake", "-S", str(ROOT), "-B", str(BUILD), "-G", "Ninja",
            "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_C_FLAGS_RELEASE=-O2 -DNDEBUG",
            "-DPDT_BUILD_TESTS=OFF", "-DPDT_REAL_DOUBLE=OFF"]
@@ -101,6 +114,30 @@ def bench_cases(smoke):
     return out
 
 
+# Open-loop records under much noise and a fast input (coarse_bench.py's
+# records): (model, tau in samples, input, SNR). A PRBS bit of a third of
+# the time constant under 10 dB flattens the cost's basins, so that one
+# search ends in another basin several times in a hundred; the rows with
+# the most flags in the coarse benchmark, and their neighbours.
+NOISY = (("fopdt", 4.0, "prbs", 10), ("fopdt", 12.0, "prbs", 10), ("fopdt", 40.0, "prbs", 10),
+         ("sopdt", 4.0, "prbs", 30), ("sopdt", 12.0, "prbs", 10))
+
+
+def noisy_label(c):
+    m, tau, exc, snr = c
+    return f"{m.upper()}, tau {tau:g} samples, {exc.upper()} bits of tau / 3, {snr} dB"
+
+
+def noisy_truth(c):
+    """The plant of coarse_bench.record in pdtref's form."""
+    m, tau, _, _ = c
+    Td = round((0.5 * tau + 2.3) * 20) / 20 * cb.TS
+    if m == "fopdt":
+        return models.Fopdt(1.5, tau * cb.TS, Td)
+    t1, t2 = tau * cb.TS, tau * cb.TS / 3
+    return models.Sopdt(1.5 / (t1 * t2), (t1 + t2) / (t1 * t2), 1 / (t1 * t2), Td)
+
+
 def model_of_line(j):
     if j["model"] == "fopdt":
         return models.Fopdt(j["K"], j["tau"], j["Td"])
@@ -116,9 +153,18 @@ def describe(m):
     return f"SOPDT K {n.K:.3g}, wn {n.wn:.3g}, zeta {n.zeta:.3g}, Td {m.Td:.3g}"
 
 
-def judge(u, y, Ts, kind, truth, line):
+# --reference: a previous run's verdicts by (kind, case, seed). Set before
+# the worker processes fork, which inherit it.
+CACHE: dict = {}
+
+
+def judge(u, y, Ts, kind, truth, line, key=None):
     """One run's verdict: the driver's line plus the reference optimum and
-    the cost ratio."""
+    the cost ratio. With a previous run's verdict of the same record (key
+    in CACHE), its reference optimum stands for the nine-start fit and the
+    grid search (the records are the same, seed for seed): the reference
+    is then the least of it and this run's polishes, never above what the
+    full search would give."""
     out = {"seed": line["seed"], "status": line["status"],
            "evaluations": line.get("evaluations"), "seconds": line.get("seconds"),
            "coarse": line.get("coarse")}
@@ -130,15 +176,27 @@ def judge(u, y, Ts, kind, truth, line):
     ref = fastref.FastRef(u, y, Ts, kind)
     m = model_of_line(line)
     c_p = ref.cost_of(m)
-    c9, _ = ref.fit()
-    cg, _ = ref.grid_fit(ntd=96)
+    old = CACHE.get(key)
+    if old is not None and "ref" in old:
+        c9 = old.get("ref9", math.inf)
+        cg = old.get("refgrid", math.inf)
+        c_prev = old["ref"]
+    else:
+        c9, _ = ref.fit()
+        cg, _ = ref.grid_fit(ntd=96)
+        c_prev = math.inf
     c_t, _ = ref.polish(ref.x_of(truth))
     c_pp, _ = ref.polish(ref.x_of(m))
-    c_ref = min(c9, cg, c_t, c_pp, c_p)
+    c_ref = min(c9, cg, c_t, c_pp, c_p, c_prev)
     ratio = c_p / c_ref if c_ref > 0 else 1.0
-    out.update({"cost": c_p, "ref": c_ref, "ratio": ratio,
-                "ref9_missed": bool(c9 > WRONG * c_ref),
-                "search_missed": bool(min(c9, cg) > WRONG * c_ref),
+    if math.isinf(c9):
+        # A reference run that did not keep the two searches' costs: its
+        # counts of their misses stand.
+        missed9, missed = old.get("ref9_missed", False), old.get("search_missed", False)
+    else:
+        missed9, missed = c9 > WRONG * c_ref, min(c9, cg) > WRONG * c_ref
+    out.update({"cost": c_p, "ref": c_ref, "ratio": ratio, "ref9": c9, "refgrid": cg,
+                "ref9_missed": bool(missed9), "search_missed": bool(missed),
                 "fit": line.get("fit"), "model": describe(m)})
     wrong = not (ratio <= WRONG)
     out["verdict"] = ("flagged-" if out["flags"] else "") + ("wrong" if wrong else "right")
@@ -159,7 +217,8 @@ def closed_task(args):
         os.unlink(dump)
     lines = [json.loads(x) for x in res.stdout.splitlines()]
     truth = truth_model(c)
-    return [("closed", ci, judge(recs[j, 0], recs[j, 1], c["Ts"], c["model"], truth, lines[j]))
+    return [("closed", ci, judge(recs[j, 0], recs[j, 1], c["Ts"], c["model"], truth, lines[j],
+                                 ("closed", ci, lines[j]["seed"])))
             for j in range(count)]
 
 
@@ -180,12 +239,33 @@ def bench_task(args):
     finally:
         os.unlink(path)
     lines = [json.loads(x) for x in res.stdout.splitlines()]
-    return [("bench", bi, judge(u, y, Ts, kind, truth.model(), line))
+    return [("bench", bi, judge(u, y, Ts, kind, truth.model(), line, ("bench", bi, line["seed"])))
+            for (u, y), line in zip(recs, lines)]
+
+
+def noisy_task(args):
+    ni, s0, count = args
+    c = NOISY[ni]
+    recs = [cb.record(c[0], c[1], c[2], c[3], s) for s in range(s0, s0 + count)]
+    with tempfile.NamedTemporaryFile(suffix=".bin", delete=False) as f:
+        path = f.name
+        for u, y in recs:
+            f.write(np.concatenate([u, y]).astype("<f8").tobytes())
+    try:
+        res = subprocess.run([str(DRIVER), "file", path, str(cb.N), f"{cb.TS:.17g}", c[0],
+                              str(s0)], capture_output=True, text=True, check=True)
+    finally:
+        os.unlink(path)
+    lines = [json.loads(x) for x in res.stdout.splitlines()]
+    truth = noisy_truth(c)
+    return [("noisy", ni, judge(u, y, cb.TS, c[0], truth, line, ("noisy", ni, line["seed"])))
             for (u, y), line in zip(recs, lines)]
 
 
 def run_task(t):
-    return closed_task(t[1:]) if t[0] == "closed" else bench_task(t[1:])
+    if t[0] == "closed":
+        return closed_task(t[1:])
+    return noisy_task(t[1:]) if t[0] == "noisy" else bench_task(t[1:])
 
 
 def batches(n_seeds):
@@ -275,6 +355,16 @@ docs/benchmarks.md and every accuracy set of `run_ident_bench.py` (1500
 samples), their records made by `benchlib.make_record` as there, with the
 noise seed varying.
 
+**Noisy records under a fast PRBS**: open-loop records of
+`coarse_bench.py` (1200 samples at Ts = 1 s after 40 at rest, a FOPDT
+1.5 / (tau s + 1) or a SOPDT 1.5 / ((tau s + 1)(tau s / 3 + 1)), dead time
+tau / 2 + 2.3 samples, a PRBS whose bit lasts a third of the time
+constant, white noise at the SNR given): the coarse benchmark's rows with
+the most flags and their neighbours. The noise flattens the cost's basins
+until one search ends in another basin several times in a hundred, so
+these cases test the agreement of the searches more than any other. Their
+seeds are counted like those of the hard cases (`--seeds`).
+
 **Verdict.** The criterion is pdtfit's: the mean square over the whole
 record of `y - g x - c`, x the simulated unit-gain response to `u - u[0]`
 from rest, g and c fitted by least squares, so that the shape and the dead
@@ -317,18 +407,33 @@ def write_doc(out, results, cases, bcs, run):
 
     closed = [(c["name"], rows_of("closed", i)) for i, c in enumerate(cases)]
     hard = [(bc[0], rows_of("bench", i)) for i, bc in enumerate(bcs) if bc[5]]
+    noisy = [(noisy_label(c), rows_of("noisy", i)) for i, c in enumerate(NOISY)]
     sets = [(bc[0], rows_of("bench", i)) for i, bc in enumerate(bcs) if not bc[5]]
+    # A run limited by --cases leaves out the groups it did not run.
+    closed, hard, noisy, sets = ([g for g in gs if g[1]] for gs in (closed, hard, noisy, sets))
 
     doc = [INTRO.replace("{n}", str(cases[0]["n"]))]
     doc.append("## Run\n")
     mach = rb.machine()
     doc.append(f"- Command: `python3 tools/bench/certainty.py"
                f"{' --smoke' if run['smoke'] else ''} --seeds {run['seeds']} "
-               f"--set-seeds {run['set_seeds']}`")
+               f"--set-seeds {run['set_seeds']}"
+               f"{' --reference FILE' if run.get('reference') else ''}`")
+    if run.get("reference"):
+        doc.append("- The reference optimum of each record: the least of a previous full "
+                   "run's (its nine-start fit, grid search and polishes, `--reference`) and "
+                   "this run's polishes from the truth and from pdtfit's answer. A previous "
+                   "answer that was better than this one counts against this one.")
     doc.append(f"- CPU: {mach['cpu']} ({mach['cores']} cores visible); {mach['compiler']}, "
                f"`-O2`, float build; Python {mach['python']}, numpy {mach['numpy']}, "
                f"scipy {mach['scipy']}")
-    if run["elapsed"] is None:
+    if run.get("parts"):
+        doc.append("- The battery ran in parts on the same code, each with "
+                   f"{run['jobs']} worker processes: " + "; ".join(
+                       f"{p['elapsed'] / 60:.1f} min"
+                       + (f" (the cases matching `--cases '{p['cases']}'`)" if p.get("cases")
+                          else "") for p in run["parts"]) + ".\n")
+    elif run["elapsed"] is None:
         doc.append("- **The run was interrupted**: the tables count the seeds it finished "
                    "(the seeds column).\n")
     else:
@@ -336,12 +441,14 @@ def write_doc(out, results, cases, bcs, run):
                    f"processes" + (" (the part after a resume)" if run.get("resumed") else "") +
                    ".\n")
     doc.append("## Summary\n")
-    _, tot_all = table(closed + hard + sets)
+    _, tot_all = table(closed + hard + noisy + sets)
     doc.append(f"**{tot_all['wrong']} wrong answers with status OK in {tot_all['n']} "
-               f"identifications** over {len(closed) + len(hard) + len(sets)} cases; "
+               f"identifications** over {len(closed) + len(hard) + len(noisy) + len(sets)} "
+               f"cases; "
                f"{tot_all['far']} of them more than 1.1 x the optimum's cost.\n")
     for title, groups in (("Closed-loop records", closed),
                           ("Hard cases of the benchmark's reliability section", hard),
+                          ("Noisy records under a fast PRBS", noisy),
                           ("Accuracy sets of the benchmark", sets)):
         lines, tot = table(groups)
         doc.append(f"### {title}\n")
@@ -349,7 +456,7 @@ def write_doc(out, results, cases, bcs, run):
                    f"({tot['far']} more than 1.1 x the optimum's cost).\n")
         doc += lines
         doc.append("")
-    ex = examples(closed + hard + sets)
+    ex = examples(closed + hard + noisy + sets)
     if ex:
         doc.append("### Examples of wrong answers (the first few)\n")
         doc += ex
@@ -365,13 +472,22 @@ def main():
                     help="seeds of the accuracy sets (default: --seeds)")
     ap.add_argument("--smoke", action="store_true")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--cases", metavar="REGEX",
+                    help="only the cases whose label matches (the document then covers "
+                         "those alone)")
+    ap.add_argument("--reference", metavar="FILE", action="append", default=[],
+                    help="a previous run's --json (repeatable): its reference optimum of "
+                         "each record stands for the nine-start fit and the grid search, "
+                         "which take most of the time; the verdicts can only be stricter")
     ap.add_argument("--out")
     ap.add_argument("--json")
     ap.add_argument("--resume", metavar="FILE",
                     help="keep the verdicts an interrupted run saved with --json and run "
                          "only the batches it did not finish (same seeds options)")
-    ap.add_argument("--from-json", metavar="FILE",
-                    help="write the document from the verdicts a run saved with --json")
+    ap.add_argument("--from-json", metavar="FILE", action="append", default=[],
+                    help="write the document from the verdicts a run saved with --json "
+                         "(repeatable: runs of parts of the battery on the same code, such "
+                         "as a run limited by --cases)")
     a = ap.parse_args()
     seeds = 20 if a.smoke else a.seeds
     set_seeds = seeds if a.set_seeds is None else a.set_seeds
@@ -380,18 +496,27 @@ def main():
     out = pathlib.Path(a.out) if a.out else (
         BUILD / "certainty-smoke.md" if a.smoke else ROOT / "docs" / "certainty.md")
     t_start = time.time()
+    for path in a.reference:
+        for line in open(path):
+            j = json.loads(line)
+            if j.get("kind") != "meta":
+                CACHE[(j["kind"], j["case"], j["seed"])] = j
     build()
     cases = driver_cases()
     bcs = bench_cases(a.smoke)
     if a.from_json:
-        results, run = [], None
-        for line in open(a.from_json):
-            j = json.loads(line)
-            kind = j.pop("kind")
-            if kind == "meta":
-                run = j
-            else:
-                results.append((kind, j.pop("case"), j))
+        results, metas = [], []
+        for path in a.from_json:
+            for line in open(path):
+                j = json.loads(line)
+                kind = j.pop("kind")
+                if kind == "meta":
+                    metas.append(j)
+                else:
+                    results.append((kind, j.pop("case"), j))
+        run = metas[0] if metas else None
+        if len(metas) > 1:
+            run["parts"] = metas
         if run is None:     # an interrupted run: the counts of what it finished
             run = {"seeds": seeds, "set_seeds": set_seeds, "smoke": a.smoke,
                    "jobs": a.jobs, "elapsed": None}
@@ -405,10 +530,18 @@ def main():
               for ci in range(len(cases))]
     queues += [[("bench", bi, s0, cnt, a.smoke) for s0, cnt in batches(seeds)]
                for bi, bc in enumerate(bcs) if bc[5]]
+    queues += [[("noisy", ni, s0, cnt) for s0, cnt in batches(seeds)]
+               for ni in range(len(NOISY) if not a.smoke else 1)]
     tasks = [q[b] for b in range(max(len(q) for q in queues)) for q in queues if b < len(q)]
     for bi, bc in enumerate(bcs):
         if not bc[5]:
             tasks += [("bench", bi, s0, cnt, a.smoke) for s0, cnt in batches(set_seeds)]
+    if a.cases:
+        labels = {"closed": [c["name"] for c in cases], "bench": [bc[0] for bc in bcs],
+                  "noisy": [noisy_label(c) for c in NOISY]}
+        tasks = [t for t in tasks if re.search(a.cases, labels[t[0]][t[1]])]
+        if not tasks:
+            sys.exit(f"no case matches {a.cases!r}")
     results = []
     if a.resume:    # keep the verdicts of an interrupted run, do the rest
         for line in open(a.resume):
@@ -433,7 +566,8 @@ def main():
                 print(f"{done}/{len(tasks)} batches, {time.time() - t_start:.0f} s", flush=True)
     elapsed = time.time() - t_start
     run = {"seeds": seeds, "set_seeds": set_seeds, "smoke": a.smoke, "jobs": a.jobs,
-           "elapsed": elapsed, "resumed": bool(a.resume)}
+           "elapsed": elapsed, "resumed": bool(a.resume), "reference": bool(a.reference),
+           "cases": a.cases}
     if jf:
         jf.write(json.dumps({"kind": "meta", **run}) + "\n")
         jf.close()

@@ -580,8 +580,9 @@ def certainty_section():
                       "(docs/certainty.md).\n"]
     text = path.read_text()
     doc.append("Copied from docs/certainty.md, which `python3 tools/bench/certainty.py` "
-               "generates (a separate run: about 45 minutes on two shared cores with 1000 seeds "
-               "per closed-loop and hard case and 100 per accuracy set). Every case is "
+               "generates (a separate run: about 100 minutes on two cores with 1000 seeds "
+               "per closed-loop, hard and noisy case and 100 per accuracy set, its Run "
+               "section below). Every case is "
                "a known plant; each seed is one record (its noise) and one identification "
                "with the library's defaults (its search seed); an answer is *wrong* when "
                "its output-error cost exceeds the reference optimum, found independently "

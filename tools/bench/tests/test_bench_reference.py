@@ -123,3 +123,37 @@ def test_verdict_tells_a_wrong_basin():
     assert certainty.judge(u, y, Ts, "fopdt", truth, dict(wrong, flags=4))["verdict"] == \
         "flagged-wrong"
     assert certainty.judge(u, y, Ts, "fopdt", truth, refused)["verdict"] == "refused"
+
+
+def test_reference_of_a_previous_run():
+    """--reference: a previous run's reference optimum of the same record
+    can only make a verdict stricter."""
+    Ts = 0.1
+    du = input_signal()
+    truth = models.Fopdt(2.0, 3.0, 1.23)
+    u = 40.0 + 10.0 * du
+    y = 350.0 + bl.simulate(truth, Ts, 10.0 * du) + 0.05 * np.random.default_rng(1).standard_normal(du.size)
+    right = {"seed": 1, "status": 0, "flags": 0, "model": "fopdt", "K": 2.0, "tau": 3.0,
+             "Td": 1.23, "fit": 99.0, "evaluations": 1000}
+    key = ("bench", 0, 1)
+    full = certainty.judge(u, y, Ts, "fopdt", truth, right, key)
+    try:
+        certainty.CACHE[key] = {"ref": 2.0 * full["ref"], "ref9_missed": False,
+                                "search_missed": False}
+        kept = certainty.judge(u, y, Ts, "fopdt", truth, right, key)
+        assert kept["verdict"] == "right" and kept["ref"] <= full["ref"] * (1 + 1e-9)
+        certainty.CACHE[key] = {"ref": 0.5 * full["ref"], "ref9_missed": False,
+                                "search_missed": False}
+        assert certainty.judge(u, y, Ts, "fopdt", truth, right, key)["verdict"] == "wrong"
+    finally:
+        certainty.CACHE.clear()
+
+
+@pytest.mark.parametrize("case", certainty.NOISY)
+def test_noisy_truth_is_the_records_plant(case):
+    """The noisy cases' truth in pdtref's form is the plant coarse_bench
+    simulates."""
+    from pdtbench import coarse_bench as cb
+    u, y = cb.record(case[0], case[1], case[2], 300, 1)
+    ref = bl.simulate(certainty.noisy_truth(case), cb.TS, u - u[0])
+    assert np.max(np.abs(y - 350.0 - ref)) <= 1e-6 * np.max(np.abs(ref))
