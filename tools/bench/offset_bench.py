@@ -5,6 +5,9 @@ Usage (from the repository root):
 
     python3 tools/bench/offset_bench.py [--quick] [--jobs N] [--out FILE]
 
+(The scipy reference fits are kept in the reference cache of
+benchlib.Reference, as for run_ident_bench.py.)
+
 The 27 plants of the Astrom-Hagglund batch (run_ident_bench.py, section 2),
 each recorded as there (20 mean residence times in 1500 samples, 30 dB) with
 a PRBS, a step and a pulse that start from rest (a twentieth of the record),

@@ -3,7 +3,8 @@
 
 Usage (from the repository root):
 
-    python3 tools/bench/run_ident_bench.py            # full: about 10-15 min on 2 cores
+    python3 tools/bench/run_ident_bench.py            # full: about 45 min on 2 cores, a
+                                                      # few with the reference cache filled
     python3 tools/bench/run_ident_bench.py --quick    # a few cases, under a minute,
                                                       # into build/bench/benchmarks-quick.md
     python3 tools/bench/run_ident_bench.py --update-certainty
@@ -26,7 +27,11 @@ the timing program tools/bench/ident_speed.c into build/bench (-O2), then:
    tools/bench/certainty.py, which takes longer and is run on its own).
 
 Everything is seeded; the same machine and versions give the same document
-(the timings apart).
+(the timings apart). The scipy reference fits (benchlib.Reference) depend
+on the records alone and are kept in build/bench/reference-cache, under a
+hash of the record and of the reference's code (PDT_REFERENCE_CACHE: another
+folder, or "off"): run again after a change to pdtfit, the script refits
+nothing.
 """
 from __future__ import annotations
 

@@ -157,3 +157,25 @@ def test_noisy_truth_is_the_records_plant(case):
     u, y = cb.record(case[0], case[1], case[2], 300, 1)
     ref = bl.simulate(certainty.noisy_truth(case), cb.TS, u - u[0])
     assert np.max(np.abs(y - 350.0 - ref)) <= 1e-6 * np.max(np.abs(ref))
+
+
+def test_reference_cache(tmp_path, monkeypatch):
+    """Reference.fit read back from the cache gives the fit it stored, its
+    evaluation count included; another record is fitted anew."""
+    monkeypatch.setenv("PDT_REFERENCE_CACHE", str(tmp_path))
+    Ts = 0.1
+    du = input_signal()
+    truth = models.Fopdt(2.0, 3.0, 1.23)
+    u = 40.0 + 10.0 * du
+    y = 350.0 + bl.simulate(truth, Ts, 10.0 * du) + 0.05 * np.random.default_rng(1).standard_normal(du.size)
+    first = bl.Reference(u, y, Ts, "fopdt")
+    fitted = first.fit()
+    assert len(list(tmp_path.glob("*/*.json"))) == 1
+    again = bl.Reference(u, y, Ts, "fopdt")
+    assert again.fit() == fitted and again.nfev == first.nfev > 0
+    other = bl.Reference(u, y + 0.01, Ts, "fopdt")
+    other.fit()
+    assert len(list(tmp_path.glob("*/*.json"))) == 2
+    monkeypatch.setenv("PDT_REFERENCE_CACHE", "off")
+    off = bl.Reference(u, y, Ts, "fopdt")
+    assert off.fit() == fitted and off.nfev == first.nfev
