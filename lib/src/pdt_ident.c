@@ -644,6 +644,9 @@ static void run_stage(pdt_ident_t *c)
     case PH_POLISH:
         pdt_ident_polish_step(c);
         break;
+    case PH_PROBE:
+        pdt_ident_polish_probe(c);
+        break;
     default: /* PH_STD */
         pdt_ident_std(c);
         break;
@@ -672,6 +675,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_FINE] = HEAVY,
         [PH_REST] = HEAVY,
         [PH_POLISH] = NEEDS_BUDGET | EVALUATES | GROUP,
+        [PH_PROBE] = NEEDS_BUDGET | EVALUATES,
         [PH_STD] = HEAVY,
     };
     /* The budget counts the samples the evaluations score: an evaluation

@@ -389,6 +389,7 @@ void pdt_ident_polish_begin(pdt_ident_t *c)
 {
     c->nm.kink = 0u;
     c->nm.near = false;
+    c->nm.probe = 0u;
     newton_start(c, c->genes);
 }
 
@@ -409,20 +410,83 @@ static bool kink_pass(pdt_ident_t *c, uint32_t dims, const pdt_real_t *x)
     return true;
 }
 
+/* The dead-time probe after the answer's polish and its kink passes:
+ * the cost at PROBE_STEPS points on either side of the answer's dead time,
+ * PROBE_STEP samples apart, the other genes held. Under an input that
+ * moves at nearly every sample, the interval between two whole samples
+ * can hold two minima a fraction of a sample apart, closer than any
+ * niche the sharing keeps apart, and two agreeing searches can both end
+ * in the worse one (docs/ident-engine.md); the polish, local, does not
+ * see the other. A lower point found is polished as the answer was. */
+#define PROBE_STEPS 10u
+#define PROBE_STEP  PDT_R(0.1)
+
+static bool probe_begin(pdt_ident_t *c)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    if (nm->probe != 0u ||
+        pdt_ident_left(c) < (2u * PROBE_STEPS) + (c->genes * (c->genes + 1u)) + 2u) {
+        return false;
+    }
+    nm->probe = 1u;
+    nm->probe_f = c->best.cost;
+    for (uint32_t j = 0; j < c->genes; j++) {
+        nm->probe_x[j] = c->best.genes[j];
+    }
+    c->phase = PH_PROBE;
+    return true;
+}
+
+void pdt_ident_polish_probe(pdt_ident_t *c)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    const uint32_t G = c->genes;
+    const uint32_t k = nm->probe;
+    /* Points 1 .. PROBE_STEPS below the centre, the rest above it. */
+    const pdt_real_t d =
+        k <= PROBE_STEPS ? -(pdt_real_t)(PROBE_STEPS + 1u - k) : (pdt_real_t)(k - PROBE_STEPS);
+    pdt_real_t x[3];
+    for (uint32_t j = 0; j < G; j++) {
+        x[j] = nm->probe_x[j];
+    }
+    x[G - 1u] = gene_at(c, samples_of(c, nm->probe_x[G - 1u]) + (d * PROBE_STEP));
+    if (x[G - 1u] >= c->lo[G - 1u] && x[G - 1u] <= c->hi[G - 1u]) {
+        pdt_real_t f, gain, offset;
+        pdt_ident_evaluate(c, x, &f, &gain, &offset);
+    }
+    nm->probe = k + 1u;
+    if (nm->probe <= 2u * PROBE_STEPS) {
+        return;
+    }
+    /* The evaluations kept the best. Where it is lower than the answer,
+     * the answer's whole polish again from it (its kink passes and a
+     * probe included: each round needs a lower point and the budget for
+     * a probe, so the rounds end), else the answer stands. */
+    if (!(c->best.cost < nm->probe_f)) {
+        nm->kink = 2u;
+        pdt_ident_refine_end(c);
+        return;
+    }
+    pdt_ident_polish_begin(c);
+}
+
 bool pdt_ident_polish_kinks(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     const uint32_t G = c->genes;
     pdt_real_t x[3];
-    if (!has_kinks(c) || !(c->best.cost < PDT_REAL_MAX) || nm->kink >= 2u) {
+    if (!has_kinks(c) || !(c->best.cost < PDT_REAL_MAX)) {
         return false;
+    }
+    if (nm->kink >= 2u) {
+        return probe_begin(c);
     }
     const pdt_real_t r = samples_of(c, c->best.genes[G - 1u]);
     if (nm->kink == 0u) {
         if (!nm->near) {
             /* The dead time's differences never reached a kink: the
              * polish saw a smooth cost. */
-            return false;
+            return probe_begin(c);
         }
         nm->r = r;
     }
@@ -430,7 +494,8 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
     if (!(pdt_fabs(r - whole) >= PIN_NEAR)) {
         /* On the kink: the answer's minimum, or the pinned pass's (then no
          * ridge to look across). */
-        return false;
+        nm->kink = 2u;
+        return probe_begin(c);
     }
     for (uint32_t j = 0; j < G; j++) {
         x[j] = c->best.genes[j];
@@ -439,7 +504,7 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
         nm->kink = 2u; /* no pinned pass, nothing to look across from */
         x[G - 1u] = gene_at(c, whole);
         if (!kink_pass(c, G - 1u, x)) {
-            return false;
+            return probe_begin(c);
         }
         nm->kink = 1u;
         return true;
@@ -453,7 +518,7 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
     for (uint32_t j = 0; j < G; j++) {
         x[j] = (PDT_R(2.0) * p->x[j]) - x[j];
     }
-    return kink_pass(c, G, x);
+    return kink_pass(c, G, x) || probe_begin(c);
 }
 
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c)

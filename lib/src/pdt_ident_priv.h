@@ -37,6 +37,7 @@ enum {
     PH_FINE,         /* the whole record after the coarse one's searches */
     PH_REST,         /* AUTO offset: the answer polished on the rest level */
     PH_POLISH,       /* Newton polish of one answer (after PH_FINE, PH_REST) */
+    PH_PROBE,        /* the dead time about a polished answer, shape held */
     PH_STD,          /* the parameters' uncertainty */
     PH_DONE,
     PH_COUNT
@@ -186,6 +187,9 @@ void pdt_ident_polish_begin(pdt_ident_t *c);
  * begun. False, and nothing begun, once both ran, where they do not apply
  * or where the budget is spent. */
 bool pdt_ident_polish_kinks(pdt_ident_t *c);
+/* PH_PROBE: the next point of the dead-time probe, then the polish from
+ * the lowest where it is below the answer. */
+void pdt_ident_polish_probe(pdt_ident_t *c);
 /* The points the next PH_POLISH step evaluates together. */
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c);
 void pdt_ident_polish_step(pdt_ident_t *c);
