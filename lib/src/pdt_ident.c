@@ -594,7 +594,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 /* The candidates a GROUP stage evaluates together. */
 static uint32_t group_of(const pdt_ident_t *c)
 {
-    if (c->phase == PH_POLISH) {
+    if (c->phase == PH_POLISH || c->phase == PH_PROBE) {
         return pdt_ident_polish_group(c);
     }
     return c->phase == PH_REFINE ? pdt_ident_refine_group(c) : pdt_ident_ga_group(c);
@@ -675,7 +675,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_FINE] = HEAVY,
         [PH_REST] = HEAVY,
         [PH_POLISH] = NEEDS_BUDGET | EVALUATES | GROUP,
-        [PH_PROBE] = NEEDS_BUDGET | EVALUATES,
+        [PH_PROBE] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_STD] = HEAVY,
     };
     /* The budget counts the samples the evaluations score: an evaluation

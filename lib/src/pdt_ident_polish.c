@@ -441,20 +441,30 @@ void pdt_ident_polish_probe(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     const uint32_t G = c->genes;
-    const uint32_t k = nm->probe;
-    /* Points 1 .. PROBE_STEPS below the centre, the rest above it. */
-    const pdt_real_t d =
-        k <= PROBE_STEPS ? -(pdt_real_t)(PROBE_STEPS + 1u - k) : (pdt_real_t)(k - PROBE_STEPS);
-    pdt_real_t x[3];
-    for (uint32_t j = 0; j < G; j++) {
-        x[j] = nm->probe_x[j];
+    const uint32_t count = pdt_ident_polish_group(c);
+    pdt_real_t pts[PDT_COST_MANY * 3u] = {PDT_R(0.0)};
+    pdt_real_t cost[PDT_COST_MANY], gains[PDT_COST_MANY], offsets[PDT_COST_MANY];
+    uint32_t m = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        /* Points 1 .. PROBE_STEPS below the centre, the rest above it. */
+        const uint32_t k = nm->probe + i;
+        const pdt_real_t d =
+            k <= PROBE_STEPS ? -(pdt_real_t)(PROBE_STEPS + 1u - k) : (pdt_real_t)(k - PROBE_STEPS);
+        pdt_real_t *x = &pts[m * G];
+        for (uint32_t j = 0; j < G; j++) {
+            x[j] = nm->probe_x[j];
+        }
+        x[G - 1u] = gene_at(c, samples_of(c, nm->probe_x[G - 1u]) + (d * PROBE_STEP));
+        if (x[G - 1u] >= c->lo[G - 1u] && x[G - 1u] <= c->hi[G - 1u]) {
+            m++;
+        }
     }
-    x[G - 1u] = gene_at(c, samples_of(c, nm->probe_x[G - 1u]) + (d * PROBE_STEP));
-    if (x[G - 1u] >= c->lo[G - 1u] && x[G - 1u] <= c->hi[G - 1u]) {
-        pdt_real_t f, gain, offset;
-        pdt_ident_evaluate(c, x, &f, &gain, &offset);
+    if (m == 1u) {
+        pdt_ident_evaluate(c, pts, cost, gains, offsets);
+    } else if (m > 1u) {
+        pdt_ident_evaluate_many(c, pts, m, cost, gains, offsets);
     }
-    nm->probe = k + 1u;
+    nm->probe += count;
     if (nm->probe <= 2u * PROBE_STEPS) {
         return;
     }
@@ -524,6 +534,10 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c)
 {
     const pdt_ident_polish_t *p = &c->nm.late.polish;
+    if (c->phase == PH_PROBE) {
+        const uint32_t rest = (2u * PROBE_STEPS) + 1u - c->nm.probe;
+        return rest < (uint32_t)PDT_VECTOR_LANES ? rest : (uint32_t)PDT_VECTOR_LANES;
+    }
     if (p->state != POLISH_STENCIL) {
         return 1u;
     }

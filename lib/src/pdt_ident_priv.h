@@ -187,10 +187,10 @@ void pdt_ident_polish_begin(pdt_ident_t *c);
  * begun. False, and nothing begun, once both ran, where they do not apply
  * or where the budget is spent. */
 bool pdt_ident_polish_kinks(pdt_ident_t *c);
-/* PH_PROBE: the next point of the dead-time probe, then the polish from
- * the lowest where it is below the answer. */
+/* PH_PROBE: the next points of the dead-time probe (a group), then the
+ * polish from the lowest where it is below the answer. */
 void pdt_ident_polish_probe(pdt_ident_t *c);
-/* The points the next PH_POLISH step evaluates together. */
+/* The points the next PH_POLISH or PH_PROBE step evaluates together. */
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c);
 void pdt_ident_polish_step(pdt_ident_t *c);
 void pdt_ident_std(pdt_ident_t *c);
