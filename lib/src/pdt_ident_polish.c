@@ -442,14 +442,14 @@ void pdt_ident_polish_probe(pdt_ident_t *c)
     pdt_ident_refine_t *nm = &c->nm;
     const uint32_t G = c->genes;
     const uint32_t count = pdt_ident_polish_group(c);
-    pdt_real_t pts[PDT_COST_MANY * 3u] = {PDT_R(0.0)};
+    pdt_real_t pts[PDT_COST_MANY * 3u];
     pdt_real_t cost[PDT_COST_MANY], gains[PDT_COST_MANY], offsets[PDT_COST_MANY];
     uint32_t m = 0;
     for (uint32_t i = 0; i < count; i++) {
         /* Points 1 .. PROBE_STEPS below the centre, the rest above it. */
         const uint32_t k = nm->probe + i;
-        const pdt_real_t d =
-            k <= PROBE_STEPS ? -(pdt_real_t)(PROBE_STEPS + 1u - k) : (pdt_real_t)(k - PROBE_STEPS);
+        const uint32_t steps = k <= PROBE_STEPS ? PROBE_STEPS + 1u - k : k - PROBE_STEPS;
+        const pdt_real_t d = k <= PROBE_STEPS ? -(pdt_real_t)steps : (pdt_real_t)steps;
         pdt_real_t *x = &pts[m * G];
         for (uint32_t j = 0; j < G; j++) {
             x[j] = nm->probe_x[j];
@@ -459,10 +459,12 @@ void pdt_ident_polish_probe(pdt_ident_t *c)
             m++;
         }
     }
-    if (m == 1u) {
-        pdt_ident_evaluate(c, pts, cost, gains, offsets);
-    } else if (m > 1u) {
+    if (m > 1u) {
         pdt_ident_evaluate_many(c, pts, m, cost, gains, offsets);
+    } else if (m == 1u) {
+        pdt_ident_evaluate(c, pts, cost, gains, offsets);
+    } else {
+        /* Every point of the group beyond the dead time's bounds. */
     }
     nm->probe += count;
     if (nm->probe <= 2u * PROBE_STEPS) {
