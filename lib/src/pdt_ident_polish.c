@@ -475,7 +475,7 @@ void pdt_ident_polish_probe(pdt_ident_t *c)
      * probe included: each round needs a lower point and the budget for
      * a probe, so the rounds end), else the answer stands. */
     if (!(c->best.cost < nm->probe_f)) {
-        nm->kink = 2u;
+        nm->kink = 2u; /* the kink passes are not taken again */
         pdt_ident_refine_end(c);
         return;
     }

@@ -178,14 +178,16 @@ void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget);
 /* Nelder-Mead from the best with what is left of the polish's budget. */
 void pdt_ident_refine_nm_best(pdt_ident_t *c);
 /* What follows a refinement: the dead-time scan of the frequency
- * criterion, else the kink passes, else the search's answer. */
+ * criterion, else the kink passes and the dead-time probe, else the
+ * search's answer. */
 void pdt_ident_refine_end(pdt_ident_t *c);
 /* From the best. */
 void pdt_ident_polish_begin(pdt_ident_t *c);
 /* On the whole record's output error with a fractional dead time, after
  * the answer's polish: the next of its two kink passes (pdt_ident_polish.c)
- * begun. False, and nothing begun, once both ran, where they do not apply
- * or where the budget is spent. */
+ * begun, after them the dead-time probe (PH_PROBE). False, and nothing
+ * begun, once the probe ran, where none applies or where the budget is
+ * spent. */
 bool pdt_ident_polish_kinks(pdt_ident_t *c);
 /* PH_PROBE: the next points of the dead-time probe (a group), then the
  * polish from the lowest where it is below the answer. */

@@ -411,7 +411,8 @@ void pdt_ident_refine_end(pdt_ident_t *c)
     } else if (!pdt_ident_polish_kinks(c)) {
         c->phase = PH_FINISH;
     } else {
-        /* A kink pass polishes (PH_POLISH) and ends here again. */
+        /* A kink pass (PH_POLISH) or the probe (PH_PROBE) runs and ends
+         * here again. */
     }
 }
 

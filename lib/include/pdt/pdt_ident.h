@@ -288,14 +288,15 @@ typedef struct pdt_ident_refine {
     } late;
     pdt_real_t starts[3][3]; /* the best of up to 3 niches */
     uint32_t nstarts;
-    uint32_t start_i;      /* nstarts: the final polish of the best */
-    uint32_t next;         /* the niche run whose point comes next */
-    uint32_t kink;         /* kink passes begun after the answer's polish (0-2) */
-    pdt_real_t r;          /* that polish's dead time, samples */
-    pdt_real_t f_kink;     /* the pinned pass's least cost */
-    bool near;             /* its dead time's differences reached a kink */
-    uint32_t probe;        /* the dead-time probe: 0 not begun, then the next
-                        * point (1 .. 2 PROBE_STEPS), past them: done */
+    uint32_t start_i;  /* nstarts: the final polish of the best */
+    uint32_t next;     /* the niche run whose point comes next */
+    uint32_t kink;     /* kink passes begun after the answer's polish (0-2) */
+    pdt_real_t r;      /* that polish's dead time, samples */
+    pdt_real_t f_kink; /* the pinned pass's least cost */
+    bool near;         /* its dead time's differences reached a kink */
+    /* The dead-time probe: 0 not begun, then its next point
+     * (1 .. 2 PROBE_STEPS), past them done. */
+    uint32_t probe;
     pdt_real_t probe_x[3]; /* its centre: the answer polished */
     pdt_real_t probe_f;    /* and its cost */
 } pdt_ident_refine_t;
