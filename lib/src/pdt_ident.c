@@ -597,6 +597,9 @@ static uint32_t group_of(const pdt_ident_t *c)
     if (c->phase == PH_POLISH || c->phase == PH_PROBE) {
         return pdt_ident_polish_group(c);
     }
+    if (c->phase == PH_PROFILE) {
+        return pdt_ident_profile_group(c);
+    }
     return c->phase == PH_REFINE ? pdt_ident_refine_group(c) : pdt_ident_ga_group(c);
 }
 
@@ -647,6 +650,9 @@ static void run_stage(pdt_ident_t *c)
     case PH_PROBE:
         pdt_ident_polish_probe(c);
         break;
+    case PH_PROFILE:
+        pdt_ident_profile_step(c);
+        break;
     default: /* PH_STD */
         pdt_ident_std(c);
         break;
@@ -676,6 +682,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_REST] = HEAVY,
         [PH_POLISH] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_PROBE] = NEEDS_BUDGET | EVALUATES | GROUP,
+        [PH_PROFILE] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_STD] = HEAVY,
     };
     /* The budget counts the samples the evaluations score: an evaluation
@@ -731,7 +738,7 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.generations = ctx->generations;
     r.f_band = ctx->f_band;
     r.flags = ctx->flags;
-    r.searches = ctx->vote.done;
+    r.searches = ctx->vote.done - (ctx->vote.profiled != 0u ? 1u : 0u);
     r.runner_up = ctx->runner_up;
     r.std = ctx->std;
     r.coarse = ctx->coarse.factor;

@@ -212,6 +212,8 @@ void pdt_ident_coarse_fine(pdt_ident_t *c)
             c->coarse.stage = 0u;
             c->vote.searches = searches;
             c->vote.done = 0u;
+            c->vote.profiled = 0u;
+            c->profile.stage = 0u;
             c->vote.budget = left / searches;
             c->flags = 0u;
             c->runner_up = PDT_R(0.0);

@@ -11,6 +11,7 @@
  *   pdt_ident_polish.c  Newton on differences: one answer polished (polish)
  *   pdt_ident_scan.c    the dead time of the frequency criterion (scan)
  *   pdt_ident_vote.c    the answer of a search, the searches' agreement
+ *   pdt_ident_profile.c the dead-time profile: a global check of it (profile)
  *   pdt_ident_rest.c    the output offset from the rest window (rest)
  *   pdt_ident_coarse.c  the searches' coarse record, the whole one after
  *
@@ -38,6 +39,7 @@ enum {
     PH_REST,         /* AUTO offset: the answer polished on the rest level */
     PH_POLISH,       /* Newton polish of one answer (after PH_FINE, PH_REST) */
     PH_PROBE,        /* the dead time about a polished answer, shape held */
+    PH_PROFILE,      /* the searches' answer checked along the dead time */
     PH_STD,          /* the parameters' uncertainty */
     PH_DONE,
     PH_COUNT
@@ -131,6 +133,9 @@ void pdt_ident_band_start(pdt_ident_t *c);
 void pdt_ident_refine_recentre(pdt_ident_t *c);
 void pdt_ident_refine_begin(pdt_ident_t *c);
 void pdt_ident_refine_step(pdt_ident_t *c);
+/* A search's refinement from x0 alone (the profile's point): Nelder-Mead,
+ * then the polish, with the running search's budget. */
+void pdt_ident_refine_from(pdt_ident_t *c, const pdt_real_t *x0);
 /* The points the next PH_REFINE step evaluates together: one of each
  * running niche run, up to PDT_VECTOR_LANES; 1 in the final polish. */
 uint32_t pdt_ident_refine_group(const pdt_ident_t *c);
@@ -144,8 +149,23 @@ void pdt_ident_scan_golden(pdt_ident_t *c);
 /* ---- pdt_ident_vote.c */
 
 void pdt_ident_finish(pdt_ident_t *c);
+/* The answer of all searches (and of the profile's polish): the least
+ * cost, confirmed or flagged, then the stage that follows. */
+void pdt_ident_conclude(pdt_ident_t *c);
 /* Flags on the answer's genes (AT_BOUND) after the whole record's polish. */
 uint32_t pdt_ident_bound_flags(const pdt_ident_t *c);
+
+/* ---- pdt_ident_profile.c */
+
+/* When the searches have ended: true when the profile begins (PH_PROFILE);
+ * false once it ran, where it does not apply or where the budget cannot
+ * pay for it, and when its polish has ended (its answer the last kept). */
+bool pdt_ident_profile_begin(pdt_ident_t *c);
+/* PH_PROFILE: the next group of grid points, then the polish of the far
+ * point below the answer's neighbourhood, or the vote. */
+void pdt_ident_profile_step(pdt_ident_t *c);
+/* The points the next PH_PROFILE step evaluates together. */
+uint32_t pdt_ident_profile_group(const pdt_ident_t *c);
 
 /* ---- pdt_ident_rest.c */
 

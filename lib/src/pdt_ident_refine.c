@@ -369,6 +369,20 @@ static bool niches_running(const pdt_ident_t *c)
     return false;
 }
 
+void pdt_ident_refine_from(pdt_ident_t *c, const pdt_real_t *x0)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    c->best.cost = PDT_REAL_MAX;
+    nm->kink = 0u;
+    nm->near = false;
+    for (uint32_t j = 0; j < c->genes; j++) {
+        nm->starts[0][j] = x0[j];
+    }
+    nm->nstarts = 1u;
+    niches_start(c);
+    c->phase = PH_REFINE;
+}
+
 /* One evaluation (a group of the niche runs); when they end, the polish of
  * the best (start_i == nstarts) if a whole simplex still fits, then the
  * frequency criterion's dead-time scan or the answer. */

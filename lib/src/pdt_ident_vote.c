@@ -83,8 +83,11 @@ static bool gain_on_bound(const pdt_ident_t *c, pdt_real_t K)
 }
 
 /* The answer of all searches: the least cost; confirmed by another search
- * in its basin, flagged otherwise, the runner-up basin's cost ratio. */
-static void searches_conclude(pdt_ident_t *c)
+ * in its basin, flagged otherwise, the runner-up basin's cost ratio. The
+ * profile's answer confirms one in its basin, and stands on its own where
+ * it is the least: the profile saw the whole dead-time range, and its
+ * point lay below everything near the searches' answer. */
+void pdt_ident_conclude(pdt_ident_t *c)
 {
     uint32_t best = 0u;
     for (uint32_t i = 1u; i < c->vote.done; i++) {
@@ -93,7 +96,8 @@ static void searches_conclude(pdt_ident_t *c)
         }
     }
     const pdt_real_t cb = c->vote.cost[best];
-    bool confirmed = c->vote.done < 2u;
+    const uint32_t runs = c->vote.done - (c->vote.profiled != 0u ? 1u : 0u);
+    bool confirmed = runs < 2u || best + 1u == c->vote.profiled;
     uint32_t flags = 0u;
     pdt_real_t runner = PDT_R(0.0);
     for (uint32_t i = 0u; i < c->vote.done; i++) {
@@ -158,7 +162,10 @@ static void search_end(pdt_ident_t *c)
         pdt_ident_ga_start(c);
         return;
     }
-    searches_conclude(c);
+    if (pdt_ident_profile_begin(c)) {
+        return;
+    }
+    pdt_ident_conclude(c);
 }
 
 /* The running search's answer: the model in engineering units, its

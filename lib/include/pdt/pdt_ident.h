@@ -308,17 +308,33 @@ typedef struct pdt_ident_scan {
     pdt_real_t a, b, x1, x2, f1, f2; /* golden section */
 } pdt_ident_scan_t;
 
+/* The searches' answers and the dead-time profile's polish. */
+#define PDT_IDENT_VOTES (PDT_IDENT_MAX_SEARCHES + 1u)
+
 typedef struct pdt_ident_vote {
     uint32_t searches; /* to run */
-    uint32_t done;     /* finished */
+    uint32_t done;     /* answers kept: the searches finished, the profile's */
     uint32_t budget;   /* evaluations of each */
     uint32_t base;     /* evaluations before the running one */
-    pdt_model_t found[PDT_IDENT_MAX_SEARCHES];
-    pdt_real_t cost[PDT_IDENT_MAX_SEARCHES]; /* normalised */
-    pdt_real_t y0[PDT_IDENT_MAX_SEARCHES];
-    pdt_real_t fit[PDT_IDENT_MAX_SEARCHES];
-    pdt_real_t genes[PDT_IDENT_MAX_SEARCHES][3];
+    uint32_t profiled; /* 1 + the index of the profile's answer, 0: none */
+    pdt_model_t found[PDT_IDENT_VOTES];
+    pdt_real_t cost[PDT_IDENT_VOTES]; /* normalised */
+    pdt_real_t y0[PDT_IDENT_VOTES];
+    pdt_real_t fit[PDT_IDENT_VOTES];
+    pdt_real_t genes[PDT_IDENT_VOTES][3];
 } pdt_ident_vote_t;
+
+typedef struct pdt_ident_profile {
+    uint32_t stage;  /* 0 not begun, 1 scanning, 2 polishing its point, 3 done */
+    uint32_t next;   /* next grid point: dead-time index * shapes + shape */
+    uint32_t points; /* dead times on the grid */
+    pdt_real_t td0;  /* the first, s */
+    pdt_real_t step; /* between them, s */
+    pdt_real_t td;   /* the answer's dead time, s */
+    pdt_real_t near; /* least cost within PROFILE_NEAR steps of it */
+    pdt_real_t far;  /* least cost beyond, at far_x */
+    pdt_real_t far_x[3];
+} pdt_ident_profile_t;
 
 typedef struct pdt_ident_coarse {
     uint32_t factor;    /* D of the searches' record, 1: the whole */
@@ -356,6 +372,7 @@ typedef struct pdt_ident {
     pdt_ident_refine_t nm; /* with the polish's state */
     pdt_ident_scan_t scan;
     pdt_ident_vote_t vote;
+    pdt_ident_profile_t profile;
     pdt_ident_coarse_t coarse;
     /* The answer, once done. */
     pdt_model_t model;
