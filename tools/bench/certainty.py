@@ -115,17 +115,18 @@ def bench_cases(smoke):
 
 
 # Open-loop records under much noise and a fast input (coarse_bench.py's
-# records): (model, tau in samples, input, SNR). A PRBS bit of a third of
-# the time constant under 10 dB flattens the cost's basins, so that one
-# search ends in another basin several times in a hundred; the rows with
-# the most flags in the coarse benchmark, and their neighbours.
+# records): (model, tau in samples, input, SNR). Its "prbs" is a square
+# wave flipping after every bit of a third of the time constant: the cost
+# repeats along the dead time with its period, and under 10 dB one search
+# ends a period off several times in a hundred; the rows with the most
+# flags in the coarse benchmark, and their neighbours.
 NOISY = (("fopdt", 4.0, "prbs", 10), ("fopdt", 12.0, "prbs", 10), ("fopdt", 40.0, "prbs", 10),
          ("sopdt", 4.0, "prbs", 30), ("sopdt", 12.0, "prbs", 10))
 
 
 def noisy_label(c):
     m, tau, exc, snr = c
-    return f"{m.upper()}, tau {tau:g} samples, {exc.upper()} bits of tau / 3, {snr} dB"
+    return f"{m.upper()}, tau {tau:g} samples, square wave of bits tau / 3, {snr} dB"
 
 
 def noisy_truth(c):
@@ -355,14 +356,17 @@ docs/benchmarks.md and every accuracy set of `run_ident_bench.py` (1500
 samples), their records made by `benchlib.make_record` as there, with the
 noise seed varying.
 
-**Noisy records under a fast PRBS**: open-loop records of
+**Noisy records under a fast square wave**: open-loop records of
 `coarse_bench.py` (1200 samples at Ts = 1 s after 40 at rest, a FOPDT
 1.5 / (tau s + 1) or a SOPDT 1.5 / ((tau s + 1)(tau s / 3 + 1)), dead time
-tau / 2 + 2.3 samples, a PRBS whose bit lasts a third of the time
-constant, white noise at the SNR given): the coarse benchmark's rows with
-the most flags and their neighbours. The noise flattens the cost's basins
-until one search ends in another basin several times in a hundred, so
-these cases test the agreement of the searches more than any other. Their
+tau / 2 + 2.3 samples, the input a binary square wave whose level flips
+after every bit of a third of the time constant (`coarse_bench.py`'s
+"prbs": periodic, not random), white noise at the SNR given): the coarse
+benchmark's rows with the most flags and their neighbours. The input's
+period makes the cost repeat along the dead time, a period off is a basin
+of 1.2 to 1.8 times the optimum's cost, and under the noise one search
+ends there several times in a hundred, so these cases test the
+agreement of the searches more than any other. Their
 seeds are counted like those of the hard cases (`--seeds`).
 
 **Verdict.** The criterion is pdtfit's: the mean square over the whole
@@ -448,7 +452,7 @@ def write_doc(out, results, cases, bcs, run):
                f"{tot_all['far']} of them more than 1.1 x the optimum's cost.\n")
     for title, groups in (("Closed-loop records", closed),
                           ("Hard cases of the benchmark's reliability section", hard),
-                          ("Noisy records under a fast PRBS", noisy),
+                          ("Noisy records under a fast square wave", noisy),
                           ("Accuracy sets of the benchmark", sets)):
         lines, tot = table(groups)
         doc.append(f"### {title}\n")

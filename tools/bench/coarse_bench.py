@@ -55,8 +55,10 @@ RARE = (("fopdt", 12.0, "prbs", 10), ("sopdt", 12.0, "prbs", 10))
 
 def excitation(kind, tau, rng):
     """Multi-level steps held 2 to 6 time constants (at least 10 samples),
-    or a PRBS whose bit lasts a third of the time constant (at least one
-    sample), after 40 samples at rest."""
+    or ("prbs") a binary square wave whose level flips after every bit of
+    a third of the time constant (at least one sample), after 40 samples
+    at rest. Not random: its period makes the cost repeat along the dead
+    time, the hardest input of the set for a global search."""
     u = np.zeros(N)
     k, level = 40, 1.0
     if kind == "steps":
@@ -214,8 +216,8 @@ def main():
            f"Records: {N} samples at Ts = 1 s after 40 at rest; a FOPDT 1.5 / (tau s + 1) or "
            "a SOPDT 1.5 / ((tau s + 1)(tau s / 3 + 1)), dead time tau / 2 + 2.3 samples "
            "(fractional), around u0 = 40, y0 = 350; *steps*: levels held 2 to 6 tau (at "
-           "least 10 samples), *prbs*: a random binary sequence of bits tau / 3 long (at "
-           "least 1 sample); white Gaussian noise on y at the SNR given (the noise-free "
+           "least 10 samples), *prbs*: a binary square wave whose level flips after every "
+           "bit of tau / 3 (at least 1 sample; periodic, not random); white Gaussian noise on y at the SNR given (the noise-free "
            "output's deviation over 10^(SNR/20)). Seeds 1 to "
            f"{a.seeds} per row.", "",
            f"**{total['worse']} answers of the default worse than the whole record's, with "
