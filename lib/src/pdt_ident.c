@@ -738,7 +738,7 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.generations = ctx->generations;
     r.f_band = ctx->f_band;
     r.flags = ctx->flags;
-    r.searches = ctx->vote.done - (ctx->vote.profiled != 0u ? 1u : 0u);
+    r.searches = pdt_ident_vote_searches(ctx);
     r.runner_up = ctx->runner_up;
     r.std = ctx->std;
     r.coarse = ctx->coarse.factor;

@@ -152,6 +152,10 @@ void pdt_ident_finish(pdt_ident_t *c);
 /* The answer of all searches (and of the profile's polish): the least
  * cost, confirmed or flagged, then the stage that follows. */
 void pdt_ident_conclude(pdt_ident_t *c);
+/* The answer kept with the least cost (done >= 1), and the searches among
+ * the answers kept (the profile's is not one). */
+uint32_t pdt_ident_vote_best(const pdt_ident_t *c);
+uint32_t pdt_ident_vote_searches(const pdt_ident_t *c);
 /* Flags on the answer's genes (AT_BOUND) after the whole record's polish. */
 uint32_t pdt_ident_bound_flags(const pdt_ident_t *c);
 

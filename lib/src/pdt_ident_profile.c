@@ -26,22 +26,6 @@
  * itself where the answer is a few samples off it. */
 #define PROFILE_NEAR   PDT_R(1.0)
 
-static uint32_t best_vote(const pdt_ident_t *c)
-{
-    uint32_t best = 0u;
-    for (uint32_t i = 1u; i < c->vote.done; i++) {
-        if (c->vote.cost[i] < c->vote.cost[best]) {
-            best = i;
-        }
-    }
-    return best;
-}
-
-static pdt_real_t answer_td(const pdt_model_t *m)
-{
-    return m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.Td : m->p.sopdt.Td;
-}
-
 /* The grid: whole samples of the searched record from the least dead time
  * up, every `every` of them, at most PROFILE_POINTS. False where the range
  * holds too few to tell near from far. */
@@ -93,7 +77,7 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
     }
     p->stage = 1u;
     p->next = 0u;
-    p->td = answer_td(&c->vote.found[best_vote(c)]);
+    p->td = pdt_ident_td_of_gene(c, c->vote.genes[pdt_ident_vote_best(c)][c->genes - 1u]);
     p->near = PDT_REAL_MAX;
     p->far = PDT_REAL_MAX;
     c->vote.base = c->evaluations;

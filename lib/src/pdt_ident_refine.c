@@ -147,17 +147,22 @@ static void polish_start(pdt_ident_t *c)
     simplex_start(c, &nm->run0, c->best.genes, pdt_ident_left(c));
 }
 
-/* The cost scale may have changed (re-centred spectra): the best is
- * tracked afresh; the first start re-evaluates the GA's best, so nothing
- * is lost. */
-void pdt_ident_refine_begin(pdt_ident_t *c)
+/* The refinement from the starts chosen. The cost scale may have changed
+ * (re-centred spectra): the best is tracked afresh; the first start
+ * re-evaluates it, so nothing is lost. */
+static void refine_run(pdt_ident_t *c)
 {
     c->best.cost = PDT_REAL_MAX;
     c->nm.kink = 0u;
     c->nm.near = false;
-    refine_starts(c);
     niches_start(c);
     c->phase = PH_REFINE;
+}
+
+void pdt_ident_refine_begin(pdt_ident_t *c)
+{
+    refine_starts(c);
+    refine_run(c);
 }
 
 static void nm_order(pdt_ident_simplex_t *sx, size_t G)
@@ -371,16 +376,11 @@ static bool niches_running(const pdt_ident_t *c)
 
 void pdt_ident_refine_from(pdt_ident_t *c, const pdt_real_t *x0)
 {
-    pdt_ident_refine_t *nm = &c->nm;
-    c->best.cost = PDT_REAL_MAX;
-    nm->kink = 0u;
-    nm->near = false;
     for (uint32_t j = 0; j < c->genes; j++) {
-        nm->starts[0][j] = x0[j];
+        c->nm.starts[0][j] = x0[j];
     }
-    nm->nstarts = 1u;
-    niches_start(c);
-    c->phase = PH_REFINE;
+    c->nm.nstarts = 1u;
+    refine_run(c);
 }
 
 /* One evaluation (a group of the niche runs); when they end, the polish of

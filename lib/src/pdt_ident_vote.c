@@ -89,15 +89,9 @@ static bool gain_on_bound(const pdt_ident_t *c, pdt_real_t K)
  * point lay below everything near the searches' answer. */
 void pdt_ident_conclude(pdt_ident_t *c)
 {
-    uint32_t best = 0u;
-    for (uint32_t i = 1u; i < c->vote.done; i++) {
-        if (c->vote.cost[i] < c->vote.cost[best]) {
-            best = i;
-        }
-    }
+    const uint32_t best = pdt_ident_vote_best(c);
     const pdt_real_t cb = c->vote.cost[best];
-    const uint32_t runs = c->vote.done - (c->vote.profiled != 0u ? 1u : 0u);
-    bool confirmed = runs < 2u || best + 1u == c->vote.profiled;
+    bool confirmed = pdt_ident_vote_searches(c) < 2u || best + 1u == c->vote.profiled;
     uint32_t flags = 0u;
     pdt_real_t runner = PDT_R(0.0);
     for (uint32_t i = 0u; i < c->vote.done; i++) {
@@ -132,6 +126,22 @@ void pdt_ident_conclude(pdt_ident_t *c)
     if (!pdt_ident_coarse_pending(c)) {
         pdt_ident_rest_check(c);
     }
+}
+
+uint32_t pdt_ident_vote_best(const pdt_ident_t *c)
+{
+    uint32_t best = 0u;
+    for (uint32_t i = 1u; i < c->vote.done; i++) {
+        if (c->vote.cost[i] < c->vote.cost[best]) {
+            best = i;
+        }
+    }
+    return best;
+}
+
+uint32_t pdt_ident_vote_searches(const pdt_ident_t *c)
+{
+    return c->vote.done - (c->vote.profiled != 0u ? 1u : 0u);
 }
 
 uint32_t pdt_ident_bound_flags(const pdt_ident_t *c)
