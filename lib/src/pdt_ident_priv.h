@@ -156,6 +156,9 @@ void pdt_ident_conclude(pdt_ident_t *c);
  * the answers kept (the profile's is not one). */
 uint32_t pdt_ident_vote_best(const pdt_ident_t *c);
 uint32_t pdt_ident_vote_searches(const pdt_ident_t *c);
+/* Answers i and j in one basin (the same structure; costs within 1 % or
+ * genes within 1 % of their ranges). */
+bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j);
 /* Flags on the answer's genes (AT_BOUND) after the whole record's polish. */
 uint32_t pdt_ident_bound_flags(const pdt_ident_t *c);
 

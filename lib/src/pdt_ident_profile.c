@@ -55,8 +55,17 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
     if (p->stage == 2u) {
-        /* Its point's polish ended: the last answer kept is the profile's. */
-        c->vote.profiled = c->vote.done;
+        /* Its point's polish ended: the last answer kept is the profile's.
+         * It only counts in another basin: back in the searches' basin it
+         * found nothing they had not, and their answer, polished on the
+         * way they took, stands. */
+        const uint32_t k = c->vote.done - 1u;
+        bool other = true;
+        for (uint32_t i = 0u; i < k; i++) {
+            other = other && !pdt_ident_vote_same_basin(c, i, k);
+        }
+        c->vote.done = other ? c->vote.done : k;
+        c->vote.profiled = other ? c->vote.done : 0u;
         p->stage = 3u;
         return false;
     }

@@ -51,7 +51,7 @@ static bool cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol)
 
 /* Searches i and j ended in one basin: the same structure, and costs
  * within 1 % or genes within AGREE_GENES. */
-static bool same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
+bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
 {
     return same_structure(&c->vote.found[i], &c->vote.found[j]) &&
            (cost_close(c->vote.cost[i], c->vote.cost[j], AGREE_RTOL) ||
@@ -99,7 +99,7 @@ void pdt_ident_conclude(pdt_ident_t *c)
             continue;
         }
         const bool same = same_structure(&c->vote.found[i], &c->vote.found[best]);
-        if (same_basin(c, i, best)) {
+        if (pdt_ident_vote_same_basin(c, i, best)) {
             confirmed = true;
             continue;
         }
@@ -166,7 +166,7 @@ static void search_end(pdt_ident_t *c)
     c->vote.done = k + 1u;
     bool agreed = false;
     for (uint32_t i = 0u; i < k; i++) {
-        agreed = agreed || same_basin(c, i, k);
+        agreed = agreed || pdt_ident_vote_same_basin(c, i, k);
     }
     if (c->vote.done < c->vote.searches && (c->vote.done < 2u || !agreed)) {
         pdt_ident_ga_start(c);
