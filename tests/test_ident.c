@@ -20,7 +20,7 @@
 #include "sim_process.h"
 #include "sim_rng.h"
 
-#define NMAX       1200u
+#define NMAX       4000u
 #define POP_MAX    64u
 #define WORK_REALS (PDT_IDENT_WORKSPACE_SIZE(NMAX, POP_MAX) / sizeof(pdt_real_t) + 1u)
 
@@ -1099,6 +1099,45 @@ static void test_dead_time_profile(void **state)
     }
 }
 
+/* The SOPDT of test_dead_time_probe on a record of 4000 samples at 10 dB:
+ * the dead-time range (a third of the record) holds 1333 samples, so the
+ * profile's grid steps 11 of them, and the input's period of 2 samples
+ * puts a basin of 1.05 times the optimum's cost 1.6 samples early (Td
+ * 2.7 s for 4.3), near the answer on that grid. On these records (noise
+ * and search seeds 377 and 447) both searches ended there and agreed (2
+ * such answers in 600 seeds, 0 with the window); the profile's window of
+ * whole samples about the answer finds the right basin. */
+static void test_dead_time_profile_window(void **state)
+{
+    static const uint32_t seeds[] = {377u, 447u};
+    (void)state;
+    for (size_t i = 0; i < 2u; i++) {
+        pdt_ident_result_t res;
+        record_spec_t s = {model_sopdt_tc(1.5, 4.0, 4.0 / 3.0, 4.3),
+                           (pdt_real_t)1.0,
+                           4000u,
+                           40.0,
+                           350.0,
+                           1.0,
+                           10.0,
+                           false,
+                           seeds[i]};
+        for (size_t k = 0; k < s.n; k++) {
+            g_dev[k] = k < 40u ? (pdt_real_t)0.0 : (pdt_real_t)((k % 2u) == 0u ? 1.0 : -1.0);
+        }
+        make_record(&s);
+        pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, s.Ts);
+        cfg.seed = seeds[i];
+        identify(&cfg, s.n, &res);
+        print_message("    long record, seed %u: Td %.3f s (4.3), fit %.2f %%, %u evaluations, "
+                      "flags %u\n",
+                      (unsigned)seeds[i], (double)res.model.p.sopdt.Td, (double)res.fit,
+                      (unsigned)res.evaluations, (unsigned)res.flags);
+        assert_true(fabs((double)res.model.p.sopdt.Td - 4.3) < 0.3);
+        assert_int_equal(res.flags, 0u);
+    }
+}
+
 static void test_control_band_no_dead_time(void **state)
 {
     pdt_ident_result_t res;
@@ -1412,7 +1451,7 @@ static void test_errors_state(void **state)
 
 static void test_workspace_size(void **state)
 {
-    static const size_t ns[] = {PDT_MIN_SAMPLES + 8u, 100u, 257u, 600u, NMAX};
+    static const size_t ns[] = {PDT_MIN_SAMPLES + 8u, 100u, 257u, 600u, 1200u, NMAX};
     static const pdt_cost_kind_t kinds[] = {PDT_COST_PREDICTION, PDT_COST_SIMULATION,
                                             PDT_COST_FREQUENCY, PDT_COST_COMBINED};
     static const uint32_t pops[] = {0u, 4u, 24u, 40u, 64u};
@@ -1509,6 +1548,7 @@ int main(void)
         cmocka_unit_test(test_whole_sample_delay),
         cmocka_unit_test(test_dead_time_probe),
         cmocka_unit_test(test_dead_time_profile),
+        cmocka_unit_test(test_dead_time_profile_window),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

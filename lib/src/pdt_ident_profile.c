@@ -6,8 +6,13 @@
  * samples of dead time, so that two searches can both miss it and agree
  * on another: both end where a long lag makes up for no dead time, say.
  * The profile scores every whole sample of the searched dead-time range
- * (every few where the range is long) at a few fixed shapes, and compares
- * the least cost far from the answer's dead time with the least near it.
+ * at a few fixed shapes, and compares the least cost far from the
+ * answer's dead time with the least near it. A range too long for that is
+ * scored every few samples, and every sample of a window about the
+ * answer besides: the basins an input's period makes lie one period
+ * apart, so a period shorter than two of the grid's steps puts the
+ * nearest other basin inside the window, and a longer one puts a grid
+ * point in every basin.
  * Both are scored at the same coarse shapes, so neither is favoured: a far
  * point below the near ones is a basin the searches did not see, and it
  * is polished as a search's answer is; the vote then takes the lower.
@@ -21,14 +26,18 @@
 #define PROFILE_SHAPES 4u
 /* Most dead times scored: a longer range is scored every few samples. */
 #define PROFILE_POINTS 128u
-/* Steps either side of the answer's dead time that are its basin: the
- * grid points that bracket it. A wider window would hold the right basin
+/* Samples either side of the answer's dead time that are its basin: the
+ * whole samples that bracket it. A wider window would hold the right basin
  * itself where the answer is a few samples off it. */
 #define PROFILE_NEAR   PDT_R(1.0)
+/* Most samples the window about the answer reaches either side. */
+#define PROFILE_WINDOW 64u
 
 /* The grid: whole samples of the searched record from the least dead time
- * up, every `every` of them, at most PROFILE_POINTS. False where the range
- * holds too few to tell near from far. */
+ * up, every `every` of them, at most PROFILE_POINTS; where `every` > 1,
+ * every sample within 2 `every` (at most PROFILE_WINDOW) of the answer's
+ * dead time p->td besides. False where the range holds too few to tell
+ * near from far. */
 static bool grid_of(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
@@ -48,7 +57,24 @@ static bool grid_of(pdt_ident_t *c)
     p->points = ((count - 1u) / every) + 1u;
     p->td0 = (first > PDT_R(0.0) ? first : PDT_R(0.0)) * Ts;
     p->step = (pdt_real_t)every * Ts;
+    p->fine = 0u;
+    p->fine_td0 = p->td0;
+    if (every > 1u) {
+        const uint32_t w = (2u * every) < PROFILE_WINDOW ? 2u * every : PROFILE_WINDOW;
+        const pdt_real_t at = pdt_floor((p->td / Ts) + PDT_R(0.5));
+        const pdt_real_t a = (at - (pdt_real_t)w) > p->td0 / Ts ? at - (pdt_real_t)w : p->td0 / Ts;
+        const pdt_real_t b = (at + (pdt_real_t)w) < hi ? at + (pdt_real_t)w : pdt_floor(hi);
+        const pdt_real_t width = b - a;
+        p->fine = width >= PDT_R(0.0) ? (uint32_t)width + 1u : 0u;
+        p->fine_td0 = a * Ts;
+    }
     return true;
+}
+
+/* Dead times scored: the window's, then the grid's. */
+static uint32_t dead_times(const pdt_ident_profile_t *p)
+{
+    return p->fine + p->points;
 }
 
 bool pdt_ident_profile_begin(pdt_ident_t *c)
@@ -75,10 +101,14 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
     p->stage = 3u;
     /* The output error only: the searches of the other criteria do not
      * vote, and the frequency criterion scans its dead time already. */
-    if (c->cfg.cost != PDT_COST_SIMULATION || c->vote.done == 0u || !grid_of(c)) {
+    if (c->cfg.cost != PDT_COST_SIMULATION || c->vote.done == 0u) {
         return false;
     }
-    const uint32_t scan = p->points * PROFILE_SHAPES;
+    p->td = pdt_ident_td_of_gene(c, c->vote.genes[pdt_ident_vote_best(c)][c->genes - 1u]);
+    if (!grid_of(c)) {
+        return false;
+    }
+    const uint32_t scan = dead_times(p) * PROFILE_SHAPES;
     const uint32_t need = scan + c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg);
     if (c->evaluations >= c->cfg.max_evaluations ||
         c->cfg.max_evaluations - c->evaluations < need) {
@@ -86,9 +116,10 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
     }
     p->stage = 1u;
     p->next = 0u;
-    p->td = pdt_ident_td_of_gene(c, c->vote.genes[pdt_ident_vote_best(c)][c->genes - 1u]);
-    p->near = PDT_REAL_MAX;
-    p->far = PDT_REAL_MAX;
+    for (uint32_t k = 0u; k < 2u; k++) {
+        p->near[k] = PDT_REAL_MAX;
+        p->far[k] = PDT_REAL_MAX;
+    }
     c->vote.base = c->evaluations;
     c->vote.budget = scan;
     c->phase = PH_PROFILE;
@@ -97,7 +128,7 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
 
 uint32_t pdt_ident_profile_group(const pdt_ident_t *c)
 {
-    const uint32_t left = (c->profile.points * PROFILE_SHAPES) - c->profile.next;
+    const uint32_t left = (dead_times(&c->profile) * PROFILE_SHAPES) - c->profile.next;
     return left < (uint32_t)PDT_VECTOR_LANES ? left : (uint32_t)PDT_VECTOR_LANES;
 }
 
@@ -113,17 +144,25 @@ static pdt_real_t point_of(const pdt_ident_t *c, uint32_t i, pdt_real_t *x)
         /* Critical damping (the damping gene's sqrt(zeta_min)). */
         x[1] = pdt_ident_clamp(c, 1u, pdt_sqrt(c->cfg.zeta_min));
     }
-    const pdt_real_t Td = p->td0 + (p->step * (pdt_real_t)d);
+    pdt_real_t Td = p->fine_td0 + (c->cost.cfg.Ts * (pdt_real_t)d);
+    if (d >= p->fine) {
+        const uint32_t on_grid = d - p->fine;
+        Td = p->td0 + (p->step * (pdt_real_t)on_grid);
+    }
     x[G - 1u] = pdt_ident_gene_of_td(c, Td);
     return Td;
 }
 
 /* The far point polished as a search's answer is, when it lies below the
- * near ones; the vote otherwise. */
+ * near ones: the grid's first, else the window's; the vote otherwise. */
 static void scan_end(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
-    if (!(p->far < p->near)) {
+    uint32_t k = 1u;
+    if (p->far[0] < p->near[0]) {
+        k = 0u;
+    }
+    if (!(p->far[k] < p->near[k])) {
         p->stage = 3u;
         pdt_ident_conclude(c);
         return;
@@ -131,7 +170,7 @@ static void scan_end(pdt_ident_t *c)
     p->stage = 2u;
     c->vote.base = c->evaluations;
     c->vote.budget = c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg);
-    pdt_ident_refine_from(c, p->far_x);
+    pdt_ident_refine_from(c, p->far_x[k]);
 }
 
 void pdt_ident_profile_step(pdt_ident_t *c)
@@ -155,20 +194,28 @@ void pdt_ident_profile_step(pdt_ident_t *c)
         pdt_ident_evaluate(c, pts, cost, gains, offsets);
     }
     for (uint32_t i = 0; i < count; i++) {
+        /* The window's points are compared at one sample, the grid's at
+         * its step: near the answer each tells its own scale's basin. */
+        const uint32_t at = (p->next + i) / PROFILE_SHAPES;
+        uint32_t k = 0u;
+        if (at < p->fine) {
+            k = 1u;
+        }
+        const pdt_real_t reach = PROFILE_NEAR * (k == 1u ? c->cost.cfg.Ts : p->step);
         const pdt_real_t d = td[i] > p->td ? td[i] - p->td : p->td - td[i];
-        if (d <= PROFILE_NEAR * p->step) {
-            p->near = cost[i] < p->near ? cost[i] : p->near;
-        } else if (cost[i] < p->far) {
-            p->far = cost[i];
+        if (d <= reach) {
+            p->near[k] = cost[i] < p->near[k] ? cost[i] : p->near[k];
+        } else if (cost[i] < p->far[k]) {
+            p->far[k] = cost[i];
             for (uint32_t j = 0; j < G; j++) {
-                p->far_x[j] = pts[(i * G) + j];
+                p->far_x[k][j] = pts[(i * G) + j];
             }
         } else {
             /* Neither the nearest nor the least far. */
         }
     }
     p->next += count;
-    if (p->next >= p->points * PROFILE_SHAPES) {
+    if (p->next >= dead_times(p) * PROFILE_SHAPES) {
         scan_end(c);
     }
 }

@@ -325,15 +325,19 @@ typedef struct pdt_ident_vote {
 } pdt_ident_vote_t;
 
 typedef struct pdt_ident_profile {
-    uint32_t stage;  /* 0 not begun, 1 scanning, 2 polishing its point, 3 done */
-    uint32_t next;   /* next grid point: dead-time index * shapes + shape */
-    uint32_t points; /* dead times on the grid */
-    pdt_real_t td0;  /* the first, s */
-    pdt_real_t step; /* between them, s */
-    pdt_real_t td;   /* the answer's dead time, s */
-    pdt_real_t near; /* least cost within PROFILE_NEAR steps of it */
-    pdt_real_t far;  /* least cost beyond, at far_x */
-    pdt_real_t far_x[3];
+    uint32_t stage;      /* 0 not begun, 1 scanning, 2 polishing its point, 3 done */
+    uint32_t next;       /* next grid point: dead-time index * shapes + shape */
+    uint32_t points;     /* dead times on the grid over the whole range */
+    uint32_t fine;       /* dead times of the window about the answer, 0: none */
+    pdt_real_t td0;      /* the grid's first, s */
+    pdt_real_t step;     /* between its points, s */
+    pdt_real_t fine_td0; /* the window's first, s; one sample apart */
+    pdt_real_t td;       /* the answer's dead time, s */
+    /* [0] of the grid's points, near: within PROFILE_NEAR steps of td;
+     * [1] of the window's, near: within PROFILE_NEAR samples. */
+    pdt_real_t near[2]; /* least cost near td */
+    pdt_real_t far[2];  /* least cost beyond, at far_x */
+    pdt_real_t far_x[2][3];
 } pdt_ident_profile_t;
 
 typedef struct pdt_ident_coarse {
