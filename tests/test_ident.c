@@ -1023,6 +1023,19 @@ static void test_whole_sample_delay(void **state)
     assert_true(gap < 2e-6);
 }
 
+/* A record of m at Ts = 1 s: 40 samples at rest, then a square wave
+ * whose level flips after every bit samples, white noise at snr_db from
+ * seed. */
+static void square_record(pdt_model_t m, size_t n, size_t bit, double snr_db, uint32_t seed)
+{
+    const record_spec_t s = {m, (pdt_real_t)1.0, n, 40.0, 350.0, 1.0, snr_db, false, seed};
+    for (size_t k = 0; k < n; k++) {
+        g_dev[k] =
+            k < 40u ? (pdt_real_t)0.0 : (pdt_real_t)((((k - 40u) / bit) % 2u) == 0u ? 1.0 : -1.0);
+    }
+    make_record(&s);
+}
+
 /* A SOPDT whose time constant is 4 samples under an input that flips at
  * every sample: between two whole samples of dead time the output error
  * has two minima, at 4.3 and near 5 s, a fraction of a sample apart, far
@@ -1034,22 +1047,10 @@ static void test_dead_time_probe(void **state)
 {
     pdt_ident_result_t res;
     (void)state;
-    record_spec_t s = {model_sopdt_tc(1.5, 4.0, 4.0 / 3.0, 4.3),
-                       (pdt_real_t)1.0,
-                       1200u,
-                       40.0,
-                       350.0,
-                       1.0,
-                       30.0,
-                       false,
-                       341u};
-    for (size_t k = 0; k < s.n; k++) {
-        g_dev[k] = k < 40u ? (pdt_real_t)0.0 : (pdt_real_t)((k % 2u) == 0u ? 1.0 : -1.0);
-    }
-    make_record(&s);
-    pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, s.Ts);
+    square_record(model_sopdt_tc(1.5, 4.0, 4.0 / 3.0, 4.3), 1200u, 1u, 30.0, 341u);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)1.0);
     cfg.seed = 341u;
-    identify(&cfg, s.n, &res);
+    identify(&cfg, 1200u, &res);
     print_message("    one-sample input: Td %.4f s (4.3), fit %.2f %%, %u evaluations\n",
                   (double)res.model.p.sopdt.Td, (double)res.fit, (unsigned)res.evaluations);
     assert_true(fabs((double)res.model.p.sopdt.Td - 4.3) < 0.05);
@@ -1070,23 +1071,10 @@ static void test_dead_time_profile(void **state)
     (void)state;
     for (size_t i = 0; i < 2u; i++) {
         pdt_ident_result_t res;
-        record_spec_t s = {model_fopdt(1.5, 12.0, 8.3),
-                           (pdt_real_t)1.0,
-                           1200u,
-                           40.0,
-                           350.0,
-                           1.0,
-                           10.0,
-                           false,
-                           seeds[i]};
-        for (size_t k = 0; k < s.n; k++) {
-            g_dev[k] = k < 40u ? (pdt_real_t)0.0
-                               : (pdt_real_t)((((k - 40u) / 4u) % 2u) == 0u ? 1.0 : -1.0);
-        }
-        make_record(&s);
-        pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+        square_record(model_fopdt(1.5, 12.0, 8.3), 1200u, 4u, 10.0, seeds[i]);
+        pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, (pdt_real_t)1.0);
         cfg.seed = seeds[i];
-        identify(&cfg, s.n, &res);
+        identify(&cfg, 1200u, &res);
         print_message("    square wave, seed %u: Td %.3f s (8.3), tau %.2f s (12), fit %.2f %%, "
                       "%u evaluations, flags %u\n",
                       (unsigned)seeds[i], (double)res.model.p.fopdt.Td,
@@ -1113,22 +1101,10 @@ static void test_dead_time_profile_window(void **state)
     (void)state;
     for (size_t i = 0; i < 2u; i++) {
         pdt_ident_result_t res;
-        record_spec_t s = {model_sopdt_tc(1.5, 4.0, 4.0 / 3.0, 4.3),
-                           (pdt_real_t)1.0,
-                           4000u,
-                           40.0,
-                           350.0,
-                           1.0,
-                           10.0,
-                           false,
-                           seeds[i]};
-        for (size_t k = 0; k < s.n; k++) {
-            g_dev[k] = k < 40u ? (pdt_real_t)0.0 : (pdt_real_t)((k % 2u) == 0u ? 1.0 : -1.0);
-        }
-        make_record(&s);
-        pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, s.Ts);
+        square_record(model_sopdt_tc(1.5, 4.0, 4.0 / 3.0, 4.3), 4000u, 1u, 10.0, seeds[i]);
+        pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)1.0);
         cfg.seed = seeds[i];
-        identify(&cfg, s.n, &res);
+        identify(&cfg, 4000u, &res);
         print_message("    long record, seed %u: Td %.3f s (4.3), fit %.2f %%, %u evaluations, "
                       "flags %u\n",
                       (unsigned)seeds[i], (double)res.model.p.sopdt.Td, (double)res.fit,
