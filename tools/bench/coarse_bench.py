@@ -53,19 +53,20 @@ WORSE = 1.01
 RARE = (("fopdt", 12.0, "prbs", 10), ("sopdt", 12.0, "prbs", 10))
 
 
-def excitation(kind, tau, rng):
+def excitation(kind, tau, rng, n=N):
     """Multi-level steps held 2 to 6 time constants (at least 10 samples),
     or ("prbs") a binary square wave whose level flips after every bit of
     a third of the time constant (at least one sample), after 40 samples
-    at rest. Not random: its period makes the cost repeat along the dead
-    time, the hardest input of the set for a global search."""
-    u = np.zeros(N)
+    at rest, n samples in all. Not random: its period makes the cost
+    repeat along the dead time, the hardest input of the set for a global
+    search."""
+    u = np.zeros(n)
     k, level = 40, 1.0
     if kind == "steps":
         lo, hi = max(10, int(2 * tau)), max(20, int(6 * tau))
     else:
         lo = hi = max(1, int(round(tau / 3)))
-    while k < N:
+    while k < n:
         hold = int(rng.integers(lo, hi + 1))
         u[k:k + hold] = level * (0.5 + 0.5 * rng.random()) if kind == "steps" else level
         level = -level if kind == "prbs" or rng.random() < 0.7 else level
@@ -73,10 +74,10 @@ def excitation(kind, tau, rng):
     return u
 
 
-def record(model, tau, kind, snr, seed):
+def record(model, tau, kind, snr, seed, n=N):
     rng = np.random.default_rng([seed, int(tau * 10), snr, EXCITATIONS.index(kind),
                                  MODELS.index(model)])
-    u = excitation(kind, tau, rng)
+    u = excitation(kind, tau, rng, n)
     # A dead time of half the time constant plus 2.3 samples, on the
     # simulator's grid of a twentieth of a sample.
     Td = round((0.5 * tau + 2.3) * 20) / 20 * TS
@@ -87,7 +88,7 @@ def record(model, tau, kind, snr, seed):
         num = [1.5]
     y = simulate(num, den, Td, u, TS)
     sd = np.std(y) * 10 ** (-snr / 20)
-    return 40.0 + u, 350.0 + y + sd * rng.standard_normal(N)
+    return 40.0 + u, 350.0 + y + sd * rng.standard_normal(n)
 
 
 def identify(path, model, extra):
