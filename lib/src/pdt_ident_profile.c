@@ -178,13 +178,10 @@ void pdt_ident_profile_step(pdt_ident_t *c)
     pdt_ident_profile_t *p = &c->profile;
     const uint32_t G = c->genes;
     const uint32_t count = pdt_ident_profile_group(c);
-    pdt_real_t pts[PDT_COST_MANY * 3u];
+    /* Initialised: the compiler cannot see that count >= 1. */
+    pdt_real_t pts[PDT_COST_MANY * 3u] = {PDT_R(0.0)};
     pdt_real_t td[PDT_COST_MANY];
     pdt_real_t cost[PDT_COST_MANY], gains[PDT_COST_MANY], offsets[PDT_COST_MANY];
-    /* Every point written: the compiler cannot see that count >= 1. */
-    for (uint32_t i = 0; i < (PDT_COST_MANY * 3u); i++) {
-        pts[i] = PDT_R(0.0);
-    }
     for (uint32_t i = 0; i < count; i++) {
         td[i] = point_of(c, p->next + i, &pts[i * G]);
     }
