@@ -16,6 +16,11 @@
  * Both are scored at the same coarse shapes, so neither is favoured: a far
  * point below the near ones is a basin the searches did not see, and it
  * is polished as a search's answer is; the vote then takes the lower.
+ * Where neither finds one, what lies within a sample of the answer is
+ * beyond both: under an input that moves at nearly every sample, the
+ * interval across the answer's nearest kink can hold a lower minimum of
+ * its own, with another shape. A short search confined to that interval
+ * looks there, and its answer joins the vote in the same way.
  */
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
@@ -32,6 +37,12 @@
 #define PROFILE_NEAR   PDT_R(1.0)
 /* Most samples the window about the answer reaches either side. */
 #define PROFILE_WINDOW 64u
+
+/* The interval across the answer's nearest kink: a dead time this close
+ * to a whole sample (in samples) is on it; the start there gets this
+ * share of the refinement's budget. */
+#define PROFILE_ON_KINK      PDT_R(1e-3)
+#define PROFILE_ACROSS_SHARE 3u
 
 /* The grid: whole samples of the searched record from the least dead time
  * up, every `every` of them, at most PROFILE_POINTS; where `every` > 1,
@@ -80,7 +91,11 @@ static uint32_t dead_times(const pdt_ident_profile_t *p)
 bool pdt_ident_profile_begin(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
-    if (p->stage == 2u) {
+    if (p->stage == 2u || p->stage == 4u) {
+        if (p->stage == 4u) {
+            c->lo[c->genes - 1u] = p->bounds[0];
+            c->hi[c->genes - 1u] = p->bounds[1];
+        }
         /* Its point's polish ended: the last answer kept is the profile's.
          * It only counts in another basin: back in the searches' basin it
          * found nothing they had not, and their answer, polished on the
@@ -153,24 +168,71 @@ static pdt_real_t point_of(const pdt_ident_t *c, uint32_t i, pdt_real_t *x)
     return Td;
 }
 
+/* The interval across the nearest kink from the answer: its search
+ * confined to it (the dead time's bounds narrowed to its two whole
+ * samples, the answer's shape at its middle as the start), else it goes
+ * back across the kink it was to look past. False where the dead time is
+ * whole samples, the answer lies on a kink (no side to take) or the
+ * interval lies beyond the bounds. */
+static bool across_begin(pdt_ident_t *c, pdt_real_t *x)
+{
+    pdt_ident_profile_t *p = &c->profile;
+    const uint32_t G = c->genes;
+    const pdt_real_t Ts = c->cost.cfg.Ts;
+    const pdt_real_t r = p->td / Ts;
+    const pdt_real_t whole = pdt_floor(r + PDT_R(0.5));
+    if (c->cfg.delay_mode != PDT_DELAY_FRACTIONAL || !(pdt_fabs(r - whole) >= PROFILE_ON_KINK)) {
+        return false;
+    }
+    const pdt_real_t first = r > whole ? whole - PDT_R(1.0) : whole;
+    if (!(first >= PDT_R(0.0))) {
+        return false;
+    }
+    const pdt_real_t lo = pdt_log((first * Ts) + c->td_offset);
+    const pdt_real_t hi = pdt_log(((first + PDT_R(1.0)) * Ts) + c->td_offset);
+    const pdt_real_t mid = pdt_log(((first + PDT_R(0.5)) * Ts) + c->td_offset);
+    if (!(mid >= c->lo[G - 1u] && mid <= c->hi[G - 1u])) {
+        return false;
+    }
+    const uint32_t best = pdt_ident_vote_best(c);
+    for (uint32_t j = 0; j < G; j++) {
+        x[j] = c->vote.genes[best][j];
+    }
+    x[G - 1u] = mid;
+    p->bounds[0] = c->lo[G - 1u];
+    p->bounds[1] = c->hi[G - 1u];
+    c->lo[G - 1u] = lo > c->lo[G - 1u] ? lo : c->lo[G - 1u];
+    c->hi[G - 1u] = hi < c->hi[G - 1u] ? hi : c->hi[G - 1u];
+    return true;
+}
+
 /* The far point polished as a search's answer is, when it lies below the
- * near ones: the grid's first, else the window's; the vote otherwise. */
+ * near ones: the grid's first, else the window's; else the start across
+ * the nearest kink with a share of that budget; else the vote. */
 static void scan_end(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
+    pdt_real_t x[3];
     uint32_t k = 1u;
     if (p->far[0] < p->near[0]) {
         k = 0u;
     }
-    if (!(p->far[k] < p->near[k])) {
-        p->stage = 3u;
-        pdt_ident_conclude(c);
-        return;
-    }
+    const pdt_real_t *start = p->far_x[k];
+    uint32_t budget = c->cfg.refine_evaluations;
     p->stage = 2u;
+    if (!(p->far[k] < p->near[k])) {
+        budget /= PROFILE_ACROSS_SHARE;
+        if (budget < c->genes + 1u || !across_begin(c, x)) {
+            p->stage = 3u;
+            pdt_ident_conclude(c);
+            return;
+        }
+        p->stage = 4u;
+        start = x;
+    }
     c->vote.base = c->evaluations;
-    c->vote.budget = c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg);
-    pdt_ident_refine_from(c, p->far_x[k]);
+    c->vote.budget = budget + pdt_ident_late_reserve(&c->cfg);
+    pdt_ident_refine_from(c, start);
 }
 
 void pdt_ident_profile_step(pdt_ident_t *c)

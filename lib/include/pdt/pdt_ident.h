@@ -325,7 +325,8 @@ typedef struct pdt_ident_vote {
 } pdt_ident_vote_t;
 
 typedef struct pdt_ident_profile {
-    uint32_t stage;      /* 0 not begun, 1 scanning, 2 polishing its point, 3 done */
+    uint32_t stage;      /* 0 not begun, 1 scanning, 2 polishing its point, 3 done,
+                          * 4 searching across the answer's nearest kink */
     uint32_t next;       /* next grid point: dead-time index * shapes + shape */
     uint32_t points;     /* dead times on the grid over the whole range */
     uint32_t fine;       /* dead times of the window about the answer, 0: none */
@@ -338,6 +339,7 @@ typedef struct pdt_ident_profile {
     pdt_real_t near[2]; /* least cost near td */
     pdt_real_t far[2];  /* least cost beyond, at far_x */
     pdt_real_t far_x[2][3];
+    pdt_real_t bounds[2]; /* the dead-time gene's, while stage 4 narrows them */
 } pdt_ident_profile_t;
 
 typedef struct pdt_ident_coarse {
