@@ -99,11 +99,15 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
         /* Its point's polish ended: the last answer kept is the profile's.
          * It only counts in another basin: back in the searches' basin it
          * found nothing they had not, and their answer, polished on the
-         * way they took, stands. */
+         * way they took, stands. The search across the kink only counts
+         * below the searches' answers: confined to its interval, it may
+         * end on the interval's edge, no basin of the whole range to put
+         * to the vote as a rival. */
         const uint32_t k = c->vote.done - 1u;
         bool other = true;
         for (uint32_t i = 0u; i < k; i++) {
-            other = other && !pdt_ident_vote_same_basin(c, i, k);
+            other = other && !pdt_ident_vote_same_basin(c, i, k) &&
+                    (p->stage == 2u || c->vote.cost[k] < c->vote.cost[i]);
         }
         c->vote.done = other ? c->vote.done : k;
         c->vote.profiled = other ? c->vote.done : 0u;
