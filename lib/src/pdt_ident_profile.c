@@ -192,10 +192,12 @@ static bool across_begin(pdt_ident_t *c, pdt_real_t *x)
     if (!(first >= PDT_R(0.0))) {
         return false;
     }
-    const pdt_real_t lo = pdt_log((first * Ts) + c->td_offset);
-    const pdt_real_t hi = pdt_log(((first + PDT_R(1.0)) * Ts) + c->td_offset);
-    const pdt_real_t mid = pdt_log(((first + PDT_R(0.5)) * Ts) + c->td_offset);
-    if (!(mid >= c->lo[G - 1u] && mid <= c->hi[G - 1u])) {
+    /* Clamped to the bounds: the interval's part within them, and a
+     * middle beyond them lands on their end. */
+    const pdt_real_t lo = pdt_ident_gene_of_td(c, first * Ts);
+    const pdt_real_t hi = pdt_ident_gene_of_td(c, (first + PDT_R(1.0)) * Ts);
+    const pdt_real_t mid = pdt_ident_gene_of_td(c, (first + PDT_R(0.5)) * Ts);
+    if (!(mid > lo && mid < hi)) {
         return false;
     }
     const uint32_t best = pdt_ident_vote_best(c);
@@ -205,8 +207,8 @@ static bool across_begin(pdt_ident_t *c, pdt_real_t *x)
     x[G - 1u] = mid;
     p->bounds[0] = c->lo[G - 1u];
     p->bounds[1] = c->hi[G - 1u];
-    c->lo[G - 1u] = lo > c->lo[G - 1u] ? lo : c->lo[G - 1u];
-    c->hi[G - 1u] = hi < c->hi[G - 1u] ? hi : c->hi[G - 1u];
+    c->lo[G - 1u] = lo;
+    c->hi[G - 1u] = hi;
     return true;
 }
 
@@ -223,16 +225,16 @@ static void scan_end(pdt_ident_t *c)
     }
     const pdt_real_t *start = p->far_x[k];
     uint32_t budget = c->cfg.refine_evaluations;
-    p->stage = 2u;
-    if (!(p->far[k] < p->near[k])) {
-        budget /= PROFILE_ACROSS_SHARE;
-        if (budget < c->genes + 1u || !across_begin(c, x)) {
-            p->stage = 3u;
-            pdt_ident_conclude(c);
-            return;
-        }
+    if (p->far[k] < p->near[k]) {
+        p->stage = 2u;
+    } else if (budget / PROFILE_ACROSS_SHARE >= c->genes + 1u && across_begin(c, x)) {
         p->stage = 4u;
+        budget /= PROFILE_ACROSS_SHARE;
         start = x;
+    } else {
+        p->stage = 3u;
+        pdt_ident_conclude(c);
+        return;
     }
     c->vote.base = c->evaluations;
     c->vote.budget = budget + pdt_ident_late_reserve(&c->cfg);
