@@ -5,6 +5,7 @@
 #include "pdt/pdt_cost.h"
 
 #include "pdt_cost_kernel.h"
+#include "pdt_discrete_priv.h"
 #include "pdt_internal.h"
 #include "pdt_model_priv.h"
 
@@ -748,7 +749,8 @@ static pdt_status_t eval_discretize(const pdt_cost_t *c, const pdt_model_t *m, p
         l = (size_t)x;
         st = pdt_discrete_init_int(m, Ts, l, d);
     } else {
-        st = pdt_discrete_init(m, Ts, d);
+        /* Every caller checked m, and init checked Ts. */
+        st = pdt_discrete_init_checked(m, Ts, d);
     }
     if (st != PDT_OK) {
         return PDT_ERR_ARG;

@@ -148,6 +148,18 @@ pdt_status_t pdt_discrete_init(const pdt_model_t *m, pdt_real_t Ts, pdt_discrete
     if (out == NULL || !ts_valid(Ts) || pdt_model_check(m) != PDT_OK) {
         return PDT_ERR_ARG;
     }
+    /* pdt_discrete_init_checked's lines, not a call: a frame fewer on the
+     * deepest stack chains (tools/stack_bound.py). */
+    size_t l;
+    pdt_real_t f;
+    if (split_delay(pdt_model_dead_time(m), Ts, &l, &f) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    return zoh(m, Ts, l, f, out);
+}
+
+pdt_status_t pdt_discrete_init_checked(const pdt_model_t *m, pdt_real_t Ts, pdt_discrete_t *out)
+{
     size_t l;
     pdt_real_t f;
     if (split_delay(pdt_model_dead_time(m), Ts, &l, &f) != PDT_OK) {

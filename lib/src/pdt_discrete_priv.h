@@ -1,14 +1,20 @@
 /*
- * One sample of the discrete model's simulation, inline for the passes that
- * simulate several models side by side (pdt_discrete_step and the Fisher
- * pass): a call per model and sample would cost more than the sample's
- * arithmetic.
+ * The discrete model's private entries: one sample of its simulation,
+ * inline for the passes that simulate several models side by side
+ * (pdt_discrete_step and the Fisher pass), where a call per model and
+ * sample would cost more than the sample's arithmetic; and the
+ * discretisation without the checks its caller made.
  */
 #ifndef PDT_DISCRETE_PRIV_H
 #define PDT_DISCRETE_PRIV_H
 
 #include "pdt/pdt_discrete.h"
 #include "pdt_internal.h"
+
+/* pdt_discrete_init for a model and a period its caller has already
+ * checked (pdt_model_check, Ts finite and positive): the cost's
+ * evaluations, thousands per identification, each of a checked shape. */
+pdt_status_t pdt_discrete_init_checked(const pdt_model_t *m, pdt_real_t Ts, pdt_discrete_t *out);
 
 /* B(q) u at sample k, with u = 0 before sample 0 (the start of the record,
  * where the indices k-1-l .. k-3-l may be negative). */

@@ -152,10 +152,11 @@ static pdt_real_t lag_back(const lag_sums_t *L, size_t i)
     return L->recent[(RING_TWICE != 0 || j < PDT_FISHER_LAGS) ? j : j - PDT_FISHER_LAGS];
 }
 
-static void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
+PDT_FORCE_INLINE void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
 {
 #if RING_TWICE
     const pdt_real_t *back = &L->recent[L->at];
+    PDT_UNROLL
     for (size_t l = 0; l < PDT_FISHER_LAGS; l += 4u) {
         pdt_vec4_t p, b;
         (void)memcpy(&p, &L->prod[l], sizeof p);
@@ -211,6 +212,78 @@ static void lags_rho(const lag_sums_t *L, size_t n, pdt_real_t sse, pdt_real_t *
     }
 }
 
+/* The running state of the pass: the nominal model and one perturbed
+ * model per shape parameter simulated side by side. */
+typedef struct fisher_pass {
+    pdt_discrete_t d[4];
+    pdt_discrete_state_t s[4];
+    pdt_real_t h[4]; /* the shape parameters' steps */
+    pdt_real_t gain; /* the nominal gain: the gain's column is ys / K */
+} fisher_pass_t;
+
+/* The input term of model d at sample k once every input tap has
+ * arrived (k >= delay + 3): pdt_discrete_input's sum without its tests,
+ * the same operations in the same order. */
+PDT_FORCE_INLINE pdt_real_t input_full(const pdt_discrete_t *d, const pdt_real_t *u, pdt_real_t u0,
+                                       size_t k)
+{
+    const pdt_real_t *uj = &u[k - d->delay - 3u];
+    pdt_real_t s = PDT_R(0.0) + d->b[0] * (uj[2] - u0);
+    s += d->b[1] * (uj[1] - u0);
+    return s + d->b[2] * (uj[0] - u0);
+}
+
+/* Model i of the pass advanced to sample k, its output. full: every
+ * input tap has arrived. */
+PDT_FORCE_INLINE pdt_real_t model_at(fisher_pass_t *P, uint32_t i, const pdt_real_t *u, size_t k,
+                                     bool full)
+{
+    const pdt_discrete_t *d = &P->d[i];
+    pdt_discrete_state_t *s = &P->s[i];
+    if (!full) {
+        return pdt_discrete_advance(d, s, u, u[0], k);
+    }
+    if (d->order == 1u) {
+        s->y1 = s->y1 - d->d[0] * s->y1 + input_full(d, u, u[0], k);
+        return s->y1;
+    }
+    s->dy = s->dy - d->d[0] * s->dy - d->d[1] * s->y2 + input_full(d, u, u[0], k);
+    s->y2 = s->y1;
+    s->y1 = s->y1 + s->dy;
+    return s->y1;
+}
+
+/* One sample k into the pass: the models advanced, the Jacobian's row
+ * into part, the residual into *sp and the lags, whether the nominal
+ * output is finite into *finite. nm, the model's
+ * parameters, is a constant at each fast call, so that the loops over
+ * them unroll. */
+PDT_FORCE_INLINE void fisher_sample(fisher_pass_t *P, pdt_fisher_matrix_t part, lag_sums_t *L,
+                                    pdt_real_t *sp, bool *finite, const pdt_real_t *u,
+                                    const pdt_real_t *y, pdt_real_t y0, size_t k, bool full,
+                                    uint32_t nm)
+{
+    pdt_real_t jr[PDT_FISHER_MAX];
+    const pdt_real_t ys = model_at(P, 0u, u, k, full);
+    *finite = *finite && pdt_finite(ys);
+    jr[0] = ys / P->gain;
+    PDT_UNROLL
+    for (uint32_t i = 1; i < nm; i++) {
+        jr[i] = (model_at(P, i, u, k, full) - ys) / P->h[i];
+    }
+    jr[nm] = PDT_R(1.0);
+    PDT_UNROLL
+    for (uint32_t i = 0; i <= nm; i++) {
+        PDT_UNROLL
+        for (uint32_t j = i; j <= nm; j++) {
+            part[i][j] += jr[i] * jr[j];
+        }
+    }
+    const pdt_real_t e = y[k] - y0 - ys;
+    *sp += e * e;
+    lags_add(L, e, k);
+}
+
 pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_t *u,
                             const pdt_real_t *y, size_t n, pdt_real_t y0, pdt_fisher_matrix_t F,
                             pdt_fisher_sums_t *out)
@@ -218,63 +291,72 @@ pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_
     pdt_real_t p[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     const uint32_t nm = params_of(m, p);
     const uint32_t nj = nm + 1u;
-    const pdt_real_t gain = p[0];
     /* The nominal model, then one per shape parameter: the gain enters
      * linearly (ys / K), the offset as a constant. */
-    pdt_discrete_t d[4];
-    pdt_discrete_state_t s[4] = {{PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)}};
-    pdt_real_t h[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
-    if (gain == PDT_R(0.0) || pdt_discrete_init(m, Ts, &d[0]) != PDT_OK) {
+    fisher_pass_t P = {.gain = p[0]};
+    if (P.gain == PDT_R(0.0) || pdt_discrete_init(m, Ts, &P.d[0]) != PDT_OK) {
         return PDT_ERR_ARG;
     }
+    /* From this sample on every model's input taps have arrived. */
+    size_t full = P.d[0].delay;
     for (uint32_t i = 1; i < nm; i++) {
         pdt_real_t pp[4] = {p[0], p[1], p[2], p[3]};
         pp[i] += fd_step(m, i, p, Ts);
-        h[i] = pp[i] - p[i];
+        P.h[i] = pp[i] - p[i];
         pdt_model_t mp = *m;
         params_set(&mp, pp);
-        if (!(h[i] > PDT_R(0.0)) || pdt_discrete_init(&mp, Ts, &d[i]) != PDT_OK) {
+        if (!(P.h[i] > PDT_R(0.0)) || pdt_discrete_init(&mp, Ts, &P.d[i]) != PDT_OK) {
             return PDT_ERR_ARG;
         }
+        full = P.d[i].delay > full ? P.d[i].delay : full;
     }
-    pdt_real_t part[PDT_FISHER_MAX][PDT_FISHER_MAX] = {{PDT_R(0.0)}};
+    full = (n > 3u && full < n - 3u) ? full + 3u : n;
+    /* Declared after the perturbed models' set-up, whose scratch can
+     * share their stack. */
+    pdt_fisher_matrix_t part = {{PDT_R(0.0)}};
     lag_sums_t L = {{PDT_R(0.0)}, {PDT_R(0.0)}, {PDT_R(0.0)}, PDT_R(0.0), PDT_R(0.0), 0u};
     pdt_real_t se = PDT_R(0.0);
-    pdt_real_t sp = PDT_R(0.0);
+    pdt_real_t sp = PDT_R(0.0); /* a block's residual sum of squares */
     bool finite = true;
     for (uint32_t i = 0; i < nj; i++) {
         for (uint32_t j = 0; j < nj; j++) {
             F[i][j] = PDT_R(0.0);
         }
     }
-    for (size_t k = 0; k < n; k++) {
-        pdt_real_t jr[PDT_FISHER_MAX];
-        const pdt_real_t ys = pdt_discrete_advance(&d[0], &s[0], u, u[0], k);
-        finite = finite && pdt_finite(ys);
-        jr[0] = ys / gain;
-        for (uint32_t i = 1; i < nm; i++) {
-            jr[i] = (pdt_discrete_advance(&d[i], &s[i], u, u[0], k) - ys) / h[i];
+    /* Blocks of FISHER_BLOCK samples: a block's sums join the totals at
+     * its end. For speed, the samples from `full` on take the straight
+     * input, with the parameters' count a constant in each loop; for size,
+     * one loop takes the tested input throughout (the same numbers). */
+    for (size_t first = 0; first < n; first += FISHER_BLOCK) {
+        const size_t stop = (n - first > FISHER_BLOCK) ? first + FISHER_BLOCK : n;
+        size_t k = first;
+#if PDT_SPEED_OVER_SIZE
+        for (; k < stop && k < full; k++) {
+            fisher_sample(&P, part, &L, &sp, &finite, u, y, y0, k, false, nm);
         }
-        jr[nm] = PDT_R(1.0);
+        if (nm == 3u) {
+            for (; k < stop; k++) {
+                fisher_sample(&P, part, &L, &sp, &finite, u, y, y0, k, true, 3u);
+            }
+        } else {
+            for (; k < stop; k++) {
+                fisher_sample(&P, part, &L, &sp, &finite, u, y, y0, k, true, 4u);
+            }
+        }
+#else
+        for (; k < stop; k++) {
+            fisher_sample(&P, part, &L, &sp, &finite, u, y, y0, k, false, nm);
+        }
+#endif
         for (uint32_t i = 0; i < nj; i++) {
             for (uint32_t j = i; j < nj; j++) {
-                part[i][j] += jr[i] * jr[j];
+                F[i][j] += part[i][j];
+                part[i][j] = PDT_R(0.0);
             }
         }
-        const pdt_real_t e = y[k] - y0 - ys;
-        sp += e * e;
-        lags_add(&L, e, k);
-        if ((k + 1u) % FISHER_BLOCK == 0u || k + 1u == n) {
-            for (uint32_t i = 0; i < nj; i++) {
-                for (uint32_t j = i; j < nj; j++) {
-                    F[i][j] += part[i][j];
-                    part[i][j] = PDT_R(0.0);
-                }
-            }
-            se += sp;
-            sp = PDT_R(0.0);
-            lags_flush(&L);
-        }
+        se += sp;
+        sp = PDT_R(0.0);
+        lags_flush(&L);
     }
     if (!finite) {
         return PDT_ERR_NONFINITE;

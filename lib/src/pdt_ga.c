@@ -218,15 +218,16 @@ typedef int32_t smask_t __attribute__((vector_size(4 * sizeof(int32_t))));
  * in the order j = i + 1, i + 2, ... as the scalar loop does. The pairs
  * are most of a search's breeding on a short record. Returns the first j
  * left to the scalar loop. */
-static inline size_t share_tri_row(const pdt_real_t *genes, size_t n, size_t g, size_t i,
-                                   const pdt_real_t *inv, pdt_real_t inv_sigma, pdt_real_t *shared,
-                                   pdt_real_t *m)
+PDT_FORCE_INLINE size_t share_tri_row(const pdt_real_t *genes, size_t n, size_t g, size_t i,
+                                      const pdt_real_t *inv, pdt_real_t inv_sigma,
+                                      pdt_real_t *shared, pdt_real_t *m)
 {
     const pdt_real_t *xi = genes + i * g;
     size_t j = i + 1u;
     for (; j + 4u <= n; j += 4u) {
         const pdt_real_t *xj = genes + j * g;
         pdt_vec4_t d2 = PDT_VEC4(PDT_R(0.0));
+        PDT_UNROLL
         for (size_t k = 0; k < g; k++) {
             const pdt_vec4_t xk = {xj[k], xj[g + k], xj[2u * g + k], xj[3u * g + k]};
             const pdt_vec4_t t = (PDT_VEC4(xi[k]) - xk) * PDT_VEC4(inv[k]);

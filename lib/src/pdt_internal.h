@@ -73,6 +73,23 @@ typedef pdt_real_t pdt_vec4_t __attribute__((vector_size(4 * sizeof(pdt_real_t))
 #define PDT_VEC4(x) ((pdt_vec4_t){(x), (x), (x), (x)})
 #endif
 
+/* Speed against size where a loop over a few parameters is hot (the
+ * Fisher pass's samples, the sharing's pairs). With PDT_SPEED_OVER_SIZE a
+ * caller may call a body from several sites with constant arguments;
+ * PDT_FORCE_INLINE inlines it at each (as CMSIS's __STATIC_FORCEINLINE),
+ * so that the constants shape its loops, and PDT_UNROLL unrolls the next
+ * loop whole. GCC and Clang only, and not in a build for size (-Os, the
+ * firmware's), which keeps one call site and one copy of each loop. */
+#if defined(__GNUC__) && !defined(__OPTIMIZE_SIZE__)
+#define PDT_SPEED_OVER_SIZE 1
+#define PDT_FORCE_INLINE    static inline __attribute__((always_inline))
+#define PDT_UNROLL          _Pragma("GCC unroll 8")
+#else
+#define PDT_SPEED_OVER_SIZE 0
+#define PDT_FORCE_INLINE    static inline
+#define PDT_UNROLL
+#endif
+
 /* True when p is aligned for pdt_real_t arrays. */
 static inline bool pdt_aligned(const void *p)
 {
