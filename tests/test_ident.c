@@ -650,6 +650,35 @@ static void test_determinism(void **state)
     }
 }
 
+/* A search after the first ends its GA once it has caught up with the
+ * first's answer (after the stall rule's generations): the second search
+ * breeds at most half the first's generations, and the two still agree.
+ * The first search alone (searches = 1, the same stream) gives the
+ * first's generations: 55 here; the second bred 39 before this rule, 10
+ * with it. */
+static void test_second_search_ends_early(void **state)
+{
+    pdt_ident_result_t one, two;
+    (void)state;
+    pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
+    record_spec_t s = {m, (pdt_real_t)1.0, 800u, 0.0, 0.0, 1.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    cfg.seed = 12345u;
+    cfg.searches = 1u;
+    identify(&cfg, s.n, &one);
+    cfg.searches = 0u;
+    identify(&cfg, s.n, &two);
+    assert_int_equal(two.searches, 2u);
+    assert_int_equal(two.flags, 0u);
+    const uint32_t second = two.generations - one.generations;
+    assert_true(second >= cfg.stall_generations);
+    assert_true(second <= one.generations / 2u);
+    check_fopdt("two searches", &two, &m, FO_K, FO_TAU, FO_TD);
+    assert_close(two.cost, one.cost, 0.01, 0.0);
+}
+
 static void test_gain_bounds(void **state)
 {
     pdt_ident_result_t res;
@@ -1529,6 +1558,7 @@ int main(void)
         cmocka_unit_test(test_stepping),
         cmocka_unit_test(test_budget),
         cmocka_unit_test(test_determinism),
+        cmocka_unit_test(test_second_search_ends_early),
         cmocka_unit_test(test_gain_bounds),
         cmocka_unit_test(test_recover_fopdt),
         cmocka_unit_test(test_recover_sopdt),

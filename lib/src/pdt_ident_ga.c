@@ -59,7 +59,17 @@ static void generation_end(pdt_ident_t *c)
         /* The time-cost stage of the CONTROL weighting gets half. */
         ga_budget /= 2u;
     }
-    if (ga->stall < c->cfg.stall_generations &&
+    /* A FOPDT search after the first ends its GA once, after as many
+     * generations as the stall rule waits, its best lies in the basin of
+     * the best answer kept: the refinement and the vote that follow
+     * settle it (a disagreement still calls a third search). A SOPDT's
+     * searches run their course: on its records the early end saved 1 to
+     * 3 % and let a second search settle in a dead-time basin a fraction
+     * of a sample from the optimum's (docs/ident-engine.md). */
+    const bool caught_up = c->cfg.model == PDT_MODEL_FOPDT && c->band_stage == 0u &&
+                           pdt_ident_used(c) >= c->cfg.stall_generations * c->cfg.population &&
+                           pdt_ident_vote_caught_up(c);
+    if (!caught_up && ga->stall < c->cfg.stall_generations &&
         pdt_ident_used(c) + c->cfg.population <= ga_budget) {
         c->phase = PH_BREED;
     } else if (c->band_stage == 1u) {

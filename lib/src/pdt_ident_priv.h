@@ -159,6 +159,9 @@ uint32_t pdt_ident_vote_searches(const pdt_ident_t *c);
 /* Answers i and j in one basin (the same structure; costs within 1 % or
  * genes within 1 % of their ranges). */
 bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j);
+/* The running search's GA best lies in the basin of the best answer kept
+ * (pdt_ident_vote_same_basin's test): it has caught up with it. */
+bool pdt_ident_vote_caught_up(const pdt_ident_t *c);
 /* Flags on the answer's genes (AT_BOUND) after the whole record's polish. */
 uint32_t pdt_ident_bound_flags(const pdt_ident_t *c);
 

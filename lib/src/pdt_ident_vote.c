@@ -58,6 +58,26 @@ bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
             pdt_ident_distance(c, c->vote.genes[i], c->vote.genes[j]) < AGREE_GENES);
 }
 
+bool pdt_ident_vote_caught_up(const pdt_ident_t *c)
+{
+    if (c->vote.done == 0u || !(c->best.cost < PDT_REAL_MAX)) {
+        return false;
+    }
+    /* The best's model as pdt_ident_finish would make it (its structure
+     * only: the gain's sign, integrating or not). */
+    pdt_model_t m;
+    pdt_ident_shape(c, c->best.genes, &m);
+    if (m.kind == PDT_MODEL_FOPDT) {
+        m.p.fopdt.K *= c->best.gain;
+    } else {
+        m.p.sopdt.k *= c->best.gain;
+    }
+    const uint32_t i = pdt_ident_vote_best(c);
+    return same_structure(&c->vote.found[i], &m) &&
+           (cost_close(c->vote.cost[i], c->best.cost, AGREE_RTOL) ||
+            pdt_ident_distance(c, c->vote.genes[i], c->best.genes) < AGREE_GENES);
+}
+
 static bool on_bound(const pdt_ident_t *c, const pdt_real_t *g)
 {
     for (uint32_t j = 0; j < c->genes; j++) {
