@@ -620,16 +620,26 @@ static void test_budget(void **state)
     }
 }
 
+/* The FOPDT record of the determinism tests (800 samples of a PRBS,
+ * 30 dB) into the globals, and its configuration with seed 12345. */
+static pdt_ident_config_t seeded_fopdt_record(record_spec_t *s)
+{
+    *s = (record_spec_t){
+        model_fopdt(2.0, 12.0, 4.37), (pdt_real_t)1.0, 800u, 0.0, 0.0, 1.0, 30.0, false, 99u};
+    make_prbs(g_dev, s->n, 10u, 8u, 7u);
+    make_record(s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s->Ts);
+    cfg.seed = 12345u;
+    return cfg;
+}
+
 static void test_determinism(void **state)
 {
     pdt_ident_result_t a, b, c;
+    record_spec_t s;
     (void)state;
-    pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
-    record_spec_t s = {m, (pdt_real_t)1.0, 800u, 0.0, 0.0, 1.0, 30.0, false, 99u};
-    make_prbs(g_dev, s.n, 10u, 8u, 7u);
-    make_record(&s);
-    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
-    cfg.seed = 12345u;
+    pdt_ident_config_t cfg = seeded_fopdt_record(&s);
+    const pdt_model_t m = s.m;
     identify(&cfg, s.n, &a);
     identify(&cfg, s.n, &b);
     assert_same_result(&a, &b);
@@ -659,13 +669,10 @@ static void test_determinism(void **state)
 static void test_second_search_ends_early(void **state)
 {
     pdt_ident_result_t one, two;
+    record_spec_t s;
     (void)state;
-    pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
-    record_spec_t s = {m, (pdt_real_t)1.0, 800u, 0.0, 0.0, 1.0, 30.0, false, 99u};
-    make_prbs(g_dev, s.n, 10u, 8u, 7u);
-    make_record(&s);
-    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
-    cfg.seed = 12345u;
+    pdt_ident_config_t cfg = seeded_fopdt_record(&s);
+    const pdt_model_t m = s.m;
     cfg.searches = 1u;
     identify(&cfg, s.n, &one);
     cfg.searches = 0u;

@@ -58,20 +58,25 @@ bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
             pdt_ident_distance(c, c->vote.genes[i], c->vote.genes[j]) < AGREE_GENES);
 }
 
+/* The running search's best as a model: the shape's gain unit times the
+ * multiplier found. */
+static void best_model(const pdt_ident_t *c, pdt_model_t *m)
+{
+    pdt_ident_shape(c, c->best.genes, m);
+    if (m->kind == PDT_MODEL_FOPDT) {
+        m->p.fopdt.K *= c->best.gain;
+    } else {
+        m->p.sopdt.k *= c->best.gain;
+    }
+}
+
 bool pdt_ident_vote_caught_up(const pdt_ident_t *c)
 {
     if (c->vote.done == 0u || !(c->best.cost < PDT_REAL_MAX)) {
         return false;
     }
-    /* The best's model as pdt_ident_finish would make it (its structure
-     * only: the gain's sign, integrating or not). */
     pdt_model_t m;
-    pdt_ident_shape(c, c->best.genes, &m);
-    if (m.kind == PDT_MODEL_FOPDT) {
-        m.p.fopdt.K *= c->best.gain;
-    } else {
-        m.p.sopdt.k *= c->best.gain;
-    }
+    best_model(c, &m);
     const uint32_t i = pdt_ident_vote_best(c);
     return same_structure(&c->vote.found[i], &m) &&
            (cost_close(c->vote.cost[i], c->best.cost, AGREE_RTOL) ||
@@ -203,13 +208,7 @@ static void search_end(pdt_ident_t *c)
 void pdt_ident_finish(pdt_ident_t *c)
 {
     pdt_model_t m;
-    pdt_ident_shape(c, c->best.genes, &m);
-    /* The shape's gain unit times the multiplier found. */
-    if (m.kind == PDT_MODEL_FOPDT) {
-        m.p.fopdt.K *= c->best.gain;
-    } else {
-        m.p.sopdt.k *= c->best.gain;
-    }
+    best_model(c, &m);
     if (m.kind == PDT_MODEL_SOPDT && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
         /* A lag a hundred records long may not be told from an integrator
          * in this record: then report the integrator (b = 0) rather than a
