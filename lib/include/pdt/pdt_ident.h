@@ -129,7 +129,10 @@ typedef struct pdt_ident_config {
     pdt_real_t tolerance;        /* stop the GA when the best cost improved by
                                * less than this fraction over stall_generations.
                                * Default 1e-4 */
-    uint32_t stall_generations;  /* Default 10 */
+    uint32_t stall_generations;  /* Default 10. A FOPDT search after the
+                               * first also stops its GA once, after this
+                               * many generations, its best lies in the
+                               * best answer's basin */
     uint64_t seed;               /* PCG32 seed. Default 1 */
     pdt_real_t eta_c;            /* SBX distribution index. Default 15 */
     pdt_real_t eta_m;            /* mutation distribution index. Default 20 */
