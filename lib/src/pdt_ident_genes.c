@@ -66,6 +66,11 @@ pdt_real_t pdt_ident_gene_of_td(const pdt_ident_t *c, pdt_real_t Td)
     return pdt_ident_clamp(c, j, pdt_log(Td + c->td_offset));
 }
 
+pdt_real_t pdt_ident_nearest_whole(pdt_real_t r)
+{
+    return pdt_floor(r + PDT_R(0.5));
+}
+
 pdt_real_t pdt_ident_clamp(const pdt_ident_t *c, size_t j, pdt_real_t x)
 {
     return x < c->lo[j] ? c->lo[j] : (x > c->hi[j] ? c->hi[j] : x);

@@ -82,9 +82,8 @@
  * sample, then, where the cost falls across it, a polish from the
  * answer's mirror image through the first pass's point
  * (docs/ident-engine.md, step 5 of the polish). An answer closer to a
- * whole sample than PIN_NEAR of one is on it; differences are kept to one
- * side unless that cuts them below KINK_ROOM of their width. */
-#define PIN_NEAR  PDT_R(1e-3)
+ * whole sample than PDT_IDENT_ON_KINK of one is on it; differences are
+ * kept to one side unless that cuts them below KINK_ROOM of their width. */
 #define KINK_ROOM PDT_R(0.125)
 
 /* Points about the centre: +/- each gene, and +/- each pair together. */
@@ -189,15 +188,10 @@ static pdt_real_t gene_at(const pdt_ident_t *c, pdt_real_t r)
 }
 
 /* The whole sample nearest to r. */
-static pdt_real_t nearest_whole(pdt_real_t r)
-{
-    return pdt_floor(r + PDT_R(0.5));
-}
-
 /* Whether the best point lies across the kink from the answer's polish. */
 static bool best_across(const pdt_ident_t *c)
 {
-    const pdt_real_t whole = nearest_whole(c->nm.r);
+    const pdt_real_t whole = pdt_ident_nearest_whole(c->nm.r);
     const pdt_real_t r = samples_of(c, c->best.genes[c->genes - 1u]);
     return (r - whole) * (c->nm.r - whole) < PDT_R(0.0);
 }
@@ -502,8 +496,8 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
         }
         nm->r = r;
     }
-    const pdt_real_t whole = nearest_whole(nm->r);
-    if (!(pdt_fabs(r - whole) >= PIN_NEAR)) {
+    const pdt_real_t whole = pdt_ident_nearest_whole(nm->r);
+    if (!(pdt_fabs(r - whole) >= PDT_IDENT_ON_KINK)) {
         /* On the kink: the answer's minimum, or the pinned pass's (then no
          * ridge to look across). */
         nm->kink = 2u;

@@ -85,6 +85,13 @@ void pdt_ident_counted(pdt_ident_t *c, uint32_t count, size_t n);
 pdt_real_t pdt_ident_td_of_gene(const pdt_ident_t *c, pdt_real_t g);
 pdt_real_t pdt_ident_gene_of_td(const pdt_ident_t *c, pdt_real_t Td);
 
+/* The output error's kinks lie at whole samples of dead time: the one
+ * nearest r samples, and whether r lies on it (closer than
+ * PDT_IDENT_ON_KINK of a sample), for the polish's kink passes and the
+ * profile's search across the kink alike. */
+#define PDT_IDENT_ON_KINK PDT_R(1e-3)
+pdt_real_t pdt_ident_nearest_whole(pdt_real_t r);
+
 /* Gene j clamped to its range; the normalised distance of two genomes. */
 pdt_real_t pdt_ident_clamp(const pdt_ident_t *c, size_t j, pdt_real_t x);
 pdt_real_t pdt_ident_distance(const pdt_ident_t *c, const pdt_real_t *x, const pdt_real_t *y);

@@ -38,10 +38,8 @@
 /* Most samples the window about the answer reaches either side. */
 #define PROFILE_WINDOW 64u
 
-/* The interval across the answer's nearest kink: a dead time this close
- * to a whole sample (in samples) is on it; the start there gets this
- * share of the refinement's budget. */
-#define PROFILE_ON_KINK      PDT_R(1e-3)
+/* The share of the refinement's budget the start across the answer's
+ * nearest kink gets. */
 #define PROFILE_ACROSS_SHARE 3u
 
 /* The grid: whole samples of the searched record from the least dead time
@@ -184,8 +182,8 @@ static bool across_begin(pdt_ident_t *c, pdt_real_t *x)
     const uint32_t G = c->genes;
     const pdt_real_t Ts = c->cost.cfg.Ts;
     const pdt_real_t r = p->td / Ts;
-    const pdt_real_t whole = pdt_floor(r + PDT_R(0.5));
-    if (c->cfg.delay_mode != PDT_DELAY_FRACTIONAL || !(pdt_fabs(r - whole) >= PROFILE_ON_KINK)) {
+    const pdt_real_t whole = pdt_ident_nearest_whole(r);
+    if (c->cfg.delay_mode != PDT_DELAY_FRACTIONAL || !(pdt_fabs(r - whole) >= PDT_IDENT_ON_KINK)) {
         return false;
     }
     const pdt_real_t first = r > whole ? whole - PDT_R(1.0) : whole;

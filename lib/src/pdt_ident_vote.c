@@ -49,13 +49,20 @@ static bool cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol)
     return d <= rtol * lo + PDT_R(64.0) * PDT_REAL_EPS * PDT_REAL_EPS;
 }
 
-/* Searches i and j ended in one basin: the same structure, and costs
- * within 1 % or genes within AGREE_GENES. */
+/* A model m with cost and genes g lies in the basin of answer i: the same
+ * structure, and costs within 1 % or genes within AGREE_GENES. */
+static bool in_basin_of(const pdt_ident_t *c, uint32_t i, const pdt_model_t *m, pdt_real_t cost,
+                        const pdt_real_t *g)
+{
+    return same_structure(&c->vote.found[i], m) &&
+           (cost_close(c->vote.cost[i], cost, AGREE_RTOL) ||
+            pdt_ident_distance(c, c->vote.genes[i], g) < AGREE_GENES);
+}
+
+/* Searches i and j ended in one basin. */
 bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
 {
-    return same_structure(&c->vote.found[i], &c->vote.found[j]) &&
-           (cost_close(c->vote.cost[i], c->vote.cost[j], AGREE_RTOL) ||
-            pdt_ident_distance(c, c->vote.genes[i], c->vote.genes[j]) < AGREE_GENES);
+    return in_basin_of(c, i, &c->vote.found[j], c->vote.cost[j], c->vote.genes[j]);
 }
 
 /* The running search's best as a model: the shape's gain unit times the
@@ -77,10 +84,7 @@ bool pdt_ident_vote_caught_up(const pdt_ident_t *c)
     }
     pdt_model_t m;
     best_model(c, &m);
-    const uint32_t i = pdt_ident_vote_best(c);
-    return same_structure(&c->vote.found[i], &m) &&
-           (cost_close(c->vote.cost[i], c->best.cost, AGREE_RTOL) ||
-            pdt_ident_distance(c, c->vote.genes[i], c->best.genes) < AGREE_GENES);
+    return in_basin_of(c, pdt_ident_vote_best(c), &m, c->best.cost, c->best.genes);
 }
 
 static bool on_bound(const pdt_ident_t *c, const pdt_real_t *g)
