@@ -3,8 +3,9 @@
  * that drive work are bounded (pdt_reduce_sung's n_freq, the capacity of a
  * record and of an autotune), conversions and figures that would leave the
  * real type give a status instead of an infinity or undefined behaviour,
- * and an output held constant comes back from the recorder and the
- * autotune exactly, not 1 ulp off.
+ * an output held constant comes back from the recorder and the
+ * autotune exactly, not 1 ulp off, and the identification's results keep
+ * the bounds the caller gave (equal ones included) to rounding.
  */
 #include "test_util.h"
 
@@ -283,6 +284,177 @@ static void test_ident_workspace_covers_init(void **state)
     }
 }
 
+/* One identification to its end, steps of `chunk` evaluations; the status
+ * of init or of the search. */
+static pdt_status_t ident_steps(const pdt_ident_config_t *cfg, const pdt_real_t *u,
+                                const pdt_real_t *y, size_t n, uint32_t chunk,
+                                pdt_ident_result_t *r)
+{
+    static unsigned char work[PDT_IDENT_WORKSPACE_SIZE(256u, PDT_IDENT_POPULATION_SOPDT)];
+    static pdt_ident_t ctx;
+    pdt_ident_data_t d = {u, y, n};
+    assert_true(n <= 256u);
+    pdt_status_t st = pdt_ident_init(&ctx, cfg, &d, work, sizeof work);
+    if (st != PDT_OK) {
+        assert_int_equal(pdt_ident_workspace_size(cfg, n), 0u);
+        return st;
+    }
+    do {
+        st = pdt_ident_step(&ctx, chunk);
+    } while (st == PDT_RUNNING);
+    assert_int_equal(st, PDT_OK);
+    return pdt_ident_result(&ctx, r);
+}
+
+static pdt_status_t bounds_ident(const pdt_ident_config_t *cfg, const pdt_real_t *u,
+                                 const pdt_real_t *y, size_t n, pdt_ident_result_t *r)
+{
+    return ident_steps(cfg, u, y, n, 1000u, r);
+}
+
+/* x equals want to a few roundings of the real type. */
+static void assert_rounding(pdt_real_t x, double want)
+{
+    const double tol = 8.0 * (double)(sizeof(pdt_real_t) == 4u ? 1.2e-7 : 2.3e-16) * fabs(want);
+    if (!(fabs((double)x - want) <= tol)) {
+        fail_msg("%.10g where the bounds give %.10g", (double)x, want);
+    }
+}
+
+/* The step response of a FOPDT (K = 2, tau = 10 s, Td = 4.6 s) at Ts = 1 s,
+ * the step at 5 s. */
+static void step_record(pdt_real_t *u, pdt_real_t *y, size_t n)
+{
+    for (size_t k = 0; k < n; k++) {
+        const double t = (double)k - 5.0 - 4.6;
+        u[k] = k >= 5u ? R(1.0) : R(0.0);
+        y[k] = (pdt_real_t)(t > 0.0 ? 2.0 * (1.0 - exp(-t / 10.0)) : 0.0);
+    }
+}
+
+/* fuzz_ident's input (tests/fuzz/corpus/ident/finding-fixed-dead-time): a
+ * SOPDT by the prediction cost with the dead time fixed at 0.0185039993 s (Ts = 0.02 s, n = 36)
+ * came back with Td = 0.0185063072: a fixed dead time's gene spans 1e-4
+ * of log(Td + c0), which maps to up to 1e-4 (Td + c0) above Td. */
+static void test_ident_fixed_dead_time_finding(void **state)
+{
+    (void)state;
+    static pdt_real_t u[36], y[36], w[37];
+    const pdt_real_t Td = R(0.0185039993);
+    for (size_t k = 0; k < 36u; k++) {
+        u[k] = k < 16u ? Td : R(0.0);
+        y[k] = k < 9u ? Td : (pdt_real_t)k;
+        w[k] = R(1.0);
+    }
+    y[9] = R(0.0184959993);
+    y[10] = R(0.0);
+    y[11] = R(1285.0);
+    for (size_t k = 12u; k < 16u; k++) {
+        y[k] = R(1285000.0);
+    }
+    y[16] = R(6.16297582e-33);
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.model = PDT_MODEL_SOPDT;
+    cfg.cost = PDT_COST_PREDICTION;
+    cfg.time_kind = PDT_COST_PREDICTION;
+    cfg.weight = PDT_IDENT_WEIGHT_UNIFORM;
+    cfg.Ts = R(0.02);
+    cfg.Td_min = Td;
+    cfg.Td_max = Td;
+    cfg.weights = w;
+    cfg.max_evaluations = 184u;
+    cfg.refine_evaluations = 32u;
+    cfg.seed = 1212696648u;
+    pdt_ident_result_t r;
+    /* One evaluation a step, as the target ran it. */
+    assert_int_equal(ident_steps(&cfg, u, y, 36u, 1u, &r), PDT_OK);
+    assert_rounding(r.model.p.sopdt.Td, (double)Td);
+}
+
+/* Equal bounds give the parameter back, bounds that differ hold: the dead
+ * time (fixed at the true value, off it, between samples) and the gain,
+ * with either model. */
+static void test_ident_equal_bounds(void **state)
+{
+    (void)state;
+    static pdt_real_t u[200], y[200];
+    step_record(u, y, 200u);
+    const double fixed[] = {4.6, 2.3, 0.37, 0.0};
+    const pdt_model_kind_t kinds[] = {PDT_MODEL_FOPDT, PDT_MODEL_SOPDT};
+    for (size_t im = 0; im < 2u; im++) {
+        pdt_ident_config_t cfg;
+        pdt_ident_config_default(&cfg);
+        cfg.model = kinds[im];
+        cfg.Ts = R(1.0);
+        cfg.max_evaluations = 1200u;
+        pdt_ident_result_t r;
+        for (size_t i = 0; i < sizeof fixed / sizeof fixed[0]; i++) {
+            cfg.Td_min = (pdt_real_t)fixed[i];
+            cfg.Td_max = (pdt_real_t)fixed[i];
+            if (fixed[i] == 0.0) {
+                /* 0, 0 is the default range; a dead time fixed at 0 is
+                 * the narrowest range above it. */
+                cfg.Td_max = R(1e-6);
+            }
+            assert_int_equal(bounds_ident(&cfg, u, y, 200u, &r), PDT_OK);
+            const pdt_real_t Td = pdt_model_dead_time(&r.model);
+            assert_true(Td >= cfg.Td_min && Td <= cfg.Td_max);
+            if (fixed[i] != 0.0) {
+                assert_rounding(Td, (double)cfg.Td_min);
+            }
+        }
+        /* A range the answer (4.6 s) lies above. */
+        cfg.Td_min = R(1.3);
+        cfg.Td_max = R(1.7);
+        assert_int_equal(bounds_ident(&cfg, u, y, 200u, &r), PDT_OK);
+        assert_true(pdt_model_dead_time(&r.model) >= cfg.Td_min &&
+                    pdt_model_dead_time(&r.model) <= cfg.Td_max);
+        /* The gain fixed off its true value (2). */
+        cfg.Td_min = R(0.0);
+        cfg.Td_max = R(0.0);
+        cfg.K_min = R(1.5);
+        cfg.K_max = R(1.5);
+        assert_int_equal(bounds_ident(&cfg, u, y, 200u, &r), PDT_OK);
+        pdt_real_t K;
+        assert_int_equal(pdt_model_dc_gain(&r.model, &K), PDT_OK);
+        assert_rounding(K, 1.5);
+        cfg.K_min = R(0.0);
+        cfg.K_max = R(0.0);
+    }
+}
+
+/* Whole delays: bounds that hold no whole sample are refused, a whole
+ * one fixed comes back, and the whole sample nearest the answer lies
+ * within the bounds (at Ts = 0.5 s the record's dead time is 2.3 s, whose
+ * nearest whole sample, 2.5 s, lies above a bound of 2.3 s). */
+static void test_ident_integer_delay_bounds(void **state)
+{
+    (void)state;
+    static pdt_real_t u[200], y[200];
+    step_record(u, y, 200u);
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.Ts = R(0.5);
+    cfg.delay_mode = PDT_DELAY_INTEGER;
+    cfg.max_evaluations = 1200u;
+    pdt_ident_result_t r;
+    const double none[][2] = {{1.25, 1.25}, {0.6, 0.9}, {0.1, 0.4}};
+    for (size_t i = 0; i < sizeof none / sizeof none[0]; i++) {
+        cfg.Td_min = (pdt_real_t)none[i][0];
+        cfg.Td_max = (pdt_real_t)none[i][1];
+        assert_int_equal(bounds_ident(&cfg, u, y, 200u, &r), PDT_ERR_BOUNDS);
+    }
+    cfg.Td_min = R(1.5);
+    cfg.Td_max = R(1.5);
+    assert_int_equal(bounds_ident(&cfg, u, y, 200u, &r), PDT_OK);
+    assert_rounding(r.model.p.fopdt.Td, 1.5);
+    cfg.Td_min = R(0.6);
+    cfg.Td_max = R(2.3);
+    assert_int_equal(bounds_ident(&cfg, u, y, 200u, &r), PDT_OK);
+    assert_rounding(r.model.p.fopdt.Td, 2.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -294,6 +466,9 @@ int main(void)
         cmocka_unit_test(test_record_exact_operating_point),
         cmocka_unit_test(test_autotune_returns_exact_output),
         cmocka_unit_test(test_ident_workspace_covers_init),
+        cmocka_unit_test(test_ident_fixed_dead_time_finding),
+        cmocka_unit_test(test_ident_equal_bounds),
+        cmocka_unit_test(test_ident_integer_delay_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

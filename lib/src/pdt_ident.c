@@ -133,6 +133,11 @@ static pdt_status_t resolve_bounds(const pdt_ident_config_t *cfg, size_t n, boun
     if (b->tau_min >= b->tau_max || b->Td_min > b->Td_max) {
         return PDT_ERR_BOUNDS;
     }
+    /* Whole delays cannot meet bounds that hold no whole sample. */
+    if (cfg->delay_mode == PDT_DELAY_INTEGER &&
+        !pdt_ident_whole_between(cfg->Ts, b->Td_min, b->Td_max)) {
+        return PDT_ERR_BOUNDS;
+    }
     return PDT_OK;
 }
 

@@ -54,10 +54,47 @@ uint32_t pdt_ident_left(const pdt_ident_t *c)
     return left > used ? left - used : 0u;
 }
 
+/* The caller's dead-time bounds (Td_max 0: the derived upper bound, which
+ * the gene's range alone keeps). */
+static pdt_real_t td_upper(const pdt_ident_t *c)
+{
+    return c->cfg.Td_max > PDT_R(0.0) ? c->cfg.Td_max : PDT_REAL_MAX;
+}
+
+/* Clamped to the caller's bounds: exp(log(Td + c0)) - c0 rounds, and a
+ * fixed dead time's gene spans 1e-4 (gene_bounds), which maps to up to
+ * 1e-4 (Td + c0) above Td. */
 pdt_real_t pdt_ident_td_of_gene(const pdt_ident_t *c, pdt_real_t g)
 {
+    const pdt_real_t hi = td_upper(c);
     pdt_real_t Td = pdt_exp(g) - c->td_offset;
-    return Td > PDT_R(0.0) ? Td : PDT_R(0.0);
+    Td = Td > c->cfg.Td_min ? Td : c->cfg.Td_min;
+    return Td < hi ? Td : hi;
+}
+
+/* Within a few roundings of a bound. */
+static pdt_real_t slack_of(pdt_real_t bound)
+{
+    return PDT_R(4.0) * PDT_REAL_EPS * bound;
+}
+
+pdt_real_t pdt_ident_whole_td(pdt_real_t Td, pdt_real_t Ts, pdt_real_t lo, pdt_real_t hi)
+{
+    pdt_real_t k = pdt_ident_nearest_whole(Td / Ts);
+    if (k * Ts < lo - slack_of(lo)) {
+        k += PDT_R(1.0);
+    } else if (k * Ts > hi + slack_of(hi)) {
+        k -= PDT_R(1.0);
+    } else {
+        /* Within the bounds already. */
+    }
+    return k * Ts;
+}
+
+bool pdt_ident_whole_between(pdt_real_t Ts, pdt_real_t lo, pdt_real_t hi)
+{
+    const pdt_real_t Td = pdt_ident_whole_td(lo, Ts, lo, hi);
+    return Td >= lo - slack_of(lo) && Td <= hi + slack_of(hi);
 }
 
 pdt_real_t pdt_ident_gene_of_td(const pdt_ident_t *c, pdt_real_t Td)
@@ -90,7 +127,7 @@ void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
 {
     pdt_real_t Td = pdt_ident_td_of_gene(c, g[c->genes - 1u]);
     if (c->cfg.delay_mode == PDT_DELAY_INTEGER) {
-        Td = pdt_floor(Td / c->cfg.Ts + PDT_R(0.5)) * c->cfg.Ts;
+        Td = pdt_ident_whole_td(Td, c->cfg.Ts, c->cfg.Td_min, td_upper(c));
     }
     if (c->cfg.model == PDT_MODEL_FOPDT) {
         m->kind = PDT_MODEL_FOPDT;

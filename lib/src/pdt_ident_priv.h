@@ -81,9 +81,17 @@ uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg);
  * evaluations reported and the samples the step budget counts. */
 void pdt_ident_counted(pdt_ident_t *c, uint32_t count, size_t n);
 
-/* Dead time of a dead-time gene, and back (clamped to the gene's range). */
+/* Dead time of a dead-time gene, within the caller's bounds, and back
+ * (clamped to the gene's range). */
 pdt_real_t pdt_ident_td_of_gene(const pdt_ident_t *c, pdt_real_t g);
 pdt_real_t pdt_ident_gene_of_td(const pdt_ident_t *c, pdt_real_t Td);
+
+/* Whole delays (PDT_DELAY_INTEGER): the whole number of samples of Ts
+ * nearest to Td that lies in [lo, hi] (lo <= Td <= hi), to a few
+ * roundings of the bounds; and whether [lo, hi] holds a whole sample at
+ * all (init refuses bounds that hold none). */
+pdt_real_t pdt_ident_whole_td(pdt_real_t Td, pdt_real_t Ts, pdt_real_t lo, pdt_real_t hi);
+bool pdt_ident_whole_between(pdt_real_t Ts, pdt_real_t lo, pdt_real_t hi);
 
 /* The output error's kinks lie at whole samples of dead time: the one
  * nearest r samples, and whether r lies on it (closer than

@@ -5,8 +5,9 @@
  * nothing is written past the workspace; each step uses at most the
  * evaluations it was given and the whole search at most max_evaluations
  * (bounded work); step ends in OK; the result's model is valid, of the
- * configured kind, with its dead time within the bounds given, and its
- * figures are not NaN.
+ * configured kind, with its dead time, a FOPDT's time constant and the
+ * gain within the bounds given (to rounding, equal bounds included), and
+ * its figures are not NaN.
  */
 #include "fuzz_util.h"
 
@@ -153,11 +154,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FZ_CHECK(fz_model_sane(&r.model));
     FZ_CHECK(r.model.kind == cfg.model);
     if (cfg.Td_min != (pdt_real_t)0.0 || cfg.Td_max != (pdt_real_t)0.0) {
-        /* Bounds the caller gave hold, up to the rounding of the dead-time
-         * gene's log scale. */
-        double Td = (double)pdt_model_dead_time(&r.model);
-        double slack = 1e-4 * ((double)cfg.Td_max - (double)cfg.Td_min) + 1e-6 * (double)cfg.Td_max;
-        FZ_CHECK(Td >= (double)cfg.Td_min - slack && Td <= (double)cfg.Td_max + slack);
+        /* Bounds the caller gave hold to rounding, equal ones too. */
+        FZ_CHECK(fz_within(pdt_model_dead_time(&r.model), cfg.Td_min, cfg.Td_max));
+    }
+    if (cfg.model == PDT_MODEL_FOPDT &&
+        (cfg.tau_min != (pdt_real_t)0.0 || cfg.tau_max != (pdt_real_t)0.0)) {
+        FZ_CHECK(fz_within(r.model.p.fopdt.tau, cfg.tau_min, cfg.tau_max));
+    }
+    if (cfg.K_min != (pdt_real_t)0.0 || cfg.K_max != (pdt_real_t)0.0) {
+        /* SOPDT: the DC gain k / b, or the integrating gain k / a. */
+        pdt_real_t K = r.model.p.fopdt.K;
+        if (r.model.kind == PDT_MODEL_SOPDT) {
+            const pdt_model_sopdt_t *p = &r.model.p.sopdt;
+            K = p->b > (pdt_real_t)0.0 ? p->k / p->b : p->k / p->a;
+        }
+        FZ_CHECK(fz_within(K, cfg.K_min, cfg.K_max));
     }
     if (fz_moderate(g_u, n) && fz_moderate(g_y, n)) {
         FZ_CHECK(!isnan((double)r.cost) && !isnan((double)r.fit));

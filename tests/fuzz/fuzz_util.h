@@ -136,6 +136,14 @@ static inline bool fz_moderate(const pdt_real_t *v, size_t n)
 #endif
 }
 
+/* x within [lo, hi] to a few roundings of the real type (relative to the
+ * larger bound), so equal bounds give x equal to them. */
+static inline bool fz_within(pdt_real_t x, pdt_real_t lo, pdt_real_t hi)
+{
+    const double tol = 1e-6 * fmax(fabs((double)lo), fabs((double)hi));
+    return (double)x >= (double)lo - tol && (double)x <= (double)hi + tol;
+}
+
 /* A model of either kind from fuzzed parameters (valid or not). */
 static inline pdt_model_t fz_model(fz_t *f)
 {

@@ -100,7 +100,8 @@ typedef struct pdt_ident_config {
     pdt_real_t tau_min;  /* s: FOPDT tau; SOPDT 1/a = T1 T2 / (T1 + T2)
                                * from tau_min / 2 */
     pdt_real_t tau_max;  /* s */
-    pdt_real_t Td_min;   /* s */
+    pdt_real_t Td_min;   /* s; Td_min = Td_max > 0 fixes the dead time. The
+                          * result's Td lies within them to rounding */
     pdt_real_t Td_max;   /* s */
     pdt_real_t zeta_min; /* SOPDT: least damping searched. Default 0.2 */
     bool integrating;    /* SOPDT: allow b = 0 (1/zeta down to 0).
@@ -411,7 +412,9 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
  * Returns PDT_ERR_ARG (NULL, bad config value, a frequency weighting that
  * selects no bin of the record, max_evaluations below the population (two
  * with the CONTROL weighting) plus the refinement and the late reserve),
- * PDT_ERR_BOUNDS (a lower bound above its upper bound), PDT_ERR_NONFINITE
+ * PDT_ERR_BOUNDS (a lower bound above its upper bound, tau_min = tau_max, or
+ * with PDT_DELAY_INTEGER dead-time bounds that hold no whole sample),
+ * PDT_ERR_NONFINITE
  * (NaN or infinity in the data), PDT_ERR_TOO_SHORT (fewer samples than the dead-time bound and
  * PDT_MIN_SAMPLES need), PDT_ERR_NO_EXCITATION (u or y constant),
  * PDT_ERR_NOT_AT_REST (FREQUENCY or COMBINED on a record that does not end
