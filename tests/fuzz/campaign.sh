@@ -1,56 +1,82 @@
 #!/usr/bin/env bash
-# A long fuzzing campaign: runs each target of a PDT_BUILD_FUZZERS build
-# for QUOTA executions or SECONDS of run time, whichever ends first
-# (restarting after a finding, whose input is kept), then prints
-# executions, coverage and findings per target as a Markdown table for
-# docs/fuzzing.md. Executions of earlier runs in WORK_DIR (run*.log) are
-# added, so a campaign can be resumed.
+# The long fuzzing campaign (docs/fuzzing.md): each target of a
+# PDT_BUILD_FUZZERS build from an empty corpus with its dictionary
+# (tests/fuzz/fuzz_<target>.dict), one target at a time, one process, until
+# it has made its quota of executions or run SECONDS, whichever ends first.
+# A run that finds something is restarted on the corpus so far; the finding's
+# input stays in WORK_DIR/<target>/artifacts/. fuzz_ident runs in its quick
+# mode (FZ_IDENT_SMALL=1: records of at most 64 samples, smaller budgets).
+# The runs of an earlier call in WORK_DIR count (run*.log), so a campaign
+# can be resumed. Prints a Markdown table (also WORK_DIR/campaign.md):
+# executions, run time, rate, coverage and findings per target.
 #
-# Usage: tests/fuzz/campaign.sh BUILD_DIR WORK_DIR QUOTA SECONDS [TARGET...]
+# Usage: tests/fuzz/campaign.sh BUILD_DIR WORK_DIR SECONDS [TARGET[:QUOTA]...]
+#   SECONDS  the most run time of each target
+#   TARGET   ident, autotune, ... (default: every target, with the quotas
+#            below: 10^7 executions each, 4 x 10^7 of the option parser,
+#            10^8 in all)
+# Runs at nice 10: the machine is shared.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 build=$1
 work=$2
-quota=$3
-secs=$4
-shift 4
-targets=("$@")
-if ((${#targets[@]} == 0)); then
-    for bin in "$build"/tests/fuzz/fuzz_*; do targets+=("$(basename "$bin")"); done
-fi
+secs=$3
+shift 3
+declare -A quota=([ident]=10000000 [autotune]=10000000 [tune]=10000000 [cost]=10000000
+    [reduce]=10000000 [csv]=10000000 [options]=40000000)
+plan=("$@")
+((${#plan[@]} > 0)) || plan=(ident autotune tune cost reduce csv options)
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$here/ubsan.supp"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
-executed() { # log file
-    local n
-    n=$(sed -n 's/^stat::number_of_executed_units: *//p' "$1")
-    [ -n "$n" ] || n=$(grep -Eo "^#[0-9]+" "$1" | tail -1 | tr -d '#')
-    echo "${n:-0}"
-}
-echo "| target | executions | coverage (edges) | features | corpus | findings |"
-echo "|---|---:|---:|---:|---:|---|"
-for name in "${targets[@]}"; do
-    target=${name#fuzz_}
-    mkdir -p "$work/$name/corpus" "$work/$name/artifacts"
-    done_runs=0
-    for old in "$work/$name"/run*.log; do
-        [ -e "$old" ] && done_runs=$((done_runs + $(executed "$old")))
+export FZ_IDENT_SMALL=1
+
+# sum_logs DIR PATTERN: the total over DIR/run*.log of a figure's last value
+# in each log.
+sum_logs() {
+    local total=0 n log
+    for log in "$1"/run*.log; do
+        [ -e "$log" ] || continue
+        n=$(grep -Eo "$2" "$log" | tail -1 | grep -Eo "[0-9]+$")
+        total=$((total + ${n:-0}))
     done
+    echo "$total"
+}
+executed() { sum_logs "$1" "(number_of_executed_units: *|^#)[0-9]+"; }
+seconds_run() { sum_logs "$1" "Done [0-9]+ runs in [0-9]+"; }
+
+table=$work/campaign.md
+mkdir -p "$work"
+{
+    echo "| target | executions | run time (s) | executions/s | coverage (cov) | features (ft) | corpus | findings |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---|"
+} >"$table"
+cat "$table"
+for item in "${plan[@]}"; do
+    target=${item%%:*}
+    want=${quota[$target]:-10000000}
+    [ "$item" = "$target" ] || want=${item#*:}
+    name=fuzz_$target
+    dir=$work/$name
+    mkdir -p "$dir/corpus" "$dir/artifacts"
     start=$SECONDS
     k=0
-    while ((done_runs < quota && SECONDS - start < secs)); do
+    while (($(executed "$dir") < want && SECONDS - start < secs)); do
         k=$((k + 1))
-        log="$work/$name/run$(date +%s)-$k.log"
-        "$build/tests/fuzz/$name" -runs=$((quota - done_runs)) \
+        opts=()
+        [ "$target" = options ] && opts+=(-close_fd_mask=3)
+        nice -n 10 "$build/tests/fuzz/$name" -runs=$((want - $(executed "$dir"))) \
             -max_total_time=$((secs - (SECONDS - start))) -timeout=10 -rss_limit_mb=2048 \
-            -print_final_stats=1 -artifact_prefix="$work/$name/artifacts/" \
-            "$work/$name/corpus" "$here/corpus/$target" >"$log" 2>&1
-        rc=$?
-        done_runs=$((done_runs + $(executed "$log")))
-        ((rc != 0)) || break
+            -dict="$here/$name.dict" -print_final_stats=1 -artifact_prefix="$dir/artifacts/" \
+            "${opts[@]}" "$dir/corpus" >"$dir/run$(date +%s)-$k.log" 2>&1 || continue
     done
-    last=$(ls -t "$work/$name"/run*.log | head -1)
-    cov=$(grep -Eo "cov: [0-9]+ ft: [0-9]+ corp: [0-9]+" "$last" | tail -1 |
+    runs=$(executed "$dir")
+    time=$(seconds_run "$dir")
+    rate=$((runs / (time > 0 ? time : 1)))
+    last=$(ls -t "$dir"/run*.log 2>/dev/null | head -1)
+    cov=$(grep -Eo "cov: [0-9]+ ft: [0-9]+ corp: [0-9]+" "$last" 2>/dev/null | tail -1 |
         awk '{print $2" | "$4" | "$6}')
-    found=$(find "$work/$name/artifacts" -type f | wc -l)
-    echo "| $name | $done_runs | $cov | $found |"
+    found=$(find "$dir/artifacts" -type f | wc -l)
+    found_text=none
+    ((found == 0)) || found_text="$found input(s) in $dir/artifacts"
+    echo "| \`$name\` | $runs | $time | $rate | ${cov:-? | ? | ?} | $found_text |" | tee -a "$table"
 done
