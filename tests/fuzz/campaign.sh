@@ -10,8 +10,8 @@
 # can be resumed. Prints a Markdown table (also WORK_DIR/campaign.md):
 # executions, run time, rate, coverage and findings per target.
 #
-# Usage: tests/fuzz/campaign.sh BUILD_DIR WORK_DIR SECONDS [TARGET[:QUOTA]...]
-#   SECONDS  the most run time of each target
+# Usage: tests/fuzz/campaign.sh BUILD_DIR WORK_DIR SECONDS [TARGET[:QUOTA[:SECONDS]]...]
+#   SECONDS  the most run time of each target (a target's own after it)
 #   TARGET   ident, autotune, ... (default: every target, with the quotas
 #            below: 10^7 executions each, 4 x 10^7 of the option parser,
 #            10^8 in all)
@@ -46,26 +46,27 @@ seconds_run() { sum_logs "$1" "Done [0-9]+ runs in [0-9]+"; }
 
 table=$work/campaign.md
 mkdir -p "$work"
+git -C "$here" rev-parse --short HEAD >"$work/commit"
 {
     echo "| target | executions | run time (s) | executions/s | coverage (cov) | features (ft) | corpus | findings |"
     echo "|---|---:|---:|---:|---:|---:|---:|---|"
 } >"$table"
 cat "$table"
 for item in "${plan[@]}"; do
-    target=${item%%:*}
-    want=${quota[$target]:-10000000}
-    [ "$item" = "$target" ] || want=${item#*:}
+    IFS=: read -r target want cap <<<"$item"
+    want=${want:-${quota[$target]:-10000000}}
+    cap=${cap:-$secs}
     name=fuzz_$target
     dir=$work/$name
     mkdir -p "$dir/corpus" "$dir/artifacts"
     start=$SECONDS
     k=0
-    while (($(executed "$dir") < want && SECONDS - start < secs)); do
+    while (($(executed "$dir") < want && SECONDS - start < cap)); do
         k=$((k + 1))
         opts=()
         [ "$target" = options ] && opts+=(-close_fd_mask=3)
         nice -n 10 "$build/tests/fuzz/$name" -runs=$((want - $(executed "$dir"))) \
-            -max_total_time=$((secs - (SECONDS - start))) -timeout=10 -rss_limit_mb=2048 \
+            -max_total_time=$((cap - (SECONDS - start))) -timeout=10 -rss_limit_mb=2048 \
             -dict="$here/$name.dict" -print_final_stats=1 -artifact_prefix="$dir/artifacts/" \
             "${opts[@]}" "$dir/corpus" >"$dir/run$(date +%s)-$k.log" 2>&1 || continue
     done
