@@ -455,6 +455,35 @@ static void test_ident_integer_delay_bounds(void **state)
     assert_rounding(r.model.p.fopdt.Td, 2.0);
 }
 
+/* A FOPDT's time constant within bounds at the end of the record's time
+ * scale (Ts = 1e30 s): exp(log(tau_max)) rounded 1.3e-6 of it above
+ * tau_max in float. */
+static void test_ident_tau_bound_at_scale(void **state)
+{
+    (void)state;
+    static pdt_real_t u[200], y[200];
+    const double scales[] = {1e-20, 1.0, 1e30};
+    for (size_t i = 0; i < sizeof scales / sizeof scales[0]; i++) {
+        for (size_t k = 0; k < 200u; k++) {
+            const double t = (double)k - 5.0 - 4.6;
+            u[k] = k >= 5u ? R(1.0) : R(0.0);
+            y[k] = (pdt_real_t)(t > 0.0 ? 2.0 * (1.0 - exp(-t / 30.0)) : 0.0);
+        }
+        pdt_ident_config_t cfg;
+        pdt_ident_config_default(&cfg);
+        cfg.Ts = (pdt_real_t)scales[i];
+        cfg.tau_min = (pdt_real_t)(0.3 * scales[i]);
+        cfg.tau_max = (pdt_real_t)(7.7 * scales[i]);
+        cfg.max_evaluations = 1500u;
+        pdt_ident_result_t r;
+        assert_int_equal(bounds_ident(&cfg, u, y, 200u, &r), PDT_OK);
+        /* The true 30 Ts lies above the bounds: the answer at tau_max, to
+         * the rounding of the log scale below it. */
+        assert_true(r.model.p.fopdt.tau >= cfg.tau_min && r.model.p.fopdt.tau <= cfg.tau_max);
+        assert_true((double)r.model.p.fopdt.tau >= (double)cfg.tau_max * (1.0 - 1e-5));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -469,6 +498,7 @@ int main(void)
         cmocka_unit_test(test_ident_fixed_dead_time_finding),
         cmocka_unit_test(test_ident_equal_bounds),
         cmocka_unit_test(test_ident_integer_delay_bounds),
+        cmocka_unit_test(test_ident_tau_bound_at_scale),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

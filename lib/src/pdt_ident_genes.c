@@ -123,6 +123,18 @@ pdt_real_t pdt_ident_distance(const pdt_ident_t *c, const pdt_real_t *x, const p
     return pdt_sqrt(d2);
 }
 
+/* A FOPDT's time constant, within the caller's bounds: exp(log(tau_max))
+ * rounds above tau_max by up to a few ulps of the log (1.3e-6 of it at
+ * 1e30 in float). */
+static pdt_real_t tau_of_gene(const pdt_ident_t *c, pdt_real_t g)
+{
+    const pdt_real_t tau = pdt_exp(g);
+    if (c->cfg.tau_min == PDT_R(0.0) && c->cfg.tau_max == PDT_R(0.0)) {
+        return tau;
+    }
+    return tau < c->cfg.tau_min ? c->cfg.tau_min : (tau > c->cfg.tau_max ? c->cfg.tau_max : tau);
+}
+
 void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
 {
     pdt_real_t Td = pdt_ident_td_of_gene(c, g[c->genes - 1u]);
@@ -132,7 +144,7 @@ void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
     if (c->cfg.model == PDT_MODEL_FOPDT) {
         m->kind = PDT_MODEL_FOPDT;
         m->p.fopdt.K = PDT_R(1.0);
-        m->p.fopdt.tau = pdt_exp(g[0]);
+        m->p.fopdt.tau = tau_of_gene(c, g[0]);
         m->p.fopdt.Td = Td;
     } else {
         pdt_real_t a = pdt_exp(-g[0]);

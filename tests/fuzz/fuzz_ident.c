@@ -6,8 +6,8 @@
  * evaluations it was given and the whole search at most max_evaluations
  * (bounded work); step ends in OK; the result's model is valid, of the
  * configured kind, with its dead time, a FOPDT's time constant and the
- * gain within the bounds given (to rounding, equal bounds included), and
- * its figures are not NaN.
+ * gain within the bounds given (to rounding, equal bounds included), a
+ * SOPDT's damping at least zeta_min, and its figures are not NaN.
  */
 #include "fuzz_util.h"
 
@@ -181,6 +181,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (cfg.model == PDT_MODEL_FOPDT &&
         (cfg.tau_min != (pdt_real_t)0.0 || cfg.tau_max != (pdt_real_t)0.0)) {
         FZ_CHECK(fz_within(r.model.p.fopdt.tau, cfg.tau_min, cfg.tau_max));
+    }
+    if (cfg.model == PDT_MODEL_SOPDT && r.model.p.sopdt.b > (pdt_real_t)0.0) {
+        /* zeta = a / (2 sqrt(b)) at least zeta_min, where b is a normal
+         * number (below, b = h h has lost the digits that tell). */
+        const pdt_model_sopdt_t *p = &r.model.p.sopdt;
+        if (isnormal((double)p->b) && isnormal((double)p->a)) {
+            const double zeta = (double)p->a / (2.0 * sqrt((double)p->b));
+            FZ_CHECK(zeta >= (double)cfg.zeta_min * (1.0 - 1e-6));
+        }
     }
     if (cfg.K_min != (pdt_real_t)0.0 || cfg.K_max != (pdt_real_t)0.0) {
         /* SOPDT: the DC gain k / b, or the integrating gain k / a. */
