@@ -182,30 +182,36 @@ static pdt_status_t spectrum_magnitude(const pdt_fft_t *f, const pdt_real_t *x, 
     return PDT_OK;
 }
 
+/* W(k) m_k / (N_f n), bin k of 1 .. nf/2 (m_k = 2 below the Nyquist bin). */
+static pdt_real_t bin_weight(const pdt_cost_config_t *cfg, size_t n, size_t nf, size_t k)
+{
+    const pdt_real_t scale = PDT_R(1.0) / ((pdt_real_t)nf * (pdt_real_t)n);
+    pdt_real_t w = PDT_R(1.0);
+    if (cfg->weight == PDT_WEIGHT_BAND) {
+        pdt_real_t fk = (pdt_real_t)k / ((pdt_real_t)nf * cfg->Ts);
+        w = (fk >= cfg->f_lo && fk <= cfg->f_hi) ? PDT_R(1.0) : PDT_R(0.0);
+    } else if (cfg->weight == PDT_WEIGHT_CUSTOM) {
+        w = cfg->weights[k];
+    }
+    w *= scale;
+    if (k < nf / 2u) {
+        w *= PDT_R(2.0);
+    }
+    return w;
+}
+
 /* Fills wgt[k - 1] = W(k) m_k / (N_f n) for k = 1 .. nf/2 and the range of
  * non-zero weights. */
 static void fill_weights(const pdt_cost_config_t *cfg, size_t n, size_t nf, pdt_real_t *wgt,
                          size_t *k_first, size_t *k_last)
 {
     const size_t nb = nf / 2u;
-    const pdt_real_t scale = PDT_R(1.0) / ((pdt_real_t)nf * (pdt_real_t)n);
-    const pdt_real_t nf_ts = (pdt_real_t)nf * cfg->Ts;
     size_t first = nb + 1u;
     size_t last = 0u;
     size_t k;
 
     for (k = 1u; k <= nb; k++) {
-        pdt_real_t w = PDT_R(1.0);
-        if (cfg->weight == PDT_WEIGHT_BAND) {
-            pdt_real_t fk = (pdt_real_t)k / nf_ts;
-            w = (fk >= cfg->f_lo && fk <= cfg->f_hi) ? PDT_R(1.0) : PDT_R(0.0);
-        } else if (cfg->weight == PDT_WEIGHT_CUSTOM) {
-            w = cfg->weights[k];
-        }
-        w *= scale;
-        if (k < nb) {
-            w *= PDT_R(2.0);
-        }
+        const pdt_real_t w = bin_weight(cfg, n, nf, k);
         wgt[k - 1u] = w;
         if (w != PDT_R(0.0)) {
             if (first > nb) {
@@ -216,6 +222,20 @@ static void fill_weights(const pdt_cost_config_t *cfg, size_t n, size_t nf, pdt_
     }
     *k_first = first;
     *k_last = last;
+}
+
+bool pdt_cost_band_empty(const pdt_cost_config_t *cfg, size_t n)
+{
+    if (cfg == NULL || !cfg->use_frequency || !config_ok(cfg) || n == 0u) {
+        return false;
+    }
+    const size_t nf = pdt_cost_fft_size(n, resolve_delay_max(n, cfg->delay_max));
+    for (size_t k = 1u; k <= nf / 2u; k++) {
+        if (bin_weight(cfg, n, nf, k) != PDT_R(0.0)) {
+            return false;
+        }
+    }
+    return nf != 0u;
 }
 
 /* Jumps between samples are compared at half scale, so that the

@@ -512,18 +512,19 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     pdt_cost_config_t cc;
     cost_config(cfg, data->u[0], y0, cfg->offset == PDT_IDENT_OFFSET_REST, delay_max, &cc);
     size_t cost_bytes = pdt_cost_workspace_size(&cc, data->n);
+    /* A band or custom weights that select no bin of this record (e.g. a
+     * band above the Nyquist frequency) would leave the frequency part
+     * empty and the search blind in it; checked before the cost writes
+     * into the workspace. */
+    if ((cfg->cost == PDT_COST_FREQUENCY ||
+         (cfg->cost == PDT_COST_COMBINED && cfg->phi_f > PDT_R(0.0))) &&
+        pdt_cost_band_empty(&cc, data->n)) {
+        return PDT_ERR_ARG;
+    }
     pdt_cost_t cost;
     st = pdt_cost_init(&cost, &cc, data->u, data->y, data->n, work, cost_bytes);
     if (st != PDT_OK) {
         return st;
-    }
-    /* A band or custom weights that select no bin of this record (e.g. a
-     * band above the Nyquist frequency) would leave the frequency part
-     * empty and the search blind in it. */
-    if ((cfg->cost == PDT_COST_FREQUENCY ||
-         (cfg->cost == PDT_COST_COMBINED && cfg->phi_f > PDT_R(0.0))) &&
-        cost.k_first > cost.k_last) {
-        return PDT_ERR_ARG;
     }
     /* cfg and data may lie in *ctx (a restart with its own settings). */
     const pdt_ident_config_t cfg_in = *cfg;
@@ -729,8 +730,10 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
         return PDT_ERR_STATE;
     }
     /* The search runs on the normalised record; mapped back, a gain can
-     * lie beyond the real type (a tiny input driving a huge output). */
-    if (pdt_model_check(&ctx->model) != PDT_OK) {
+     * lie beyond the real type (a tiny input driving a huge output). No
+     * candidate scored at all where every gain the bounds allow gives a
+     * cost beyond the real type: the model is then none of the bounds'. */
+    if (pdt_model_check(&ctx->model) != PDT_OK || !(ctx->best.cost < PDT_REAL_MAX)) {
         return PDT_ERR_NONFINITE;
     }
     pdt_ident_result_t r;

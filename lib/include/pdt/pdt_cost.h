@@ -150,6 +150,13 @@ void pdt_cost_config_default(pdt_cost_config_t *cfg);
  * delay_max >= n, or N_f beyond 2^PDT_FFT_MAX_LOG2. */
 size_t pdt_cost_fft_size(size_t n, size_t delay_max);
 
+/* Whether cfg's frequency weighting gives no bin of a record of n samples
+ * a weight (a band above the Nyquist frequency, custom weights all 0):
+ * then pdt_cost_init succeeds with the frequency part empty. False for a
+ * config without the frequency part, one pdt_cost_init refuses, or NULL.
+ * Writes nothing; O(N_f). */
+bool pdt_cost_band_empty(const pdt_cost_config_t *cfg, size_t n);
+
 /* Workspace bytes pdt_cost_init needs for this config and record length,
  * exactly: 2 n reals for the normalised copy of the record (u and y as
  * deviations from the operating point, scaled by powers of two into

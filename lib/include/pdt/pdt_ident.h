@@ -444,8 +444,9 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations);
 /* The result once pdt_ident_step has returned PDT_OK. PDT_ERR_STATE before
  * that, PDT_ERR_ARG for NULL, PDT_ERR_NONFINITE when the model found does
  * not fit the real type (a gain beyond its range: the record's output is
- * too many decades above its input). O(1): the fit and the uncertainty
- * were computed by the last step. */
+ * too many decades above its input) or no model could be scored (gain
+ * bounds that only allow fits whose cost lies beyond the real type). O(1):
+ * the fit and the uncertainty were computed by the last step. */
 pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out);
 
 /* The parameters' uncertainty of any model m of this record (at period Ts,
