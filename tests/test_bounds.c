@@ -484,6 +484,75 @@ static void test_ident_tau_bound_at_scale(void **state)
     }
 }
 
+/* fuzz_ident's inputs (tests/fuzz/corpus/ident/finding-band-workspace): a
+ * band above the Nyquist frequency is refused before anything is written
+ * (init prepared the cost in the workspace, then refused). */
+static void test_ident_empty_band_writes_nothing(void **state)
+{
+    (void)state;
+    static pdt_real_t u[200], y[200];
+    static unsigned char work[PDT_IDENT_WORKSPACE_SIZE(200u, PDT_IDENT_POPULATION_SOPDT)];
+    static pdt_ident_t ctx, before;
+    /* A pulse from 5 to 100 s, at rest at the end (the frequency criteria
+     * refuse a record that does not end at rest). */
+    for (size_t k = 0; k < 200u; k++) {
+        const double t1 = (double)k - 5.0 - 4.6, t2 = (double)k - 100.0 - 4.6;
+        u[k] = (k >= 5u && k < 100u) ? R(1.0) : R(0.0);
+        y[k] = (pdt_real_t)((t1 > 0.0 ? 2.0 * (1.0 - exp(-t1 / 10.0)) : 0.0) -
+                            (t2 > 0.0 ? 2.0 * (1.0 - exp(-t2 / 10.0)) : 0.0));
+    }
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.Ts = R(0.38);
+    cfg.weight = PDT_IDENT_WEIGHT_BAND;
+    cfg.f_lo = R(26.28); /* the Nyquist frequency is 1.3 Hz */
+    cfg.f_hi = R(40.0);
+    const pdt_cost_kind_t kinds[] = {PDT_COST_FREQUENCY, PDT_COST_COMBINED};
+    for (size_t i = 0; i < 2u; i++) {
+        cfg.cost = kinds[i];
+        memset(work, 0x11, sizeof work);
+        memset(&ctx, 0x5A, sizeof ctx);
+        before = ctx;
+        pdt_ident_data_t d = {u, y, 200u};
+        assert_int_equal(pdt_ident_init(&ctx, &cfg, &d, work, sizeof work), PDT_ERR_ARG);
+        assert_memory_equal(&ctx, &before, sizeof ctx);
+        for (size_t k = 0; k < sizeof work; k++) {
+            if (work[k] != 0x11u) {
+                fail_msg("cost %d: byte %zu of the workspace written", (int)kinds[i], k);
+            }
+        }
+    }
+}
+
+/* fuzz_ident's input (tests/fuzz/corpus/ident/finding-gain-bounds-overflow):
+ * gain bounds of [-1.7e38, -2e36] on a record of unit scale. In float
+ * every gain they allow gives a cost beyond the real type, no candidate
+ * scored, and the result was OK with K = 0, outside them; it is refused.
+ * In double the costs are finite and the answer keeps the bounds. */
+static void test_ident_gain_bounds_beyond_float(void **state)
+{
+    (void)state;
+    static pdt_real_t u[200], y[200];
+    step_record(u, y, 200u);
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.Ts = R(1.0);
+    cfg.K_min = R(-1.70141183e38);
+    cfg.K_max = R(-2.03594828e36);
+    cfg.max_evaluations = 600u;
+    pdt_ident_result_t r;
+    memset(&r, 0x3C, sizeof r);
+    const pdt_ident_result_t r0 = r;
+    const pdt_status_t st = bounds_ident(&cfg, u, y, 200u, &r);
+    if (sizeof(pdt_real_t) == sizeof(float)) {
+        assert_int_equal(st, PDT_ERR_NONFINITE);
+        assert_memory_equal(&r, &r0, sizeof r);
+    } else {
+        assert_int_equal(st, PDT_OK);
+        assert_true(r.model.p.fopdt.K >= cfg.K_min && r.model.p.fopdt.K <= cfg.K_max);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -499,6 +568,8 @@ int main(void)
         cmocka_unit_test(test_ident_equal_bounds),
         cmocka_unit_test(test_ident_integer_delay_bounds),
         cmocka_unit_test(test_ident_tau_bound_at_scale),
+        cmocka_unit_test(test_ident_empty_band_writes_nothing),
+        cmocka_unit_test(test_ident_gain_bounds_beyond_float),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
