@@ -11,7 +11,10 @@ static const char *const cost_names[] = {"prediction", "simulation", "frequency"
 static const char *const weight_names[] = {"auto", "control", "uniform", "band", NULL};
 static const pdt_ident_weight_t weight_kinds[] = {PDT_IDENT_WEIGHT_AUTO, PDT_IDENT_WEIGHT_CONTROL,
                                                   PDT_IDENT_WEIGHT_UNIFORM, PDT_IDENT_WEIGHT_BAND};
-static const char *const unit_names[] = {"s", "ms", "us", NULL};
+/* --time-unit: in PDTCLI_TIME_* order. */
+static const char *const unit_names[] = {"s", "ms", "us", "min", "h", NULL};
+/* --bad-rows: in PDTCLI_BAD_ROWS_* order. */
+static const char *const bad_rows_names[] = {"missing", "refuse", NULL};
 /* --offset: in pdt_ident_offset_t's order. */
 static const char *const offset_names[] = {"auto", "estimate", "rest", NULL};
 
@@ -54,8 +57,13 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--sep", OPT_TEXT, &a->sep, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--decimal", OPT_TEXT, &a->decimal, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--skip", OPT_UINT, &a->skip, NULL, 0, 0, 1000000, NULL, "a line count 0 .. 1000000", 0},
-        {"--time-unit", OPT_CHOICE, &a->time_unit, NULL, 0, 0, 0, unit_names, "time unit", 0},
+        {"--time-unit", OPT_CHOICE, &a->time_unit, &a->have_time_unit, 0, 0, 0, unit_names,
+         "time unit", 0},
         {"--resample", OPT_FLAG, &a->resample, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--bad-value", OPT_LIST, &a->bad_values, NULL, CHK_ANY, 0, 0, NULL, "a finite number",
+         CLI_REPEAT},
+        {"--bad-rows", OPT_CHOICE, &a->bad_rows, NULL, 0, 0, 0, bad_rows_names, "bad-rows mode", 0},
+        {"--force", OPT_FLAG, &a->force, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--out-sim", OPT_TEXT, &a->out_sim, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot", OPT_TEXT, &a->plot, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot-script", OPT_TEXT, &a->plot_script, NULL, 0, 0, 0, NULL, NULL, 0},
@@ -112,6 +120,8 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
     if (a->method == METHOD_GA && a->have_td_max && !(a->td_max > 0.0))
         cli_fail(EXIT_USAGE, "identify: --td-max must be > 0 s with --method ga");
     if (a->tune) tune_opts_spec("identify", a->tune, &a->t);
+    if (a->force && !a->tune)
+        cli_fail(EXIT_USAGE, "identify: --force goes with --tune (the gains of a flagged model)");
     if (!a->tune && (a->t.have_tau_c || a->t.have_lambda || a->t.have_ms_max || a->t.have_filter ||
                      a->t.have_u_span || a->t.have_y_span))
         cli_fail(EXIT_USAGE, "identify: the tuning options go with --tune RULE[:FORM]");
@@ -130,6 +140,25 @@ static void parse(ident_args_t *a, int argc, char **argv)
     check_ident_args(&p, a);
 }
 
+/* One line for the missing samples the reader found: how many of y (left
+ * out of the fit), of u (the u before held), and the first lines. */
+static void warn_missing(const char *name, const pdtcli_series_t *s)
+{
+    if (!s->missing_y && !s->missing_u) return;
+    char lines[128];
+    size_t used = 0;
+    lines[0] = '\0';
+    for (unsigned k = 0; k < s->n_first_line && used + 24 < sizeof lines; k++)
+        used += (size_t)snprintf(lines + used, sizeof lines - used, "%s%zu", k ? ", " : "",
+                                 s->first_line[k]);
+    const int more =
+        s->n_first_line == PDTCLI_MISSING_FIRST && s->missing_y + s->missing_u > s->n_first_line;
+    cli_warn("%s: missing samples (empty cells, markers, --bad-value): %zu of y left out of the "
+             "fit, %zu of u holding the u before; line%s %s%s (--bad-rows refuse refuses them)",
+             name, s->missing_y, s->missing_u, s->n_first_line > 1 ? "s" : "", lines,
+             more ? ", ..." : "");
+}
+
 static void read_data(const ident_args_t *a, ident_data_t *d)
 {
     pdtcli_csv_opts_t o;
@@ -140,8 +169,11 @@ static void read_data(const ident_args_t *a, ident_data_t *d)
     o.sep = one_char("--sep", a->sep, ",;\t ");
     o.decimal = one_char("--decimal", a->decimal, ".,");
     o.skip = (unsigned)a->skip;
-    o.time_unit = a->time_unit;
+    o.time_unit = a->have_time_unit ? a->time_unit : PDTCLI_TIME_AUTO;
     o.resample = a->resample;
+    o.bad_rows = a->bad_rows;
+    o.bad_values = a->bad_values.v;
+    o.n_bad_values = (size_t)a->bad_values.n;
     o.fs = a->have_fs ? a->fs : 0.0;
     char err[600];
     if (pdtcli_csv_read_series(a->file, &o, &d->s, err, sizeof err) != 0)
@@ -160,9 +192,10 @@ static void read_data(const ident_args_t *a, ident_data_t *d)
     if (d->s.filled)
         cli_warn("%s: --resample filled %u row%s by zero-order hold (Ts = %.9g s)", name,
                  d->s.filled, d->s.filled == 1 ? "" : "s", d->s.Ts);
-    if (d->s.has_t && a->time_unit == 0 && d->s.t0 > 1e11)
+    if (d->s.has_t && d->s.time_unit_from == PDTCLI_UNIT_DEFAULT && d->s.t0 > 1e11)
         cli_warn("%s: t starts at %.6g: epoch milliseconds or microseconds? (--time-unit ms|us)",
                  name, d->s.t0);
+    warn_missing(name, &d->s);
     d->u = malloc(n * sizeof *d->u);
     d->y = malloc(n * sizeof *d->y);
     if (!d->u || !d->y) cli_fail(EXIT_REFUSED, "out of memory");
@@ -272,6 +305,11 @@ static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind
                      (unsigned long)a->evaluations, (unsigned long)least);
     }
     if (st == PDT_ERR_OUTLIER) fail_outlier(d);
+    if (st == PDT_ERR_NONFINITE && d->s.missing_y)
+        cli_fail(EXIT_REFUSED,
+                 "cannot identify: %s (%zu missing samples of y, and this identification takes "
+                 "none: --bad-rows refuse names the first)",
+                 pdt_status_str(st), d->s.missing_y);
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
     free(work);
@@ -439,22 +477,56 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
     return warned;
 }
 
-static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
-                         const order_info_t *o)
+/* ,"missing":{"count":N,"first":[...],"u_held":M}: the reader's missing
+ * samples of y (left out of the fit; the first as indices into the record,
+ * from 0) and of u (the u before held), when there are any. */
+static void missing_json(pdtcli_jbuf_t *jb, const pdtcli_series_t *s)
 {
-    char buf[4096];
-    int len = pdtcli_ident_json(r, d->u, d->y, d->s.Ts, d->s.n, buf, sizeof buf);
+    pdtcli_jb_printf(jb, ",\"missing\":{\"count\":%zu,\"first\":[", s->missing_y);
+    for (unsigned k = 0; k < s->n_first_y; k++)
+        pdtcli_jb_printf(jb, "%s%zu", k ? "," : "", s->first_y[k]);
+    pdtcli_jb_printf(jb, "],\"u_held\":%zu}", s->missing_u);
+}
+
+/* The identification's JSON, with the reader's missing samples and the
+ * order evidence of --model auto; returns its length. */
+static int result_json(const ident_data_t *d, const pdt_ident_result_t *r, const order_info_t *o,
+                       char *buf, size_t size)
+{
+    int len = pdtcli_ident_json(r, d->u, d->y, d->s.Ts, d->s.n, buf, size);
     if (len < 0) cli_fail(EXIT_REFUSED, "result too long");
+    if (d->s.missing_y || d->s.missing_u) {
+        pdtcli_jbuf_t jb;
+        pdtcli_jb_init(&jb, buf + len - 1, size - (size_t)len + 1);
+        missing_json(&jb, &d->s);
+        pdtcli_jb_raw(&jb, "}");
+        if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "result too long");
+        len = (int)strlen(buf);
+    }
     if (o->have) {
         /* In place of the closing brace, which comes back after it. */
         pdtcli_jbuf_t jb;
-        pdtcli_jb_init(&jb, buf + len - 1, sizeof buf - (size_t)len + 1);
+        pdtcli_jb_init(&jb, buf + len - 1, size - (size_t)len + 1);
         order_json(&jb, o);
         pdtcli_jb_raw(&jb, "}");
         if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "result too long");
         len = (int)strlen(buf);
     }
+    return len;
+}
+
+/* Prints the result; returns 1 when the tuning of a flagged model was
+ * forced (exit 3). */
+static int print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
+                        const order_info_t *o)
+{
+    char buf[4096];
+    const int len = result_json(d, r, o, buf, sizeof buf);
+    int forced = 0;
     if (a->tune) {
+        char flags[256];
+        const int n_flags = tune_json_flags(buf, buf + len, flags, sizeof flags);
+        forced = tune_check_flags("identify", flags, n_flags, a->force);
         pdt_tune_result_t tr;
         memset(&tr, 0, sizeof tr);
         tune_model("identify", &r->model, (double)r->fit, &a->t, &tr);
@@ -469,6 +541,7 @@ static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt
     if (a->plot) ident_plot(a, d, r);
     puts(buf);
     cli_flush();
+    return forced;
 }
 
 int cmd_identify(int argc, char **argv)
@@ -489,8 +562,8 @@ int cmd_identify(int argc, char **argv)
         identify_ga(&a, &d, &res, &order);
     else
         identify_ls(&a, &d, &res, &delay_max);
-    const int warned = suspect(&a, &d, &res, delay_max);
-    print_result(&a, &d, &res, &order);
+    int warned = suspect(&a, &d, &res, delay_max);
+    warned |= print_result(&a, &d, &res, &order);
     free(d.u);
     free(d.y);
     pdtcli_series_free(&d.s);
