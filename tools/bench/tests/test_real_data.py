@@ -5,6 +5,7 @@ faults in a simulated noisy FOPDT record. Runs the pdtfit program
 ($PDTFIT_BIN, else the newest build/*/tools/pdtfit; skipped without one
 unless CI=true or PDTFIT_REQUIRE_BIN=1)."""
 import math
+import subprocess
 
 import numpy as np
 import pytest
@@ -15,6 +16,13 @@ from pdtsupport.cli import BIN, MISSING, binary_required
 if MISSING and binary_required():
     pytest.fail(MISSING, pytrace=False)
 pytestmark = pytest.mark.skipif(MISSING is not None, reason=str(MISSING))
+
+# Until the identification leaves gross errors and missing samples out and
+# takes --u-before, the cases that need it are expected to fail.
+_HELP = "" if MISSING else subprocess.run([str(BIN), "identify", "--help"],
+                                          capture_output=True, text=True).stdout
+needs_field = pytest.mark.xfail("--u-before" not in _HELP, strict=True,
+                                reason="the identification's field-data handling")
 
 
 @pytest.fixture(scope="module")
@@ -52,6 +60,7 @@ def test_gas_furnace_at_the_reference_cost(gas, model):
     assert row["ratio"] <= 1.01
 
 
+@needs_field
 def test_tclab_step_with_the_input_before(tclab):
     """The record begins at the step: with --u-before 0 the FOPDT is at the
     reference's cost and its K within 3 % of the reference's."""
@@ -61,6 +70,7 @@ def test_tclab_step_with_the_input_before(tclab):
     assert row["json"]["K"] == pytest.approx(row["ref"].K, rel=0.03)
 
 
+@needs_field
 @pytest.mark.parametrize("value", ["-9999", "65535"])
 def test_marker_in_a_noisy_record(sim, value):
     """One historian marker as a number, declared, and as text: never a
@@ -75,6 +85,7 @@ def test_marker_in_a_noisy_record(sim, value):
         assert rd.verdict(clean, status, j) in want, (status, err, j)
 
 
+@needs_field
 def test_dropout_in_a_noisy_record(sim):
     _, clean, _ = rd.run_pdtfit(BIN, sim, "fopdt")
     clean = rd.model_of(clean)
