@@ -40,24 +40,18 @@ def sim():
     return rd.simulated(rd.SIMULATED[0])
 
 
-def test_reference_finds_its_optimum_alone(gas):
-    """The reference's own starts (no pdtfit answer among them) reach the
-    optimum pdtfit finds on the gas furnace, within 0.1 %."""
-    u, y = rd.read_columns(gas)
-    ref = rd.Reference("fopdt", u, y, 9.0, u[0], np.ones(u.size, bool), "rest")
-    m, y0, c = ref.fit()
-    assert c == pytest.approx(rd.score(m, y0, u, y, 9.0, u[0], np.ones(u.size, bool), "rest"),
-                              rel=1e-9)
+def test_gas_furnace_at_the_reference_cost(gas):
+    """pdtfit's FOPDT at the reference's cost; the reference's own starts
+    (no pdtfit answer among them) reach it too. (The SOPDT's reference
+    takes half a minute: the full report has it.)"""
     row = rd.real_row(BIN, gas, "fopdt")
-    assert row["status"] == 0
-    assert c <= row["c_ref"] * 1.001
-
-
-@pytest.mark.parametrize("model", rd.MODELS)
-def test_gas_furnace_at_the_reference_cost(gas, model):
-    row = rd.real_row(BIN, gas, model)
     assert row["status"] == 0, row["error"]
     assert row["ratio"] <= 1.01
+    u, y = rd.read_columns(gas)
+    mask = np.ones(u.size, bool)
+    m, y0, c = rd.Reference("fopdt", u, y, 9.0, u[0], mask, "rest").fit()
+    assert c == pytest.approx(rd.score(m, y0, u, y, 9.0, u[0], mask, "rest"), rel=1e-9)
+    assert c <= row["c_ref"] * 1.001
 
 
 @needs_field
