@@ -315,5 +315,5 @@ void pdt_ident_std(pdt_ident_t *c)
 {
     c->std = (pdt_ident_std_t){0};
     (void)pdt_ident_uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->std);
-    c->phase = PH_DONE;
+    c->phase = PH_SCREEN;
 }

@@ -281,8 +281,18 @@ static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
     if (a->have_phi_f) cfg->phi_f = (pdt_real_t)a->phi_f;
 }
 
+/* The most samples the library leaves out of a record of n (its
+ * max_excluded resolved as pdt_ident.h says). */
+static unsigned long least_kept(const pdt_ident_config_t *cfg, size_t n)
+{
+    if (cfg->max_excluded) return cfg->max_excluded;
+    return n / 20u > 2u * PDT_IDENT_RUN_MAX ? (unsigned long)(n / 20u) : 2ul * PDT_IDENT_RUN_MAX;
+}
+
+/* One identification of the record; with yfit (n reals), the record as
+ * the fit saw it. */
 static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind,
-                          pdt_ident_result_t *res)
+                          pdt_ident_result_t *res, pdt_real_t *yfit)
 {
     pdt_ident_config_t cfg;
     ga_config(a, d->s.Ts, &cfg);
@@ -304,22 +314,52 @@ static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind
                      "for this model, population and criterion",
                      (unsigned long)a->evaluations, (unsigned long)least);
     }
-    if (st == PDT_ERR_OUTLIER) fail_outlier(d);
-    if (st == PDT_ERR_NONFINITE && d->s.missing_y)
+    if (st == PDT_ERR_OUTLIER && pdt_ident_outlier(ctx) < n)
         cli_fail(EXIT_REFUSED,
-                 "cannot identify: %s (%zu missing samples of y, and this identification takes "
-                 "none: --bad-rows refuse names the first)",
-                 pdt_status_str(st), d->s.missing_y);
+                 "cannot identify: %s: more than %lu samples (%s) to leave out, the first "
+                 "at data row %zu (counting from 1): the record is too damaged",
+                 pdt_status_str(st), (unsigned long)least_kept(&cfg, n),
+                 "missing ones and gross errors", pdt_ident_outlier(ctx) + 1u);
+    if (st == PDT_ERR_OUTLIER) fail_outlier(d);
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
+    /* The record as the fit saw it: the samples left out replaced by the
+     * model's output, for the validation of --model auto. */
+    if (yfit) {
+        double *ysim = malloc(n * sizeof *ysim);
+        if (!ysim) cli_fail(EXIT_REFUSED, "out of memory");
+        ident_simulate(&res->model, d->s.Ts, d, res->u0, res->y0, ysim);
+        for (size_t k = 0; k < n; k++)
+            yfit[k] = pdt_ident_is_excluded(ctx, k) ? (pdt_real_t)ysim[k] : d->y[k];
+        free(ysim);
+    }
     free(work);
     free(ctx);
 }
 
-/* The model validated on its record (pdt_validate_model), for the order. */
-static void validate(const ident_data_t *d, const pdt_ident_result_t *r, pdt_validate_result_t *v)
+/* The samples left out of the fit, on stderr: how many, the first ones. */
+static void note_excluded(const pdt_ident_result_t *r)
 {
-    const pdt_ident_data_t data = {d->u, d->y, d->s.n};
+    if (r->excluded == 0u) return;
+    char rows[160];
+    size_t len = 0;
+    const uint32_t listed =
+        r->excluded < PDT_IDENT_EXCLUDED_LIST ? r->excluded : PDT_IDENT_EXCLUDED_LIST;
+    for (uint32_t i = 0; i < listed && len < sizeof rows; i++)
+        len += (size_t)snprintf(rows + len, sizeof rows - len, "%s%lu", i ? ", " : "",
+                                (unsigned long)r->excluded_first[i] + 1ul);
+    cli_warn("identify: %lu sample%s left out of the fit (%lu missing, %lu gross error%s), data "
+             "row%s %s%s (counting from 1)",
+             (unsigned long)r->excluded, r->excluded == 1u ? "" : "s", (unsigned long)r->missing,
+             (unsigned long)(r->excluded - r->missing), r->excluded - r->missing == 1u ? "" : "s",
+             r->excluded == 1u ? "" : "s", rows, r->excluded > listed ? ", ..." : "");
+}
+
+/* The model validated on its record (pdt_validate_model), for the order. */
+static void validate(const ident_data_t *d, const pdt_real_t *yfit, const pdt_ident_result_t *r,
+                     pdt_validate_result_t *v)
+{
+    const pdt_ident_data_t data = {d->u, yfit, d->s.n};
     const size_t wlen = pdt_validate_workspace_size(d->s.n);
     void *work = wlen ? malloc(wlen) : NULL;
     if (!work) cli_fail(EXIT_REFUSED, "out of memory");
@@ -345,13 +385,17 @@ static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_
 {
     memset(o, 0, sizeof *o);
     if (a->model != MODEL_AUTO) {
-        identify_kind(a, d, a->model, res);
+        identify_kind(a, d, a->model, res, NULL);
         return;
     }
-    identify_kind(a, d, PDT_MODEL_FOPDT, &o->r[0]);
-    identify_kind(a, d, PDT_MODEL_SOPDT, &o->r[1]);
-    validate(d, &o->r[0], &o->v[0]);
-    validate(d, &o->r[1], &o->v[1]);
+    const size_t n = d->s.n;
+    pdt_real_t *yfit = malloc(2u * n * sizeof *yfit);
+    if (!yfit) cli_fail(EXIT_REFUSED, "out of memory");
+    identify_kind(a, d, PDT_MODEL_FOPDT, &o->r[0], yfit);
+    identify_kind(a, d, PDT_MODEL_SOPDT, &o->r[1], yfit + n);
+    validate(d, yfit, &o->r[0], &o->v[0]);
+    validate(d, yfit + n, &o->r[1], &o->v[1]);
+    free(yfit);
     const pdt_status_t st = pdt_ident_select_order(&o->v[0], &o->v[1], &o->kept);
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: --model auto: %s", pdt_status_str(st));
@@ -412,6 +456,11 @@ static void identify_ls(const ident_args_t *a, const ident_data_t *d, pdt_ident_
     pdt_ls_result_t r;
     pdt_status_t st = pdt_ls_identify(ctx, &cfg, d->u, d->y, n, &r);
     free(ctx);
+    if (st == PDT_ERR_NONFINITE && d->s.missing_y)
+        cli_fail(EXIT_REFUSED,
+                 "cannot identify: %s (%zu missing samples of y: --method elms and eiv take "
+                 "none; --method ga leaves them out, --bad-rows refuse names the first)",
+                 pdt_status_str(st), d->s.missing_y);
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
     memset(res, 0, sizeof *res);
@@ -562,6 +611,7 @@ int cmd_identify(int argc, char **argv)
         identify_ga(&a, &d, &res, &order);
     else
         identify_ls(&a, &d, &res, &delay_max);
+    note_excluded(&res);
     int warned = suspect(&a, &d, &res, delay_max);
     warned |= print_result(&a, &d, &res, &order);
     free(d.u);

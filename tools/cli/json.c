@@ -139,6 +139,19 @@ static void certainty_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
     pdtcli_jb_raw(jb, "]");
 }
 
+/* ,"excluded":{"count":N,"missing":M,"first":[...]}: the samples left out
+ * of the fit (missing ones and gross errors), the first of them 0-based. */
+static void excluded_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
+{
+    pdtcli_jb_printf(jb, ",\"excluded\":{\"count\":%lu,\"missing\":%lu,\"first\":[",
+                     (unsigned long)r->excluded, (unsigned long)r->missing);
+    const uint32_t listed =
+        r->excluded < PDT_IDENT_EXCLUDED_LIST ? r->excluded : PDT_IDENT_EXCLUDED_LIST;
+    for (uint32_t i = 0; i < listed; i++)
+        pdtcli_jb_printf(jb, "%s%lu", i ? "," : "", (unsigned long)r->excluded_first[i]);
+    pdtcli_jb_raw(jb, "]}");
+}
+
 void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r)
 {
     if (m->kind == PDT_MODEL_FOPDT)
@@ -151,6 +164,7 @@ void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_re
         pdtcli_jb_uint(jb, "evaluations", (unsigned long)r->evaluations);
         if (r->f_band > (pdt_real_t)0) pdtcli_jb_key(jb, "f_band", (double)r->f_band);
         if (r->searches > 0u) certainty_keys(jb, r);
+        if (r->searches > 0u) excluded_keys(jb, r);
     }
 }
 

@@ -151,6 +151,21 @@ typedef struct pdt_ident_config {
                                * Either way the whole record is searched
                                * again when the answer is too fast for the
                                * coarse record. Default 0 */
+    /* Gross errors and missing samples (docs/ident-engine.md, "Gross
+     * errors"). A y sample that is not finite (NaN, infinity: a logger's
+     * empty cell or bad-value marker) is a missing sample: left out of the
+     * fit, counted in pdt_ident_result_t.excluded and .missing. After the
+     * answer, the screen leaves out the samples its residual cannot
+     * explain and the identification runs again without them. */
+    bool refuse_missing;   /* true: a non-finite y is refused
+                            * (PDT_ERR_NONFINITE), as a non-finite u
+                            * always is. Default false */
+    bool no_screen;        /* true: no screen for gross errors (missing
+                            * samples are still left out). Default false */
+    uint32_t max_excluded; /* most samples left out, missing ones and
+                            * gross errors together; more is refused with
+                            * PDT_ERR_OUTLIER. 0: n / 20, at least
+                            * 2 PDT_IDENT_RUN_MAX. Default 0 */
 } pdt_ident_config_t;
 
 /* One record: n samples of input u and output y, every Ts seconds, in the
@@ -163,6 +178,16 @@ typedef struct pdt_ident_data {
 
 /* Most parameters of a model with its offset: SOPDT k, a, b, Td, y0. */
 #define PDT_IDENT_MAX_PARAMS 5u
+
+/* The screen for gross errors: the longest run of neighbouring bad
+ * samples it takes for one error (a logger's dropout), the half width of
+ * its running median (more than twice the run, so that the median of a
+ * window over a whole run is a good sample), its rounds (identifications
+ * after the first), and the indices a result lists. */
+#define PDT_IDENT_RUN_MAX       10u
+#define PDT_IDENT_SCREEN_HALF   15u
+#define PDT_IDENT_SCREEN_ROUNDS 4u
+#define PDT_IDENT_EXCLUDED_LIST 8u
 
 /* Standard deviations and covariance of the identified parameters, in the
  * order FOPDT K, tau, Td, y0 (count 4) or SOPDT k, a, b, Td, y0 (count 5),
@@ -206,6 +231,12 @@ typedef struct pdt_ident_result {
     pdt_ident_std_t std;  /* the parameters' uncertainty */
     uint32_t coarse;      /* the searches' record was D times coarser;
                                * 1: they searched the whole record */
+    uint32_t excluded;    /* samples left out of the fit: missing ones and
+                           * gross errors the screen found */
+    uint32_t missing;     /* of them, the non-finite y samples */
+    uint32_t excluded_first[PDT_IDENT_EXCLUDED_LIST]; /* the first
+                           * min(excluded, PDT_IDENT_EXCLUDED_LIST)
+                           * of them, 0-based, ascending; the rest 0 */
 } pdt_ident_result_t;
 
 /* pdt_ident_result_t.flags. An answer with any flag set is the best the
@@ -351,6 +382,23 @@ typedef struct pdt_ident_coarse {
     uint32_t delay_max; /* the whole record's cost's */
 } pdt_ident_coarse_t;
 
+typedef struct pdt_ident_screen {
+    pdt_real_t *yfill; /* n reals of the workspace: y with the samples
+                        * left out filled in */
+    uint8_t *mask;     /* n bits of the workspace: the samples left out */
+    uint8_t *fresh;    /* n bits of the workspace: those of this round */
+    void *work;        /* the whole workspace, for the next round */
+    size_t work_len;
+    size_t first;        /* the first sample left out; n when none */
+    uint32_t excluded;   /* samples left out */
+    uint32_t missing;    /* of them, not finite in the caller's y */
+    uint32_t limit;      /* most that may be */
+    uint32_t rounds;     /* identifications run again */
+    uint32_t prior;      /* evaluations of the rounds before */
+    bool settled;        /* the last round found nothing new */
+    pdt_status_t status; /* PDT_ERR_OUTLIER beyond the limit, else PDT_OK */
+} pdt_ident_screen_t;
+
 typedef struct pdt_ident {
     pdt_ident_config_t cfg;
     pdt_ident_data_t data;
@@ -383,6 +431,7 @@ typedef struct pdt_ident {
     pdt_ident_vote_t vote;
     pdt_ident_profile_t profile;
     pdt_ident_coarse_t coarse;
+    pdt_ident_screen_t screen;
     /* The answer, once done. */
     pdt_model_t model;
     pdt_real_t y0;
@@ -403,7 +452,8 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
  * of pop (PDT_IDENT_POPULATION_SOPDT covers both automatic populations),
  * any configuration: for static arrays. */
 #define PDT_IDENT_WORKSPACE_SIZE(n, pop)                                                           \
-    (PDT_COST_WORKSPACE_SIZE(n) + ((size_t)(n) + 13u * (size_t)(pop) + 1u) * sizeof(pdt_real_t))
+    (PDT_COST_WORKSPACE_SIZE(n) +                                                                  \
+     (2u * (size_t)(n) + (size_t)(n) / 16u + 13u * (size_t)(pop) + 3u) * sizeof(pdt_real_t))
 
 /* Prepares ctx for one identification: checks cfg and the data, derives the
  * bounds, prepares the cost (O(n), plus O(N_f log N_f) when the criterion
@@ -456,6 +506,17 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out);
  * *out untouched on error. O(n) per parameter. */
 pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data,
                                    pdt_real_t Ts, pdt_real_t y0, pdt_ident_std_t *out);
+
+/* After pdt_ident_step or pdt_ident_result returned PDT_ERR_OUTLIER (more
+ * samples to leave out than max_excluded allows): the first of them,
+ * 0-based; the caller's n otherwise (also for NULL or before init). */
+size_t pdt_ident_outlier(const pdt_ident_t *ctx);
+
+/* Whether sample k was left out of the fit (missing, or a gross error the
+ * screen found), once pdt_ident_step has returned PDT_OK or
+ * PDT_ERR_OUTLIER; false for NULL, before init and for k past the record.
+ * For a caller that scores the model on the record without them. O(1). */
+bool pdt_ident_is_excluded(const pdt_ident_t *ctx, size_t k);
 
 /* Blocking convenience: init, step until done, result. Same statuses. */
 pdt_status_t pdt_identify(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
