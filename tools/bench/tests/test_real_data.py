@@ -17,12 +17,12 @@ if MISSING and binary_required():
     pytest.fail(MISSING, pytrace=False)
 pytestmark = pytest.mark.skipif(MISSING is not None, reason=str(MISSING))
 
-# Until the identification leaves gross errors and missing samples out and
-# takes --u-before, the cases that need it are expected to fail.
+# Until the identification takes --u-before, the TCLab case is expected to
+# fail.
 _HELP = "" if MISSING else subprocess.run([str(BIN), "identify", "--help"],
                                           capture_output=True, text=True).stdout
-needs_field = pytest.mark.xfail("--u-before" not in _HELP, strict=True,
-                                reason="the identification's field-data handling")
+needs_u_before = pytest.mark.xfail("--u-before" not in _HELP, strict=True,
+                                   reason="identify --u-before")
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +54,7 @@ def test_gas_furnace_at_the_reference_cost(gas):
     assert c <= row["c_ref"] * 1.001
 
 
-@needs_field
+@needs_u_before
 def test_tclab_step_with_the_input_before(tclab):
     """The record begins at the step: with --u-before 0 the FOPDT is at the
     reference's cost and its K within 3 % of the reference's."""
@@ -64,7 +64,6 @@ def test_tclab_step_with_the_input_before(tclab):
     assert row["json"]["K"] == pytest.approx(row["ref"].K, rel=0.03)
 
 
-@needs_field
 @pytest.mark.parametrize("value", ["-9999", "65535"])
 def test_marker_in_a_noisy_record(sim, value):
     """One historian marker as a number, declared, and as text: never a
@@ -79,7 +78,6 @@ def test_marker_in_a_noisy_record(sim, value):
         assert rd.verdict(clean, status, j) in want, (status, err, j)
 
 
-@needs_field
 def test_dropout_in_a_noisy_record(sim):
     _, clean, _ = rd.run_pdtfit(BIN, sim, "fopdt")
     clean = rd.model_of(clean)
