@@ -42,6 +42,7 @@ typedef struct reader {
     int unit, unit_from; /* the time unit taken (PDTCLI_TIME_*, _UNIT_*) */
     char unit_text[24];  /* the header's unit when it is no time unit */
     int iso;             /* a t cell was an ISO date-time */
+    int t_by_time;       /* the t column is the default name "time" */
     char *err;
     size_t errlen;
 } reader_t;
@@ -382,6 +383,7 @@ static int read_header(reader_t *r)
                            r->name, r->lineno, spec[c] ? spec[c] : col_names[c], col_opts[c]);
         if (r->col[c] < 0 && (c != COL_T || spec[c])) return header_error(r, c, spec[c]);
     }
+    r->t_by_time = !o->t_col && r->col[COL_T] >= 0 && !is_time_name(r->fields[r->col[COL_T]], 0);
     header_unit(r);
     for (int c = 0; c < COL_COUNT; c++)
         for (int d = c + 1; d < COL_COUNT; d++)
@@ -580,6 +582,13 @@ static int read_row(reader_t *r, span_t line)
         if (r->col[c] < 0) continue;
         span_t s = trim(r->fields[r->col[c]]);
         int rc = c == COL_T ? parse_time(r, s, dest[c]) : parse_number(r, c, s, dest[c]);
+        /* A column "time" of clock times a file had beside --fs before it
+         * was a default name: left aside, as then. */
+        if (rc < 0 && c == COL_T && r->t_by_time && r->rows == 0 && r->o->fs > 0.0) {
+            r->col[COL_T] = -1;
+            r->unit_from = PDTCLI_UNIT_DEFAULT;
+            rc = 0;
+        }
         if (rc < 0) return -1;
         if (rc > 0) {
             miss |= bit[c];

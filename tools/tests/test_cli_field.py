@@ -273,3 +273,19 @@ def test_identify_tune_refuses_a_flagged_model(flagged):
     assert_usage_error(run([*MODEL, "--force", path]), "--force goes with --tune")
     assert_usage_error(run(["tune", "--rule", "simc", "--force", "--model", "fopdt", "--K", "1",
                             "--tau", "1", "--Td", "1"]), "--force goes with --from")
+
+
+def test_t_before_time_and_clock_times_beside_fs(tmp_path, rec):
+    """t wins over time; a column "time" of clock times is left aside when
+    --fs gives the rate (as before "time" was a default name)."""
+    t, u, y = rec
+    body = [[a, a, b, c] for a, b, c in (r for r in rows(t * 1e3, u, y))]
+    for r, k in zip(body, range(len(body))):
+        r[0] = "%.10g" % (k * TS)
+    path = write(tmp_path / "tt.csv", "t,time,u,y", body)
+    assert model_of(run([*MODEL, path]))["Ts"] == pytest.approx(TS, rel=1e-6)
+    clock = [[f"08:{k // 600:02d}:{k // 10 % 60:02d}", b, c] for k, (_, b, c) in
+             enumerate(rows(t, u, y))]
+    path = write(tmp_path / "clock.csv", "Time,u,y", clock)
+    check_fopdt(model_of(run([*MODEL, "--fs", "10", path])), 2.0, 5.0, 1.3)
+    assert_usage_error(run([*MODEL, path]), "clock.csv:2:", "column t", "08:00:00")
