@@ -183,6 +183,14 @@ def left_out(j, n):
     return mask
 
 
+def unlisted(j):
+    """Samples the identification left out beyond those its JSON lists."""
+    v = j.get("excluded")
+    if not isinstance(v, dict):
+        return 0
+    return max(0, int(v.get("count", 0)) - len(v.get("first", [])))
+
+
 def initial_of(j):
     v = j.get("initial")
     return v if isinstance(v, str) else "rest"
@@ -320,7 +328,7 @@ def real_row(binary, rec, model):
     mr, off, c_ref = ref.fit(starts=[ref.start_of(m)])
     c_pdt = score(m, j["y0"], u, np.where(np.isfinite(y), y, 0.0), j["Ts"], u0, mask, initial)
     row.update(json=j, ref=mr, ref_y0=off, c_ref=c_ref, c_pdt=c_pdt, ratio=c_pdt / c_ref,
-               initial=initial, fitted=int(mask.sum()), n=n)
+               initial=initial, fitted=int(mask.sum()), n=n, unlisted=unlisted(j))
     return row
 
 
@@ -434,7 +442,9 @@ def real_table(rows):
         j = r["json"]
         flags = f" flags {', '.join(j['flags'])}" if j.get("flags") else ""
         out.append(f"| {r['record']} | {r['model']} | {fmt_model(model_of(j), j['y0'])}{flags} "
-                   f"| {fmt_model(r['ref'], r['ref_y0'])} | {r['fitted']} of {r['n']} "
+                   f"| {fmt_model(r['ref'], r['ref_y0'])} | {r['fitted']} of {r['n']}"
+                   + (f" ({r['unlisted']} more left out, unlisted)" if r['unlisted'] else "") +
+                   " "
                    f"| {r['initial']} | {r['c_pdt']:.6g} | {r['c_ref']:.6g} "
                    f"| {r['ratio']:.5f} |")
     return "\n".join(out)

@@ -163,7 +163,7 @@ def rows_with(i, line, n=32):
 
 
 # Missing samples (empty cells, NaN, markers) are refused in the strict
-# reading only; by default they are left out (test_cli_field.py).
+# reading only; by default they are left out (test_cli_reader.py).
 STRICT = ["--bad-rows", "refuse"]
 
 CSV_ERRORS = [
