@@ -191,6 +191,16 @@ def unlisted(j):
     return max(0, int(v.get("count", 0)) - len(v.get("first", [])))
 
 
+def rest_level(u, y, u0):
+    """The output's mean before the input first moves from u0, when that
+    rest lasts n/40 samples or more (what --offset auto polishes on), else
+    None."""
+    moved = np.nonzero(u != u0)[0]
+    k1 = int(moved[0]) if moved.size else u.size
+    ok = np.isfinite(y[:k1])
+    return float(np.mean(y[:k1][ok])) if k1 >= u.size / 40 and ok.any() else None
+
+
 def initial_of(j):
     v = j.get("initial")
     return v if isinstance(v, str) else "rest"
@@ -244,8 +254,8 @@ def score(m, y0, rec_u, rec_y, Ts, u0, mask, initial):
 class Reference:
     """The output-error optimum by variable projection (module docstring)."""
 
-    def __init__(self, kind, u, y, Ts, u0, mask, initial):
-        self.kind, self.u, self.y, self.Ts = kind, u, y, Ts
+    def __init__(self, kind, u, y, Ts, u0, mask, initial, y0=None):
+        self.kind, self.u, self.y, self.Ts, self.y0 = kind, u, y, Ts, y0
         self.du, self.mask, self.initial = u - u0, mask, initial
         self.n = u.size
         self.T = self.n * Ts
@@ -268,9 +278,13 @@ class Reference:
     def resid(self, x):
         m = self.unit_model(x)
         resp = bl.simulate(m, self.Ts, self.du)
-        r, coef = linear_fit(resp, self.y, self.mask,
-                             free_columns(m, self.Ts, self.n, self.initial))
-        return r[self.mask], coef
+        cols = free_columns(m, self.Ts, self.n, self.initial)
+        if self.y0 is None:
+            r, coef = linear_fit(resp, self.y, self.mask, cols)
+            return r[self.mask], coef
+        # The offset fixed: the gain with the free columns.
+        r, coef = linear_fit(np.zeros(self.n), self.y - self.y0, self.mask, [resp] + cols, 0.0)
+        return r[self.mask], np.concatenate([coef[:1], [self.y0], coef[1:]])
 
     def grid(self):
         td = np.linspace(0.0, self.T / 3, 25)
@@ -324,11 +338,16 @@ def real_row(binary, rec, model):
     initial = initial_of(j)
     u0 = rec.u_before if rec.u_before is not None else u[0]
     m = model_of(j)
-    ref = Reference(model, u, np.where(np.isfinite(y), y, 0.0), j["Ts"], u0, mask, initial)
+    # The offset: the rest level where pdtfit's is that, else free.
+    rest = rest_level(u, y, u0)
+    fixed = rest is not None and abs(j["y0"] - rest) <= 1e-6 * max(1.0, abs(rest))
+    ref = Reference(model, u, np.where(np.isfinite(y), y, 0.0), j["Ts"], u0, mask, initial,
+                    y0=j["y0"] if fixed else None)
     mr, off, c_ref = ref.fit(starts=[ref.start_of(m)])
     c_pdt = score(m, j["y0"], u, np.where(np.isfinite(y), y, 0.0), j["Ts"], u0, mask, initial)
     row.update(json=j, ref=mr, ref_y0=off, c_ref=c_ref, c_pdt=c_pdt, ratio=c_pdt / c_ref,
-               initial=initial, fitted=int(mask.sum()), n=n, unlisted=unlisted(j))
+               initial=initial, fitted=int(mask.sum()), n=n, unlisted=unlisted(j),
+               offset="rest level" if fixed else "free")
     return row
 
 
@@ -432,12 +451,13 @@ def fmt_model(m, y0=None):
 
 
 def real_table(rows):
-    out = ["| record | model | pdtfit | reference (scipy) | samples fitted | initial state "
-           "| cost pdtfit | cost reference | ratio |", "|---|---|---|---|---|---|---|---|---|"]
+    out = ["| record | model | pdtfit | reference (scipy) | samples fitted | offset "
+           "| initial state | cost pdtfit | cost reference | ratio |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "json" not in r:
             out.append(f"| {r['record']} | {r['model']} | refused (exit {r['status']}): "
-                       f"{r['error'].splitlines()[-1] if r['error'] else ''} | | | | | | |")
+                       f"{r['error'].splitlines()[-1] if r['error'] else ''} | | | | | | | |")
             continue
         j = r["json"]
         flags = f" flags {', '.join(j['flags'])}" if j.get("flags") else ""
@@ -445,7 +465,7 @@ def real_table(rows):
                    f"| {fmt_model(r['ref'], r['ref_y0'])} | {r['fitted']} of {r['n']}"
                    + (f" ({r['unlisted']} more left out, unlisted)" if r['unlisted'] else "") +
                    " "
-                   f"| {r['initial']} | {r['c_pdt']:.6g} | {r['c_ref']:.6g} "
+                   f"| {r['offset']} | {r['initial']} | {r['c_pdt']:.6g} | {r['c_ref']:.6g} "
                    f"| {r['ratio']:.5f} |")
     return "\n".join(out)
 
