@@ -13,7 +13,8 @@ reader found missing and those the identification left out, as its JSON
 lists them), the same input before the record (u[0], or --u-before), the
 same initial state (at rest; or, where the JSON says it was estimated,
 the free response of the model's state fitted with the gain and offset),
-the output offset free. The reference separates the linear parameters
+the same output offset (fixed at the rest level where pdtfit's offset is
+that level, else free). The reference separates the linear parameters
 (gain, offset, initial state: least squares) from the nonlinear ones
 (time constants or a, b and the dead time), evaluates a grid over the
 dead time and the time scale, and polishes the six best grid points with
