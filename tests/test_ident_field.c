@@ -230,6 +230,30 @@ static void test_clean_unchanged(void **state)
     }
 }
 
+/* A PRBS input with an output unrelated to it (white noise): flagged
+ * NO_RELATION in both models; the related record is not. */
+static void test_no_relation(void **state)
+{
+    (void)state;
+    for (size_t m = 0; m < 2u; m++) {
+        const pdt_model_t t = truth(KINDS[m]);
+        pdt_ident_result_t r;
+        record(&t, 0.05, 16u);
+        assert_int_equal(run(KINDS[m], NULL, &r), PDT_OK);
+        assert_int_equal(r.flags & PDT_IDENT_FLAG_NO_RELATION, 0u);
+        assert_true(r.evidence > (pdt_real_t)PDT_IDENT_EVIDENCE_MIN);
+        sim_rng_t rng = 77u;
+        for (size_t k = 0; k < N; k++) {
+            g_y[k] = (pdt_real_t)(350.0 + sim_rng_normal(&rng));
+        }
+        assert_int_equal(run(KINDS[m], NULL, &r), PDT_OK);
+        print_message("  unrelated output: evidence %.2f, fit %.2f %%, flags 0x%x\n",
+                      (double)r.evidence, (double)r.fit, (unsigned)r.flags);
+        assert_true((r.flags & PDT_IDENT_FLAG_NO_RELATION) != 0u);
+        assert_true(r.evidence < (pdt_real_t)PDT_IDENT_EVIDENCE_MIN);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -238,6 +262,7 @@ int main(void)
         cmocka_unit_test(test_missing),
         cmocka_unit_test(test_beyond_bound),
         cmocka_unit_test(test_clean_unchanged),
+        cmocka_unit_test(test_no_relation),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -876,6 +876,7 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.searches = pdt_ident_vote_searches(ctx);
     r.runner_up = ctx->runner_up;
     r.std = ctx->std;
+    r.evidence = ctx->evidence;
     r.coarse = ctx->coarse.factor;
     pdt_ident_screen_report(&ctx->screen, ctx->data.n, &r);
     *out = r;

@@ -518,6 +518,13 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
                  (double)r->runner_up);
         warned = 1;
     }
+    if (r->flags & PDT_IDENT_FLAG_NO_RELATION) {
+        cli_warn("identify: the model is no better than the output's mean (evidence %.3g, "
+                 "at least %g needed; fit %.3g%%, at least %g%% needed): the record shows no "
+                 "relation of y to u; check the columns, or record a larger input change",
+                 (double)r->evidence, PDT_IDENT_EVIDENCE_MIN, (double)r->fit, PDT_IDENT_FIT_FLOOR);
+        warned = 1;
+    }
     if (r->flags & PDT_IDENT_FLAG_AMBIGUOUS) {
         cli_warn("identify: another structure (the other gain sign, or an integrator for a lag) "
                  "fits about as well: the record cannot tell them apart");

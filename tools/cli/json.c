@@ -125,7 +125,8 @@ static void certainty_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
         const char *name;
     } flags[] = {{PDT_IDENT_FLAG_UNCONFIRMED, "unconfirmed"},
                  {PDT_IDENT_FLAG_AMBIGUOUS, "ambiguous"},
-                 {PDT_IDENT_FLAG_AT_BOUND, "at_bound"}};
+                 {PDT_IDENT_FLAG_AT_BOUND, "at_bound"},
+                 {PDT_IDENT_FLAG_NO_RELATION, "no_relation"}};
     pdtcli_jb_uint(jb, "searches", (unsigned long)r->searches);
     pdtcli_jb_uint(jb, "coarse", (unsigned long)r->coarse);
     pdtcli_jb_key(jb, "runner_up", (double)r->runner_up);
@@ -164,6 +165,7 @@ void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_re
         pdtcli_jb_uint(jb, "evaluations", (unsigned long)r->evaluations);
         if (r->f_band > (pdt_real_t)0) pdtcli_jb_key(jb, "f_band", (double)r->f_band);
         if (r->searches > 0u) certainty_keys(jb, r);
+        if (r->searches > 0u) pdtcli_jb_key(jb, "evidence", (double)r->evidence);
         if (r->searches > 0u) excluded_keys(jb, r);
     }
 }

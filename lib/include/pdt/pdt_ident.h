@@ -231,6 +231,11 @@ typedef struct pdt_ident_result {
     pdt_ident_std_t std;  /* the parameters' uncertainty */
     uint32_t coarse;      /* the searches' record was D times coarser;
                                * 1: they searched the whole record */
+    pdt_real_t evidence;  /* the likelihood-ratio statistic of the model
+                           * against the null model (the output's mean):
+                           * (n / c) ln(SS_null / SS_model), c the
+                           * residual's autocorrelation inflation (as in
+                           * std); 0 when it could not be computed */
     uint32_t excluded;    /* samples left out of the fit: missing ones and
                            * gross errors the screen found */
     uint32_t missing;     /* of them, the non-finite y samples */
@@ -248,10 +253,22 @@ typedef struct pdt_ident_result {
  *               integrator for a lag or back) fits within 5 % of its cost;
  *  AT_BOUND     a parameter lies on an upper search bound (a time
  *               constant, the dead time, the least damping) or a gain
- *               bound: the optimum may lie outside. */
+ *               bound: the optimum may lie outside;
+ *  NO_RELATION  the model is not significantly better than the output's
+ *               mean (evidence below PDT_IDENT_EVIDENCE_MIN), or its fit
+ *               is below PDT_IDENT_FIT_FLOOR: the
+ *               record shows no relation of y to u (docs/ident-engine.md,
+ *               "No model without evidence"). */
 #define PDT_IDENT_FLAG_UNCONFIRMED 0x1u
 #define PDT_IDENT_FLAG_AMBIGUOUS   0x2u
 #define PDT_IDENT_FLAG_AT_BOUND    0x4u
+#define PDT_IDENT_FLAG_NO_RELATION 0x8u
+
+/* NO_RELATION's bounds: the least evidence (pdt_ident_result_t.evidence;
+ * about the 99.9 % quantile of chi-square with 3 degrees of freedom) and
+ * the least fit, percent. */
+#define PDT_IDENT_EVIDENCE_MIN 16.0
+#define PDT_IDENT_FIT_FLOOR    5.0
 
 /* Most independent searches. */
 #define PDT_IDENT_MAX_SEARCHES 3u
@@ -439,6 +456,7 @@ typedef struct pdt_ident {
     uint32_t flags;
     pdt_real_t runner_up;
     pdt_ident_std_t std;
+    pdt_real_t evidence;
 } pdt_ident_t;
 
 /* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */
