@@ -289,3 +289,19 @@ def test_t_before_time_and_clock_times_beside_fs(tmp_path, rec):
     path = write(tmp_path / "clock.csv", "Time,u,y", clock)
     check_fopdt(model_of(run([*MODEL, "--fs", "10", path])), 2.0, 5.0, 1.3)
     assert_usage_error(run([*MODEL, path]), "clock.csv:2:", "column t", "08:00:00")
+
+
+def test_pipe_keeps_no_relation(tmp_path):
+    """A PRBS input with an unrelated output: identify flags no_relation
+    (exit 3), and tune --from refuses the gains naming it (exit 3)."""
+    rng = np.random.default_rng(3)
+    u = U0 + 5.0 * np.repeat(np.sign(rng.standard_normal(N // 10)), 10)
+    y = Y0 + 0.5 * rng.standard_normal(N)
+    path = write(tmp_path / "noise.csv", "t,u,y", rows(np.arange(N) * TS, u, y))
+    res = run([*MODEL, path])
+    assert res.returncode == 3 and "no_relation" in json.loads(res.stdout)["flags"]
+    tuned = run(["tune", "--rule", "simc", "--from", "-"], stdin=res.stdout)
+    assert_usage_error(tuned, "gains refused", "no_relation", status=3)
+    res = run([*MODEL, "--tune", "simc", path])
+    assert res.returncode == 3 and res.stdout == ""
+    assert "no_relation" in res.stderr.splitlines()[-1]
