@@ -414,7 +414,7 @@ def fault_task(args):
     v = verdict(clean, status, j)
     K, s = main_param(model_of(j)) if j is not None else (math.nan, math.nan)
     return {"record": rec.name, "model": model, "label": label, "kind": kind, "status": status,
-            "verdict": v, "K": K, "s": s, "error": err.splitlines()[-1] if err else "",
+            "verdict": v, "K": K, "s": s, "clean": main_param(clean), "error": err.splitlines()[-1] if err else "",
             "flags": j.get("flags", []) if j else []}
 
 
@@ -492,12 +492,13 @@ def fault_list(results, which):
     sub = [r for r in results if r["verdict"] == which]
     if not sub:
         return "None."
-    out = ["| record | model | fault | exit | K | tau or wn | flags or message |",
+    out = ["| record | model | fault | exit | K (clean) | tau or wn (clean) | flags or message |",
            "|---|---|---|---|---|---|---|"]
     for r in sub:
         why = ", ".join(r["flags"]) if r["flags"] else r["error"].replace("|", "/")
         out.append(f"| {r['record']} | {r['model']} | {r['label']} | {r['status']} "
-                   f"| {r['K']:.4g} | {r['s']:.4g} | {why} |")
+                   f"| {r['K']:.4g} ({r['clean'][0]:.4g}) | {r['s']:.4g} ({r['clean'][1]:.4g}) "
+                   f"| {why} |")
     return "\n".join(out)
 
 
