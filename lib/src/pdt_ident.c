@@ -708,7 +708,7 @@ pdt_status_t pdt_ident_restart(pdt_ident_t *c)
 size_t pdt_ident_outlier(const pdt_ident_t *ctx)
 {
     if (ctx == NULL || ctx->magic != IDENT_MAGIC || ctx->screen.status != PDT_ERR_OUTLIER) {
-        return ctx == NULL ? 0u : ctx->data.n;
+        return SIZE_MAX;
     }
     return ctx->screen.first;
 }

@@ -281,7 +281,7 @@ static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind
                      "for this model, population and criterion",
                      (unsigned long)a->evaluations, (unsigned long)least);
     }
-    if (st == PDT_ERR_OUTLIER && pdt_ident_outlier(ctx) < n)
+    if (st == PDT_ERR_OUTLIER && pdt_ident_outlier(ctx) != SIZE_MAX)
         cli_fail(EXIT_REFUSED,
                  "cannot identify: %s: more than %lu samples (%s) to leave out, the first "
                  "at data row %zu (counting from 1): the record is too damaged",

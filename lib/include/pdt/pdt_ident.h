@@ -527,7 +527,8 @@ pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t 
 
 /* After pdt_ident_step or pdt_ident_result returned PDT_ERR_OUTLIER (more
  * samples to leave out than max_excluded allows): the first of them,
- * 0-based; the caller's n otherwise (also for NULL or before init). */
+ * 0-based; SIZE_MAX otherwise (also for NULL, before init, and when
+ * init refused the record). */
 size_t pdt_ident_outlier(const pdt_ident_t *ctx);
 
 /* Whether sample k was left out of the fit (missing, or a gross error the
