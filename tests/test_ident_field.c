@@ -60,8 +60,9 @@ static pdt_status_t run(pdt_model_kind_t kind, const pdt_ident_config_t *base,
     cfg.Ts = (pdt_real_t)1.0;
     const pdt_ident_data_t data = {g_u, g_y, N};
     const size_t need = pdt_ident_workspace_size(&cfg, N);
-    assert_true(need > 0u && need <= sizeof g_work);
-    return pdt_identify(&g_ctx, &cfg, &data, g_work, need, res);
+    /* A size of 0: the configuration is refused, pdt_identify says why. */
+    assert_true(need <= sizeof g_work);
+    return pdt_identify(&g_ctx, &cfg, &data, g_work, need > 0u ? need : sizeof g_work, res);
 }
 
 /* The gain and the time scale (FOPDT tau, SOPDT 1 / sqrt(b)). */
@@ -203,7 +204,7 @@ static void test_beyond_bound(void **state)
     cfg.max_excluded = 0u;
     assert_int_equal(run(PDT_MODEL_FOPDT, &cfg, &r), PDT_OK);
     assert_int_equal(r.excluded, 20u);
-    assert_int_equal(pdt_ident_outlier(&g_ctx), N);
+    assert_int_equal(pdt_ident_outlier(&g_ctx), SIZE_MAX);
     memcpy(g_y, g_clean, sizeof g_y);
     for (size_t k = 100u; k < 140u; k++) {
         g_y[k] = (pdt_real_t)NAN;
@@ -254,6 +255,48 @@ static void test_no_relation(void **state)
     }
 }
 
+/* A record that begins at the step (u constant from the first row, y
+ * rising from rest): refused without the input before it, the plant
+ * found with it. */
+static void test_u_before(void **state)
+{
+    (void)state;
+    for (size_t m = 0; m < 2u; m++) {
+        const pdt_model_t t = truth(KINDS[m]);
+        pdt_discrete_t d;
+        pdt_ident_result_t r;
+        pdt_ident_config_t cfg;
+        sim_rng_t rng = 21u;
+        for (size_t k = 0; k < N; k++) {
+            g_dev[k] = (pdt_real_t)10.0;
+        }
+        assert_int_equal(pdt_discrete_init(&t, (pdt_real_t)1.0, &d), PDT_OK);
+        assert_int_equal(pdt_discrete_simulate(&d, g_dev, N, g_y), PDT_OK);
+        for (size_t k = 0; k < N; k++) {
+            g_u[k] = (pdt_real_t)50.0;
+            g_y[k] = (pdt_real_t)(20.0 + (double)g_y[k] + 0.02 * sim_rng_normal(&rng));
+        }
+        assert_int_equal(run(KINDS[m], NULL, &r), PDT_ERR_NO_EXCITATION);
+        pdt_ident_config_default(&cfg);
+        cfg.u_before_given = true;
+        cfg.u_before = (pdt_real_t)40.0;
+        assert_int_equal(run(KINDS[m], &cfg, &r), PDT_OK);
+        double K, T, K0, T0;
+        pdt_ident_result_t want = {0};
+        want.model = t;
+        scales(&r, &K, &T);
+        scales(&want, &K0, &T0);
+        print_message("  from the step: K %.4f (true %.4f) T %.3f (true %.3f) u0 %.1f y0 %.3f\n", K,
+                      K0, T, T0, (double)r.u0, (double)r.y0);
+        assert_true(fabs(K / K0 - 1.0) < 0.01 && fabs(T / T0 - 1.0) < 0.03);
+        assert_true(r.u0 == (pdt_real_t)40.0);
+        assert_true(fabs((double)r.y0 - 20.0) < 0.05);
+        assert_true(r.std.count > 0u && isfinite((double)r.std.std[0]));
+        cfg.u_before = (pdt_real_t)NAN;
+        assert_int_equal(run(KINDS[m], &cfg, &r), PDT_ERR_ARG);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -263,6 +306,7 @@ int main(void)
         cmocka_unit_test(test_beyond_bound),
         cmocka_unit_test(test_clean_unchanged),
         cmocka_unit_test(test_no_relation),
+        cmocka_unit_test(test_u_before),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

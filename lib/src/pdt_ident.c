@@ -298,7 +298,8 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
         (!(cfg->zeta_min > PDT_R(0.0)) || !pdt_finite(cfg->zeta_min))) {
         return PDT_ERR_ARG;
     }
-    if (!pdt_finite(cfg->K_min) || !pdt_finite(cfg->K_max)) {
+    if (!pdt_finite(cfg->K_min) || !pdt_finite(cfg->K_max) ||
+        (cfg->u_before_given && !pdt_finite(cfg->u_before))) {
         return PDT_ERR_ARG;
     }
     if (cfg->K_min > cfg->K_max) {
@@ -349,6 +350,12 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
     /* Round the cost part up so the rest stays aligned for pdt_real_t. */
     cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
     return cost_bytes + own_reals(population_of(cfg), genes_of(cfg->model), n) * sizeof(pdt_real_t);
+}
+
+/* The input before the record: u_before when given, else u[0]. */
+static pdt_real_t input_before(const pdt_ident_config_t *cfg, const pdt_ident_data_t *d)
+{
+    return cfg->u_before_given ? cfg->u_before : d->u[0];
 }
 
 /* Samples before the input first moves, and the shortest dead time after
@@ -404,7 +411,8 @@ static bool flat(const pdt_real_t *y, size_t k)
 static uint32_t rest_usable(const pdt_ident_config_t *cfg, const pdt_ident_data_t *d,
                             size_t quiet_extra)
 {
-    if (cfg->offset != PDT_IDENT_OFFSET_AUTO || pdt_ident_uses_frequency(cfg->cost)) {
+    if (cfg->offset != PDT_IDENT_OFFSET_AUTO || pdt_ident_uses_frequency(cfg->cost) ||
+        input_before(cfg, d) != d->u[0]) {
         return 0u;
     }
     const size_t k = rest_window(d, quiet_extra);
@@ -464,7 +472,8 @@ static pdt_status_t check_record(const pdt_ident_config_t *cfg, const pdt_ident_
         ymin = yk < ymin ? yk : ymin;
         ymax = yk > ymax ? yk : ymax;
     }
-    if (!(umax > umin) || !(ymax > ymin)) {
+    const pdt_real_t ub = input_before(cfg, data);
+    if (!(umax > umin || ub != data->u[0]) || !(ymax > ymin)) {
         return PDT_ERR_NO_EXCITATION;
     }
     if (pdt_ident_uses_frequency(cfg->cost) &&
@@ -592,7 +601,8 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     const size_t quiet = samples_in(b.Td_min, cfg->Ts, data->n);
     pdt_real_t y0 = initial_level(data, quiet);
     pdt_cost_config_t cc;
-    cost_config(cfg, data->u[0], y0, cfg->offset == PDT_IDENT_OFFSET_REST, delay_max, &cc);
+    cost_config(cfg, input_before(cfg, data), y0, cfg->offset == PDT_IDENT_OFFSET_REST, delay_max,
+                &cc);
     size_t cost_bytes = pdt_cost_workspace_size(&cc, data->n);
     pdt_cost_t cost;
     st = pdt_cost_init(&cost, &cc, data->u, data->y, data->n, work, cost_bytes);
@@ -708,7 +718,7 @@ pdt_status_t pdt_ident_restart(pdt_ident_t *c)
 size_t pdt_ident_outlier(const pdt_ident_t *ctx)
 {
     if (ctx == NULL || ctx->magic != IDENT_MAGIC || ctx->screen.status != PDT_ERR_OUTLIER) {
-        return ctx == NULL ? 0u : ctx->data.n;
+        return SIZE_MAX;
     }
     return ctx->screen.first;
 }

@@ -280,7 +280,8 @@ typedef char std_fits_fisher[(PDT_IDENT_MAX_PARAMS == PDT_FISHER_MAX) ? 1 : -1];
 /* pdt_ident_uncertainty, with the residual's sum of squares and its
  * autocorrelation's inflation (pdt_fisher_inflation) into *fs_out. */
 static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
-                                pdt_real_t y0, pdt_ident_std_t *out, pdt_fisher_sums_t *fs_out)
+                                pdt_real_t y0, const pdt_real_t *u0, pdt_ident_std_t *out,
+                                pdt_fisher_sums_t *fs_out)
 {
     if (m == NULL || data == NULL || data->u == NULL || data->y == NULL || out == NULL ||
         pdt_model_check(m) != PDT_OK || !pdt_finite(Ts) || !(Ts > PDT_R(0.0)) || !pdt_finite(y0)) {
@@ -296,11 +297,12 @@ static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *da
         }
         moves = moves || data->u[k] != data->u[0];
     }
-    if (!moves) {
+    const pdt_real_t before = (u0 != NULL) ? *u0 : data->u[0];
+    if (!moves && before == data->u[0]) {
         return PDT_ERR_NO_EXCITATION;
     }
     pdt_fisher_matrix_t F;
-    const pdt_status_t st = pdt_fisher_sum(m, Ts, data->u, data->y, data->n, y0, F, fs_out);
+    const pdt_status_t st = pdt_fisher_sum(m, Ts, data->u, data->y, data->n, y0, before, F, fs_out);
     if (st != PDT_OK) {
         return st;
     }
@@ -316,7 +318,7 @@ pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t 
                                    pdt_real_t Ts, pdt_real_t y0, pdt_ident_std_t *out)
 {
     pdt_fisher_sums_t fs;
-    return uncertainty(m, data, Ts, y0, out, &fs);
+    return uncertainty(m, data, Ts, y0, NULL, out, &fs);
 }
 
 /* The mean of x[0..n-1] (about x[0], so that a large level does not
@@ -396,7 +398,8 @@ void pdt_ident_std(pdt_ident_t *c)
 {
     pdt_fisher_sums_t fs;
     c->std = (pdt_ident_std_t){0};
-    if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->std, &fs) == PDT_OK) {
+    if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, &c->std, &fs) ==
+        PDT_OK) {
         evidence(c, &fs);
     } else {
         c->evidence = PDT_R(0.0);

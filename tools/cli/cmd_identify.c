@@ -37,6 +37,8 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--weight", OPT_CHOICE, &a->weight, &a->have_weight, 0, 0, 0, weight_names, "weight", GA},
         {"--band", OPT_TEXT, &a->band, NULL, 0, 0, 0, NULL, NULL, GA},
         {"--offset", OPT_CHOICE, &a->offset, NULL, 0, 0, 0, offset_names, "offset", GA},
+        {"--u-before", OPT_REAL, &a->u_before, &a->have_u_before, 0, 0, 0, NULL,
+         "the input before the first row", GA | CLI_REAL_FITS},
         {"--phi-t", OPT_REAL, &a->phi_t, &a->have_phi_t, CHK_GE0, 0, 0, NULL, "a weight >= 0",
          GA | CLI_REAL_FITS},
         {"--phi-f", OPT_REAL, &a->phi_f, &a->have_phi_f, CHK_GE0, 0, 0, NULL, "a weight >= 0",
@@ -106,6 +108,8 @@ static char one_char(const char *opt, const char *v, const char *allowed)
 static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
 {
     if (!a->have_model) cli_fail(EXIT_USAGE, "identify: --model fopdt|sopdt|auto is required");
+    if (a->model == MODEL_AUTO && a->have_u_before)
+        cli_fail(EXIT_USAGE, "identify: --u-before goes with --model fopdt or sopdt");
     if (a->model == MODEL_AUTO && a->method != METHOD_GA)
         cli_fail(EXIT_USAGE, "identify: --model auto needs --method ga");
     const int band = a->have_weight && weight_kinds[a->weight] == PDT_IDENT_WEIGHT_BAND;
@@ -244,6 +248,17 @@ static void fail_outlier(const ident_data_t *d)
              k + 1u);
 }
 
+/* Whether u is constant over the record while y moves. */
+static int still_input(const ident_data_t *d)
+{
+    int u_moves = 0, y_moves = 0;
+    for (size_t k = 1; k < d->s.n; k++) {
+        u_moves = u_moves || d->u[k] != d->u[0];
+        y_moves = y_moves || (isfinite((double)d->y[k]) && d->y[k] != d->y[0]);
+    }
+    return !u_moves && y_moves;
+}
+
 /* The least --evaluations the library takes with this configuration: the
  * size query refuses a budget below it. */
 static uint32_t least_evaluations(pdt_ident_config_t cfg, size_t n)
@@ -279,6 +294,8 @@ static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
     cfg->f_hi = (pdt_real_t)a->f_hi;
     if (a->have_phi_t) cfg->phi_t = (pdt_real_t)a->phi_t;
     if (a->have_phi_f) cfg->phi_f = (pdt_real_t)a->phi_f;
+    cfg->u_before_given = a->have_u_before != 0;
+    cfg->u_before = (pdt_real_t)a->u_before;
 }
 
 /* The most samples the library leaves out of a record of n (its
@@ -314,13 +331,18 @@ static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind
                      "for this model, population and criterion",
                      (unsigned long)a->evaluations, (unsigned long)least);
     }
-    if (st == PDT_ERR_OUTLIER && pdt_ident_outlier(ctx) < n)
+    if (st == PDT_ERR_OUTLIER && pdt_ident_outlier(ctx) != SIZE_MAX)
         cli_fail(EXIT_REFUSED,
                  "cannot identify: %s: more than %lu samples (%s) to leave out, the first "
                  "at data row %zu (counting from 1): the record is too damaged",
                  pdt_status_str(st), (unsigned long)least_kept(&cfg, n),
                  "missing ones and gross errors", pdt_ident_outlier(ctx) + 1u);
     if (st == PDT_ERR_OUTLIER) fail_outlier(d);
+    if (st == PDT_ERR_NO_EXCITATION && !a->have_u_before && still_input(d))
+        cli_fail(EXIT_REFUSED,
+                 "cannot identify: %s: u never moves while y does: if the record begins at "
+                 "the step, give the input before the first row with --u-before U",
+                 pdt_status_str(st));
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
     /* The record as the fit saw it: the samples left out replaced by the

@@ -410,8 +410,8 @@ def test_weight_control_reports_band(at_rest_csv):
     """The band's edge is half the phase crossover of the model the time
     cost finds first: the truth's within 1 % on this record."""
     out = parse_output(identify_rest(at_rest_csv, "--weight", "control"))
-    assert list(out) == FOPDT_KEYS[:-7] + ["f_band", "searches", "coarse", "runner_up", "flags", "std",
-                                           "Ts", "n"]
+    assert list(out) == FOPDT_KEYS[:-9] + ["f_band", "searches", "coarse", "runner_up", "flags",
+                                           "evidence", "excluded", "std", "Ts", "n"]
     assert out["f_band"] == pytest.approx(half_crossover_hz(5.0, 1.3), rel=0.01)
     assert out["f_band"] <= 0.5 / TS
     assert out["K"] == pytest.approx(2.0, rel=0.02)
@@ -510,14 +510,22 @@ def test_frequency_default_weight_small_budget(at_rest_csv):
 
 
 def test_bad_value_cell_is_named(tmp_path, fopdt_record):
-    """A logger's bad-value marker is refused with its column, row and value,
-    not turned into a model."""
+    """A logger's bad-value marker is not turned into a model: in y it is
+    left out of the fit and named on stderr; in u it is refused with its
+    column, row and value."""
     t, u, y = fopdt_record
     y = y.copy()
     y[123] = -3e38
     path = write_csv(tmp_path / "bad.csv", {"t": t, "u": u, "y": y})
     res = run(["identify", "--model", "fopdt", path])
-    assert_usage_error(res, "gross outlier", "y = -3e+38 in data row 124", status=1)
+    assert res.returncode == 0, res.stderr
+    assert json.loads(res.stdout)["excluded"] == {"count": 1, "missing": 0, "first": [123]}
+    assert "1 sample left out of the fit (0 missing, 1 gross error), data row 124" in res.stderr
+    u = u.copy()
+    u[123] = -3e38
+    path = write_csv(tmp_path / "badu.csv", {"t": t, "u": u, "y": fopdt_record[2]})
+    res = run(["identify", "--model", "fopdt", path])
+    assert_usage_error(res, "gross outlier", "u = -3e+38 in data row 124", status=1)
 
 
 def test_model_auto_chooses_the_order(tmp_path):

@@ -89,3 +89,21 @@ def test_too_many_left_out_is_refused(tmp_path):
     res, _ = identify(tmp_path, u, bad)
     assert res.returncode == 1
     assert "data row 101" in res.stderr
+
+
+def test_record_from_the_step(tmp_path):
+    """A record that begins at the step: refused with a message naming
+    --u-before; with it, the plant (K = 2, tau = 5 s, Td = 1.3 s)."""
+    u = np.full(N, U0 + 5.0)
+    y = Y0 + simulate([2.0], [5.0, 1.0], 1.3, np.full(N, 5.0), TS) + noise(N, 0.02, 11)
+    res, _ = identify(tmp_path, u, y)
+    assert res.returncode == 1
+    assert "--u-before" in res.stderr
+    res, _ = identify(tmp_path, u, y, extra=("--u-before", str(U0)))
+    assert res.returncode == 0, res.stderr
+    out = json.loads(res.stdout)
+    assert out["u0"] == U0
+    assert out["K"] == pytest.approx(2.0, rel=0.01)
+    assert out["tau"] == pytest.approx(5.0, rel=0.03)
+    res = run(["identify", "--model", "auto", "--u-before", "0", "x.csv"])
+    assert res.returncode == 2 and "--u-before goes with" in res.stderr

@@ -166,6 +166,13 @@ typedef struct pdt_ident_config {
                             * gross errors together; more is refused with
                             * PDT_ERR_OUTLIER. 0: n / 20, at least
                             * 2 PDT_IDENT_RUN_MAX. Default 0 */
+    /* The input before the first sample, for a record that begins at
+     * the step (a heater switched on at the first row): the plant is
+     * taken at rest at u_before, and the result's u0 is it. Without it
+     * (u_before_given false) the input before the record is u[0], and a
+     * record whose u never moves is refused (PDT_ERR_NO_EXCITATION). */
+    bool u_before_given; /* Default false */
+    pdt_real_t u_before; /* input units; finite when given */
 } pdt_ident_config_t;
 
 /* One record: n samples of input u and output y, every Ts seconds, in the
@@ -209,7 +216,8 @@ typedef struct pdt_ident_std {
 
 typedef struct pdt_ident_result {
     pdt_model_t model;    /* the identified model, in engineering units */
-    pdt_real_t u0;        /* input operating point (u[0]) */
+    pdt_real_t u0;        /* input operating point: u[0], or the
+                               * configuration's u_before */
     pdt_real_t y0;        /* output operating point, estimated */
     pdt_real_t cost;      /* the criterion's value at the model */
     pdt_real_t fit;       /* normalised RMS fit of the simulated output,
@@ -527,7 +535,8 @@ pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t 
 
 /* After pdt_ident_step or pdt_ident_result returned PDT_ERR_OUTLIER (more
  * samples to leave out than max_excluded allows): the first of them,
- * 0-based; the caller's n otherwise (also for NULL or before init). */
+ * 0-based; SIZE_MAX otherwise (also for NULL, before init, and when
+ * init refused the record). */
 size_t pdt_ident_outlier(const pdt_ident_t *ctx);
 
 /* Whether sample k was left out of the fit (missing, or a gross error the
