@@ -101,7 +101,8 @@ class Record:
 
 def load_real(entry):
     name, fname, ucol, ycol, opts, u_before, what = entry
-    text = (DATA / fname).read_text()
+    # As committed, line ends and all (the TCLab file's are "\r\r\n").
+    text = (DATA / fname).read_bytes().decode("utf-8")
     return Record(name, text, ["--u", ucol, "--y", ycol, *opts], u_before, what)
 
 
@@ -127,7 +128,7 @@ def simulated(entry):
 def read_columns(rec):
     """u, y of the record's text as floats (NaN where not a number)."""
     ucol, ycol = rec.columns()
-    rows = list(csv.reader(io.StringIO(rec.text)))
+    rows = [r for r in csv.reader(io.StringIO(rec.text.replace("\r", ""))) if r]
     head = [h.strip().lower() for h in rows[0]]
     iu, iy = head.index(ucol.lower()), head.index(ycol.lower())
 
@@ -136,14 +137,14 @@ def read_columns(rec):
             return float(s)
         except ValueError:
             return math.nan
-    body = [r for r in rows[1:] if r]
+    body = rows[1:]
     return np.array([num(r[iu]) for r in body]), np.array([num(r[iy]) for r in body])
 
 
 def with_fault(rec, rows_to_set, cell, declare=None, name=""):
     """The record with the output cell of the given data rows replaced."""
     ucol, ycol = rec.columns()
-    rows = list(csv.reader(io.StringIO(rec.text)))
+    rows = [r for r in csv.reader(io.StringIO(rec.text.replace("\r", ""))) if r]
     iy = [h.strip().lower() for h in rows[0]].index(ycol.lower())
     for k in rows_to_set:
         rows[1 + k][iy] = cell

@@ -5,7 +5,6 @@ faults in a simulated noisy FOPDT record. Runs the pdtfit program
 ($PDTFIT_BIN, else the newest build/*/tools/pdtfit; skipped without one
 unless CI=true or PDTFIT_REQUIRE_BIN=1)."""
 import math
-import subprocess
 
 import numpy as np
 import pytest
@@ -16,13 +15,6 @@ from pdtsupport.cli import BIN, MISSING, binary_required
 if MISSING and binary_required():
     pytest.fail(MISSING, pytrace=False)
 pytestmark = pytest.mark.skipif(MISSING is not None, reason=str(MISSING))
-
-# Until the identification takes --u-before, the TCLab case is expected to
-# fail.
-_HELP = "" if MISSING else subprocess.run([str(BIN), "identify", "--help"],
-                                          capture_output=True, text=True).stdout
-needs_u_before = pytest.mark.xfail("--u-before" not in _HELP, strict=True,
-                                   reason="identify --u-before")
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +46,6 @@ def test_gas_furnace_at_the_reference_cost(gas):
     assert c <= row["c_ref"] * 1.001
 
 
-@needs_u_before
 def test_tclab_step_with_the_input_before(tclab):
     """The record begins at the step: with --u-before 0 the FOPDT is at the
     reference's cost and its K within 3 % of the reference's."""
