@@ -318,17 +318,20 @@ def reduce(gain, lags, zeros=(), delay=0.0, model="fopdt", method="skogestad", h
 
 
 def read_csv(path, t=None, u=None, y=None, *, fs=None, sep=None, decimal=None, skip=0,
-             time_unit="s", resample=False):
+             time_unit=None, resample=False):
     """Reads u, y and the sampling period from a CSV file with the reader of
     `pdtfit identify`. t, u, y: the columns (names or 1-based indexes; by
     default t, u, y). Returns a Record; raises ValueError naming the file,
-    line and column of a malformed file."""
+    line and column of a malformed file. time_unit None: the header's
+    ("t [ms]", "time_ms"), else s. A missing y (an empty cell, NaN, #N/A,
+    ERR, ...) is NaN in y, a missing u the u before it."""
     o = _lib.CsvOpts()
     o.t_col, o.u_col, o.y_col = (None if c is None else str(c).encode() for c in (t, u, y))
     o.sep = (sep or "\0").encode()
     o.decimal = (decimal or "\0").encode()
     o.skip = int(skip)
-    o.time_unit = _choice({"s": 0, "ms": 1, "us": 2}, time_unit, "time unit")
+    o.time_unit = -1 if time_unit is None else _choice(
+        {"s": 0, "ms": 1, "us": 2, "min": 3, "h": 4}, time_unit, "time unit")
     o.resample = int(bool(resample))
     o.fs = float(fs or 0.0)
     s = _lib.Series()

@@ -53,7 +53,7 @@ typedef struct pdtpy_csv_opts {
     const char *t_col, *u_col, *y_col; /* name or 1-based index; NULL default */
     char sep, decimal;                 /* 0: detect, '.' */
     unsigned skip;
-    int time_unit; /* 0 s, 1 ms, 2 us */
+    int time_unit; /* -1 the header's (else s), 0 s, 1 ms, 2 us, 3 min, 4 h */
     int resample;
     double fs; /* 0: from the time column */
 } pdtpy_csv_opts_t;

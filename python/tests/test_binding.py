@@ -224,3 +224,22 @@ def test_plot_returns_a_figure(records):
     fig = pdtfit.identify(u, y, fs).plot()
     assert type(fig).__name__ == "Figure" and len(fig.axes) == 2
     assert "FOPDT" in fig._suptitle.get_text() and math.isfinite(fig.axes[1].lines[0].get_ydata()[0])
+
+
+def test_read_csv_header_unit_and_missing_samples(records, tmp_path):
+    """The header's time unit and the missing samples, as the program
+    reads them: t [ms] in milliseconds, #N/A in y NaN, an empty u the u
+    before it; a unit given overrides the header."""
+    u, y, fs = records["fopdt"]
+    lines = ["t [ms],u,y"] + [f"{1000.0 * k / fs!r},{float(a)!r},{float(b)!r}" for k, (a, b) in
+                               enumerate(zip(u, y))]
+    lines[11] = lines[11].rsplit(",", 1)[0] + ",#N/A"
+    t, _, last = lines[21].split(",")
+    lines[21] = f"{t},,{last}"
+    path = tmp_path / "ms.csv"
+    path.write_text("\n".join(lines) + "\n")
+    rec = pdtfit.read_csv(path)
+    assert rec.Ts == pytest.approx(1.0 / fs, rel=1e-9)
+    assert math.isnan(rec.y[10]) and np.isfinite(np.delete(rec.y, 10)).all()
+    assert rec.u[20] == rec.u[19]
+    assert pdtfit.read_csv(path, time_unit="s").Ts == pytest.approx(1000.0 / fs, rel=1e-9)
