@@ -28,8 +28,9 @@ of every real record and of two simulated noisy records (a FOPDT and a
 SOPDT): one historian marker, -9999, 9999, 32767, -32768, 65535 or 1e6, at
 one of two positions, as a number the program is not told about, as the
 same number declared with --bad-value, and as marker text (#N/A, NaN, an
-empty cell, ERR, #VALUE!, Bad Input); and a dropout of 10 samples to 0, as
-numbers and as empty cells. Each answer is compared with the clean record's
+empty cell, ERR, #VALUE!, Bad Input); a dropout of 10 samples to 0, as
+numbers and as empty cells; and a marker in the input (#N/A, or -9999
+declared). Each answer is compared with the clean record's
 answer of the same model: within 2 % in K and 5 % in tau (FOPDT) or wn
 (SOPDT) it is right; refused (non-zero exit without a model) or flagged
 (exit 3 or a flag) it is caught; anything else is silently wrong.
@@ -141,11 +142,12 @@ def read_columns(rec):
     return np.array([num(r[iu]) for r in body]), np.array([num(r[iy]) for r in body])
 
 
-def with_fault(rec, rows_to_set, cell, declare=None, name=""):
-    """The record with the output cell of the given data rows replaced."""
-    ucol, ycol = rec.columns()
+def with_fault(rec, rows_to_set, cell, declare=None, name="", column=1):
+    """The record with the output cell (column 0: the input's) of the given
+    data rows replaced."""
+    col = rec.columns()[column]
     rows = [r for r in csv.reader(io.StringIO(rec.text.replace("\r", ""))) if r]
-    iy = [h.strip().lower() for h in rows[0]].index(ycol.lower())
+    iy = [h.strip().lower() for h in rows[0]].index(col.lower())
     for k in rows_to_set:
         rows[1 + k][iy] = cell
     out = io.StringIO()
@@ -385,6 +387,10 @@ def fault_cases(rec):
                     with_fault(rec, rows, "0", name=rec.name)))
         out.append((f"empty at {k}..{k + DROPOUT - 1}", "dropout text",
                     with_fault(rec, rows, "", name=rec.name)))
+        out.append((f"u \"#N/A\" at {k}", "u marker",
+                    with_fault(rec, [k], "#N/A", name=rec.name, column=0)))
+        out.append((f"u -9999 at {k}, --bad-value", "u marker",
+                    with_fault(rec, [k], "-9999", declare="-9999", name=rec.name, column=0)))
     return out
 
 
@@ -473,7 +479,7 @@ def real_table(rows):
 
 
 def fault_tables(results):
-    kinds = ("number", "declared", "text", "dropout", "dropout text")
+    kinds = ("number", "declared", "text", "dropout", "dropout text", "u marker")
     keys = sorted({(r["record"], r["model"]) for r in results}, key=lambda k: (k[0], k[1]))
     out = ["| record | model | " + " | ".join(kinds) + " | right | caught | silently wrong |",
            "|---|---|" + "---|" * (len(kinds) + 3)]

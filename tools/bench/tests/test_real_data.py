@@ -84,5 +84,6 @@ def test_fault_cases_cover_the_issue(sim):
     kinds = [k for _, k, _ in cases]
     assert kinds.count("number") == kinds.count("declared") == 12
     assert kinds.count("text") == 12 and kinds.count("dropout") == 2
+    assert kinds.count("u marker") == 4
     u, y = rd.read_columns(cases[0][2])
     assert np.sum(y == -9999.0) == 1 and not math.isnan(y[0])
