@@ -506,16 +506,24 @@ static pdt_status_t check_work(const pdt_ident_config_t *cfg, size_t n, const vo
     return work_len < need ? PDT_ERR_NOMEM : PDT_OK;
 }
 
+/* The workspace (aligned for pdt_real_t, checked by init) in reals. */
+static pdt_real_t *reals_of(void *work)
+{
+    return (pdt_real_t *)work;
+}
+
 /* The screen's part at the workspace's end: the filled y (n reals), then
  * its mask (n bits). */
 static void screen_layout(const pdt_ident_config_t *cfg, size_t n, void *work,
                           pdt_ident_screen_t *s)
 {
     const size_t at = pdt_ident_workspace_size(cfg, n) / sizeof(pdt_real_t) - screen_reals(n);
-    s->yfill = (pdt_real_t *)work + at;
     const size_t bits = 8u * sizeof(pdt_real_t);
-    s->mask = (uint8_t *)(void *)(s->yfill + n);
-    s->fresh = (uint8_t *)(void *)(s->yfill + n + (n + bits - 1u) / bits);
+    s->yfill = &reals_of(work)[at];
+    /* Bytes of the reals after the filled y: a character type may alias
+     * any object. */
+    s->mask = (uint8_t *)&s->yfill[n];
+    s->fresh = (uint8_t *)&s->yfill[n + (n + bits - 1u) / bits];
     s->work = work;
 }
 
@@ -523,10 +531,10 @@ static void screen_layout(const pdt_ident_config_t *cfg, size_t n, void *work,
  * workspace (cost_bytes). */
 static void carve(pdt_ident_t *c, void *work, size_t cost_bytes)
 {
-    cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
-    /* work is aligned for pdt_real_t and cost_bytes a whole number of
-     * reals, so the rest of the workspace is addressed in reals. */
-    pdt_real_t *p = (pdt_real_t *)work + cost_bytes / sizeof(pdt_real_t);
+    const size_t whole = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t);
+    /* work is aligned for pdt_real_t and the cost's part a whole number
+     * of reals, so the rest of the workspace is addressed in reals. */
+    pdt_real_t *p = &reals_of(work)[whole];
     size_t P = c->cfg.population, G = c->genes;
     c->ga.pop = p;
     p += P * G;
@@ -708,11 +716,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 
 pdt_status_t pdt_ident_restart(pdt_ident_t *c)
 {
-    pdt_ident_screen_t s = c->screen;
-    s.prior += c->evaluations;
-    const pdt_ident_config_t cfg = c->cfg;
-    const pdt_ident_data_t d = c->data;
-    return start(c, &cfg, &d, s.work, s.work_len, &s);
+    /* start copies what it keeps before it writes *c. */
+    c->screen.prior += c->evaluations;
+    return start(c, &c->cfg, &c->data, c->screen.work, c->screen.work_len, &c->screen);
 }
 
 size_t pdt_ident_outlier(const pdt_ident_t *ctx)

@@ -73,7 +73,8 @@ static void fill_gaps(pdt_real_t *y, const uint8_t *m, size_t n)
             } else if (j == n) {
                 y[i] = y[last];
             } else {
-                const pdt_real_t w = (pdt_real_t)(i - last) / (pdt_real_t)(j - last);
+                const size_t step = i - last, gap = j - last;
+                const pdt_real_t w = (pdt_real_t)step / (pdt_real_t)gap;
                 y[i] = y[last] + w * (y[j] - y[last]);
             }
         }
@@ -154,6 +155,9 @@ static pdt_real_t window_median(const pdt_real_t *e, const pdt_real_t *ring, siz
     const size_t len = n < SCREEN_WINDOW ? n : SCREEN_WINDOW;
     size_t s = k > PDT_IDENT_SCREEN_HALF ? k - PDT_IDENT_SCREEN_HALF : 0u;
     s = (s + len > n) ? n - len : s;
+    for (size_t i = 0u; i < SCREEN_WINDOW; i++) {
+        w[i] = PDT_R(0.0);
+    }
     for (size_t i = 0u; i < len; i++) {
         const size_t j = s + i;
         const pdt_real_t v = (j < k) ? ring[j % SCREEN_WINDOW] : e[j];
