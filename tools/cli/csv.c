@@ -42,7 +42,7 @@ typedef struct reader {
     int unit, unit_from; /* the time unit taken (PDTCLI_TIME_*, _UNIT_*) */
     char unit_text[24];  /* the header's unit when it is no time unit */
     int iso;             /* a t cell was an ISO date-time */
-    int t_by_time;       /* the t column is the default name "time" */
+    int t_by_time;       /* the t column is a default name past t */
     char *err;
     size_t errlen;
 } reader_t;
@@ -283,13 +283,18 @@ static span_t split_unit_suffix(span_t s, int *unit)
     return s;
 }
 
-/* Whether a header cell names the time by default: t or time, with or
- * without a unit (family 0: t, 1: time). */
+/* The default names of the time column, in the order they are looked
+ * for. */
+static const char *const time_names[] = {"t", "time", "timestamp"};
+#define TIME_FAMILIES (sizeof time_names / sizeof time_names[0])
+
+/* Whether a header cell names the time by default: time_names[family],
+ * with or without a unit. */
 static int is_time_name(span_t s, int family)
 {
     int unit;
     s = split_unit_suffix(strip_unit(s), &unit);
-    return span_is(s, family ? "time" : "t");
+    return span_is(s, time_names[family]);
 }
 
 /* A default name of column c in the header cell. */
@@ -301,14 +306,14 @@ static int default_name(int c, span_t cell, int family)
 }
 
 /* The column chosen by spec (a name or a 1-based index: the first match),
- * else by the default names (-2 when two match; t before time); -1 when
- * absent. */
+ * else by the default names (-2 when two match; t before time before
+ * timestamp); -1 when absent. */
 static long find_column(const reader_t *r, int c, const char *spec)
 {
     unsigned long idx;
     if (spec && whole_number(spec, &idx)) return idx >= 1 && idx <= r->ncols ? (long)idx - 1 : -1;
     long found = -1;
-    for (int family = 0; family < 2 && found == -1; family++)
+    for (int family = 0; family < (int)TIME_FAMILIES && found == -1; family++)
         for (size_t i = 0; i < r->ncols; i++) {
             const int hit = spec ? family == 0 && span_is(strip_unit(r->fields[i]), spec)
                                  : default_name(c, r->fields[i], family);
@@ -582,8 +587,8 @@ static int read_row(reader_t *r, span_t line)
         if (r->col[c] < 0) continue;
         span_t s = trim(r->fields[r->col[c]]);
         int rc = c == COL_T ? parse_time(r, s, dest[c]) : parse_number(r, c, s, dest[c]);
-        /* A column "time" of clock times a file had beside --fs before it
-         * was a default name: left aside, as then. */
+        /* A column "time" or "timestamp" of clock times a file had beside
+         * --fs before they were default names: left aside, as then. */
         if (rc < 0 && c == COL_T && r->t_by_time && r->rows == 0 && r->o->fs > 0.0) {
             r->col[COL_T] = -1;
             r->unit_from = PDTCLI_UNIT_DEFAULT;

@@ -98,7 +98,7 @@ static const char *const identify_text[] = {
     "  one row per sample; lines starting with '#' are skipped.\n"
     "  --t COL, --u COL, --y COL  the time, input and output columns, by name\n"
     "                        (any case; a unit in brackets, \"y [degC]\", ignored)\n"
-    "                        or by 1-based index. Default t (or time), u, y (or pv)\n"
+    "                        or by 1-based index. Default t (time, timestamp), u, y (pv)\n"
     "  --sep C               separator ',', ';' or tab (default: found in the header)\n"
     "  --decimal C           '.' or ','; a ',' is read as a decimal point anyway when\n"
     "                        the separator is ';' or tab\n"

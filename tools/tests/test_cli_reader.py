@@ -175,7 +175,7 @@ def test_bad_value_usage(tmp_path, rec):
 @pytest.mark.parametrize("header,scale", [
     ("t [ms]", 1e3), ("time_ms", 1e3), ("t (us)", 1e6), ("Time [s]", 1.0), ("time", 1.0),
     ("t_min", 1.0 / 60.0), ("T [msec]", 1e3), ("t_us", 1e6), ("Time (h)", 1.0 / 3600.0),
-    ("t [\u00b5s]", 1e6)])
+    ("t [\u00b5s]", 1e6), ("timestamp [ms]", 1e3), ("Timestamp_s", 1.0)])
 def test_time_unit_from_the_header(tmp_path, rec, header, scale):
     t, u, y = rec
     path = tmp_path / "unit.csv"
