@@ -348,8 +348,10 @@ def real_row(binary, rec, model):
     ref = Reference(model, u, np.where(np.isfinite(y), y, 0.0), j["Ts"], u0, mask, initial,
                     y0=j["y0"] if fixed else None)
     mr, off, c_ref = ref.fit(starts=[ref.start_of(m)])
+    _, _, c_own = ref.fit()
     c_pdt = score(m, j["y0"], u, np.where(np.isfinite(y), y, 0.0), j["Ts"], u0, mask, initial)
-    row.update(json=j, ref=mr, ref_y0=off, c_ref=c_ref, c_pdt=c_pdt, ratio=c_pdt / c_ref,
+    row.update(json=j, ref=mr, ref_y0=off, c_ref=c_ref, c_own=c_own, c_pdt=c_pdt,
+               ratio=c_pdt / c_ref,
                initial=initial, fitted=int(mask.sum()), n=n, unlisted=unlisted(j),
                offset="rest level" if fixed else "free")
     return row
@@ -460,12 +462,12 @@ def fmt_model(m, y0=None):
 
 def real_table(rows):
     out = ["| record | model | pdtfit | reference (scipy) | samples fitted | offset "
-           "| initial state | cost pdtfit | cost reference | ratio |",
-           "|---|---|---|---|---|---|---|---|---|---|"]
+           "| initial state | cost pdtfit | cost reference | its own starts | ratio |",
+           "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         if "json" not in r:
             out.append(f"| {r['record']} | {r['model']} | refused (exit {r['status']}): "
-                       f"{r['error'].splitlines()[-1] if r['error'] else ''} | | | | | | | |")
+                       f"{r['error'].splitlines()[-1] if r['error'] else ''} | | | | | | | | |")
             continue
         j = r["json"]
         flags = f" flags {', '.join(j['flags'])}" if j.get("flags") else ""
@@ -474,6 +476,7 @@ def real_table(rows):
                    + (f" ({r['unlisted']} more left out, unlisted)" if r['unlisted'] else "") +
                    " "
                    f"| {r['offset']} | {r['initial']} | {r['c_pdt']:.6g} | {r['c_ref']:.6g} "
+                   f"| {r['c_own']:.6g} "
                    f"| {r['ratio']:.5f} |")
     return "\n".join(out)
 
