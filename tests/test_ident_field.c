@@ -297,6 +297,47 @@ static void test_u_before(void **state)
     }
 }
 
+/* A heater's sine test (50 % +- 20 %, off before it) of a slow FOPDT:
+ * the whole record with the input before it is found and not flagged; cut
+ * 200 samples in, while the output still settles, it is flagged
+ * MID_TRANSIENT (initial AUTO), and not with REST. */
+static void test_mid_transient(void **state)
+{
+    (void)state;
+    const pdt_model_t t = model_fopdt(0.8, 150.0, 14.0);
+    static pdt_real_t u_all[N + 200u], y_all[N + 200u];
+    pdt_discrete_t d;
+    sim_rng_t rng = 31u;
+    for (size_t k = 0; k < N + 200u; k++) {
+        u_all[k] = (pdt_real_t)(50.0 + 20.0 * sin(2.0 * 3.14159265358979 * (double)k / 300.0));
+    }
+    assert_int_equal(pdt_discrete_init(&t, (pdt_real_t)1.0, &d), PDT_OK);
+    assert_int_equal(pdt_discrete_simulate(&d, u_all, N + 200u, y_all), PDT_OK);
+    for (size_t cut = 0; cut <= 200u; cut += 200u) {
+        pdt_ident_result_t r;
+        pdt_ident_config_t cfg;
+        for (size_t k = 0; k < N; k++) {
+            g_u[k] = u_all[cut + k];
+            g_y[k] = (pdt_real_t)(24.0 + (double)y_all[cut + k] + 0.1 * sim_rng_normal(&rng));
+        }
+        pdt_ident_config_default(&cfg);
+        cfg.u_before_given = cut == 0u;
+        assert_int_equal(run(PDT_MODEL_FOPDT, &cfg, &r), PDT_OK);
+        print_message("  sine from sample %u: K %.3f tau %.1f Td %.1f flags 0x%x\n", (unsigned)cut,
+                      (double)r.model.p.fopdt.K, (double)r.model.p.fopdt.tau,
+                      (double)r.model.p.fopdt.Td, (unsigned)r.flags);
+        if (cut == 0u) {
+            assert_int_equal(r.flags, 0u);
+            assert_true(fabs((double)r.model.p.fopdt.K / 0.8 - 1.0) < 0.02);
+            continue;
+        }
+        assert_true((r.flags & PDT_IDENT_FLAG_MID_TRANSIENT) != 0u);
+        cfg.initial = PDT_IDENT_INITIAL_REST;
+        assert_int_equal(run(PDT_MODEL_FOPDT, &cfg, &r), PDT_OK);
+        assert_int_equal(r.flags & PDT_IDENT_FLAG_MID_TRANSIENT, 0u);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -307,6 +348,7 @@ int main(void)
         cmocka_unit_test(test_clean_unchanged),
         cmocka_unit_test(test_no_relation),
         cmocka_unit_test(test_u_before),
+        cmocka_unit_test(test_mid_transient),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

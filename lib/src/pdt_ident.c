@@ -275,6 +275,9 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     if (cfg->delay_mode != PDT_DELAY_FRACTIONAL && cfg->delay_mode != PDT_DELAY_INTEGER) {
         return PDT_ERR_ARG;
     }
+    if (cfg->initial != PDT_IDENT_INITIAL_AUTO && cfg->initial != PDT_IDENT_INITIAL_REST) {
+        return PDT_ERR_ARG;
+    }
     const pdt_status_t wst = check_weight(cfg);
     if (wst != PDT_OK) {
         return wst;

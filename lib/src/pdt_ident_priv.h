@@ -15,6 +15,7 @@
  *   pdt_ident_rest.c    the output offset from the rest window (rest)
  *   pdt_ident_coarse.c  the searches' coarse record, the whole one after
  *   pdt_ident_screen.c  missing samples and gross errors left out (screen)
+ *   pdt_ident_initial.c whether the record started at rest
  *
  * A stage function does at most one evaluation, or one preparation as
  * costly as init, and sets c->phase to what comes next.
@@ -254,6 +255,13 @@ pdt_status_t pdt_ident_screen_prepare(pdt_ident_screen_t *s, const pdt_ident_con
 void pdt_ident_screen_step(pdt_ident_t *c);
 /* The result's excluded, missing and excluded_first. */
 void pdt_ident_screen_report(const pdt_ident_screen_t *s, size_t n, pdt_ident_result_t *r);
+
+/* ---- pdt_ident_initial.c */
+
+/* Whether the answer's residual e (n reals) moves over the record's first
+ * samples more than the noise and a share of y's range: the output was
+ * moving at the start where the model says it was still. */
+bool pdt_ident_mid_transient(const pdt_real_t *e, const pdt_real_t *y, size_t n);
 
 /* ---- pdt_ident.c */
 

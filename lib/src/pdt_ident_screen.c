@@ -1,5 +1,5 @@
 /*
- * Gross errors and missing samples (docs/ident-engine.md, "Gross
+ * Gross errors and missing samples (docs/field-data.md, "Gross
  * errors"). The record's y is kept in the workspace (screen.yfill) with
  * a bit per sample (screen.mask) for the samples left out of the fit:
  * the missing ones (not finite in the caller's y), marked at init, and

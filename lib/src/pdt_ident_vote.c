@@ -351,7 +351,7 @@ static pdt_real_t sum_sq(const pdt_real_t *x, size_t n, pdt_real_t m)
     return s;
 }
 
-/* The model against the null model (docs/ident-engine.md, "No model
+/* The model against the null model (docs/field-data.md, "No model
  * without evidence"): the likelihood-ratio statistic (n / c)
  * ln(SS_null / SS_model), where c = 1 + 2 sum_{l=1..L}
  * rho_x(l) rho_y(l) (at least 1) is Bartlett's factor of the variance of
@@ -389,6 +389,16 @@ static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
     }
     if (!(c->evidence >= EVIDENCE_MIN) || !(c->fit >= FIT_FLOOR)) {
         c->flags |= PDT_IDENT_FLAG_NO_RELATION;
+    }
+    if (c->cfg.initial == PDT_IDENT_INITIAL_AUTO && c->evidence > PDT_R(0.0)) {
+        /* The residual in place of the simulated output. */
+        const size_t n = c->data.n;
+        for (size_t k = 0; k < n; k++) {
+            c->scratch[k] = c->data.y[k] - c->scratch[k];
+        }
+        if (pdt_ident_mid_transient(c->scratch, c->data.y, n)) {
+            c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
+        }
     }
 }
 

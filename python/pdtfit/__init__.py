@@ -190,13 +190,13 @@ def _opt(v):
 
 
 _GA_ONLY = ("cost", "seed", "evaluations", "population", "weight", "band", "phi_t", "phi_f",
-            "integer_delay", "coarse", "u_before")
+            "integer_delay", "coarse", "u_before", "initial")
 
 
 def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None,
              method="ga", evaluations=None, population=None, td_max=None, weight=None,
              band=None, phi_t=None, phi_f=None, integer_delay=False, coarse=None,
-             u_before=None, missing="exclude"):
+             u_before=None, missing="exclude", initial="auto"):
     """Identifies a FOPDT or SOPDT model from a record with the options of
     `pdtfit identify`: the genetic-algorithm search (method "ga",
     pdt_identify) or the least-squares delay scans "elms" and "eiv"
@@ -205,7 +205,8 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     whole record; `pdtfit identify --coarse`). u_before is the input
     before the first sample (`--u-before`); a NaN in y is a missing sample,
     left out of the fit and counted (missing="exclude"), or refused
-    (missing="refuse"). Give the sampling
+    (missing="refuse"); initial="auto" tests whether the record starts at
+    rest (flag mid_transient), "rest" does not. Give the sampling
     rate as fs (Hz) or Ts (s). Returns an IdentResult; raises PdtError when
     the library refuses the data or the options."""
     if (fs is None) == (Ts is None):
@@ -221,7 +222,7 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
         given = dict(cost=cost != "simulation", seed=seed != 1, evaluations=evaluations,
                      population=population, weight=weight, band=band, phi_t=phi_t,
                      phi_f=phi_f, integer_delay=integer_delay, coarse=coarse,
-                     u_before=u_before)
+                     u_before=u_before, initial=initial != "auto")
         extra = [k for k in _GA_ONLY if given[k] not in (None, False)]
         if extra:
             raise ValueError(f"{', '.join(extra)}: options of method='ga' only")
@@ -239,6 +240,7 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     o.td_max, o.phi_t, o.phi_f = _opt(td_max), _opt(phi_t), _opt(phi_f)
     o.u_before = _opt(u_before)
     o.refuse_missing = _choice({"exclude": 0, "refuse": 1}, missing, "missing")
+    o.initial = _choice({"auto": 0, "rest": 1}, initial, "initial")
     native = (ctypes.c_double * 5)()
     buf = ctypes.create_string_buffer(_JSON_LEN)
     _check(lib.pdtpy_identify(pu, py, len(u), Ts, ctypes.byref(o), native, buf, _JSON_LEN),

@@ -31,7 +31,8 @@ class IdentOpts(ctypes.Structure):
                 ("td_max", ctypes.c_double), ("f_lo", ctypes.c_double),
                 ("f_hi", ctypes.c_double), ("phi_t", ctypes.c_double),
                 ("phi_f", ctypes.c_double), ("coarse", ctypes.c_uint32),
-                ("u_before", ctypes.c_double), ("refuse_missing", ctypes.c_int)]
+                ("u_before", ctypes.c_double), ("refuse_missing", ctypes.c_int),
+                ("initial", ctypes.c_int)]
 
 
 class TuneOpts(ctypes.Structure):

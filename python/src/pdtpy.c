@@ -181,6 +181,7 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
     cfg.u_before_given = !isnan(o->u_before);
     cfg.u_before = cfg.u_before_given ? (pdt_real_t)o->u_before : (pdt_real_t)0;
     cfg.refuse_missing = o->refuse_missing != 0;
+    cfg.initial = (pdt_ident_initial_t)o->initial;
 
     pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n);
     pdt_ident_result_t res;

@@ -43,6 +43,7 @@ typedef struct pdtpy_ident_opts {
     uint32_t coarse; /* 0 automatic */
     double u_before;    /* the input before the record; NaN: not given */
     int refuse_missing; /* a non-finite y is refused, not left out */
+    int initial;        /* pdt_ident_initial_t */
 } pdtpy_ident_opts_t;
 
 typedef struct pdtpy_tune_opts {

@@ -87,7 +87,7 @@ def null_rows(binary, seeds):
 
 
 def clean_rows(binary):
-    total = left_out = flagged = 0
+    total = left_out = flagged = mid = 0
     least = float("inf")
     for t, exc, snr in itertools.product(TRUTHS + MORE, ("step", "pulse", "prbs", "chirp", "relay"),
                                          (60, 40, 25, 10, 5)):
@@ -97,10 +97,11 @@ def clean_rows(binary):
             total += 1
             left_out += j["excluded"]["count"] > 0
             flagged += "no_relation" in j["flags"]
+            mid += "mid_transient" in j["flags"]
             least = min(least, j["evidence"])
-    return ("| records | with samples left out | flagged no_relation | least evidence |\n"
-            "|---:|---:|---:|---:|\n"
-            f"| {total} | {left_out} | {flagged} | {least:.1f} |")
+    return ("| records | with samples left out | flagged no_relation | flagged mid_transient "
+            "| least evidence |\n|---:|---:|---:|---:|---:|\n"
+            f"| {total} | {left_out} | {flagged} | {mid} | {least:.1f} |")
 
 
 def main():

@@ -17,6 +17,8 @@ static const char *const unit_names[] = {"s", "ms", "us", "min", "h", NULL};
 static const char *const bad_rows_names[] = {"missing", "refuse", NULL};
 /* --offset: in pdt_ident_offset_t's order. */
 static const char *const offset_names[] = {"auto", "estimate", "rest", NULL};
+/* --initial: in pdt_ident_initial_t's order. */
+static const char *const initial_names[] = {"auto", "rest", NULL};
 
 #define GA CLI_GA_ONLY
 
@@ -37,6 +39,7 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--weight", OPT_CHOICE, &a->weight, &a->have_weight, 0, 0, 0, weight_names, "weight", GA},
         {"--band", OPT_TEXT, &a->band, NULL, 0, 0, 0, NULL, NULL, GA},
         {"--offset", OPT_CHOICE, &a->offset, NULL, 0, 0, 0, offset_names, "offset", GA},
+        {"--initial", OPT_CHOICE, &a->initial, NULL, 0, 0, 0, initial_names, "initial state", GA},
         {"--u-before", OPT_REAL, &a->u_before, &a->have_u_before, 0, 0, 0, NULL,
          "the input before the first row", GA | CLI_REAL_FITS},
         {"--phi-t", OPT_REAL, &a->phi_t, &a->have_phi_t, CHK_GE0, 0, 0, NULL, "a weight >= 0",
@@ -294,6 +297,7 @@ static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
     cfg->f_hi = (pdt_real_t)a->f_hi;
     if (a->have_phi_t) cfg->phi_t = (pdt_real_t)a->phi_t;
     if (a->have_phi_f) cfg->phi_f = (pdt_real_t)a->phi_f;
+    cfg->initial = (pdt_ident_initial_t)a->initial;
     cfg->u_before_given = a->have_u_before != 0;
     cfg->u_before = (pdt_real_t)a->u_before;
 }
@@ -545,6 +549,12 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
                  "at least %g needed; fit %.3g%%, at least %g%% needed): the record shows no "
                  "relation of y to u; check the columns, or record a larger input change",
                  (double)r->evidence, PDT_IDENT_EVIDENCE_MIN, (double)r->fit, PDT_IDENT_FIT_FLOOR);
+        warned = 1;
+    }
+    if (r->flags & PDT_IDENT_FLAG_MID_TRANSIENT) {
+        cli_warn("identify: the record does not start at rest (y moves at the start where the "
+                 "model is still): the model bent to explain it; cut the record where the "
+                 "process is settled, or give --u-before if it begins at a step");
         warned = 1;
     }
     if (r->flags & PDT_IDENT_FLAG_AMBIGUOUS) {

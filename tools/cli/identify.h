@@ -11,7 +11,7 @@
 enum { METHOD_GA, METHOD_ELMS, METHOD_EIV };
 
 typedef struct ident_args {
-    int model, method, cost, weight, offset, integer_delay, time_unit, resample;
+    int model, method, cost, weight, offset, initial, integer_delay, time_unit, resample;
     int bad_rows, force;
     cli_list_t bad_values;
     double td_max, fs, phi_t, phi_f, f_lo, f_hi, u_before;

@@ -126,7 +126,8 @@ static void certainty_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
     } flags[] = {{PDT_IDENT_FLAG_UNCONFIRMED, "unconfirmed"},
                  {PDT_IDENT_FLAG_AMBIGUOUS, "ambiguous"},
                  {PDT_IDENT_FLAG_AT_BOUND, "at_bound"},
-                 {PDT_IDENT_FLAG_NO_RELATION, "no_relation"}};
+                 {PDT_IDENT_FLAG_NO_RELATION, "no_relation"},
+                 {PDT_IDENT_FLAG_MID_TRANSIENT, "mid_transient"}};
     pdtcli_jb_uint(jb, "searches", (unsigned long)r->searches);
     pdtcli_jb_uint(jb, "coarse", (unsigned long)r->coarse);
     pdtcli_jb_key(jb, "runner_up", (double)r->runner_up);

@@ -107,3 +107,18 @@ def test_record_from_the_step(tmp_path):
     assert out["tau"] == pytest.approx(5.0, rel=0.03)
     res = run(["identify", "--model", "auto", "--u-before", "0", "x.csv"])
     assert res.returncode == 2 and "--u-before goes with" in res.stderr
+
+
+def test_record_cut_mid_transient(tmp_path):
+    """A heater's sine test cut while the output still settles: flagged
+    mid_transient, exit 3; --initial rest does not test it."""
+    n = N + 200
+    k = np.arange(n)
+    u = 50.0 + 20.0 * np.sin(2 * np.pi * k / 300.0)
+    y = 24.0 + simulate([0.8], [15.0, 1.0], 1.4, u, TS) + noise(n, 0.1, 3)
+    res, _ = identify(tmp_path, u[200:], y[200:])
+    assert res.returncode == 3, res.stderr
+    assert "mid_transient" in json.loads(res.stdout)["flags"]
+    assert "does not start at rest" in res.stderr
+    res, _ = identify(tmp_path, u[200:], y[200:], extra=("--initial", "rest"))
+    assert "mid_transient" not in json.loads(res.stdout)["flags"]

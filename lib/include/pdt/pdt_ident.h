@@ -79,6 +79,14 @@ typedef enum pdt_ident_offset {
     PDT_IDENT_OFFSET_REST = 2      /* the output's mean over the rest window */
 } pdt_ident_offset_t;
 
+/* The plant's state at the record's start. */
+typedef enum pdt_ident_initial {
+    PDT_IDENT_INITIAL_AUTO = 0, /* at rest, tested: an answer whose residual
+                                 * keeps a decay from the first sample gets
+                                 * PDT_IDENT_FLAG_MID_TRANSIENT */
+    PDT_IDENT_INITIAL_REST = 1  /* at rest, not tested */
+} pdt_ident_initial_t;
+
 typedef struct pdt_ident_config {
     pdt_model_kind_t model;    /* FOPDT or SOPDT. Default FOPDT */
     pdt_real_t Ts;             /* sampling period, s. Must be set (> 0) */
@@ -151,7 +159,7 @@ typedef struct pdt_ident_config {
                                * Either way the whole record is searched
                                * again when the answer is too fast for the
                                * coarse record. Default 0 */
-    /* Gross errors and missing samples (docs/ident-engine.md, "Gross
+    /* Gross errors and missing samples (docs/field-data.md, "Gross
      * errors"). A y sample that is not finite (NaN, infinity: a logger's
      * empty cell or bad-value marker) is a missing sample: left out of the
      * fit, counted in pdt_ident_result_t.excluded and .missing. After the
@@ -171,8 +179,9 @@ typedef struct pdt_ident_config {
      * taken at rest at u_before, and the result's u0 is it. Without it
      * (u_before_given false) the input before the record is u[0], and a
      * record whose u never moves is refused (PDT_ERR_NO_EXCITATION). */
-    bool u_before_given; /* Default false */
-    pdt_real_t u_before; /* input units; finite when given */
+    bool u_before_given;         /* Default false */
+    pdt_ident_initial_t initial; /* Default AUTO */
+    pdt_real_t u_before;         /* input units; finite when given */
 } pdt_ident_config_t;
 
 /* One record: n samples of input u and output y, every Ts seconds, in the
@@ -264,13 +273,16 @@ typedef struct pdt_ident_result {
  *               bound: the optimum may lie outside;
  *  NO_RELATION  the model is not significantly better than the output's
  *               mean (evidence below PDT_IDENT_EVIDENCE_MIN), or its fit
- *               is below PDT_IDENT_FIT_FLOOR: the
- *               record shows no relation of y to u (docs/ident-engine.md,
- *               "No model without evidence"). */
-#define PDT_IDENT_FLAG_UNCONFIRMED 0x1u
-#define PDT_IDENT_FLAG_AMBIGUOUS   0x2u
-#define PDT_IDENT_FLAG_AT_BOUND    0x4u
-#define PDT_IDENT_FLAG_NO_RELATION 0x8u
+ *               is below PDT_IDENT_FIT_FLOOR: the record shows no
+ *               relation of y to u (docs/field-data.md);
+ *  MID_TRANSIENT the record does not start at rest: the answer's residual
+ *               keeps a decay from the first sample (initial AUTO), and
+ *               the model bent to explain it (docs/field-data.md). */
+#define PDT_IDENT_FLAG_UNCONFIRMED   0x1u
+#define PDT_IDENT_FLAG_AMBIGUOUS     0x2u
+#define PDT_IDENT_FLAG_AT_BOUND      0x4u
+#define PDT_IDENT_FLAG_NO_RELATION   0x8u
+#define PDT_IDENT_FLAG_MID_TRANSIENT 0x10u
 
 /* NO_RELATION's bounds: the least evidence (pdt_ident_result_t.evidence;
  * about the 99.9 % quantile of chi-square with 3 degrees of freedom) and
