@@ -1359,6 +1359,8 @@ static void test_errors_data(void **state)
     static const size_t where[] = {0u, 1u, ERR_N / 2u, ERR_N - 1u};
     (void)state;
     error_record();
+    /* A non-finite y is a missing sample unless refused (test_ident_field.c). */
+    cfg.refuse_missing = true;
     for (size_t v = 0; v < 3u; v++) {
         for (size_t w = 0; w < 4u; w++) {
             pdt_real_t *arr[2] = {g_u, g_y};
@@ -1371,6 +1373,7 @@ static void test_errors_data(void **state)
             }
         }
     }
+    cfg.refuse_missing = false;
     /* Too short: fewer than PDT_MIN_SAMPLES, or a dead-time bound at or
      * beyond the record. */
     data.n = PDT_MIN_SAMPLES - 1u;

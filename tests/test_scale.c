@@ -57,12 +57,15 @@ static void load(double su, double sy)
     }
 }
 
+static bool g_no_screen;
+
 static pdt_status_t identify(pdt_model_kind_t kind, pdt_ident_result_t *res)
 {
     pdt_ident_config_t cfg;
     pdt_ident_t ctx;
     pdt_ident_data_t data = {g_u, g_y, SC_N};
     pdt_ident_config_default(&cfg);
+    cfg.no_screen = g_no_screen;
     cfg.Ts = (pdt_real_t)SC_TS;
     cfg.model = kind;
     assert_true(pdt_ident_workspace_size(&cfg, SC_N) <= sizeof g_work);
@@ -147,7 +150,8 @@ static void test_scales_sopdt(void **state)
 }
 
 /* A logger's bad-value marker in one cell is refused with its own status,
- * and pdt_cost_outlier names the cell, at any scale of the rest. */
+ * and pdt_cost_outlier names the cell, at any scale of the rest: in u
+ * always, in y without the screen; with it, the cell of y is left out. */
 static void test_bad_cells(void **state)
 {
     static const double bad[] = {1e20, -3e38, 3e38, -1e25};
@@ -163,7 +167,16 @@ static void test_bad_cells(void **state)
                     pdt_real_t *x = (sig == 0) ? g_y : g_u;
                     x[at[i]] = (pdt_real_t)bad[b];
                     assert_int_equal(pdt_cost_outlier(x, SC_N), at[i]);
+                    g_no_screen = true;
                     assert_int_equal(identify(PDT_MODEL_FOPDT, &r), PDT_ERR_OUTLIER);
+                    g_no_screen = false;
+                    if (sig == 0) {
+                        assert_int_equal(identify(PDT_MODEL_FOPDT, &r), PDT_OK);
+                        assert_true(r.excluded >= 1u);
+                        assert_int_equal(r.excluded_first[0], at[i]);
+                    } else {
+                        assert_int_equal(identify(PDT_MODEL_FOPDT, &r), PDT_ERR_OUTLIER);
+                    }
                 }
             }
         }

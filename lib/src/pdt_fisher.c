@@ -219,6 +219,7 @@ typedef struct fisher_pass {
     pdt_discrete_state_t s[4];
     pdt_real_t h[4]; /* the shape parameters' steps */
     pdt_real_t gain; /* the nominal gain: the gain's column is ys / K */
+    pdt_real_t u0;   /* the input before the record */
 } fisher_pass_t;
 
 /* The input term of model d at sample k once every input tap has
@@ -241,13 +242,13 @@ PDT_FORCE_INLINE pdt_real_t model_at(fisher_pass_t *P, uint32_t i, const pdt_rea
     const pdt_discrete_t *d = &P->d[i];
     pdt_discrete_state_t *s = &P->s[i];
     if (!full) {
-        return pdt_discrete_advance(d, s, u, u[0], k);
+        return pdt_discrete_advance(d, s, u, P->u0, k);
     }
     if (d->order == 1u) {
-        s->y1 = s->y1 - d->d[0] * s->y1 + input_full(d, u, u[0], k);
+        s->y1 = s->y1 - d->d[0] * s->y1 + input_full(d, u, P->u0, k);
         return s->y1;
     }
-    s->dy = s->dy - d->d[0] * s->dy - d->d[1] * s->y2 + input_full(d, u, u[0], k);
+    s->dy = s->dy - d->d[0] * s->dy - d->d[1] * s->y2 + input_full(d, u, P->u0, k);
     s->y2 = s->y1;
     s->y1 = s->y1 + s->dy;
     return s->y1;
@@ -285,15 +286,15 @@ PDT_FORCE_INLINE void fisher_sample(fisher_pass_t *P, pdt_fisher_matrix_t part, 
 }
 
 pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_t *u,
-                            const pdt_real_t *y, size_t n, pdt_real_t y0, pdt_fisher_matrix_t F,
-                            pdt_fisher_sums_t *out)
+                            const pdt_real_t *y, size_t n, pdt_real_t y0, pdt_real_t u0,
+                            pdt_fisher_matrix_t F, pdt_fisher_sums_t *out)
 {
     pdt_real_t p[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     const uint32_t nm = params_of(m, p);
     const uint32_t nj = nm + 1u;
     /* The nominal model, then one per shape parameter: the gain enters
      * linearly (ys / K), the offset as a constant. */
-    fisher_pass_t P = {.gain = p[0]};
+    fisher_pass_t P = {.gain = p[0], .u0 = u0};
     if (P.gain == PDT_R(0.0) || pdt_discrete_init(m, Ts, &P.d[0]) != PDT_OK) {
         return PDT_ERR_ARG;
     }

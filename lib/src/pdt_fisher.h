@@ -32,14 +32,14 @@ typedef struct pdt_fisher_sums {
 
 /* J^T J (without 1 / sigma^2) of the simulated output of m (gain not 0) at
  * sampling period Ts on the record u, y of n samples, input relative to
- * u[0], output to y0, with the Jacobian's shape columns by forward
+ * u0 (the input before the record, u[0] unless given), output to y0, with the Jacobian's shape columns by forward
  * differences; the residual's sums into *out. Returns PDT_ERR_ARG when m
  * or a perturbed model cannot be discretised, PDT_ERR_NONFINITE when the
  * simulation overflows; O(n) per parameter plus O(n LAGS), no memory
  * beyond the stack. */
 pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_t *u,
-                            const pdt_real_t *y, size_t n, pdt_real_t y0, pdt_fisher_matrix_t F,
-                            pdt_fisher_sums_t *out);
+                            const pdt_real_t *y, size_t n, pdt_real_t y0, pdt_real_t u0,
+                            pdt_fisher_matrix_t F, pdt_fisher_sums_t *out);
 
 /* The covariance's factor for a correlated residual, 1 + 2 sum of its
  * autocorrelations (its long-run variance over its variance), >= 1. */

@@ -280,6 +280,9 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     if (cfg->delay_mode != PDT_DELAY_FRACTIONAL && cfg->delay_mode != PDT_DELAY_INTEGER) {
         return PDT_ERR_ARG;
     }
+    if (cfg->initial != PDT_IDENT_INITIAL_AUTO && cfg->initial != PDT_IDENT_INITIAL_REST) {
+        return PDT_ERR_ARG;
+    }
     const pdt_status_t wst = check_weight(cfg);
     if (wst != PDT_OK) {
         return wst;
@@ -303,7 +306,8 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
         (!(cfg->zeta_min > PDT_R(0.0)) || !pdt_finite(cfg->zeta_min))) {
         return PDT_ERR_ARG;
     }
-    if (!pdt_finite(cfg->K_min) || !pdt_finite(cfg->K_max)) {
+    if (!pdt_finite(cfg->K_min) || !pdt_finite(cfg->K_max) ||
+        (cfg->u_before_given && !pdt_finite(cfg->u_before))) {
         return PDT_ERR_ARG;
     }
     if (cfg->K_min > cfg->K_max) {
@@ -321,10 +325,18 @@ static size_t samples_in(pdt_real_t t, pdt_real_t Ts, size_t cap)
     return (q >= PDT_R(0.0) && q < (pdt_real_t)cap) ? (size_t)q : cap;
 }
 
+/* The screen's part of the workspace, in reals: the filled y and two
+ * bits per sample. */
+static size_t screen_reals(size_t n)
+{
+    const size_t bits = 8u * sizeof(pdt_real_t);
+    return n + 2u * ((n + bits - 1u) / bits);
+}
+
 /* Layout of the workspace after the cost's own part, in reals. */
 static size_t own_reals(uint32_t pop, uint32_t genes, size_t n)
 {
-    return 2u * (size_t)pop * (genes + 3u) + (size_t)pop + n;
+    return 2u * (size_t)pop * (genes + 3u) + (size_t)pop + n + screen_reals(n);
 }
 
 size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
@@ -346,6 +358,12 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
     /* Round the cost part up so the rest stays aligned for pdt_real_t. */
     cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
     return cost_bytes + own_reals(population_of(cfg), genes_of(cfg->model), n) * sizeof(pdt_real_t);
+}
+
+/* The input before the record: u_before when given, else u[0]. */
+static pdt_real_t input_before(const pdt_ident_config_t *cfg, const pdt_ident_data_t *d)
+{
+    return cfg->u_before_given ? cfg->u_before : d->u[0];
 }
 
 /* Samples before the input first moves, and the shortest dead time after
@@ -401,7 +419,8 @@ static bool flat(const pdt_real_t *y, size_t k)
 static uint32_t rest_usable(const pdt_ident_config_t *cfg, const pdt_ident_data_t *d,
                             size_t quiet_extra)
 {
-    if (cfg->offset != PDT_IDENT_OFFSET_AUTO || pdt_ident_uses_frequency(cfg->cost)) {
+    if (cfg->offset != PDT_IDENT_OFFSET_AUTO || pdt_ident_uses_frequency(cfg->cost) ||
+        input_before(cfg, d) != d->u[0]) {
         return 0u;
     }
     const size_t k = rest_window(d, quiet_extra);
@@ -444,28 +463,12 @@ static bool ends_at_rest(const pdt_ident_data_t *d, pdt_real_t y_start, pdt_real
            pdt_fabs(sy / (pdt_real_t)tail) <= REST_TOLERANCE * y_range;
 }
 
-pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
-                            const pdt_ident_data_t *data, void *work, size_t work_len)
+/* The record's checks of init (the data in order: not finite, too short
+ * for the dead-time bound, no excitation, not at rest for the frequency
+ * criteria) and the delay bound of the cost. */
+static pdt_status_t check_record(const pdt_ident_config_t *cfg, const pdt_ident_data_t *data,
+                                 const bounds_t *b, size_t *delay_max)
 {
-    if (ctx == NULL || cfg == NULL || data == NULL || data->u == NULL || data->y == NULL) {
-        return PDT_ERR_ARG;
-    }
-    pdt_status_t st = check_config(cfg);
-    if (st != PDT_OK) {
-        return st;
-    }
-    if (data->n < PDT_MIN_SAMPLES) {
-        return PDT_ERR_TOO_SHORT;
-    }
-    bounds_t b;
-    pdt_real_t glo[3], ghi[3];
-    st = resolve_bounds(cfg, data->n, &b);
-    if (st == PDT_OK) {
-        st = gene_bounds(cfg, &b, glo, ghi);
-    }
-    if (st != PDT_OK) {
-        return st;
-    }
     pdt_real_t umin = data->u[0], umax = data->u[0], ymin = data->y[0], ymax = data->y[0];
     for (size_t k = 0; k < data->n; k++) {
         pdt_real_t uk = data->u[k], yk = data->y[k];
@@ -477,71 +480,69 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         ymin = yk < ymin ? yk : ymin;
         ymax = yk > ymax ? yk : ymax;
     }
-    if (!(umax > umin) || !(ymax > ymin)) {
+    const pdt_real_t ub = input_before(cfg, data);
+    if (!(umax > umin || ub != data->u[0]) || !(ymax > ymin)) {
         return PDT_ERR_NO_EXCITATION;
     }
     if (pdt_ident_uses_frequency(cfg->cost) &&
-        !ends_at_rest(data, initial_level(data, samples_in(b.Td_min, cfg->Ts, data->n)),
+        !ends_at_rest(data, initial_level(data, samples_in(b->Td_min, cfg->Ts, data->n)),
                       umax - umin, ymax - ymin)) {
         return PDT_ERR_NOT_AT_REST;
     }
-    pdt_real_t lmax = b.Td_max / cfg->Ts;
+    pdt_real_t lmax = b->Td_max / cfg->Ts;
     if (!(lmax < (pdt_real_t)(data->n))) {
         return PDT_ERR_TOO_SHORT;
     }
-    size_t delay_max = (size_t)lmax + 1u;
+    *delay_max = (size_t)lmax + 1u;
+    return PDT_OK;
+}
+
+/* The workspace's checks of init: NULL, misaligned, too short. */
+static pdt_status_t check_work(const pdt_ident_config_t *cfg, size_t n, const void *work,
+                               size_t work_len)
+{
     if (work == NULL) {
         return PDT_ERR_NOMEM;
     }
     if (!pdt_aligned(work)) {
         return PDT_ERR_ARG;
     }
-    size_t need = pdt_ident_workspace_size(cfg, data->n);
+    size_t need = pdt_ident_workspace_size(cfg, n);
     if (need == 0u) {
         return PDT_ERR_ARG;
     }
-    if (work_len < need) {
-        return PDT_ERR_NOMEM;
-    }
+    return work_len < need ? PDT_ERR_NOMEM : PDT_OK;
+}
 
-    /* The checks that can still fail write only into locals and the
-     * workspace; *ctx is written once they passed (a copy of the whole
-     * context would double the stack init needs). */
-    const size_t quiet = samples_in(b.Td_min, cfg->Ts, data->n);
-    pdt_real_t y0 = initial_level(data, quiet);
-    pdt_cost_config_t cc;
-    cost_config(cfg, data->u[0], y0, cfg->offset == PDT_IDENT_OFFSET_REST, delay_max, &cc);
-    size_t cost_bytes = pdt_cost_workspace_size(&cc, data->n);
-    /* A band or custom weights that select no bin of this record (e.g. a
-     * band above the Nyquist frequency) would leave the frequency part
-     * empty and the search blind in it; checked before the cost writes
-     * into the workspace. */
-    if ((cfg->cost == PDT_COST_FREQUENCY ||
-         (cfg->cost == PDT_COST_COMBINED && cfg->phi_f > PDT_R(0.0))) &&
-        pdt_cost_band_empty(&cc, data->n)) {
-        return PDT_ERR_ARG;
-    }
-    pdt_cost_t cost;
-    st = pdt_cost_init(&cost, &cc, data->u, data->y, data->n, work, cost_bytes);
-    if (st != PDT_OK) {
-        return st;
-    }
-    /* cfg and data may lie in *ctx (a restart with its own settings). */
-    const pdt_ident_config_t cfg_in = *cfg;
-    const pdt_ident_data_t data_in = *data;
-    pdt_ident_t *const c = ctx;
-    *c = (pdt_ident_t){0};
-    c->cfg = cfg_in;
-    c->cfg.population = population_of(&cfg_in);
-    c->data = data_in;
-    c->genes = genes_of(cfg_in.model);
-    c->cost = cost;
-    c->cost_work = work;
-    c->cost_work_len = cost_bytes;
-    cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
-    /* work is aligned for pdt_real_t and cost_bytes a whole number of
-     * reals, so the rest of the workspace is addressed in reals. */
-    pdt_real_t *p = (pdt_real_t *)work + cost_bytes / sizeof(pdt_real_t);
+/* The workspace (aligned for pdt_real_t, checked by init) in reals. */
+static pdt_real_t *reals_of(void *work)
+{
+    return (pdt_real_t *)work;
+}
+
+/* The screen's part at the workspace's end: the filled y (n reals), then
+ * its mask (n bits). */
+static void screen_layout(const pdt_ident_config_t *cfg, size_t n, void *work,
+                          pdt_ident_screen_t *s)
+{
+    const size_t at = pdt_ident_workspace_size(cfg, n) / sizeof(pdt_real_t) - screen_reals(n);
+    const size_t bits = 8u * sizeof(pdt_real_t);
+    s->yfill = &reals_of(work)[at];
+    /* Bytes of the reals after the filled y: a character type may alias
+     * any object. */
+    s->mask = (uint8_t *)&s->yfill[n];
+    s->fresh = (uint8_t *)&s->yfill[n + (n + bits - 1u) / bits];
+    s->work = work;
+}
+
+/* The GA's arrays and the scratch, after the cost's part of the
+ * workspace (cost_bytes). */
+static void carve(pdt_ident_t *c, void *work, size_t cost_bytes)
+{
+    const size_t whole = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t);
+    /* work is aligned for pdt_real_t and the cost's part a whole number
+     * of reals, so the rest of the workspace is addressed in reals. */
+    pdt_real_t *p = &reals_of(work)[whole];
     size_t P = c->cfg.population, G = c->genes;
     c->ga.pop = p;
     p += P * G;
@@ -562,33 +563,179 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     c->ga.shared = p;
     p += P;
     c->scratch = p;
+}
 
-    for (size_t j = 0; j < G; j++) {
+/* The screen's state of a new context: as prepared (screen), or with
+ * nothing left out and y copied. The context's record becomes the filled
+ * one. */
+static void screen_begin(pdt_ident_t *c, const pdt_ident_screen_t *screen, void *work,
+                         size_t work_len)
+{
+    const size_t n = c->data.n;
+    if (screen != NULL) {
+        c->screen = *screen;
+    } else {
+        screen_layout(&c->cfg, n, work, &c->screen);
+        for (size_t k = 0; k < n; k++) {
+            c->screen.yfill[k] = c->data.y[k];
+        }
+        for (size_t k = 0; k < (n + 7u) / 8u; k++) {
+            c->screen.mask[k] = 0u;
+        }
+        c->screen.first = n;
+        c->screen.limit = pdt_ident_screen_limit(&c->cfg, n);
+    }
+    c->screen.work = work;
+    c->screen.work_len = work_len;
+    c->screen.status = PDT_OK;
+    c->data.y = c->screen.yfill;
+}
+
+/* init's work once the configuration and the workspace are known to be
+ * good: the record checked, the cost prepared, the context written. screen
+ * is the screen's state to keep (a record with samples left out), or NULL.
+ * cfg, data and screen may lie in *ctx. */
+static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc);
+
+static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
+                          const pdt_ident_data_t *data, void *work, size_t work_len,
+                          const pdt_ident_screen_t *screen)
+{
+    bounds_t b;
+    pdt_real_t glo[3], ghi[3];
+    size_t delay_max = 0u;
+    pdt_status_t st = resolve_bounds(cfg, data->n, &b);
+    st = (st == PDT_OK) ? gene_bounds(cfg, &b, glo, ghi) : st;
+    st = (st == PDT_OK) ? check_record(cfg, data, &b, &delay_max) : st;
+    st = (st == PDT_OK) ? check_work(cfg, data->n, work, work_len) : st;
+    if (st != PDT_OK) {
+        return st;
+    }
+    /* The checks that can still fail write only into locals and the
+     * workspace; *ctx is written once they passed (a copy of the whole
+     * context would double the stack init needs). */
+    const size_t quiet = samples_in(b.Td_min, cfg->Ts, data->n);
+    pdt_real_t y0 = initial_level(data, quiet);
+    pdt_cost_config_t cc;
+    cost_config(cfg, input_before(cfg, data), y0, cfg->offset == PDT_IDENT_OFFSET_REST, delay_max,
+                &cc);
+    size_t cost_bytes = pdt_cost_workspace_size(&cc, data->n);
+    /* A band or custom weights that select no bin of this record (e.g. a
+     * band above the Nyquist frequency) would leave the frequency part
+     * empty and the search blind in it; checked before the cost writes
+     * into the workspace. */
+    if ((cfg->cost == PDT_COST_FREQUENCY ||
+         (cfg->cost == PDT_COST_COMBINED && cfg->phi_f > PDT_R(0.0))) &&
+        pdt_cost_band_empty(&cc, data->n)) {
+        return PDT_ERR_ARG;
+    }
+    pdt_cost_t cost;
+    st = pdt_cost_init(&cost, &cc, data->u, data->y, data->n, work, cost_bytes);
+    if (st != PDT_OK) {
+        return st;
+    }
+    /* cfg, data and screen may lie in *ctx (a restart with its own
+     * settings). */
+    const pdt_ident_config_t cfg_in = *cfg;
+    const pdt_ident_data_t data_in = *data;
+    pdt_ident_screen_t screen_in = {0};
+    if (screen != NULL) {
+        screen_in = *screen;
+    }
+    pdt_ident_t *const c = ctx;
+    *c = (pdt_ident_t){0};
+    c->cfg = cfg_in;
+    c->cfg.population = population_of(&cfg_in);
+    c->data = data_in;
+    c->genes = genes_of(cfg_in.model);
+    c->cost = cost;
+    c->cost_work = work;
+    c->cost_work_len = cost_bytes;
+    carve(c, work, cost_bytes);
+    screen_begin(c, screen != NULL ? &screen_in : NULL, work, work_len);
+    for (size_t j = 0; j < c->genes; j++) {
         c->lo[j] = glo[j];
         c->hi[j] = ghi[j];
     }
     c->td_offset = td_offset(&cfg_in, &b);
-    c->rest = rest_usable(&cfg_in, &data_in, quiet);
+    c->rest = rest_usable(&cfg_in, &c->data, quiet);
+    begin_search(c, &cc);
+    return PDT_OK;
+}
 
-    c->vote.searches = searches_of(&cfg_in);
-    c->vote.budget = cfg_in.max_evaluations / c->vote.searches;
+/* The searches' budget, the coarse record, the first population. */
+static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc)
+{
+    c->vote.searches = searches_of(&c->cfg);
+    c->vote.budget = c->cfg.max_evaluations / c->vote.searches;
     /* The searches' coarse record, its cost over the whole record's (the
      * same workspace: PH_FINE prepares the whole one again). */
-    const size_t nc = pdt_ident_coarse_prepare(c, &cc);
+    const size_t nc = pdt_ident_coarse_prepare(c, cc);
     if (nc != 0u) {
-        const bool ok = pdt_cost_init(&c->cost, &cc, c->scratch, &c->scratch[nc], nc, work,
-                                      pdt_cost_workspace_size(&cc, nc)) == PDT_OK;
-        pdt_ident_coarse_begin(c, ok, &cc);
+        const bool ok = pdt_cost_init(&c->cost, cc, c->scratch, &c->scratch[nc], nc, c->cost_work,
+                                      pdt_cost_workspace_size(cc, nc)) == PDT_OK;
+        pdt_ident_coarse_begin(c, ok, cc);
         if (!ok) {
             /* Not a record its cost takes (a block mean left the input
              * still): the whole one, prepared again over what was written. */
-            (void)pdt_cost_init(&c->cost, &cc, data_in.u, data_in.y, data_in.n, work,
+            (void)pdt_cost_init(&c->cost, cc, c->data.u, c->data.y, c->data.n, c->cost_work,
                                 c->cost_work_len);
         }
     }
     pdt_ident_ga_start(c);
     c->magic = IDENT_MAGIC;
-    return PDT_OK;
+}
+
+pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
+                            const pdt_ident_data_t *data, void *work, size_t work_len)
+{
+    if (ctx == NULL || cfg == NULL || data == NULL || data->u == NULL || data->y == NULL) {
+        return PDT_ERR_ARG;
+    }
+    pdt_status_t st = check_config(cfg);
+    if (st != PDT_OK) {
+        return st;
+    }
+    if (data->n < PDT_MIN_SAMPLES) {
+        return PDT_ERR_TOO_SHORT;
+    }
+    if (cfg->refuse_missing || !pdt_ident_screen_needed(cfg, data)) {
+        return start(ctx, cfg, data, work, work_len, NULL);
+    }
+    /* Missing samples or gross outliers: the record filled in the
+     * workspace first, then checked and prepared as any other. */
+    for (size_t k = 0; k < data->n; k++) {
+        if (!pdt_finite(data->u[k])) {
+            return PDT_ERR_NONFINITE;
+        }
+    }
+    st = check_work(cfg, data->n, work, work_len);
+    if (st != PDT_OK) {
+        return st;
+    }
+    pdt_ident_screen_t s = {0};
+    screen_layout(cfg, data->n, work, &s);
+    st = pdt_ident_screen_prepare(&s, cfg, data);
+    if (st != PDT_OK) {
+        return st;
+    }
+    const pdt_ident_data_t filled = {data->u, s.yfill, data->n};
+    return start(ctx, cfg, &filled, work, work_len, &s);
+}
+
+pdt_status_t pdt_ident_restart(pdt_ident_t *c)
+{
+    /* start copies what it keeps before it writes *c. */
+    c->screen.prior += c->evaluations;
+    return start(c, &c->cfg, &c->data, c->screen.work, c->screen.work_len, &c->screen);
+}
+
+size_t pdt_ident_outlier(const pdt_ident_t *ctx)
+{
+    if (ctx == NULL || ctx->magic != IDENT_MAGIC || ctx->screen.status != PDT_ERR_OUTLIER) {
+        return SIZE_MAX;
+    }
+    return ctx->screen.first;
 }
 
 /* What a stage needs before it runs (STAGE_NEEDS of pdt_ident_step). */
@@ -659,8 +806,11 @@ static void run_stage(pdt_ident_t *c)
     case PH_PROFILE:
         pdt_ident_profile_step(c);
         break;
-    default: /* PH_STD */
+    case PH_STD:
         pdt_ident_std(c);
+        break;
+    default: /* PH_SCREEN */
+        pdt_ident_screen_step(c);
         break;
     }
 }
@@ -690,6 +840,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_PROBE] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_PROFILE] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_STD] = HEAVY,
+        [PH_SCREEN] = HEAVY,
     };
     /* The budget counts the samples the evaluations score: an evaluation
      * of a coarse record of n / D samples is a D-th of one of the whole. */
@@ -697,7 +848,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
     uint64_t budget = cap;
     bool heavy = false;
     while (ctx->phase != PH_DONE) {
-        if (ctx->phase < PH_INIT_POP || ctx->phase > PH_STD) {
+        if (ctx->phase < PH_INIT_POP || ctx->phase > PH_SCREEN) {
             return PDT_ERR_STATE;
         }
         const uint32_t needs = STAGE_NEEDS[ctx->phase];
@@ -718,7 +869,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         }
         heavy = heavy || (needs & HEAVY) != 0u;
     }
-    return PDT_OK;
+    return ctx->screen.status;
 }
 
 pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
@@ -728,6 +879,9 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     }
     if (ctx->magic != IDENT_MAGIC || ctx->phase != PH_DONE) {
         return PDT_ERR_STATE;
+    }
+    if (ctx->screen.status != PDT_OK) {
+        return ctx->screen.status;
     }
     /* The search runs on the normalised record; mapped back, a gain can
      * lie beyond the real type (a tiny input driving a huge output). No
@@ -742,14 +896,16 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.y0 = ctx->y0;
     r.cost = pdt_cost_units(&ctx->cost, ctx->best.cost);
     r.fit = ctx->fit;
-    r.evaluations = ctx->evaluations;
+    r.evaluations = ctx->evaluations + ctx->screen.prior;
     r.generations = ctx->generations;
     r.f_band = ctx->f_band;
     r.flags = ctx->flags;
     r.searches = pdt_ident_vote_searches(ctx);
     r.runner_up = ctx->runner_up;
     r.std = ctx->std;
+    r.evidence = ctx->evidence;
     r.coarse = ctx->coarse.factor;
+    pdt_ident_screen_report(&ctx->screen, ctx->data.n, &r);
     *out = r;
     return PDT_OK;
 }

@@ -14,6 +14,8 @@
  *   pdt_ident_profile.c the dead-time profile: a global check of it (profile)
  *   pdt_ident_rest.c    the output offset from the rest window (rest)
  *   pdt_ident_coarse.c  the searches' coarse record, the whole one after
+ *   pdt_ident_screen.c  missing samples and gross errors left out (screen)
+ *   pdt_ident_initial.c whether the record started at rest
  *
  * A stage function does at most one evaluation, or one preparation as
  * costly as init, and sets c->phase to what comes next.
@@ -41,6 +43,7 @@ enum {
     PH_PROBE,        /* the dead time about a polished answer, shape held */
     PH_PROFILE,      /* the searches' answer checked along the dead time */
     PH_STD,          /* the parameters' uncertainty */
+    PH_SCREEN,       /* gross errors: left out, and the search run again */
     PH_DONE,
     PH_COUNT
 };
@@ -241,5 +244,37 @@ void pdt_ident_polish_probe(pdt_ident_t *c);
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c);
 void pdt_ident_polish_step(pdt_ident_t *c);
 void pdt_ident_std(pdt_ident_t *c);
+
+/* ---- pdt_ident_screen.c */
+
+/* The most samples that may be left out of a record of n (max_excluded
+ * resolved). */
+uint32_t pdt_ident_screen_limit(const pdt_ident_config_t *cfg, size_t n);
+/* Whether init must prepare the screen's record before the cost: a y
+ * sample not finite, or (with the screen) one pdt_cost_outlier names. */
+bool pdt_ident_screen_needed(const pdt_ident_config_t *cfg, const pdt_ident_data_t *d);
+/* At init, s's yfill and mask set: y copied, its missing samples and the
+ * gross outliers pdt_cost_outlier names left out and filled.
+ * PDT_ERR_OUTLIER when more than the limit are. */
+pdt_status_t pdt_ident_screen_prepare(pdt_ident_screen_t *s, const pdt_ident_config_t *cfg,
+                                      const pdt_ident_data_t *d);
+/* PH_SCREEN: the answer's residual screened; PH_DONE, or, with samples
+ * newly left out, the identification begun again on the filled record. */
+void pdt_ident_screen_step(pdt_ident_t *c);
+/* The result's excluded, missing and excluded_first. */
+void pdt_ident_screen_report(const pdt_ident_screen_t *s, size_t n, pdt_ident_result_t *r);
+
+/* ---- pdt_ident_initial.c */
+
+/* Whether the answer's residual e (n reals) moves over the record's first
+ * samples more than the noise and a share of y's range: the output was
+ * moving at the start where the model says it was still. */
+bool pdt_ident_mid_transient(const pdt_real_t *e, const pdt_real_t *y, size_t n);
+
+/* ---- pdt_ident.c */
+
+/* The identification prepared again, as init does, on the screen's
+ * filled record, the screen's state kept; its status. */
+pdt_status_t pdt_ident_restart(pdt_ident_t *c);
 
 #endif /* PDT_IDENT_PRIV_H */

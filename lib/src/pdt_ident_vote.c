@@ -277,8 +277,11 @@ void pdt_ident_finish(pdt_ident_t *c)
  * module's. */
 typedef char std_fits_fisher[(PDT_IDENT_MAX_PARAMS == PDT_FISHER_MAX) ? 1 : -1];
 
-pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data,
-                                   pdt_real_t Ts, pdt_real_t y0, pdt_ident_std_t *out)
+/* pdt_ident_uncertainty, with the residual's sum of squares and its
+ * autocorrelation's inflation (pdt_fisher_inflation) into *fs_out. */
+static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
+                                pdt_real_t y0, const pdt_real_t *u0, pdt_ident_std_t *out,
+                                pdt_fisher_sums_t *fs_out)
 {
     if (m == NULL || data == NULL || data->u == NULL || data->y == NULL || out == NULL ||
         pdt_model_check(m) != PDT_OK || !pdt_finite(Ts) || !(Ts > PDT_R(0.0)) || !pdt_finite(y0)) {
@@ -294,26 +297,123 @@ pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t 
         }
         moves = moves || data->u[k] != data->u[0];
     }
-    if (!moves) {
+    const pdt_real_t before = (u0 != NULL) ? *u0 : data->u[0];
+    if (!moves && before == data->u[0]) {
         return PDT_ERR_NO_EXCITATION;
     }
     pdt_fisher_matrix_t F;
-    pdt_fisher_sums_t fs;
-    const pdt_status_t st = pdt_fisher_sum(m, Ts, data->u, data->y, data->n, y0, F, &fs);
+    const pdt_status_t st = pdt_fisher_sum(m, Ts, data->u, data->y, data->n, y0, before, F, fs_out);
     if (st != PDT_OK) {
         return st;
     }
     pdt_ident_std_t r = {0};
-    r.count = fs.np;
-    pdt_fisher_covariance(F, fs.np, data->n, fs.sse, pdt_fisher_inflation(&fs), r.std, r.cov);
+    r.count = fs_out->np;
+    pdt_fisher_covariance(F, fs_out->np, data->n, fs_out->sse, pdt_fisher_inflation(fs_out), r.std,
+                          r.cov);
     *out = r;
     return PDT_OK;
 }
 
-/* The answer's uncertainty: count 0 where it cannot be computed. */
+pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data,
+                                   pdt_real_t Ts, pdt_real_t y0, pdt_ident_std_t *out)
+{
+    pdt_fisher_sums_t fs;
+    return uncertainty(m, data, Ts, y0, NULL, out, &fs);
+}
+
+/* The mean of x[0..n-1] (about x[0], so that a large level does not
+ * cost precision). */
+static pdt_real_t mean_of(const pdt_real_t *x, size_t n)
+{
+    pdt_real_t s = PDT_R(0.0);
+    for (size_t k = 0; k < n; k++) {
+        s += x[k] - x[0];
+    }
+    return s / (pdt_real_t)n + x[0];
+}
+
+/* The autocorrelation of x (mean m) at lag l, over its variance v. */
+static pdt_real_t autocorr(const pdt_real_t *x, size_t n, pdt_real_t m, pdt_real_t v, size_t l)
+{
+    pdt_real_t s = PDT_R(0.0);
+    for (size_t k = l; k < n; k++) {
+        s += (x[k] - m) * (x[k - l] - m);
+    }
+    return v > PDT_R(0.0) ? s / v : PDT_R(0.0);
+}
+
+static pdt_real_t sum_sq(const pdt_real_t *x, size_t n, pdt_real_t m)
+{
+    pdt_real_t s = PDT_R(0.0);
+    for (size_t k = 0; k < n; k++) {
+        s += (x[k] - m) * (x[k] - m);
+    }
+    return s;
+}
+
+/* The model against the null model (docs/field-data.md, "No model
+ * without evidence"): the likelihood-ratio statistic (n / c)
+ * ln(SS_null / SS_model), where c = 1 + 2 sum_{l=1..L}
+ * rho_x(l) rho_y(l) (at least 1) is Bartlett's factor of the variance of
+ * a correlation between the model's output x and the output y, both
+ * autocorrelated: a slowly wandering output is not taken as evidence for
+ * a slow model; L = EVIDENCE_LAGS, as for the uncertainty's inflation.
+ * NO_RELATION below EVIDENCE_MIN or a fit below
+ * FIT_FLOOR. x: the model's simulated output (n reals). */
+#define EVIDENCE_MIN  ((pdt_real_t)PDT_IDENT_EVIDENCE_MIN)
+#define EVIDENCE_LAGS 20u
+#define FIT_FLOOR     ((pdt_real_t)PDT_IDENT_FIT_FLOOR)
+
+static pdt_real_t evidence_of(const pdt_real_t *x, const pdt_real_t *y, size_t n, pdt_real_t sse)
+{
+    const pdt_real_t mx = mean_of(x, n), my = mean_of(y, n);
+    const pdt_real_t vx = sum_sq(x, n, mx), ss0 = sum_sq(y, n, my);
+    if (!(sse > PDT_R(0.0)) || !(ss0 > PDT_R(0.0))) {
+        return PDT_REAL_MAX;
+    }
+    pdt_real_t c = PDT_R(1.0);
+    for (size_t l = 1u; l <= EVIDENCE_LAGS && l < n; l++) {
+        c += PDT_R(2.0) * autocorr(x, n, mx, vx, l) * autocorr(y, n, my, ss0, l);
+    }
+    c = c > PDT_R(1.0) ? c : PDT_R(1.0);
+    return (pdt_real_t)n / c * (pdt_log(ss0) - pdt_log(sse));
+}
+
+static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
+{
+    pdt_discrete_t d;
+    c->evidence = PDT_R(0.0);
+    if (pdt_discrete_init(&c->model, c->cfg.Ts, &d) == PDT_OK &&
+        pdt_cost_simulate(&c->cost, &d, c->scratch) == PDT_OK) {
+        c->evidence = evidence_of(c->scratch, c->data.y, c->data.n, fs->sse);
+    }
+    if (!(c->evidence >= EVIDENCE_MIN) || !(c->fit >= FIT_FLOOR)) {
+        c->flags |= PDT_IDENT_FLAG_NO_RELATION;
+    }
+    if (c->cfg.initial == PDT_IDENT_INITIAL_AUTO && c->evidence > PDT_R(0.0)) {
+        /* The residual in place of the simulated output. */
+        const size_t n = c->data.n;
+        for (size_t k = 0; k < n; k++) {
+            c->scratch[k] = c->data.y[k] - c->scratch[k];
+        }
+        if (pdt_ident_mid_transient(c->scratch, c->data.y, n)) {
+            c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
+        }
+    }
+}
+
+/* The answer's uncertainty: count 0 where it cannot be computed; its
+ * evidence against the null model. */
 void pdt_ident_std(pdt_ident_t *c)
 {
+    pdt_fisher_sums_t fs;
     c->std = (pdt_ident_std_t){0};
-    (void)pdt_ident_uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->std);
-    c->phase = PH_DONE;
+    if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, &c->std, &fs) ==
+        PDT_OK) {
+        evidence(c, &fs);
+    } else {
+        c->evidence = PDT_R(0.0);
+        c->flags |= (c->fit >= FIT_FLOOR) ? 0u : PDT_IDENT_FLAG_NO_RELATION;
+    }
+    c->phase = PH_SCREEN;
 }

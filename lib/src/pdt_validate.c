@@ -122,7 +122,7 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
 
     pdt_fisher_matrix_t F;
     pdt_fisher_sums_t fs;
-    st = pdt_fisher_sum(m, Ts, data->u, data->y, n, y0, F, &fs);
+    st = pdt_fisher_sum(m, Ts, data->u, data->y, n, y0, data->u[0], F, &fs);
     if (st != PDT_OK) {
         return st;
     }

@@ -190,18 +190,23 @@ def _opt(v):
 
 
 _GA_ONLY = ("cost", "seed", "evaluations", "population", "weight", "band", "phi_t", "phi_f",
-            "integer_delay", "coarse")
+            "integer_delay", "coarse", "u_before", "initial")
 
 
 def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None,
              method="ga", evaluations=None, population=None, td_max=None, weight=None,
-             band=None, phi_t=None, phi_f=None, integer_delay=False, coarse=None):
+             band=None, phi_t=None, phi_f=None, integer_delay=False, coarse=None,
+             u_before=None, missing="exclude", initial="auto"):
     """Identifies a FOPDT or SOPDT model from a record with the options of
     `pdtfit identify`: the genetic-algorithm search (method "ga",
     pdt_identify) or the least-squares delay scans "elms" and "eiv"
     (pdt_ls_identify, which take model and td_max only). coarse is the
     library's decimation of the searches' record (None: automatic, 1: the
-    whole record; `pdtfit identify --coarse`). Give the sampling
+    whole record; `pdtfit identify --coarse`). u_before is the input
+    before the first sample (`--u-before`); a NaN in y is a missing sample,
+    left out of the fit and counted (missing="exclude"), or refused
+    (missing="refuse"); initial="auto" tests whether the record starts at
+    rest (flag mid_transient), "rest" does not. Give the sampling
     rate as fs (Hz) or Ts (s). Returns an IdentResult; raises PdtError when
     the library refuses the data or the options."""
     if (fs is None) == (Ts is None):
@@ -216,7 +221,8 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     if o.method != _lib.METHODS["ga"]:
         given = dict(cost=cost != "simulation", seed=seed != 1, evaluations=evaluations,
                      population=population, weight=weight, band=band, phi_t=phi_t,
-                     phi_f=phi_f, integer_delay=integer_delay, coarse=coarse)
+                     phi_f=phi_f, integer_delay=integer_delay, coarse=coarse,
+                     u_before=u_before, initial=initial != "auto")
         extra = [k for k in _GA_ONLY if given[k] not in (None, False)]
         if extra:
             raise ValueError(f"{', '.join(extra)}: options of method='ga' only")
@@ -232,6 +238,9 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     o.population = int(population or 0)
     o.coarse = int(coarse or 0)
     o.td_max, o.phi_t, o.phi_f = _opt(td_max), _opt(phi_t), _opt(phi_f)
+    o.u_before = _opt(u_before)
+    o.refuse_missing = _choice({"exclude": 0, "refuse": 1}, missing, "missing")
+    o.initial = _choice({"auto": 0, "rest": 1}, initial, "initial")
     native = (ctypes.c_double * 5)()
     buf = ctypes.create_string_buffer(_JSON_LEN)
     _check(lib.pdtpy_identify(pu, py, len(u), Ts, ctypes.byref(o), native, buf, _JSON_LEN),
@@ -318,17 +327,20 @@ def reduce(gain, lags, zeros=(), delay=0.0, model="fopdt", method="skogestad", h
 
 
 def read_csv(path, t=None, u=None, y=None, *, fs=None, sep=None, decimal=None, skip=0,
-             time_unit="s", resample=False):
+             time_unit=None, resample=False):
     """Reads u, y and the sampling period from a CSV file with the reader of
     `pdtfit identify`. t, u, y: the columns (names or 1-based indexes; by
     default t, u, y). Returns a Record; raises ValueError naming the file,
-    line and column of a malformed file."""
+    line and column of a malformed file. time_unit None: the header's
+    ("t [ms]", "time_ms"), else s. A missing y (an empty cell, NaN, #N/A,
+    ERR, ...) is NaN in y, a missing u the u before it."""
     o = _lib.CsvOpts()
     o.t_col, o.u_col, o.y_col = (None if c is None else str(c).encode() for c in (t, u, y))
     o.sep = (sep or "\0").encode()
     o.decimal = (decimal or "\0").encode()
     o.skip = int(skip)
-    o.time_unit = _choice({"s": 0, "ms": 1, "us": 2}, time_unit, "time unit")
+    o.time_unit = -1 if time_unit is None else _choice(
+        {"s": 0, "ms": 1, "us": 2, "min": 3, "h": 4}, time_unit, "time unit")
     o.resample = int(bool(resample))
     o.fs = float(fs or 0.0)
     s = _lib.Series()

@@ -30,7 +30,9 @@ class IdentOpts(ctypes.Structure):
                 ("evaluations", ctypes.c_uint32), ("population", ctypes.c_uint32),
                 ("td_max", ctypes.c_double), ("f_lo", ctypes.c_double),
                 ("f_hi", ctypes.c_double), ("phi_t", ctypes.c_double),
-                ("phi_f", ctypes.c_double), ("coarse", ctypes.c_uint32)]
+                ("phi_f", ctypes.c_double), ("coarse", ctypes.c_uint32),
+                ("u_before", ctypes.c_double), ("refuse_missing", ctypes.c_int),
+                ("initial", ctypes.c_int)]
 
 
 class TuneOpts(ctypes.Structure):

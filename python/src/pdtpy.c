@@ -178,6 +178,10 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
     cfg.f_hi = (pdt_real_t)o->f_hi;
     if (!isnan(o->phi_t)) cfg.phi_t = (pdt_real_t)o->phi_t;
     if (!isnan(o->phi_f)) cfg.phi_f = (pdt_real_t)o->phi_f;
+    cfg.u_before_given = !isnan(o->u_before);
+    cfg.u_before = cfg.u_before_given ? (pdt_real_t)o->u_before : (pdt_real_t)0;
+    cfg.refuse_missing = o->refuse_missing != 0;
+    cfg.initial = (pdt_ident_initial_t)o->initial;
 
     pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n);
     pdt_ident_result_t res;

@@ -40,7 +40,10 @@ typedef struct pdtpy_ident_opts {
     uint32_t evaluations; /* 0 default */
     uint32_t population;  /* 0 default */
     double td_max, f_lo, f_hi, phi_t, phi_f;
-    uint32_t coarse; /* 0 automatic */
+    uint32_t coarse;    /* 0 automatic */
+    double u_before;    /* the input before the record; NaN: not given */
+    int refuse_missing; /* a non-finite y is refused, not left out */
+    int initial;        /* pdt_ident_initial_t */
 } pdtpy_ident_opts_t;
 
 typedef struct pdtpy_tune_opts {
@@ -53,7 +56,7 @@ typedef struct pdtpy_csv_opts {
     const char *t_col, *u_col, *y_col; /* name or 1-based index; NULL default */
     char sep, decimal;                 /* 0: detect, '.' */
     unsigned skip;
-    int time_unit; /* 0 s, 1 ms, 2 us */
+    int time_unit; /* -1 the header's (else s), 0 s, 1 ms, 2 us, 3 min, 4 h */
     int resample;
     double fs; /* 0: from the time column */
 } pdtpy_csv_opts_t;

@@ -224,3 +224,59 @@ def test_plot_returns_a_figure(records):
     fig = pdtfit.identify(u, y, fs).plot()
     assert type(fig).__name__ == "Figure" and len(fig.axes) == 2
     assert "FOPDT" in fig._suptitle.get_text() and math.isfinite(fig.axes[1].lines[0].get_ydata()[0])
+
+
+def test_read_csv_header_unit_and_missing_samples(records, tmp_path):
+    """The header's time unit and the missing samples, as the program
+    reads them: t [ms] in milliseconds, #N/A in y NaN, an empty u the u
+    before it; a unit given overrides the header."""
+    u, y, fs = records["fopdt"]
+    lines = ["t [ms],u,y"] + [f"{1000.0 * k / fs!r},{float(a)!r},{float(b)!r}" for k, (a, b) in
+                               enumerate(zip(u, y))]
+    lines[11] = lines[11].rsplit(",", 1)[0] + ",#N/A"
+    t, _, last = lines[21].split(",")
+    lines[21] = f"{t},,{last}"
+    path = tmp_path / "ms.csv"
+    path.write_text("\n".join(lines) + "\n")
+    rec = pdtfit.read_csv(path)
+    assert rec.Ts == pytest.approx(1.0 / fs, rel=1e-9)
+    assert math.isnan(rec.y[10]) and np.isfinite(np.delete(rec.y, 10)).all()
+    assert rec.u[20] == rec.u[19]
+    assert pdtfit.read_csv(path, time_unit="s").Ts == pytest.approx(1000.0 / fs, rel=1e-9)
+
+
+def _fopdt_response(u, Ts, u0):
+    """20 + the response of 2 e^(-1.3 s) / (5 s + 1), at rest at u0 before
+    the record, to u (zero-order hold, whole-sample dead time)."""
+    a, d = math.exp(-Ts / 5.0), int(round(1.3 / Ts))
+    du = np.r_[np.zeros(d + 1), np.asarray(u) - u0]
+    y = np.zeros(len(u))
+    for k in range(1, len(u)):
+        y[k] = a * y[k - 1] + 2.0 * (1.0 - a) * du[k - 1]
+    return 20.0 + y + np.random.default_rng(5).normal(0.0, 0.01, len(u))
+
+
+def test_missing_samples_and_u_before():
+    """A NaN in y is left out of the fit and counted (missing="refuse":
+    refused); a record that begins at the step needs u_before."""
+    rng = np.random.default_rng(3)
+    n, Ts = 600, 0.1
+    u = np.where(np.repeat(rng.random(n // 20 + 1) < 0.5, 20)[:n], 55.0, 45.0)
+    u[:30] = 50.0
+    y = _fopdt_response(u, Ts, 50.0)
+    ref = pdtfit.identify(u, y, Ts=Ts)
+    assert ref.excluded == {"count": 0, "missing": 0, "first": []}
+    y[100:105] = np.nan
+    r = pdtfit.identify(u, y, Ts=Ts)
+    assert r.excluded["missing"] == 5 and r.excluded["first"][:5] == [100, 101, 102, 103, 104]
+    assert r.K == pytest.approx(ref.K, rel=0.01)
+    with pytest.raises(pdtfit.PdtError) as e:
+        pdtfit.identify(u, y, Ts=Ts, missing="refuse")
+    assert e.value.status == "PDT_ERR_NONFINITE"
+    step = np.full(n, 55.0)
+    y = _fopdt_response(step, Ts, 50.0)
+    with pytest.raises(pdtfit.PdtError) as e:
+        pdtfit.identify(step, y, Ts=Ts)
+    assert e.value.status == "PDT_ERR_NO_EXCITATION"
+    r = pdtfit.identify(step, y, Ts=Ts, u_before=50.0)
+    assert r.u0 == 50.0 and r.K == pytest.approx(2.0, rel=0.01)

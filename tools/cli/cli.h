@@ -64,6 +64,7 @@ typedef enum cli_check {
 #define CLI_EVEN      1u /* OPT_UINT: even */
 #define CLI_REAL_FITS 2u /* OPT_REAL: finite as pdt_real_t too */
 #define CLI_GA_ONLY   4u /* identify: an option of --method ga only */
+#define CLI_REPEAT    8u /* OPT_LIST: may be given again, the values added */
 
 typedef struct cli_list {
     double v[CLI_MAX_LIST];

@@ -11,9 +11,14 @@ static const char *const cost_names[] = {"prediction", "simulation", "frequency"
 static const char *const weight_names[] = {"auto", "control", "uniform", "band", NULL};
 static const pdt_ident_weight_t weight_kinds[] = {PDT_IDENT_WEIGHT_AUTO, PDT_IDENT_WEIGHT_CONTROL,
                                                   PDT_IDENT_WEIGHT_UNIFORM, PDT_IDENT_WEIGHT_BAND};
-static const char *const unit_names[] = {"s", "ms", "us", NULL};
+/* --time-unit: in PDTCLI_TIME_* order. */
+static const char *const unit_names[] = {"s", "ms", "us", "min", "h", NULL};
+/* --bad-rows: in PDTCLI_BAD_ROWS_* order. */
+static const char *const bad_rows_names[] = {"missing", "refuse", NULL};
 /* --offset: in pdt_ident_offset_t's order. */
 static const char *const offset_names[] = {"auto", "estimate", "rest", NULL};
+/* --initial: in pdt_ident_initial_t's order. */
+static const char *const initial_names[] = {"auto", "rest", NULL};
 
 #define GA CLI_GA_ONLY
 
@@ -34,6 +39,9 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--weight", OPT_CHOICE, &a->weight, &a->have_weight, 0, 0, 0, weight_names, "weight", GA},
         {"--band", OPT_TEXT, &a->band, NULL, 0, 0, 0, NULL, NULL, GA},
         {"--offset", OPT_CHOICE, &a->offset, NULL, 0, 0, 0, offset_names, "offset", GA},
+        {"--initial", OPT_CHOICE, &a->initial, NULL, 0, 0, 0, initial_names, "initial state", GA},
+        {"--u-before", OPT_REAL, &a->u_before, &a->have_u_before, 0, 0, 0, NULL,
+         "the input before the first row", GA | CLI_REAL_FITS},
         {"--phi-t", OPT_REAL, &a->phi_t, &a->have_phi_t, CHK_GE0, 0, 0, NULL, "a weight >= 0",
          GA | CLI_REAL_FITS},
         {"--phi-f", OPT_REAL, &a->phi_f, &a->have_phi_f, CHK_GE0, 0, 0, NULL, "a weight >= 0",
@@ -54,8 +62,13 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--sep", OPT_TEXT, &a->sep, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--decimal", OPT_TEXT, &a->decimal, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--skip", OPT_UINT, &a->skip, NULL, 0, 0, 1000000, NULL, "a line count 0 .. 1000000", 0},
-        {"--time-unit", OPT_CHOICE, &a->time_unit, NULL, 0, 0, 0, unit_names, "time unit", 0},
+        {"--time-unit", OPT_CHOICE, &a->time_unit, &a->have_time_unit, 0, 0, 0, unit_names,
+         "time unit", 0},
         {"--resample", OPT_FLAG, &a->resample, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--bad-value", OPT_LIST, &a->bad_values, NULL, CHK_ANY, 0, 0, NULL, "a finite number",
+         CLI_REPEAT},
+        {"--bad-rows", OPT_CHOICE, &a->bad_rows, NULL, 0, 0, 0, bad_rows_names, "bad-rows mode", 0},
+        {"--force", OPT_FLAG, &a->force, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--out-sim", OPT_TEXT, &a->out_sim, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot", OPT_TEXT, &a->plot, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot-script", OPT_TEXT, &a->plot_script, NULL, 0, 0, 0, NULL, NULL, 0},
@@ -98,6 +111,8 @@ static char one_char(const char *opt, const char *v, const char *allowed)
 static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
 {
     if (!a->have_model) cli_fail(EXIT_USAGE, "identify: --model fopdt|sopdt|auto is required");
+    if (a->model == MODEL_AUTO && a->have_u_before)
+        cli_fail(EXIT_USAGE, "identify: --u-before goes with --model fopdt or sopdt");
     if (a->model == MODEL_AUTO && a->method != METHOD_GA)
         cli_fail(EXIT_USAGE, "identify: --model auto needs --method ga");
     const int band = a->have_weight && weight_kinds[a->weight] == PDT_IDENT_WEIGHT_BAND;
@@ -112,6 +127,8 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
     if (a->method == METHOD_GA && a->have_td_max && !(a->td_max > 0.0))
         cli_fail(EXIT_USAGE, "identify: --td-max must be > 0 s with --method ga");
     if (a->tune) tune_opts_spec("identify", a->tune, &a->t);
+    if (a->force && !a->tune)
+        cli_fail(EXIT_USAGE, "identify: --force goes with --tune (the gains of a flagged model)");
     if (!a->tune && (a->t.have_tau_c || a->t.have_lambda || a->t.have_ms_max || a->t.have_filter ||
                      a->t.have_u_span || a->t.have_y_span))
         cli_fail(EXIT_USAGE, "identify: the tuning options go with --tune RULE[:FORM]");
@@ -130,6 +147,25 @@ static void parse(ident_args_t *a, int argc, char **argv)
     check_ident_args(&p, a);
 }
 
+/* One line for the missing samples the reader found: how many of y (left
+ * out of the fit), of u (the u before held), and the first lines. */
+static void warn_missing(const char *name, const pdtcli_series_t *s)
+{
+    if (!s->missing_y && !s->missing_u) return;
+    char lines[128];
+    size_t used = 0;
+    lines[0] = '\0';
+    for (unsigned k = 0; k < s->n_first_line && used + 24 < sizeof lines; k++)
+        used += (size_t)snprintf(lines + used, sizeof lines - used, "%s%zu", k ? ", " : "",
+                                 s->first_line[k]);
+    const int more =
+        s->n_first_line == PDTCLI_MISSING_FIRST && s->missing_y + s->missing_u > s->n_first_line;
+    cli_warn("%s: missing samples (empty cells, markers, --bad-value): %zu of y left out of the "
+             "fit, %zu of u holding the u before; line%s %s%s (--bad-rows refuse refuses them)",
+             name, s->missing_y, s->missing_u, s->n_first_line > 1 ? "s" : "", lines,
+             more ? ", ..." : "");
+}
+
 static void read_data(const ident_args_t *a, ident_data_t *d)
 {
     pdtcli_csv_opts_t o;
@@ -140,8 +176,11 @@ static void read_data(const ident_args_t *a, ident_data_t *d)
     o.sep = one_char("--sep", a->sep, ",;\t ");
     o.decimal = one_char("--decimal", a->decimal, ".,");
     o.skip = (unsigned)a->skip;
-    o.time_unit = a->time_unit;
+    o.time_unit = a->have_time_unit ? a->time_unit : PDTCLI_TIME_AUTO;
     o.resample = a->resample;
+    o.bad_rows = a->bad_rows;
+    o.bad_values = a->bad_values.v;
+    o.n_bad_values = (size_t)a->bad_values.n;
     o.fs = a->have_fs ? a->fs : 0.0;
     char err[600];
     if (pdtcli_csv_read_series(a->file, &o, &d->s, err, sizeof err) != 0)
@@ -160,9 +199,10 @@ static void read_data(const ident_args_t *a, ident_data_t *d)
     if (d->s.filled)
         cli_warn("%s: --resample filled %u row%s by zero-order hold (Ts = %.9g s)", name,
                  d->s.filled, d->s.filled == 1 ? "" : "s", d->s.Ts);
-    if (d->s.has_t && a->time_unit == 0 && d->s.t0 > 1e11)
+    if (d->s.has_t && d->s.time_unit_from == PDTCLI_UNIT_DEFAULT && d->s.t0 > 1e11)
         cli_warn("%s: t starts at %.6g: epoch milliseconds or microseconds? (--time-unit ms|us)",
                  name, d->s.t0);
+    warn_missing(name, &d->s);
     d->u = malloc(n * sizeof *d->u);
     d->y = malloc(n * sizeof *d->y);
     if (!d->u || !d->y) cli_fail(EXIT_REFUSED, "out of memory");
@@ -211,6 +251,17 @@ static void fail_outlier(const ident_data_t *d)
              k + 1u);
 }
 
+/* Whether u is constant over the record while y moves. */
+static int still_input(const ident_data_t *d)
+{
+    int u_moves = 0, y_moves = 0;
+    for (size_t k = 1; k < d->s.n; k++) {
+        u_moves = u_moves || d->u[k] != d->u[0];
+        y_moves = y_moves || (isfinite((double)d->y[k]) && d->y[k] != d->y[0]);
+    }
+    return !u_moves && y_moves;
+}
+
 /* The least --evaluations the library takes with this configuration: the
  * size query refuses a budget below it. */
 static uint32_t least_evaluations(pdt_ident_config_t cfg, size_t n)
@@ -246,10 +297,23 @@ static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
     cfg->f_hi = (pdt_real_t)a->f_hi;
     if (a->have_phi_t) cfg->phi_t = (pdt_real_t)a->phi_t;
     if (a->have_phi_f) cfg->phi_f = (pdt_real_t)a->phi_f;
+    cfg->initial = (pdt_ident_initial_t)a->initial;
+    cfg->u_before_given = a->have_u_before != 0;
+    cfg->u_before = (pdt_real_t)a->u_before;
 }
 
+/* The most samples the library leaves out of a record of n (its
+ * max_excluded resolved as pdt_ident.h says). */
+static unsigned long least_kept(const pdt_ident_config_t *cfg, size_t n)
+{
+    if (cfg->max_excluded) return cfg->max_excluded;
+    return n / 20u > 2u * PDT_IDENT_RUN_MAX ? (unsigned long)(n / 20u) : 2ul * PDT_IDENT_RUN_MAX;
+}
+
+/* One identification of the record; with yfit (n reals), the record as
+ * the fit saw it. */
 static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind,
-                          pdt_ident_result_t *res)
+                          pdt_ident_result_t *res, pdt_real_t *yfit)
 {
     pdt_ident_config_t cfg;
     ga_config(a, d->s.Ts, &cfg);
@@ -271,17 +335,57 @@ static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind
                      "for this model, population and criterion",
                      (unsigned long)a->evaluations, (unsigned long)least);
     }
+    if (st == PDT_ERR_OUTLIER && pdt_ident_outlier(ctx) != SIZE_MAX)
+        cli_fail(EXIT_REFUSED,
+                 "cannot identify: %s: more than %lu samples (%s) to leave out, the first "
+                 "at data row %zu (counting from 1): the record is too damaged",
+                 pdt_status_str(st), (unsigned long)least_kept(&cfg, n),
+                 "missing ones and gross errors", pdt_ident_outlier(ctx) + 1u);
     if (st == PDT_ERR_OUTLIER) fail_outlier(d);
+    if (st == PDT_ERR_NO_EXCITATION && !a->have_u_before && still_input(d))
+        cli_fail(EXIT_REFUSED,
+                 "cannot identify: %s: u never moves while y does: if the record begins at "
+                 "the step, give the input before the first row with --u-before U",
+                 pdt_status_str(st));
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
+    /* The record as the fit saw it: the samples left out replaced by the
+     * model's output, for the validation of --model auto. */
+    if (yfit) {
+        double *ysim = malloc(n * sizeof *ysim);
+        if (!ysim) cli_fail(EXIT_REFUSED, "out of memory");
+        ident_simulate(&res->model, d->s.Ts, d, res->u0, res->y0, ysim);
+        for (size_t k = 0; k < n; k++)
+            yfit[k] = pdt_ident_is_excluded(ctx, k) ? (pdt_real_t)ysim[k] : d->y[k];
+        free(ysim);
+    }
     free(work);
     free(ctx);
 }
 
-/* The model validated on its record (pdt_validate_model), for the order. */
-static void validate(const ident_data_t *d, const pdt_ident_result_t *r, pdt_validate_result_t *v)
+/* The samples left out of the fit, on stderr: how many, the first ones. */
+static void note_excluded(const pdt_ident_result_t *r)
 {
-    const pdt_ident_data_t data = {d->u, d->y, d->s.n};
+    if (r->excluded == 0u) return;
+    char rows[160];
+    size_t len = 0;
+    const uint32_t listed =
+        r->excluded < PDT_IDENT_EXCLUDED_LIST ? r->excluded : PDT_IDENT_EXCLUDED_LIST;
+    for (uint32_t i = 0; i < listed && len < sizeof rows; i++)
+        len += (size_t)snprintf(rows + len, sizeof rows - len, "%s%lu", i ? ", " : "",
+                                (unsigned long)r->excluded_first[i] + 1ul);
+    cli_warn("identify: %lu sample%s left out of the fit (%lu missing, %lu gross error%s), data "
+             "row%s %s%s (counting from 1)",
+             (unsigned long)r->excluded, r->excluded == 1u ? "" : "s", (unsigned long)r->missing,
+             (unsigned long)(r->excluded - r->missing), r->excluded - r->missing == 1u ? "" : "s",
+             r->excluded == 1u ? "" : "s", rows, r->excluded > listed ? ", ..." : "");
+}
+
+/* The model validated on its record (pdt_validate_model), for the order. */
+static void validate(const ident_data_t *d, const pdt_real_t *yfit, const pdt_ident_result_t *r,
+                     pdt_validate_result_t *v)
+{
+    const pdt_ident_data_t data = {d->u, yfit, d->s.n};
     const size_t wlen = pdt_validate_workspace_size(d->s.n);
     void *work = wlen ? malloc(wlen) : NULL;
     if (!work) cli_fail(EXIT_REFUSED, "out of memory");
@@ -307,13 +411,17 @@ static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_
 {
     memset(o, 0, sizeof *o);
     if (a->model != MODEL_AUTO) {
-        identify_kind(a, d, a->model, res);
+        identify_kind(a, d, a->model, res, NULL);
         return;
     }
-    identify_kind(a, d, PDT_MODEL_FOPDT, &o->r[0]);
-    identify_kind(a, d, PDT_MODEL_SOPDT, &o->r[1]);
-    validate(d, &o->r[0], &o->v[0]);
-    validate(d, &o->r[1], &o->v[1]);
+    const size_t n = d->s.n;
+    pdt_real_t *yfit = malloc(2u * n * sizeof *yfit);
+    if (!yfit) cli_fail(EXIT_REFUSED, "out of memory");
+    identify_kind(a, d, PDT_MODEL_FOPDT, &o->r[0], yfit);
+    identify_kind(a, d, PDT_MODEL_SOPDT, &o->r[1], yfit + n);
+    validate(d, yfit, &o->r[0], &o->v[0]);
+    validate(d, yfit + n, &o->r[1], &o->v[1]);
+    free(yfit);
     const pdt_status_t st = pdt_ident_select_order(&o->v[0], &o->v[1], &o->kept);
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: --model auto: %s", pdt_status_str(st));
@@ -374,6 +482,11 @@ static void identify_ls(const ident_args_t *a, const ident_data_t *d, pdt_ident_
     pdt_ls_result_t r;
     pdt_status_t st = pdt_ls_identify(ctx, &cfg, d->u, d->y, n, &r);
     free(ctx);
+    if (st == PDT_ERR_NONFINITE && d->s.missing_y)
+        cli_fail(EXIT_REFUSED,
+                 "cannot identify: %s (%zu missing samples of y: --method elms and eiv take "
+                 "none; --method ga leaves them out, --bad-rows refuse names the first)",
+                 pdt_status_str(st), d->s.missing_y);
     if (st != PDT_OK)
         cli_fail(EXIT_REFUSED, "cannot identify: %s%s", pdt_status_str(st), status_hint(st));
     memset(res, 0, sizeof *res);
@@ -431,6 +544,19 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
                  (double)r->runner_up);
         warned = 1;
     }
+    if (r->flags & PDT_IDENT_FLAG_NO_RELATION) {
+        cli_warn("identify: the model is no better than the output's mean (evidence %.3g, "
+                 "at least %g needed; fit %.3g%%, at least %g%% needed): the record shows no "
+                 "relation of y to u; check the columns, or record a larger input change",
+                 (double)r->evidence, PDT_IDENT_EVIDENCE_MIN, (double)r->fit, PDT_IDENT_FIT_FLOOR);
+        warned = 1;
+    }
+    if (r->flags & PDT_IDENT_FLAG_MID_TRANSIENT) {
+        cli_warn("identify: the record does not start at rest (y moves at the start where the "
+                 "model is still): the model bent to explain it; cut the record where the "
+                 "process is settled, or give --u-before if it begins at a step");
+        warned = 1;
+    }
     if (r->flags & PDT_IDENT_FLAG_AMBIGUOUS) {
         cli_warn("identify: another structure (the other gain sign, or an integrator for a lag) "
                  "fits about as well: the record cannot tell them apart");
@@ -439,22 +565,56 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
     return warned;
 }
 
-static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
-                         const order_info_t *o)
+/* ,"missing":{"count":N,"first":[...],"u_held":M}: the reader's missing
+ * samples of y (left out of the fit; the first as indices into the record,
+ * from 0) and of u (the u before held), when there are any. */
+static void missing_json(pdtcli_jbuf_t *jb, const pdtcli_series_t *s)
 {
-    char buf[4096];
-    int len = pdtcli_ident_json(r, d->u, d->y, d->s.Ts, d->s.n, buf, sizeof buf);
+    pdtcli_jb_printf(jb, ",\"missing\":{\"count\":%zu,\"first\":[", s->missing_y);
+    for (unsigned k = 0; k < s->n_first_y; k++)
+        pdtcli_jb_printf(jb, "%s%zu", k ? "," : "", s->first_y[k]);
+    pdtcli_jb_printf(jb, "],\"u_held\":%zu}", s->missing_u);
+}
+
+/* The identification's JSON, with the reader's missing samples and the
+ * order evidence of --model auto; returns its length. */
+static int result_json(const ident_data_t *d, const pdt_ident_result_t *r, const order_info_t *o,
+                       char *buf, size_t size)
+{
+    int len = pdtcli_ident_json(r, d->u, d->y, d->s.Ts, d->s.n, buf, size);
     if (len < 0) cli_fail(EXIT_REFUSED, "result too long");
+    if (d->s.missing_y || d->s.missing_u) {
+        pdtcli_jbuf_t jb;
+        pdtcli_jb_init(&jb, buf + len - 1, size - (size_t)len + 1);
+        missing_json(&jb, &d->s);
+        pdtcli_jb_raw(&jb, "}");
+        if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "result too long");
+        len = (int)strlen(buf);
+    }
     if (o->have) {
         /* In place of the closing brace, which comes back after it. */
         pdtcli_jbuf_t jb;
-        pdtcli_jb_init(&jb, buf + len - 1, sizeof buf - (size_t)len + 1);
+        pdtcli_jb_init(&jb, buf + len - 1, size - (size_t)len + 1);
         order_json(&jb, o);
         pdtcli_jb_raw(&jb, "}");
         if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "result too long");
         len = (int)strlen(buf);
     }
+    return len;
+}
+
+/* Prints the result; returns 1 when the tuning of a flagged model was
+ * forced (exit 3). */
+static int print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
+                        const order_info_t *o)
+{
+    char buf[4096];
+    const int len = result_json(d, r, o, buf, sizeof buf);
+    int forced = 0;
     if (a->tune) {
+        char flags[256];
+        const int n_flags = tune_json_flags(buf, buf + len, flags, sizeof flags);
+        forced = tune_check_flags("identify", flags, n_flags, a->force);
         pdt_tune_result_t tr;
         memset(&tr, 0, sizeof tr);
         tune_model("identify", &r->model, (double)r->fit, &a->t, &tr);
@@ -469,6 +629,7 @@ static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt
     if (a->plot) ident_plot(a, d, r);
     puts(buf);
     cli_flush();
+    return forced;
 }
 
 int cmd_identify(int argc, char **argv)
@@ -489,8 +650,9 @@ int cmd_identify(int argc, char **argv)
         identify_ga(&a, &d, &res, &order);
     else
         identify_ls(&a, &d, &res, &delay_max);
-    const int warned = suspect(&a, &d, &res, delay_max);
-    print_result(&a, &d, &res, &order);
+    note_excluded(&res);
+    int warned = suspect(&a, &d, &res, delay_max);
+    warned |= print_result(&a, &d, &res, &order);
     free(d.u);
     free(d.y);
     pdtcli_series_free(&d.s);

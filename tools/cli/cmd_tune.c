@@ -17,6 +17,7 @@ typedef struct tune_args {
     double par[P_COUNT];
     int have[P_COUNT];
     const char *from;
+    int force; /* tune a flagged model */
 } tune_args_t;
 
 static void parse(tune_args_t *a, int argc, char **argv)
@@ -26,8 +27,10 @@ static void parse(tune_args_t *a, int argc, char **argv)
     const cli_opt_t model = {"--model",       OPT_CHOICE, &a->model,       NULL,    CHK_ANY,
                              PDT_MODEL_FOPDT, 0,          cli_model_names, "model", 0};
     const cli_opt_t from = {"--from", OPT_TEXT, &a->from, NULL, CHK_ANY, 0, 0, NULL, NULL, 0};
+    const cli_opt_t force = {"--force", OPT_FLAG, &a->force, NULL, CHK_ANY, 0, 0, NULL, NULL, 0};
     tab[n++] = model;
     tab[n++] = from;
+    tab[n++] = force;
     for (int k = 0; k < P_COUNT; k++) {
         const cli_opt_t p = {pname[k], OPT_REAL, &a->par[k], &a->have[k], CHK_ANY,
                              0,        0,        NULL,       NULL,        0};
@@ -37,19 +40,10 @@ static void parse(tune_args_t *a, int argc, char **argv)
     cli_parse(&p, argc, argv);
 }
 
-/* The value of "key" in [b, e) (blanks allowed around the colon), or NULL. */
+/* The value of "key" of the object at b (before e), or NULL. */
 static const char *json_value(const char *b, const char *e, const char *key)
 {
-    const size_t len = strlen(key);
-    for (const char *p = b; p + len + 2 < e; p++) {
-        if (*p != '"' || memcmp(p + 1, key, len) != 0 || p[len + 1] != '"') continue;
-        const char *q = p + len + 2;
-        while (q < e && (*q == ' ' || *q == '\t' || *q == '\r' || *q == '\n')) q++;
-        if (q >= e || *q != ':') continue;
-        for (q++; q < e && (*q == ' ' || *q == '\t' || *q == '\r' || *q == '\n');) q++;
-        return q;
-    }
-    return NULL;
+    return tune_json_top(b, e, key);
 }
 
 /* The number of "key" in [b, e), NAN when absent or null. */
@@ -90,19 +84,21 @@ static char *slurp(const char *path)
 }
 
 /* The model of identify's JSON (or of autotune-sim's "ident"): its kind
- * and the numbers that give it exactly (K, tau, Td; or K or Ki, a, b, Td). */
-static void model_from_json(const char *path, pdt_model_t *m, double *fit)
+ * and the numbers that give it exactly (K, tau, Td; or K or Ki, a, b, Td),
+ * and its flags (tune_json_flags) into flags. Returns how many flags. */
+static int model_from_json(const char *path, pdt_model_t *m, double *fit, char *flags,
+                           size_t flags_len)
 {
     const char *name = strcmp(path, "-") == 0 ? "stdin" : path;
     char *text = slurp(path);
     if (!text) cli_fail(EXIT_USAGE, "tune: cannot read %s", name);
-    const char *b = json_value(text, text + strlen(text), "ident"), *e;
+    const char *e = text + strlen(text), *b = json_value(text, e, "ident");
     b = b && *b == '{' ? b : text;
-    e = strchr(b, '}') ? strchr(b, '}') : b + strlen(b);
     const int fopdt = json_is(b, e, "model", "fopdt"), sopdt = json_is(b, e, "model", "sopdt");
     if (!fopdt && !sopdt)
         cli_fail(EXIT_USAGE, "tune: %s holds no model (expected the JSON of pdtfit identify)",
                  name);
+    const int n_flags = tune_json_flags(b, e, flags, flags_len);
     const double K = json_number(b, e, "K"), Td = json_number(b, e, "Td");
     *fit = json_number(b, e, "fit");
     memset(m, 0, sizeof *m);
@@ -124,6 +120,7 @@ static void model_from_json(const char *path, pdt_model_t *m, double *fit)
     if (pdt_model_check(m) != PDT_OK)
         cli_fail(EXIT_USAGE, "tune: the model in %s is incomplete or invalid", name);
     if (!isfinite(*fit)) *fit = 100.0;
+    return n_flags;
 }
 
 /* Which parameters a model kind takes, refusing foreign and missing ones. */
@@ -201,6 +198,8 @@ static void check_args(const tune_args_t *a)
         if (!(a->par[P_PU] > 0.0)) cli_fail(EXIT_USAGE, "tune: --Pu needs a period > 0 s");
     }
     if (a->from && a->model) cli_fail(EXIT_USAGE, "tune: --from reads the model; give no --model");
+    if (a->force && !a->from)
+        cli_fail(EXIT_USAGE, "tune: --force goes with --from (a flagged model)");
     if (!a->model || a->from)
         for (int k = 0; k < P_KU; k++)
             if (a->have[k])
@@ -246,8 +245,11 @@ int cmd_tune(int argc, char **argv)
     double fit = 100.0;
     const int have_model = a.model || a.from;
     memset(&m, 0, sizeof m);
+    char flags[256];
+    int suspect = 0;
     if (a.from)
-        model_from_json(a.from, &m, &fit);
+        suspect = tune_check_flags("tune", flags,
+                                   model_from_json(a.from, &m, &fit, flags, sizeof flags), a.force);
     else if (have_model)
         model_from_params(&a, &m);
     pdt_tune_result_t r;
@@ -265,5 +267,5 @@ int cmd_tune(int argc, char **argv)
     if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "tune: result too long");
     puts(buf);
     cli_flush();
-    return 0;
+    return suspect ? EXIT_SUSPECT : 0;
 }

@@ -22,6 +22,8 @@ static const char *const col_opts[COL_COUNT] = {"--t", "--u", "--y"};
 
 #define MAX_COLS 4096
 
+enum { MISS_U = 1, MISS_Y = 2 };
+
 /* Everything one read needs, freed in one place. */
 typedef struct reader {
     const pdtcli_csv_opts_t *o;
@@ -34,8 +36,13 @@ typedef struct reader {
     size_t ncols;
     long col[COL_COUNT]; /* -1: absent */
     double *t, *u, *y;
-    size_t *line; /* each row's line number */
+    size_t *line;        /* each row's line number */
+    unsigned char *miss; /* each row's missing cells: MISS_U | MISS_Y */
     size_t rows, cap;
+    int unit, unit_from; /* the time unit taken (PDTCLI_TIME_*, _UNIT_*) */
+    char unit_text[24];  /* the header's unit when it is no time unit */
+    int iso;             /* a t cell was an ISO date-time */
+    int t_by_time;       /* the t column is a default name past t */
     char *err;
     size_t errlen;
 } reader_t;
@@ -241,19 +248,109 @@ static int whole_number(const char *s, unsigned long *v)
     return *stop == '\0' && errno == 0;
 }
 
+/* The time units a header may name, in PDTCLI_TIME_* order, and their
+ * length in seconds. */
+static const char *const unit_words[][6] = {
+    {"s", "sec", "secs", "second", "seconds", NULL},
+    {"ms", "msec", "millisecond", "milliseconds", NULL, NULL},
+    {"us", "\xC2\xB5s", "\xCE\xBCs", "usec", "microseconds", NULL},
+    {"min", "mins", "minute", "minutes", NULL, NULL},
+    {"h", "hr", "hrs", "hour", "hours", NULL},
+};
+static const double unit_seconds[] = {1.0, 1e-3, 1e-6, 60.0, 3600.0};
+
+/* The PDTCLI_TIME_* a word names, or -1. */
+static int unit_of(span_t s)
+{
+    for (int k = 0; k < (int)(sizeof unit_words / sizeof unit_words[0]); k++)
+        for (int w = 0; unit_words[k][w]; w++)
+            if (span_is(s, unit_words[k][w])) return k;
+    return -1;
+}
+
+/* Splits "time_ms" into "time" and its unit; *unit -1 when the name has
+ * no unit suffix. */
+static span_t split_unit_suffix(span_t s, int *unit)
+{
+    const char *q = s.e;
+    *unit = -1;
+    while (q > s.b && q[-1] != '_') q--;
+    if (q > s.b + 1) {
+        const span_t suffix = {q, s.e};
+        *unit = unit_of(suffix);
+        if (*unit >= 0) s.e = q - 1;
+    }
+    return s;
+}
+
+/* The default names of the time column, in the order they are looked
+ * for. */
+static const char *const time_names[] = {"t", "time", "timestamp"};
+#define TIME_FAMILIES (sizeof time_names / sizeof time_names[0])
+
+/* Whether a header cell names the time by default: time_names[family],
+ * with or without a unit. */
+static int is_time_name(span_t s, int family)
+{
+    int unit;
+    s = split_unit_suffix(strip_unit(s), &unit);
+    return span_is(s, time_names[family]);
+}
+
+/* A default name of column c in the header cell. */
+static int default_name(int c, span_t cell, int family)
+{
+    if (c == COL_T) return is_time_name(cell, family);
+    const span_t s = strip_unit(cell);
+    return family == 0 && (span_is(s, col_names[c]) || (c == COL_Y && span_is(s, "pv")));
+}
+
 /* The column chosen by spec (a name or a 1-based index: the first match),
- * else by the default names (-2 when two match); -1 when absent. */
+ * else by the default names (-2 when two match; t before time before
+ * timestamp); -1 when absent. */
 static long find_column(const reader_t *r, int c, const char *spec)
 {
     unsigned long idx;
     if (spec && whole_number(spec, &idx)) return idx >= 1 && idx <= r->ncols ? (long)idx - 1 : -1;
     long found = -1;
-    for (size_t i = 0; i < r->ncols; i++) {
-        span_t s = strip_unit(r->fields[i]);
-        if (spec ? span_is(s, spec) : span_is(s, col_names[c]) || (c == COL_Y && span_is(s, "pv")))
-            found = found < 0 ? (long)i : spec ? found : -2;
-    }
+    for (int family = 0; family < (int)TIME_FAMILIES && found == -1; family++)
+        for (size_t i = 0; i < r->ncols; i++) {
+            const int hit = spec ? family == 0 && span_is(strip_unit(r->fields[i]), spec)
+                                 : default_name(c, r->fields[i], family);
+            if (hit) found = found < 0 ? (long)i : spec ? found : -2;
+        }
     return found;
+}
+
+/* The time unit of the t column's header: "t [ms]", "t (us)", "time_ms";
+ * an option overrides it. A bracketed unit that is no time unit is kept
+ * as text: numbers in that column are then refused. */
+static void header_unit(reader_t *r)
+{
+    r->unit = r->o->time_unit;
+    r->unit_from = PDTCLI_UNIT_OPTION;
+    if (r->o->time_unit != PDTCLI_TIME_AUTO) return;
+    r->unit = PDTCLI_TIME_S;
+    r->unit_from = PDTCLI_UNIT_DEFAULT;
+    if (r->col[COL_T] < 0) return;
+    const span_t cell = trim(r->fields[r->col[COL_T]]);
+    const span_t name = strip_unit(cell);
+    int unit = -1;
+    if (name.e < cell.e) {
+        span_t u = {name.e, cell.e};
+        while (u.b < u.e && *u.b != '[' && *u.b != '(') u.b++;
+        u.b++;
+        u.e--;
+        u = trim(u);
+        unit = unit_of(u);
+        if (unit < 0) quote_cell(u, r->unit_text, sizeof r->unit_text);
+    } else {
+        split_unit_suffix(name, &unit);
+    }
+    if (unit >= 0) {
+        r->unit = unit;
+        r->unit_from = PDTCLI_UNIT_HEADER;
+    }
 }
 
 static int header_error(reader_t *r, int c, const char *spec)
@@ -291,6 +388,8 @@ static int read_header(reader_t *r)
                            r->name, r->lineno, spec[c] ? spec[c] : col_names[c], col_opts[c]);
         if (r->col[c] < 0 && (c != COL_T || spec[c])) return header_error(r, c, spec[c]);
     }
+    r->t_by_time = !o->t_col && r->col[COL_T] >= 0 && !is_time_name(r->fields[r->col[COL_T]], 0);
+    header_unit(r);
     for (int c = 0; c < COL_COUNT; c++)
         for (int d = c + 1; d < COL_COUNT; d++)
             if (r->col[c] >= 0 && r->col[c] == r->col[d])
@@ -325,12 +424,40 @@ static int cell_error(reader_t *r, int c, span_t s, const char *why)
     return set_err(r, "%s:%zu: column %s: \"%s\" %s", r->name, r->lineno, col_names[c], shown, why);
 }
 
-/* A finite decimal number (what strtod takes, less nan, inf, hex). */
+/* What loggers, historians and spreadsheets write where a value is
+ * missing (compared without regard to case); an empty cell, a non-finite
+ * number and a spreadsheet error ("#VALUE!", "#DIV/0!", "#NAME?") too. */
+static const char *const markers[] = {
+    "#N/A",      "N/A",         "NA",        "NULL",          "None",    "ERR",
+    "ERROR",     "Bad",         "Bad Input", "Bad Data",      "No Data", "I/O Timeout",
+    "Comm Fail", "Calc Failed", "Shutdown",  "Not Connected", NULL};
+
+static int is_marker(span_t s)
+{
+    const ptrdiff_t len = s.e - s.b;
+    if (len >= 2 && *s.b == '#' && (s.e[-1] == '!' || s.e[-1] == '?')) return 1;
+    for (int k = 0; markers[k]; k++)
+        if (span_is(s, markers[k])) return 1;
+    return 0;
+}
+
+/* A finite decimal number (what strtod takes, less nan, inf, hex); 1 when
+ * the cell is a missing sample and missing samples are read as such. */
 static int parse_number(reader_t *r, int c, span_t s, double *out)
 {
     char text[128];
-    if (s.b == s.e)
-        return set_err(r, "%s:%zu: column %s is empty", r->name, r->lineno, col_names[c]);
+    const int lenient = r->o->bad_rows == PDTCLI_BAD_ROWS_MISSING && c != COL_T;
+    if (s.b == s.e) {
+        if (lenient) return 1;
+        return set_err(r, "%s:%zu: column %s is empty%s", r->name, r->lineno, col_names[c],
+                       c == COL_T ? " (a row without its time cannot be placed)" : "");
+    }
+    if (is_marker(s)) {
+        if (lenient) return 1;
+        return cell_error(r, c, s,
+                          c == COL_T ? "is a missing time (a row without its time cannot be placed)"
+                                     : "is a missing-value marker (--bad-rows refuse)");
+    }
     if (cell_text(r, s, text, sizeof text) != 0) return cell_error(r, c, s, "is not a number");
     char *stop;
     double v = strtod(text, &stop);
@@ -338,7 +465,10 @@ static int parse_number(reader_t *r, int c, span_t s, double *out)
         return cell_error(r, c, s, "is not a number");
     /* strtod takes "nan" and "inf" and overflows to HUGE_VAL; none is a
      * measurement. Underflow to zero is harmless. */
-    if (!isfinite(v)) return cell_error(r, c, s, "is not finite");
+    if (!isfinite(v)) return lenient ? 1 : cell_error(r, c, s, "is not finite");
+    for (size_t k = 0; c != COL_T && k < r->o->n_bad_values; k++)
+        if (v == r->o->bad_values[k])
+            return lenient ? 1 : cell_error(r, c, s, "is a declared bad value (--bad-value)");
     if (c != COL_T && fabs(v) > r->o->max_abs) {
         char why[64];
         snprintf(why, sizeof why, "is out of range (|value| > %g)", r->o->max_abs);
@@ -411,12 +541,17 @@ static int parse_time(reader_t *r, span_t s, double *out)
     if ((size_t)(s.e - s.b) < sizeof text && s.e - s.b >= 16 && s.b[4] == '-') {
         memcpy(text, s.b, (size_t)(s.e - s.b));
         text[s.e - s.b] = '\0';
+        r->iso = 1;
         if (parse_iso(text, out)) return 0;
         return cell_error(r, COL_T, s, "is not a number or an ISO 8601 date-time");
     }
     if (parse_number(r, COL_T, s, out) != 0) return -1;
-    static const double unit[3] = {1.0, 1e-3, 1e-6};
-    *out *= unit[r->o->time_unit];
+    if (r->unit_text[0] && r->unit_from == PDTCLI_UNIT_DEFAULT)
+        return set_err(r,
+                       "%s:%zu: column t: the header's unit \"%s\" is not a time unit (s, ms, "
+                       "us, min, h): give the unit with --time-unit",
+                       r->name, r->lineno, r->unit_text);
+    *out *= unit_seconds[r->unit];
     return 0;
 }
 
@@ -431,7 +566,9 @@ static int grow(reader_t *r)
     if (y) r->y = y;
     size_t *line = realloc(r->line, cap * sizeof *line);
     if (line) r->line = line;
-    if (!t || !u || !y || !line) return set_err(r, "%s: out of memory", r->name);
+    unsigned char *miss = realloc(r->miss, cap * sizeof *miss);
+    if (miss) r->miss = miss;
+    if (!t || !u || !y || !line || !miss) return set_err(r, "%s: out of memory", r->name);
     r->cap = cap;
     return 0;
 }
@@ -444,14 +581,38 @@ static int read_row(reader_t *r, span_t line)
                        got == 1 ? "" : "s", r->ncols);
     if (r->rows == r->cap && grow(r) != 0) return -1;
     double *dest[COL_COUNT] = {&r->t[r->rows], &r->u[r->rows], &r->y[r->rows]};
+    static const unsigned char bit[COL_COUNT] = {0, MISS_U, MISS_Y};
+    unsigned char miss = 0;
     for (int c = 0; c < COL_COUNT; c++) {
         if (r->col[c] < 0) continue;
         span_t s = trim(r->fields[r->col[c]]);
         int rc = c == COL_T ? parse_time(r, s, dest[c]) : parse_number(r, c, s, dest[c]);
-        if (rc != 0) return -1;
+        /* A column "time" or "timestamp" of clock times a file had beside
+         * --fs before they were default names: left aside, as then. */
+        if (rc < 0 && c == COL_T && r->t_by_time && r->rows == 0 && r->o->fs > 0.0) {
+            r->col[COL_T] = -1;
+            r->unit_from = PDTCLI_UNIT_DEFAULT;
+            rc = 0;
+        }
+        if (rc < 0) return -1;
+        if (rc > 0) {
+            miss |= bit[c];
+            *dest[c] = (double)NAN;
+        }
     }
+    r->miss[r->rows] = miss;
     r->line[r->rows++] = r->lineno;
     return 0;
+}
+
+/* A comment line, not a row whose first cell is a spreadsheet error
+ * ("#N/A", "#VALUE!"). */
+static int row_is_comment(const reader_t *r, span_t line)
+{
+    if (!line_is_comment(line)) return 0;
+    span_t first = line;
+    split(line, r->sep, &first, 1);
+    return !is_marker(trim(first));
 }
 
 static int read_rows(reader_t *r)
@@ -459,7 +620,7 @@ static int read_rows(reader_t *r)
     size_t blank_at = 0;
     while (has_line(r)) {
         span_t line = next_line(r);
-        if (line_is_comment(line)) continue;
+        if (row_is_comment(r, line)) continue;
         if (line_is_blank(line)) {
             if (!blank_at) blank_at = r->lineno;
             continue;
@@ -469,6 +630,59 @@ static int read_rows(reader_t *r)
                            blank_at);
         if (read_row(r, line) != 0) return -1;
     }
+    return 0;
+}
+
+/* A missing u repeats the u before it (the first ones take the first u
+ * read); the lines of the first missing cells are kept. A column with no
+ * value at all is refused. */
+static int hold_missing(reader_t *r, pdtcli_series_t *out)
+{
+    size_t first_u = r->rows, n_y = 0;
+    for (size_t k = 0; k < r->rows; k++) {
+        if (!(r->miss[k] & MISS_U) && first_u == r->rows) first_u = k;
+        n_y += (r->miss[k] & MISS_Y) != 0;
+        if (r->miss[k] && out->n_first_line < PDTCLI_MISSING_FIRST)
+            out->first_line[out->n_first_line++] = r->line[k];
+        out->missing_u += (r->miss[k] & MISS_U) != 0;
+    }
+    if (r->rows && (first_u == r->rows || n_y == r->rows))
+        return set_err(r, "%s: column %s holds no value, only missing samples", r->name,
+                       first_u == r->rows ? "u" : "y");
+    for (size_t k = 0; k < r->rows; k++)
+        if (r->miss[k] & MISS_U) r->u[k] = k < first_u ? r->u[first_u] : r->u[k - 1];
+    return 0;
+}
+
+/* The missing y of the series, counted and the first indexed. */
+static void count_missing_y(pdtcli_series_t *out)
+{
+    for (size_t k = 0; k < out->n; k++) {
+        if (!isnan(out->y[k])) continue;
+        if (out->n_first_y < PDTCLI_MISSING_FIRST) out->first_y[out->n_first_y++] = k;
+        out->missing_y++;
+    }
+}
+
+/* A count read as seconds that looks like epoch milliseconds or
+ * microseconds (a start between the years 1998 and 2100, steps of at
+ * least one unit) is refused when no unit was given. */
+static int check_epoch(reader_t *r, double med)
+{
+    static const struct {
+        double lo, hi;
+        const char *unit;
+    } epoch[] = {{9e11, 4.2e12, "ms"}, {9e14, 4.2e15, "us"}};
+    const double t0 = r->t[0];
+    if (r->iso || r->unit_from != PDTCLI_UNIT_DEFAULT) return 0;
+    for (size_t k = 0; k < sizeof epoch / sizeof epoch[0]; k++)
+        if (t0 >= epoch[k].lo && t0 < epoch[k].hi && med >= 1.0)
+            return set_err(r,
+                           "%s: t starts at %.15g and steps by %.6g: epoch %s read as seconds? "
+                           "Give the unit with --time-unit %s (or --time-unit s if they are "
+                           "seconds)",
+                           r->name, t0, med, k == 0 ? "milliseconds" : "microseconds",
+                           epoch[k].unit);
     return 0;
 }
 
@@ -575,12 +789,15 @@ static int sample(reader_t *r, pdtcli_series_t *out)
 {
     const double fs = r->o->fs;
     if (r->rows == 0) return set_err(r, "%s: 0 data rows after the header", r->name);
+    out->time_unit = r->unit;
+    out->time_unit_from = r->unit_from;
     if (r->col[COL_T] < 0 || r->rows < 2) {
         out->Ts = fs > 0.0 ? 1.0 / fs : 0.0;
         return take_columns(r, out);
     }
     double med = 0.0;
     if (median_interval(r, &med) != 0) return -1;
+    if (check_epoch(r, med) != 0) return -1;
     const double mean = (r->t[r->rows - 1] - r->t[0]) / (double)(r->rows - 1);
     const double Ts_fs = fs > 0.0 ? 1.0 / fs : med;
     /* Either figure of the stamps will do: the mean is the better one for
@@ -611,6 +828,7 @@ void pdtcli_csv_opts_default(pdtcli_csv_opts_t *o)
     if (!o) return;
     memset(o, 0, sizeof *o);
     o->max_abs = sizeof(pdt_real_t) == sizeof(float) ? (double)FLT_MAX : DBL_MAX;
+    o->time_unit = PDTCLI_TIME_AUTO;
 }
 
 void pdtcli_series_free(pdtcli_series_t *s)
@@ -630,7 +848,11 @@ static int check_opts(reader_t *r)
         return set_err(r, "the decimal mark must be '.' or ','");
     if (o->sep && o->sep == o->decimal)
         return set_err(r, "the separator and the decimal mark must differ");
-    if (o->time_unit < 0 || o->time_unit > 2) return set_err(r, "unknown time unit");
+    if (o->time_unit < PDTCLI_TIME_AUTO || o->time_unit > PDTCLI_TIME_H)
+        return set_err(r, "unknown time unit");
+    if (o->bad_rows != PDTCLI_BAD_ROWS_MISSING && o->bad_rows != PDTCLI_BAD_ROWS_REFUSE)
+        return set_err(r, "unknown bad-rows mode");
+    if (o->n_bad_values && !o->bad_values) return set_err(r, "bad values without a list");
     if (!(o->fs >= 0.0) || !isfinite(o->fs)) return set_err(r, "fs must be >= 0 Hz");
     return 0;
 }
@@ -663,13 +885,16 @@ static int read_series(const char *path, const char *text, size_t len, const pdt
     }
     if (rc == 0) rc = read_header(r);
     if (rc == 0) rc = read_rows(r);
+    if (rc == 0) rc = hold_missing(r, out);
     if (rc == 0) rc = sample(r, out);
+    if (rc == 0) count_missing_y(out);
     if (rc != 0) pdtcli_series_free(out);
     free(r->buf);
     free(r->t);
     free(r->u);
     free(r->y);
     free(r->line);
+    free(r->miss);
     free(r);
     return rc != 0;
 }

@@ -10,9 +10,20 @@
  * header unless given; with a semicolon or tab separator a decimal comma is
  * read as a decimal point. Columns are chosen by name (case-insensitive,
  * blanks, double quotes and a trailing unit in brackets, "y [degC]",
- * ignored) or by 1-based index. Time is seconds, an ISO 8601 date-time
+ * ignored) or by 1-based index. Time is an ISO 8601 date-time
  * ("2024-03-01T08:00:00.250", a space for the T, optional Z or +hh:mm), or
- * an epoch count in s, ms or us.
+ * a count in the unit the header gives ("t [ms]", "time_ms", "t (us)",
+ * "t_min") or time_unit says, else seconds. A count that looks like epoch
+ * milliseconds or microseconds read as seconds is refused.
+ *
+ * Missing samples: an empty cell, a marker ("NaN", "#N/A", "N/A", "ERR",
+ * a spreadsheet error such as "#VALUE!", a historian state such as "Bad
+ * Input"), a non-finite number, or one of the declared bad values is no
+ * data. By default a missing y is NaN in the series (the identification
+ * leaves it out), a missing u repeats the u before it (the first ones the
+ * first u read); both are counted. With bad_rows PDTCLI_BAD_ROWS_REFUSE
+ * each is refused with its line. A missing time is always refused: a row
+ * without its time cannot be placed.
  *
  * Sampling: every interval between rows within PDTCLI_CSV_JITTER of the
  * median interval is accepted. Stamps more than 1 % of Ts off the uniform
@@ -38,31 +49,65 @@ extern "C" {
  * it. */
 #define PDTCLI_CSV_JITTER 0.25
 
+/* Time units of the t column (time_unit); AUTO: the header's, else s. */
+enum {
+    PDTCLI_TIME_AUTO = -1,
+    PDTCLI_TIME_S = 0,
+    PDTCLI_TIME_MS = 1,
+    PDTCLI_TIME_US = 2,
+    PDTCLI_TIME_MIN = 3,
+    PDTCLI_TIME_H = 4
+};
+
+/* What a missing sample does (bad_rows). */
+enum { PDTCLI_BAD_ROWS_MISSING = 0, PDTCLI_BAD_ROWS_REFUSE = 1 };
+
+/* Where the time unit came from (pdtcli_series_t.time_unit_from). */
+enum { PDTCLI_UNIT_DEFAULT = 0, PDTCLI_UNIT_HEADER = 1, PDTCLI_UNIT_OPTION = 2 };
+
+/* How many missing samples a series lists by position. */
+#define PDTCLI_MISSING_FIRST 8
+
 typedef struct pdtcli_csv_opts {
     const char *t_col, *u_col, *y_col; /* name or 1-based index as text;
                                         * NULL: t, u, y (or pv) */
     char sep;                          /* 0 = detect from the header */
     char decimal;                      /* 0 = '.' */
     unsigned skip;                     /* lines before the header */
-    int time_unit;                     /* numbers in t: 0 s, 1 ms, 2 us */
-    int resample;                      /* fill gaps by zero-order hold */
-    double fs;                         /* Hz; 0 = from the time column.
+    int time_unit;                     /* numbers in t: PDTCLI_TIME_*;
+                                        * default AUTO */
+    int bad_rows;                      /* PDTCLI_BAD_ROWS_*; default
+                                        * MISSING */
+    const double *bad_values;          /* declared bad values (sentinels
+                                        * such as -9999), n_bad_values */
+    size_t n_bad_values;
+    int resample;     /* fill gaps by zero-order hold */
+    double fs;        /* Hz; 0 = from the time column.
                                         * With a t column it must agree
                                         * within 1 % and is the Ts used */
-    double max_abs;                    /* largest |cell| of u, y accepted;
+    double max_abs;   /* largest |cell| of u, y accepted;
                                         * default: what pdt_real_t holds */
-    const char *name;                  /* the file in messages; NULL: path
+    const char *name; /* the file in messages; NULL: path
                                         * ("stdin" for "-") */
 } pdtcli_csv_opts_t;
 
 typedef struct pdtcli_series {
     double *u, *y; /* n values each (malloc'ed) */
     size_t n;
-    double Ts;            /* s */
-    unsigned jitter_warn; /* stamps more than 1 % of Ts off the grid */
-    unsigned filled;      /* rows added by resample */
-    double t0;            /* time of the first row, s (epoch s for dates) */
-    int has_t;            /* the file had a time column */
+    double Ts;                               /* s */
+    unsigned jitter_warn;                    /* stamps more than 1 % of Ts off the grid */
+    unsigned filled;                         /* rows added by resample */
+    double t0;                               /* time of the first row, s (epoch s for dates) */
+    int has_t;                               /* the file had a time column */
+    int time_unit;                           /* the unit the t column was read in */
+    int time_unit_from;                      /* PDTCLI_UNIT_*: where that unit came from */
+    size_t missing_y;                        /* y samples missing: NaN in y */
+    size_t missing_u;                        /* u samples missing: the u before held */
+    size_t first_y[PDTCLI_MISSING_FIRST];    /* the first missing y, as
+                                           * indices into y */
+    size_t first_line[PDTCLI_MISSING_FIRST]; /* the lines of the first
+                                              * missing samples, u or y */
+    unsigned n_first_y, n_first_line;
 } pdtcli_series_t;
 
 /* Fills o with the defaults above. */

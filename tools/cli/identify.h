@@ -11,13 +11,15 @@
 enum { METHOD_GA, METHOD_ELMS, METHOD_EIV };
 
 typedef struct ident_args {
-    int model, method, cost, weight, offset, integer_delay, time_unit, resample;
-    double td_max, fs, phi_t, phi_f, f_lo, f_hi;
+    int model, method, cost, weight, offset, initial, integer_delay, time_unit, resample;
+    int bad_rows, force;
+    cli_list_t bad_values;
+    double td_max, fs, phi_t, phi_f, f_lo, f_hi, u_before;
     uint64_t seed, evaluations, population, coarse, skip;
     const char *band, *t_col, *u_col, *y_col, *sep, *decimal, *file;
     const char *out_sim, *plot, *plot_script, *tune;
     int have_model, have_td_max, have_fs, have_evaluations, have_population, have_weight;
-    int have_phi_t, have_phi_f;
+    int have_phi_t, have_phi_f, have_time_unit, have_u_before;
     tune_opts_t t;
 } ident_args_t;
 

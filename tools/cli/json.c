@@ -125,7 +125,9 @@ static void certainty_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
         const char *name;
     } flags[] = {{PDT_IDENT_FLAG_UNCONFIRMED, "unconfirmed"},
                  {PDT_IDENT_FLAG_AMBIGUOUS, "ambiguous"},
-                 {PDT_IDENT_FLAG_AT_BOUND, "at_bound"}};
+                 {PDT_IDENT_FLAG_AT_BOUND, "at_bound"},
+                 {PDT_IDENT_FLAG_NO_RELATION, "no_relation"},
+                 {PDT_IDENT_FLAG_MID_TRANSIENT, "mid_transient"}};
     pdtcli_jb_uint(jb, "searches", (unsigned long)r->searches);
     pdtcli_jb_uint(jb, "coarse", (unsigned long)r->coarse);
     pdtcli_jb_key(jb, "runner_up", (double)r->runner_up);
@@ -137,6 +139,19 @@ static void certainty_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
         sep = ",";
     }
     pdtcli_jb_raw(jb, "]");
+}
+
+/* ,"excluded":{"count":N,"missing":M,"first":[...]}: the samples left out
+ * of the fit (missing ones and gross errors), the first of them 0-based. */
+static void excluded_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
+{
+    pdtcli_jb_printf(jb, ",\"excluded\":{\"count\":%lu,\"missing\":%lu,\"first\":[",
+                     (unsigned long)r->excluded, (unsigned long)r->missing);
+    const uint32_t listed =
+        r->excluded < PDT_IDENT_EXCLUDED_LIST ? r->excluded : PDT_IDENT_EXCLUDED_LIST;
+    for (uint32_t i = 0; i < listed; i++)
+        pdtcli_jb_printf(jb, "%s%lu", i ? "," : "", (unsigned long)r->excluded_first[i]);
+    pdtcli_jb_raw(jb, "]}");
 }
 
 void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r)
@@ -151,6 +166,8 @@ void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_re
         pdtcli_jb_uint(jb, "evaluations", (unsigned long)r->evaluations);
         if (r->f_band > (pdt_real_t)0) pdtcli_jb_key(jb, "f_band", (double)r->f_band);
         if (r->searches > 0u) certainty_keys(jb, r);
+        if (r->searches > 0u) pdtcli_jb_key(jb, "evidence", (double)r->evidence);
+        if (r->searches > 0u) excluded_keys(jb, r);
     }
 }
 

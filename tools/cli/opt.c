@@ -135,11 +135,13 @@ static int parse_list(const char *s, double *out, int max)
 static void store_list(const cli_parser_t *p, const cli_opt_t *o, const char *value)
 {
     cli_list_t *l = o->dest;
-    l->n = parse_list(value, l->v, CLI_MAX_LIST);
-    if (l->n < 0)
-        cli_fail(EXIT_USAGE, "%s: %s needs 1 to %d numbers separated by commas, got '%s'", p->cmd,
-                 o->name, CLI_MAX_LIST, value);
-    for (int k = 0; k < l->n; k++)
+    const int before = (o->flags & CLI_REPEAT) ? l->n : 0;
+    const int got = parse_list(value, l->v + before, CLI_MAX_LIST - before);
+    if (got < 0)
+        cli_fail(EXIT_USAGE, "%s: %s needs 1 to %d numbers separated by commas%s, got '%s'", p->cmd,
+                 o->name, CLI_MAX_LIST, before ? " in all" : "", value);
+    l->n = before + got;
+    for (int k = before; k < l->n; k++)
         if (!check_real(o->check, l->v[k]))
             cli_fail(EXIT_USAGE, "%s: %s: %s, got %.9g", p->cmd, o->name, o->what, l->v[k]);
 }
@@ -213,7 +215,8 @@ static void take(cli_parser_t *p, int argc, char **argv, int *i)
         cli_fail(EXIT_USAGE, "%s: unknown option '%.*s' (see pdtfit %s --help)", p->cmd, (int)len,
                  arg, p->cmd);
     const cli_opt_t *o = &p->opt[k];
-    if (p->seen[k]) cli_fail(EXIT_USAGE, "%s: %s given twice", p->cmd, o->name);
+    if (p->seen[k] && !(o->flags & CLI_REPEAT))
+        cli_fail(EXIT_USAGE, "%s: %s given twice", p->cmd, o->name);
     p->seen[k] = 1;
     const char *value = eq ? eq + 1 : NULL;
     if (o->kind == OPT_FLAG && value)

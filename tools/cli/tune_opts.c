@@ -1,6 +1,8 @@
 #include "tune_opts.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 size_t tune_opts_table(tune_opts_t *t, cli_opt_t *tab, int rule_form)
@@ -129,4 +131,63 @@ void tune_json(pdtcli_jbuf_t *jb, const tune_opts_t *t, const pdt_tune_result_t 
     const double span = t->have_u_span && t->have_y_span ? t->y_span / t->u_span : (double)NAN;
     pdtcli_jb_tune(jb, cli_rule_names[t->rule], cli_form_names[t->form], t->rule == PDT_TUNE_SIMC,
                    t->rule == PDT_TUNE_IMC, r, fig, span, Ku, Pu);
+}
+
+/* The text after "key": of the object at b (its top level, before e), or
+ * NULL. */
+const char *tune_json_top(const char *b, const char *e, const char *key)
+{
+    const size_t len = strlen(key);
+    int depth = 0;
+    for (const char *p = b; p < e; p++) {
+        if (*p == '{' || *p == '[') depth++;
+        if (*p == '}' || *p == ']') depth--;
+        if (depth <= 0 && p > b) break;
+        if (depth != 1 || *p != '"' || (size_t)(e - p) < len + 3) continue;
+        if (memcmp(p + 1, key, len) != 0 || p[len + 1] != '"') continue;
+        const char *q = p + len + 2;
+        while (q < e && (*q == ' ' || *q == '\t' || *q == '\r' || *q == '\n')) q++;
+        if (q >= e || *q != ':') continue;
+        for (q++; q < e && (*q == ' ' || *q == '\t' || *q == '\r' || *q == '\n');) q++;
+        return q;
+    }
+    return NULL;
+}
+
+int tune_json_flags(const char *b, const char *e, char *names, size_t len)
+{
+    size_t used = 0;
+    int count = 0;
+    names[0] = '\0';
+    const char *v = tune_json_top(b, e, "flags");
+    for (const char *p = v && *v == '[' ? v + 1 : e; p < e && *p != ']'; p++) {
+        if (*p != '"') continue;
+        const char *q = memchr(p + 1, '"', (size_t)(e - p - 1));
+        if (!q) break;
+        const int n = snprintf(names + used, len - used, "%s%.*s", count ? ", " : "",
+                               (int)(q - p - 1), p + 1);
+        used = n > 0 && (size_t)n < len - used ? used + (size_t)n : used;
+        count++;
+        p = q;
+    }
+    const char *fit = tune_json_top(b, e, "fit");
+    if (fit && strtod(fit, NULL) < 0.0) {
+        const int n = snprintf(names + used, len - used, "%sa negative fit (%.4g%%)",
+                               count ? ", " : "", strtod(fit, NULL));
+        used = n > 0 && (size_t)n < len - used ? used + (size_t)n : used;
+        count++;
+    }
+    return count;
+}
+
+int tune_check_flags(const char *cmd, const char *names, int count, int force)
+{
+    if (count == 0) return 0;
+    if (!force)
+        cli_fail(EXIT_SUSPECT,
+                 "%s: gains refused: the identification flagged the model (%s): it may be "
+                 "wrong; --force tunes it anyway",
+                 cmd, names);
+    cli_warn("%s: gains of a model the identification flagged (%s), as --force asks", cmd, names);
+    return 1;
 }

@@ -33,6 +33,18 @@ void tune_model(const char *cmd, const pdt_model_t *m, double fit, const tune_op
 /* Why the library refused (a hint after its status text). */
 const char *tune_hint(pdt_status_t st, int rule, const pdt_model_t *m);
 
+/* The value after "key": in the JSON object at b (its own keys, not
+ * those of objects inside it; before e), or NULL. */
+const char *tune_json_top(const char *b, const char *e, const char *key);
+/* The flags of a model in identify's JSON object [b, e) (its "flags"
+ * list, and a negative "fit"), as "at_bound, no_relation" into names.
+ * Returns how many. */
+int tune_json_flags(const char *b, const char *e, char *names, size_t len);
+/* A flagged model (names from tune_json_flags, count of them) is not
+ * tuned: refused with the flags named (exit 3), or with force tuned after
+ * a warning. Returns 1 when the caller must end with status 3. */
+int tune_check_flags(const char *cmd, const char *names, int count, int force);
+
 /* The tuning as one JSON object. fig NULL: no model, the figures are null;
  * Ku, Pu echoed when finite. */
 void tune_json(pdtcli_jbuf_t *jb, const tune_opts_t *t, const pdt_tune_result_t *r,

@@ -44,7 +44,7 @@ LS_FOPDT_KEYS = ["model", "K", "tau", "Td", "y0", "u0", "cost", "fit", "evaluati
                  "Ts", "n"]
 LS_SOPDT_KEYS = ["model", "K", "wn", "zeta", "Td", "y0", "u0", "tau1", "tau2", "a", "b",
                  "cost", "fit", "evaluations", "std", "Ts", "n"]
-CERTAINTY_KEYS = ["searches", "coarse", "runner_up", "flags"]
+CERTAINTY_KEYS = ["searches", "coarse", "runner_up", "flags", "evidence", "excluded"]
 FOPDT_KEYS = LS_FOPDT_KEYS[:-3] + CERTAINTY_KEYS + ["std", "Ts", "n"]
 SOPDT_KEYS = LS_SOPDT_KEYS[:-3] + CERTAINTY_KEYS + ["std", "Ts", "n"]
 # The keys of `pdtfit tune`'s JSON.

@@ -106,7 +106,7 @@ def test_help_and_version():
     (["identify", "--model", "fopdt", "--tune", "simc:pd", "X"], "--tune needs RULE[:FORM]"),
     (["identify", "--model", "fopdt", "--ms-max", "3", "X"], "go with --tune"),
     (["identify", "--model", "fopdt", "--tune", "simc", "--u-span", "100", "X"], "go together"),
-    (["identify", "--model", "fopdt", "--time-unit", "min", "X"], "unknown time unit"),
+    (["identify", "--model", "fopdt", "--time-unit", "days", "X"], "unknown time unit"),
     (["identify", "--model", "fopdt", "--sep", "|", "X"], "--sep"),
     (["identify", "--model", "fopdt", "--decimal", ";", "X"], "--decimal"),
     (["identify", "--model", "fopdt", "--skip", "-1", "X"], "--skip"),
@@ -162,6 +162,10 @@ def rows_with(i, line, n=32):
     return lines
 
 
+# Missing samples (empty cells, NaN, markers) are refused in the strict
+# reading only; by default they are left out (test_cli_reader.py).
+STRICT = ["--bad-rows", "refuse"]
+
 CSV_ERRORS = [
     # (name, file text, extra args, fragments of the message)
     ("empty", "", [], ["header"]),
@@ -172,12 +176,12 @@ CSV_ERRORS = [
     ("twice", csv_text([r + ",1" for r in good_lines()], "t,u,y,U"), [], ["twice"]),
     ("no_t_no_fs", csv_text([r.split(",", 1)[1] for r in good_lines()], "u,y"), [], ["--fs"]),
     ("text_cell", csv_text(rows_with(3, "1.5,50,abc")), [], [":5:", "column y", "abc"]),
-    ("empty_cell", csv_text(rows_with(6, "3,,20")), [], [":8:", "column u", "empty"]),
-    ("blank_cell", csv_text(rows_with(6, "3,  ,20")), [], [":8:", "column u", "empty"]),
+    ("empty_cell", csv_text(rows_with(6, "3,,20")), STRICT, [":8:", "column u", "empty"]),
+    ("blank_cell", csv_text(rows_with(6, "3,  ,20")), STRICT, [":8:", "column u", "empty"]),
     ("number_junk", csv_text(rows_with(2, "1,50x,20")), [], [":4:", "column u"]),
-    ("nan", csv_text(rows_with(9, "4.5,50,nan")), [], [":11:", "column y", "finite"]),
-    ("inf", csv_text(rows_with(9, "4.5,-inf,20")), [], [":11:", "column u", "finite"]),
-    ("overflow", csv_text(rows_with(9, "4.5,1e999,20")), [], [":11:", "column u", "finite"]),
+    ("nan", csv_text(rows_with(9, "4.5,50,nan")), STRICT, [":11:", "column y", "finite"]),
+    ("inf", csv_text(rows_with(9, "4.5,-inf,20")), STRICT, [":11:", "column u", "finite"]),
+    ("overflow", csv_text(rows_with(9, "4.5,1e999,20")), STRICT, [":11:", "column u", "finite"]),
     ("t_nan", csv_text(rows_with(9, "NaN,50,20")), [], [":11:", "column t"]),
     ("short_row", csv_text(rows_with(4, "2,50")), [], [":6:", "2 fields", "header has 3"]),
     ("long_row", csv_text(rows_with(4, "2,50,20,7")), [], [":6:", "4 fields"]),
@@ -406,8 +410,8 @@ def test_weight_control_reports_band(at_rest_csv):
     """The band's edge is half the phase crossover of the model the time
     cost finds first: the truth's within 1 % on this record."""
     out = parse_output(identify_rest(at_rest_csv, "--weight", "control"))
-    assert list(out) == FOPDT_KEYS[:-7] + ["f_band", "searches", "coarse", "runner_up", "flags", "std",
-                                           "Ts", "n"]
+    assert list(out) == FOPDT_KEYS[:-9] + ["f_band", "searches", "coarse", "runner_up", "flags",
+                                           "evidence", "excluded", "std", "Ts", "n"]
     assert out["f_band"] == pytest.approx(half_crossover_hz(5.0, 1.3), rel=0.01)
     assert out["f_band"] <= 0.5 / TS
     assert out["K"] == pytest.approx(2.0, rel=0.02)
@@ -506,14 +510,22 @@ def test_frequency_default_weight_small_budget(at_rest_csv):
 
 
 def test_bad_value_cell_is_named(tmp_path, fopdt_record):
-    """A logger's bad-value marker is refused with its column, row and value,
-    not turned into a model."""
+    """A logger's bad-value marker is not turned into a model: in y it is
+    left out of the fit and named on stderr; in u it is refused with its
+    column, row and value."""
     t, u, y = fopdt_record
     y = y.copy()
     y[123] = -3e38
     path = write_csv(tmp_path / "bad.csv", {"t": t, "u": u, "y": y})
     res = run(["identify", "--model", "fopdt", path])
-    assert_usage_error(res, "gross outlier", "y = -3e+38 in data row 124", status=1)
+    assert res.returncode == 0, res.stderr
+    assert json.loads(res.stdout)["excluded"] == {"count": 1, "missing": 0, "first": [123]}
+    assert "1 sample left out of the fit (0 missing, 1 gross error), data row 124" in res.stderr
+    u = u.copy()
+    u[123] = -3e38
+    path = write_csv(tmp_path / "badu.csv", {"t": t, "u": u, "y": fopdt_record[2]})
+    res = run(["identify", "--model", "fopdt", path])
+    assert_usage_error(res, "gross outlier", "u = -3e+38 in data row 124", status=1)
 
 
 def test_model_auto_chooses_the_order(tmp_path):

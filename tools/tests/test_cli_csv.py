@@ -161,8 +161,9 @@ def test_epoch_milliseconds(tmp_path, rec):
     t, u, y = rec
     ms = 1.7e12 + np.round(t * 1000.0)
     path = write(tmp_path / "epoch.csv", "t,u,y", cells(ms, u, y, fmt="%.15g"))
-    # Taken as seconds the record is 1000 times slower: said, and visible in Ts.
-    out = ok(run([*MODEL, path]), warn="--time-unit ms")
+    # Taken as seconds the record would be 1000 times slower: refused.
+    assert_usage_error(run([*MODEL, path]), "epoch milliseconds", "--time-unit ms")
+    out = ok(run([*MODEL, "--time-unit", "s", path]))
     assert out["Ts"] == pytest.approx(100.0)
     fopdt(ok(run([*MODEL, "--time-unit", "ms", path])))
     us = 1.7e15 + np.round(t * 1e6)

@@ -79,6 +79,14 @@ typedef enum pdt_ident_offset {
     PDT_IDENT_OFFSET_REST = 2      /* the output's mean over the rest window */
 } pdt_ident_offset_t;
 
+/* The plant's state at the record's start. */
+typedef enum pdt_ident_initial {
+    PDT_IDENT_INITIAL_AUTO = 0, /* at rest, tested: an answer whose residual
+                                 * keeps a decay from the first sample gets
+                                 * PDT_IDENT_FLAG_MID_TRANSIENT */
+    PDT_IDENT_INITIAL_REST = 1  /* at rest, not tested */
+} pdt_ident_initial_t;
+
 typedef struct pdt_ident_config {
     pdt_model_kind_t model;    /* FOPDT or SOPDT. Default FOPDT */
     pdt_real_t Ts;             /* sampling period, s. Must be set (> 0) */
@@ -152,6 +160,29 @@ typedef struct pdt_ident_config {
                                * Either way the whole record is searched
                                * again when the answer is too fast for the
                                * coarse record. Default 0 */
+    /* Gross errors and missing samples (docs/field-data.md, "Gross
+     * errors"). A y sample that is not finite (NaN, infinity: a logger's
+     * empty cell or bad-value marker) is a missing sample: left out of the
+     * fit, counted in pdt_ident_result_t.excluded and .missing. After the
+     * answer, the screen leaves out the samples its residual cannot
+     * explain and the identification runs again without them. */
+    bool refuse_missing;   /* true: a non-finite y is refused
+                            * (PDT_ERR_NONFINITE), as a non-finite u
+                            * always is. Default false */
+    bool no_screen;        /* true: no screen for gross errors (missing
+                            * samples are still left out). Default false */
+    uint32_t max_excluded; /* most samples left out, missing ones and
+                            * gross errors together; more is refused with
+                            * PDT_ERR_OUTLIER. 0: n / 20, at least
+                            * 2 PDT_IDENT_RUN_MAX. Default 0 */
+    /* The input before the first sample, for a record that begins at
+     * the step (a heater switched on at the first row): the plant is
+     * taken at rest at u_before, and the result's u0 is it. Without it
+     * (u_before_given false) the input before the record is u[0], and a
+     * record whose u never moves is refused (PDT_ERR_NO_EXCITATION). */
+    bool u_before_given;         /* Default false */
+    pdt_ident_initial_t initial; /* Default AUTO */
+    pdt_real_t u_before;         /* input units; finite when given */
 } pdt_ident_config_t;
 
 /* One record: n samples of input u and output y, every Ts seconds, in the
@@ -164,6 +195,16 @@ typedef struct pdt_ident_data {
 
 /* Most parameters of a model with its offset: SOPDT k, a, b, Td, y0. */
 #define PDT_IDENT_MAX_PARAMS 5u
+
+/* The screen for gross errors: the longest run of neighbouring bad
+ * samples it takes for one error (a logger's dropout), the half width of
+ * its running median (more than twice the run, so that the median of a
+ * window over a whole run is a good sample), its rounds (identifications
+ * after the first), and the indices a result lists. */
+#define PDT_IDENT_RUN_MAX       10u
+#define PDT_IDENT_SCREEN_HALF   15u
+#define PDT_IDENT_SCREEN_ROUNDS 4u
+#define PDT_IDENT_EXCLUDED_LIST 8u
 
 /* Standard deviations and covariance of the identified parameters, in the
  * order FOPDT K, tau, Td, y0 (count 4) or SOPDT k, a, b, Td, y0 (count 5),
@@ -185,7 +226,8 @@ typedef struct pdt_ident_std {
 
 typedef struct pdt_ident_result {
     pdt_model_t model;    /* the identified model, in engineering units */
-    pdt_real_t u0;        /* input operating point (u[0]) */
+    pdt_real_t u0;        /* input operating point: u[0], or the
+                               * configuration's u_before */
     pdt_real_t y0;        /* output operating point, estimated */
     pdt_real_t cost;      /* the criterion's value at the model */
     pdt_real_t fit;       /* normalised RMS fit of the simulated output,
@@ -207,6 +249,17 @@ typedef struct pdt_ident_result {
     pdt_ident_std_t std;  /* the parameters' uncertainty */
     uint32_t coarse;      /* the searches' record was D times coarser;
                                * 1: they searched the whole record */
+    pdt_real_t evidence;  /* the likelihood-ratio statistic of the model
+                           * against the null model (the output's mean):
+                           * (n / c) ln(SS_null / SS_model), c the
+                           * residual's autocorrelation inflation (as in
+                           * std); 0 when it could not be computed */
+    uint32_t excluded;    /* samples left out of the fit: missing ones and
+                           * gross errors the screen found */
+    uint32_t missing;     /* of them, the non-finite y samples */
+    uint32_t excluded_first[PDT_IDENT_EXCLUDED_LIST]; /* the first
+                           * min(excluded, PDT_IDENT_EXCLUDED_LIST)
+                           * of them, 0-based, ascending; the rest 0 */
 } pdt_ident_result_t;
 
 /* pdt_ident_result_t.flags. An answer with any flag set is the best the
@@ -218,10 +271,25 @@ typedef struct pdt_ident_result {
  *               integrator for a lag or back) fits within 5 % of its cost;
  *  AT_BOUND     a parameter lies on an upper search bound (a time
  *               constant, the dead time, the least damping) or a gain
- *               bound: the optimum may lie outside. */
-#define PDT_IDENT_FLAG_UNCONFIRMED 0x1u
-#define PDT_IDENT_FLAG_AMBIGUOUS   0x2u
-#define PDT_IDENT_FLAG_AT_BOUND    0x4u
+ *               bound: the optimum may lie outside;
+ *  NO_RELATION  the model is not significantly better than the output's
+ *               mean (evidence below PDT_IDENT_EVIDENCE_MIN), or its fit
+ *               is below PDT_IDENT_FIT_FLOOR: the record shows no
+ *               relation of y to u (docs/field-data.md);
+ *  MID_TRANSIENT the record does not start at rest: the answer's residual
+ *               keeps a decay from the first sample (initial AUTO), and
+ *               the model bent to explain it (docs/field-data.md). */
+#define PDT_IDENT_FLAG_UNCONFIRMED   0x1u
+#define PDT_IDENT_FLAG_AMBIGUOUS     0x2u
+#define PDT_IDENT_FLAG_AT_BOUND      0x4u
+#define PDT_IDENT_FLAG_NO_RELATION   0x8u
+#define PDT_IDENT_FLAG_MID_TRANSIENT 0x10u
+
+/* NO_RELATION's bounds: the least evidence (pdt_ident_result_t.evidence;
+ * about the 99.9 % quantile of chi-square with 3 degrees of freedom) and
+ * the least fit, percent. */
+#define PDT_IDENT_EVIDENCE_MIN 16.0
+#define PDT_IDENT_FIT_FLOOR    5.0
 
 /* Most independent searches. */
 #define PDT_IDENT_MAX_SEARCHES 3u
@@ -352,6 +420,23 @@ typedef struct pdt_ident_coarse {
     uint32_t delay_max; /* the whole record's cost's */
 } pdt_ident_coarse_t;
 
+typedef struct pdt_ident_screen {
+    pdt_real_t *yfill; /* n reals of the workspace: y with the samples
+                        * left out filled in */
+    uint8_t *mask;     /* n bits of the workspace: the samples left out */
+    uint8_t *fresh;    /* n bits of the workspace: those of this round */
+    void *work;        /* the whole workspace, for the next round */
+    size_t work_len;
+    size_t first;        /* the first sample left out; n when none */
+    uint32_t excluded;   /* samples left out */
+    uint32_t missing;    /* of them, not finite in the caller's y */
+    uint32_t limit;      /* most that may be */
+    uint32_t rounds;     /* identifications run again */
+    uint32_t prior;      /* evaluations of the rounds before */
+    bool settled;        /* the last round found nothing new */
+    pdt_status_t status; /* PDT_ERR_OUTLIER beyond the limit, else PDT_OK */
+} pdt_ident_screen_t;
+
 typedef struct pdt_ident {
     pdt_ident_config_t cfg;
     pdt_ident_data_t data;
@@ -384,6 +469,7 @@ typedef struct pdt_ident {
     pdt_ident_vote_t vote;
     pdt_ident_profile_t profile;
     pdt_ident_coarse_t coarse;
+    pdt_ident_screen_t screen;
     /* The answer, once done. */
     pdt_model_t model;
     pdt_real_t y0;
@@ -391,6 +477,7 @@ typedef struct pdt_ident {
     uint32_t flags;
     pdt_real_t runner_up;
     pdt_ident_std_t std;
+    pdt_real_t evidence;
 } pdt_ident_t;
 
 /* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */
@@ -404,7 +491,8 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
  * of pop (PDT_IDENT_POPULATION_SOPDT covers both automatic populations),
  * any configuration: for static arrays. */
 #define PDT_IDENT_WORKSPACE_SIZE(n, pop)                                                           \
-    (PDT_COST_WORKSPACE_SIZE(n) + ((size_t)(n) + 13u * (size_t)(pop) + 1u) * sizeof(pdt_real_t))
+    (PDT_COST_WORKSPACE_SIZE(n) +                                                                  \
+     (2u * (size_t)(n) + (size_t)(n) / 16u + 13u * (size_t)(pop) + 3u) * sizeof(pdt_real_t))
 
 /* Prepares ctx for one identification: checks cfg and the data, derives the
  * bounds, prepares the cost (O(n), plus O(N_f log N_f) when the criterion
@@ -460,6 +548,18 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out);
  * *out untouched on error. O(n) per parameter. */
 pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data,
                                    pdt_real_t Ts, pdt_real_t y0, pdt_ident_std_t *out);
+
+/* After pdt_ident_step or pdt_ident_result returned PDT_ERR_OUTLIER (more
+ * samples to leave out than max_excluded allows): the first of them,
+ * 0-based; SIZE_MAX otherwise (also for NULL, before init, and when
+ * init refused the record). */
+size_t pdt_ident_outlier(const pdt_ident_t *ctx);
+
+/* Whether sample k was left out of the fit (missing, or a gross error the
+ * screen found), once pdt_ident_step has returned PDT_OK or
+ * PDT_ERR_OUTLIER; false for NULL, before init and for k past the record.
+ * For a caller that scores the model on the record without them. O(1). */
+bool pdt_ident_is_excluded(const pdt_ident_t *ctx, size_t k);
 
 /* Blocking convenience: init, step until done, result. Same statuses. */
 pdt_status_t pdt_identify(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,

@@ -1,0 +1,83 @@
+/*
+ * The state at the record's start (docs/field-data.md, "A record cut
+ * mid-transient"). The identification takes the plant at rest before the
+ * first sample: its simulated output starts flat. A record cut while the
+ * output still settles from earlier inputs breaks that, and the model
+ * bends to explain the settling with a long dead time or a wrong gain.
+ * With PDT_IDENT_INITIAL_AUTO the answer's residual over the record's
+ * first W samples (a twentieth of the record, at least PDT_MIN_SAMPLES)
+ * is regressed on a straight line: a change along it of more than
+ * MID_SIGMAS of its standard error (the noise's deviation from the
+ * residual's first differences, robustly) and more than MID_SHARE of y's
+ * range means the output was moving at the start where the model says
+ * it was still: PDT_IDENT_FLAG_MID_TRANSIENT.
+ */
+#include "pdt_ident_priv.h"
+#include "pdt_internal.h"
+
+#define MID_SIGMAS   PDT_R(8.0)
+#define MID_SHARE    PDT_R(0.05)
+#define MID_DIV      20u
+/* Bisection steps of the median: the real type's precision. */
+#define MEDIAN_STEPS ((sizeof(pdt_real_t) > 4u) ? 56u : 28u)
+
+/* The median of |e[k+1] - e[k]| over the record, by bisection. */
+static pdt_real_t median_step(const pdt_real_t *e, size_t n)
+{
+    pdt_real_t hi = PDT_R(0.0), lo = PDT_R(0.0);
+    for (size_t k = 1u; k < n; k++) {
+        const pdt_real_t d = pdt_fabs(e[k] - e[k - 1u]);
+        hi = d > hi ? d : hi;
+    }
+    for (uint32_t i = 0u; i < MEDIAN_STEPS; i++) {
+        const pdt_real_t mid = PDT_R(0.5) * (lo + hi);
+        size_t below = 0u;
+        for (size_t k = 1u; k < n; k++) {
+            below += (pdt_fabs(e[k] - e[k - 1u]) <= mid) ? 1u : 0u;
+        }
+        if (2u * below >= n - 1u) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    return hi;
+}
+
+/* The change of the least-squares line through e[0..w-1] from its first
+ * sample to its last. */
+static pdt_real_t trend(const pdt_real_t *e, size_t w)
+{
+    const pdt_real_t kc = PDT_R(0.5) * (pdt_real_t)(w - 1u);
+    pdt_real_t sxy = PDT_R(0.0), sxx = PDT_R(0.0);
+    for (size_t k = 0u; k < w; k++) {
+        const pdt_real_t x = (pdt_real_t)k - kc;
+        sxy += x * (e[k] - e[0]);
+        sxx += x * x;
+    }
+    return sxy / sxx * (pdt_real_t)(w - 1u);
+}
+
+bool pdt_ident_mid_transient(const pdt_real_t *e, const pdt_real_t *y, size_t n)
+{
+    size_t w = n / MID_DIV;
+    w = w < PDT_MIN_SAMPLES ? PDT_MIN_SAMPLES : w;
+    if (w > n) {
+        return false;
+    }
+    pdt_real_t ymin = y[0], ymax = y[0];
+    for (size_t k = 0u; k < n; k++) {
+        ymin = y[k] < ymin ? y[k] : ymin;
+        ymax = y[k] > ymax ? y[k] : ymax;
+    }
+    /* Differences of white noise have sqrt(2) times its deviation, and
+     * their median absolute value is 0.6745 of theirs. */
+    const pdt_real_t sigma = median_step(e, n) / (PDT_R(0.6745) * PDT_R(1.41421356));
+    const pdt_real_t wr = (pdt_real_t)w;
+    /* The line's change over w samples of white noise: sigma sqrt(12 (w -
+     * 1)^2 / (w (w^2 - 1))), about sigma sqrt(12 / w). */
+    const pdt_real_t se =
+        sigma * pdt_sqrt(PDT_R(12.0) * (wr - PDT_R(1.0)) / (wr * (wr + PDT_R(1.0))));
+    const pdt_real_t change = pdt_fabs(trend(e, w));
+    return change > MID_SIGMAS * se && change > MID_SHARE * (ymax - ymin);
+}

@@ -1,0 +1,357 @@
+/*
+ * Gross errors and missing samples (docs/field-data.md, "Gross
+ * errors"). The record's y is kept in the workspace (screen.yfill) with
+ * a bit per sample (screen.mask) for the samples left out of the fit:
+ * the missing ones (not finite in the caller's y), marked at init, and
+ * the gross errors the screen finds after each answer. A sample left out
+ * is filled by a straight line between the nearest kept samples, so that
+ * its bad value no longer enters any cost; the identification then runs
+ * again on the filled record (at most PDT_IDENT_SCREEN_ROUNDS times).
+ *
+ * The screen: the answer's output error e = y - ysim, high-passed by its
+ * running median over 2 PDT_IDENT_SCREEN_HALF + 1 samples (h = e - med e),
+ * so that a smooth misfit of the model (a FOPDT of a higher-order plant)
+ * is not taken for an error while a run of up to PDT_IDENT_RUN_MAX bad
+ * samples is (the median of a window over a whole run is a good sample).
+ * A sample is left out where |h| exceeds both SCREEN_SIGMAS robust
+ * standard deviations of h (1.4826 times its median absolute value over
+ * the kept samples) and SCREEN_RANGE of the range of the model's output:
+ * an error no FOPDT or SOPDT plus noise explains, and large enough to
+ * move the model. Its neighbours with |h| above half that bound go with
+ * it (the edges of a run).
+ */
+#include "pdt_ident_priv.h"
+#include "pdt_internal.h"
+
+/* Robust standard deviations of the high-passed residual: beyond what
+ * Gaussian noise reaches (6 once in 5e8 samples) and what a FOPDT's misfit
+ * of a SOPDT under a PRBS reached (6.0) in the screen's tests. */
+#define SCREEN_SIGMAS PDT_R(8.0)
+/* The least error left out, as a share of the range of the model's
+ * output: a smaller one cannot decide the model (a FOPDT's misfit of a
+ * SOPDT reached a quarter). */
+#define SCREEN_RANGE  PDT_R(0.5)
+/* The least error left out, as a share of the largest in this round. */
+#define SCREEN_TOP    PDT_R(0.25)
+/* 1 / Phi^-1(3/4): the median absolute value of a Gaussian in standard
+ * deviations. */
+#define MAD_TO_SIGMA  PDT_R(1.4826)
+/* Bisection steps of the median: the real type's precision. */
+#define MEDIAN_STEPS  ((sizeof(pdt_real_t) > 4u) ? 56u : 28u)
+
+#define SCREEN_WINDOW (2u * PDT_IDENT_SCREEN_HALF + 1u)
+
+static bool is_out(const uint8_t *m, size_t k)
+{
+    return ((uint32_t)m[k >> 3u] & (1u << (k & 7u))) != 0u;
+}
+
+static void set_out(uint8_t *m, size_t k)
+{
+    m[k >> 3u] = (uint8_t)((uint32_t)m[k >> 3u] | (1u << (k & 7u)));
+}
+
+/* The samples left out of y, filled by straight lines between the
+ * nearest kept samples (at the ends, the nearest one). O(n). */
+static void fill_gaps(pdt_real_t *y, const uint8_t *m, size_t n)
+{
+    size_t last = n; /* the last kept sample, n: none yet */
+    size_t k = 0u;
+    while (k < n) {
+        if (!is_out(m, k)) {
+            last = k;
+            k++;
+            continue;
+        }
+        size_t j = k;
+        while (j < n && is_out(m, j)) {
+            j++;
+        }
+        for (size_t i = k; i < j; i++) {
+            if (last == n) {
+                y[i] = (j < n) ? y[j] : PDT_R(0.0);
+            } else if (j == n) {
+                y[i] = y[last];
+            } else {
+                const size_t step = i - last, gap = j - last;
+                const pdt_real_t w = (pdt_real_t)step / (pdt_real_t)gap;
+                y[i] = y[last] + w * (y[j] - y[last]);
+            }
+        }
+        k = j;
+    }
+}
+
+/* The first sample left out, and the count, after the mask changed. */
+static void recount(pdt_ident_screen_t *s, size_t n)
+{
+    uint32_t count = 0u;
+    s->first = n;
+    for (size_t k = 0u; k < n; k++) {
+        if (is_out(s->mask, k)) {
+            s->first = (s->first == n) ? k : s->first;
+            count++;
+        }
+    }
+    s->excluded = count;
+}
+
+uint32_t pdt_ident_screen_limit(const pdt_ident_config_t *cfg, size_t n)
+{
+    if (cfg->max_excluded != 0u) {
+        return cfg->max_excluded;
+    }
+    const size_t share = n / 20u;
+    return share > 2u * PDT_IDENT_RUN_MAX ? (uint32_t)share : 2u * PDT_IDENT_RUN_MAX;
+}
+
+bool pdt_ident_screen_needed(const pdt_ident_config_t *cfg, const pdt_ident_data_t *d)
+{
+    for (size_t k = 0u; k < d->n; k++) {
+        if (!pdt_finite(d->y[k])) {
+            return true;
+        }
+    }
+    return !cfg->no_screen && pdt_cost_outlier(d->y, d->n) < d->n;
+}
+
+pdt_status_t pdt_ident_screen_prepare(pdt_ident_screen_t *s, const pdt_ident_config_t *cfg,
+                                      const pdt_ident_data_t *d)
+{
+    const size_t n = d->n;
+    for (size_t k = 0u; k < (n + 7u) / 8u; k++) {
+        s->mask[k] = 0u;
+    }
+    uint32_t missing = 0u;
+    for (size_t k = 0u; k < n; k++) {
+        s->yfill[k] = d->y[k];
+        if (!pdt_finite(d->y[k])) {
+            set_out(s->mask, k);
+            missing++;
+        }
+    }
+    s->limit = pdt_ident_screen_limit(cfg, n);
+    s->missing = missing;
+    fill_gaps(s->yfill, s->mask, n);
+    /* Values orders of magnitude off the rest (pdt_cost_outlier: 1e20 in
+     * a record of order 1), which the cost refuses: one at a time. */
+    for (uint32_t i = 0u; !cfg->no_screen && i < 2u * PDT_IDENT_RUN_MAX; i++) {
+        const size_t k = pdt_cost_outlier(s->yfill, n);
+        if (k >= n) {
+            break;
+        }
+        set_out(s->mask, k);
+        fill_gaps(s->yfill, s->mask, n);
+    }
+    recount(s, n);
+    return s->excluded > s->limit ? PDT_ERR_OUTLIER : PDT_OK;
+}
+
+/* The median of the window about k of the residual e, whose samples
+ * before k were overwritten and are kept in ring (index mod the window). */
+static pdt_real_t window_median(const pdt_real_t *e, const pdt_real_t *ring, size_t n, size_t k)
+{
+    pdt_real_t w[SCREEN_WINDOW];
+    const size_t len = n < SCREEN_WINDOW ? n : SCREEN_WINDOW;
+    size_t s = k > PDT_IDENT_SCREEN_HALF ? k - PDT_IDENT_SCREEN_HALF : 0u;
+    s = (s + len > n) ? n - len : s;
+    for (size_t i = 0u; i < SCREEN_WINDOW; i++) {
+        w[i] = PDT_R(0.0);
+    }
+    for (size_t i = 0u; i < len; i++) {
+        const size_t j = s + i;
+        const pdt_real_t v = (j < k) ? ring[j % SCREEN_WINDOW] : e[j];
+        size_t p = i;
+        while (p > 0u && w[p - 1u] > v) {
+            w[p] = w[p - 1u];
+            p--;
+        }
+        w[p] = v;
+    }
+    return (len % 2u) != 0u ? w[len / 2u] : PDT_R(0.5) * (w[len / 2u - 1u] + w[len / 2u]);
+}
+
+/* e high-passed in place: e - its running median. O(n W^2 / 4). */
+static void high_pass(pdt_real_t *e, size_t n)
+{
+    pdt_real_t ring[SCREEN_WINDOW];
+    for (size_t k = 0u; k < n; k++) {
+        const pdt_real_t med = window_median(e, ring, n, k);
+        ring[k % SCREEN_WINDOW] = e[k];
+        e[k] -= med;
+    }
+}
+
+/* The median of |h| over the kept samples, by bisection of [0, top]. */
+static pdt_real_t median_abs(const pdt_real_t *h, const uint8_t *m, size_t n, pdt_real_t top)
+{
+    size_t kept = 0u;
+    for (size_t k = 0u; k < n; k++) {
+        kept += is_out(m, k) ? 0u : 1u;
+    }
+    pdt_real_t lo = PDT_R(0.0), hi = top;
+    for (uint32_t i = 0u; i < MEDIAN_STEPS; i++) {
+        const pdt_real_t mid = PDT_R(0.5) * (lo + hi);
+        size_t below = 0u;
+        for (size_t k = 0u; k < n; k++) {
+            below += (!is_out(m, k) && pdt_fabs(h[k]) <= mid) ? 1u : 0u;
+        }
+        if (2u * below >= kept) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    return hi;
+}
+
+/* The answer's output error into e (n reals) and the range of its
+ * simulated output; false when the model cannot be simulated. */
+static bool residual(const pdt_ident_t *c, pdt_real_t *e, pdt_real_t *range)
+{
+    pdt_discrete_t d;
+    if (pdt_discrete_init(&c->model, c->cfg.Ts, &d) != PDT_OK ||
+        pdt_cost_simulate(&c->cost, &d, e) != PDT_OK) {
+        return false;
+    }
+    const pdt_real_t off = c->y0 - c->cost.cfg.y0;
+    pdt_real_t lo = e[0], hi = e[0];
+    for (size_t k = 0u; k < c->data.n; k++) {
+        lo = e[k] < lo ? e[k] : lo;
+        hi = e[k] > hi ? e[k] : hi;
+        e[k] = c->screen.yfill[k] - (e[k] + off);
+    }
+    *range = hi - lo;
+    return pdt_finite(*range);
+}
+
+/* Marks the samples beyond bound, then (grow) their neighbours beyond
+ * half of it; returns how many were marked. */
+static uint32_t mark(pdt_ident_screen_t *s, const pdt_real_t *h, size_t n, pdt_real_t bound,
+                     bool grow)
+{
+    uint32_t added = 0u;
+    for (size_t k = 0u; k < n; k++) {
+        if (!is_out(s->mask, k) && pdt_fabs(h[k]) > bound) {
+            set_out(s->mask, k);
+            s->fresh[k >> 3u] = (uint8_t)((uint32_t)s->fresh[k >> 3u] | (1u << (k & 7u)));
+            added++;
+        }
+    }
+    const pdt_real_t edge = PDT_R(0.5) * bound;
+    for (size_t i = 1u; grow && added > 0u && i < 2u * n; i++) {
+        /* Forward, then backward: a run's edges on either side. */
+        const size_t k = i < n ? i : 2u * n - 1u - i;
+        const size_t from = i < n ? k - 1u : k + 1u;
+        if (k < n && from < n && is_out(s->fresh, from) && !is_out(s->mask, k) &&
+            pdt_fabs(h[k]) > edge) {
+            set_out(s->mask, k);
+            set_out(s->fresh, k);
+            added++;
+        }
+    }
+    return added;
+}
+
+/* The bound of this round: an error no model plus noise explains
+ * (SCREEN_SIGMAS), large enough to move the model (SCREEN_RANGE), and
+ * among the largest (SCREEN_TOP): a model that a gross error bent makes
+ * errors of its own, smaller ones, which the next round sees without it.
+ * *grow: the bound is the first two's, so a run's edges go with it (with
+ * a bent model they wait for the next round). */
+static pdt_real_t bound_of(const pdt_ident_screen_t *s, const pdt_real_t *h, size_t n,
+                           pdt_real_t range, bool *grow)
+{
+    pdt_real_t top = PDT_R(0.0);
+    for (size_t k = 0u; k < n; k++) {
+        top = pdt_fabs(h[k]) > top ? pdt_fabs(h[k]) : top;
+    }
+    if (!pdt_finite(top)) {
+        *grow = false;
+        return PDT_REAL_MAX;
+    }
+    const pdt_real_t sigma = MAD_TO_SIGMA * median_abs(h, s->mask, n, top);
+    pdt_real_t bound = SCREEN_SIGMAS * sigma;
+    bound = SCREEN_RANGE * range > bound ? SCREEN_RANGE * range : bound;
+    *grow = !(SCREEN_TOP * top > bound);
+    return *grow ? bound : SCREEN_TOP * top;
+}
+
+/* The samples left out in earlier rounds filled with the answer's output
+ * (ysim: n reals), the new ones (fresh) by straight lines. */
+static void refill(pdt_ident_screen_t *s, const pdt_real_t *ysim, size_t n)
+{
+    for (size_t k = 0u; k < n; k++) {
+        if (is_out(s->mask, k) && !is_out(s->fresh, k)) {
+            s->yfill[k] = ysim[k];
+        }
+    }
+    fill_gaps(s->yfill, s->fresh, n);
+}
+
+void pdt_ident_screen_step(pdt_ident_t *c)
+{
+    pdt_ident_screen_t *s = &c->screen;
+    const size_t n = c->data.n;
+    pdt_real_t *h = c->scratch;
+    pdt_real_t range;
+    c->phase = PH_DONE;
+    if (c->cfg.no_screen || s->rounds >= PDT_IDENT_SCREEN_ROUNDS || s->settled ||
+        !residual(c, h, &range)) {
+        return;
+    }
+    high_pass(h, n);
+    for (size_t k = 0u; k < (n + 7u) / 8u; k++) {
+        s->fresh[k] = 0u;
+    }
+    bool grow = false;
+    const pdt_real_t bound = bound_of(s, h, n, range, &grow);
+    const uint32_t added = mark(s, h, n, bound, grow);
+    if (added == 0u && s->excluded == 0u) {
+        return;
+    }
+    recount(s, n);
+    if (s->excluded > s->limit) {
+        s->status = PDT_ERR_OUTLIER;
+        return;
+    }
+    /* The answer's output again (h was overwritten), for the refill. */
+    if (!residual(c, h, &range)) {
+        return;
+    }
+    for (size_t k = 0u; k < n; k++) {
+        h[k] = s->yfill[k] - h[k];
+    }
+    refill(s, h, n);
+    /* Without new samples, this round only filled the old ones with a
+     * model that did not see them: the next answer is the last. */
+    s->settled = added == 0u;
+    s->rounds++;
+    const pdt_status_t st = pdt_ident_restart(c);
+    if (st != PDT_OK) {
+        c->screen.status = st;
+        c->phase = PH_DONE;
+    }
+}
+
+void pdt_ident_screen_report(const pdt_ident_screen_t *s, size_t n, pdt_ident_result_t *r)
+{
+    uint32_t listed = 0u;
+    r->excluded = s->excluded;
+    r->missing = s->missing;
+    for (uint32_t i = 0u; i < PDT_IDENT_EXCLUDED_LIST; i++) {
+        r->excluded_first[i] = 0u;
+    }
+    for (size_t k = 0u; s->excluded > 0u && k < n && listed < PDT_IDENT_EXCLUDED_LIST; k++) {
+        if (is_out(s->mask, k)) {
+            r->excluded_first[listed] = (uint32_t)k;
+            listed++;
+        }
+    }
+}
+
+bool pdt_ident_is_excluded(const pdt_ident_t *ctx, size_t k)
+{
+    return ctx != NULL && ctx->phase == PH_DONE && ctx->screen.mask != NULL && k < ctx->data.n &&
+           is_out(ctx->screen.mask, k);
+}
