@@ -52,14 +52,15 @@ static pdt_real_t median_step(const pdt_real_t *e, size_t n)
  * sample to its last. */
 static pdt_real_t trend(const pdt_real_t *e, size_t w)
 {
-    const pdt_real_t kc = PDT_R(0.5) * (pdt_real_t)(w - 1u);
+    const size_t last = w - 1u;
+    const pdt_real_t kc = PDT_R(0.5) * (pdt_real_t)last;
     pdt_real_t sxy = PDT_R(0.0), sxx = PDT_R(0.0);
     for (size_t k = 0u; k < w; k++) {
         const pdt_real_t x = (pdt_real_t)k - kc;
         sxy += x * (e[k] - e[0]);
         sxx += x * x;
     }
-    return sxy / sxx * (pdt_real_t)(w - 1u);
+    return sxy / sxx * (pdt_real_t)last;
 }
 
 /* The median of the changes' magnitudes over the windows after the
@@ -87,8 +88,8 @@ static pdt_real_t median_others(const pdt_real_t *e, size_t n, size_t w)
 
 bool pdt_ident_mid_transient(const pdt_real_t *e, const pdt_real_t *y, size_t n)
 {
-    size_t w = n / MID_DIV;
-    w = w < PDT_MIN_SAMPLES ? PDT_MIN_SAMPLES : w;
+    const size_t least = (size_t)PDT_MIN_SAMPLES;
+    const size_t w = n / MID_DIV < least ? least : n / MID_DIV;
     if (w > n) {
         return false;
     }
