@@ -13,12 +13,15 @@
  * so that a smooth misfit of the model (a FOPDT of a higher-order plant)
  * is not taken for an error while a run of up to PDT_IDENT_RUN_MAX bad
  * samples is (the median of a window over a whole run is a good sample).
- * A sample is left out where |h| exceeds both SCREEN_SIGMAS robust
- * standard deviations of h (1.4826 times its median absolute value over
- * the kept samples) and SCREEN_RANGE of the range of the model's output:
- * an error no FOPDT or SOPDT plus noise explains, and large enough to
- * move the model. Its neighbours with |h| above half that bound go with
- * it (the edges of a run).
+ * A sample is left out where |h| exceeds SCREEN_SIGMAS robust standard
+ * deviations of h (1.4826 times its median absolute value over the kept
+ * samples), SCREEN_RANGE of the range of the model's output and
+ * SCREEN_TOP of the largest |h| kept: an error no FOPDT or SOPDT plus
+ * noise explains, large enough to move the model, and among the largest
+ * of the round. Its neighbours of the same sign with |h| above half that
+ * bound go with it (the edges of a run); a sample of an earlier round
+ * whose measured value the answer explains within half the bound is
+ * taken back.
  */
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
