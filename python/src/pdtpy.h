@@ -40,7 +40,7 @@ typedef struct pdtpy_ident_opts {
     uint32_t evaluations; /* 0 default */
     uint32_t population;  /* 0 default */
     double td_max, f_lo, f_hi, phi_t, phi_f;
-    uint32_t coarse; /* 0 automatic */
+    uint32_t coarse;    /* 0 automatic */
     double u_before;    /* the input before the record; NaN: not given */
     int refuse_missing; /* a non-finite y is refused, not left out */
     int initial;        /* pdt_ident_initial_t */
