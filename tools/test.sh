@@ -100,12 +100,25 @@ build_and_test() { # name, extra cmake args...
     ctest --test-dir "$out/test-$name" --output-on-failure -j "$jobs"
 }
 
-build_and_test float -DPDT_PYTHON_TESTS=ON -DPython3_EXECUTABLE="$py"
+# -Werror is CI's choice (PDT_WERROR, off by default): every build here sets it.
+build_and_test float -DPDT_WERROR=ON -DPDT_PYTHON_TESTS=ON -DPython3_EXECUTABLE="$py"
 
 step "Python package pdtfit against the float build's program"
 PDTFIT_BIN="$out/test-float/tools/pdtfit" "$py" -m pytest -q python/tests
-build_and_test double -DPDT_REAL_DOUBLE=ON
-build_and_test sanitize -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug
+build_and_test double -DPDT_WERROR=ON -DPDT_REAL_DOUBLE=ON
+build_and_test sanitize -DPDT_WERROR=ON -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug
+# ---- portability: every host compiler (issue: every compiler, Windows) ----
+# clang builds everything (library, tools, tests, benchmarks) under its own
+# strict warnings as errors, and runs the unit tests (the certainty smoke
+# run, label bench, is the gcc builds' alone).
+step "clang build"
+CC=clang cmake -S "$root" -B "$out/test-clang" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DPDT_WERROR=ON >/dev/null
+cmake --build "$out/test-clang" -j "$jobs"
+ctest --test-dir "$out/test-clang" --output-on-failure -j "$jobs" -L unit
+step "lib/ as C99, C11 and C17 with -pedantic-errors, gcc and clang"
+bash tools/check_c_standards.sh
+# ---- end of portability ----
 
 step "Cortex-M4F build of lib/ (float and double), symbols, size per module"
 python3 tools/size_report.py --check
@@ -120,7 +133,7 @@ python3 tools/misra_check.py
 
 step "fuzz targets (clang, libFuzzer, ASan + UBSan), a few seconds each"
 CC=clang cmake -S "$root" -B "$out/test-fuzz" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DPDT_BUILD_FUZZERS=ON -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_INSTALL=OFF >/dev/null
+    -DPDT_WERROR=ON -DPDT_BUILD_FUZZERS=ON -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_INSTALL=OFF >/dev/null
 cmake --build "$out/test-fuzz" -j "$jobs"
 tests/fuzz/run.sh "$out/test-fuzz" 5
 
@@ -131,7 +144,7 @@ python3 tools/check_packages.py
 step "Cortex-M4F target tests under QEMU"
 cmake -S "$root" -B "$out/test-target" -G Ninja \
     -DCMAKE_TOOLCHAIN_FILE="$root/cmake/arm-none-eabi-cm4.cmake" \
-    -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON >/dev/null
+    -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON -DPDT_WERROR=ON >/dev/null
 cmake --build "$out/test-target" -j "$jobs"
 ctest --test-dir "$out/test-target" -L target --output-on-failure
 

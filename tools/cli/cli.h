@@ -118,7 +118,7 @@ extern const char *const cli_model_names[]; /* fopdt, sopdt */
 extern const char *const cli_rule_names[];  /* simc, imc, amigo, zn */
 extern const char *const cli_form_names[];  /* pi, pid */
 /* "fopdt" or "sopdt" of a pdt_model_kind_t. */
-const char *cli_model_str(int kind);
+const char *cli_model_str(pdt_model_kind_t kind);
 
 /* The program's argv[0], set by main (to find the plot script). */
 extern const char *cli_argv0;
