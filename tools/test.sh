@@ -48,6 +48,10 @@ have clang || apt_missing+=(clang)
 ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 ||
     apt_missing+=(libclang-rt-14-dev)
 have cppcheck || apt_missing+=(cppcheck)
+# ---- portability: Windows (mingw-w64, Wine) and the other cores' toolchains ----
+have x86_64-w64-mingw32-gcc || apt_missing+=(mingw-w64)
+have wine || apt_missing+=(wine wine64)
+# ---- end of portability ----
 if ((${#apt_missing[@]})); then
     if [ "$(id -u)" = 0 ] && have apt-get; then
         apt-get update -q
@@ -118,6 +122,20 @@ cmake --build "$out/test-clang" -j "$jobs"
 ctest --test-dir "$out/test-clang" --output-on-failure -j "$jobs" -L unit
 step "lib/ as C99, C11 and C17 with -pedantic-errors, gcc and clang"
 bash tools/check_c_standards.sh
+# Windows: the library and pdtfit.exe with mingw-w64; the program run under
+# Wine against the float build's (tools/check_windows.py). Wine's prefix is
+# made once under build/, without a display, its Mono and Gecko prompts off.
+step "Windows build (mingw-w64) and pdtfit.exe under Wine against the Linux program"
+cmake -S "$root" -B "$out/test-mingw" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" -DPDT_BUILD_TOOLS=ON \
+    -DPDT_WERROR=ON >/dev/null
+cmake --build "$out/test-mingw" -j "$jobs"
+(
+    export WINEPREFIX="$out/wine" WINEARCH=win64 WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
+    unset DISPLAY WAYLAND_DISPLAY
+    "$py" tools/check_windows.py --linux "$out/test-float/tools/pdtfit" \
+        --windows "$out/test-mingw/tools/pdtfit.exe"
+)
 # ---- end of portability ----
 
 step "Cortex-M4F build of lib/ (float and double), symbols, size per module"

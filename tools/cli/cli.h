@@ -26,8 +26,16 @@
 #define CLI_MAX_OPTS 64
 
 #if defined(__GNUC__)
-#define CLI_NORETURN_PRINTF(f, a) __attribute__((noreturn, format(printf, f, a)))
-#define CLI_PRINTF(f, a)          __attribute__((format(printf, f, a)))
+/* mingw-w64 builds print with its own C99 printf (__USE_MINGW_ANSI_STDIO,
+ * CMakeLists.txt), whose formats are gnu_printf's, not the Windows C
+ * runtime's. */
+#ifdef __MINGW32__
+#define CLI_PRINTF_FORMAT gnu_printf
+#else
+#define CLI_PRINTF_FORMAT printf
+#endif
+#define CLI_NORETURN_PRINTF(f, a) __attribute__((noreturn, format(CLI_PRINTF_FORMAT, f, a)))
+#define CLI_PRINTF(f, a)          __attribute__((format(CLI_PRINTF_FORMAT, f, a)))
 #define CLI_NORETURN              __attribute__((noreturn))
 #else
 #define CLI_NORETURN_PRINTF(f, a)
