@@ -16,18 +16,18 @@
 #include "target_util.h"
 
 #include "pdt_port.h"
-#include "pdt_port_cm4.h"
+#include "pdt_port_target.h"
+#include "target_config.h"
 
 /* Registered in target_main.c. */
 int target_check_autotune(void);
 
-#define AT_CAPACITY 600u
+#define AT_CAPACITY TARGET_AT_CAPACITY
 
-static pdt_real_t g_at_work[PDT_AUTOTUNE_WORKSPACE_SIZE(AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
-                                sizeof(pdt_real_t) +
-                            1u];
-static pdt_autotune_t g_at;
-static sim_process_t g_process; /* the plant of the check running */
+/* The shared arena's (target_config.h). */
+#define g_at_work (t_arena.autotune.work)
+#define g_at      (t_arena.autotune.at)
+#define g_process (t_arena.autotune.process)
 
 typedef struct at_run {
     pdt_status_t st;
@@ -53,7 +53,7 @@ static bool at_run(const pdt_autotune_config_t *c, sim_process_t *p, at_run_t *r
         pdt_autotune_init(&g_at, c, (pdt_real_t)p->plant.u0, g_at_work, need) != PDT_OK) {
         return false;
     }
-    size_t depth = pdt_cm4_stack_depth();
+    size_t depth = pdt_port_stack_depth();
     t_stack_repaint();
     r->st = PDT_RUNNING;
     while (r->st == PDT_RUNNING && r->scans < 100000u) {
@@ -83,7 +83,7 @@ static bool at_run(const pdt_autotune_config_t *c, sim_process_t *p, at_run_t *r
         r->scans++;
         sim_process_apply(p, u);
     }
-    r->stack = pdt_cm4_stack_used() - depth;
+    r->stack = pdt_port_stack_used() - depth;
     return pdt_autotune_result(&g_at, &r->res) == PDT_OK;
 }
 
@@ -95,7 +95,8 @@ static void at_config(pdt_autotune_config_t *c, double Ts, pdt_model_kind_t kind
     c->capacity = AT_CAPACITY;
     c->excite.kind = PDT_EXCITE_PRBS;
     c->excite.amplitude = (pdt_real_t)amp;
-    c->excite.prbs_bits = 7u;
+    /* The small program's record holds 128 samples: a PRBS of 5 bits. */
+    c->excite.prbs_bits = PDT_TARGET_SMALL ? 5u : 7u;
     c->excite.prbs_hold = hold;
     c->u_min = (pdt_real_t)0.0;
     c->u_max = (pdt_real_t)100.0;
@@ -168,7 +169,9 @@ static int check_fopdt(void)
               r.res.ident.model.kind == PDT_MODEL_FOPDT;
     tline_t l;
     tl_init(&l);
-    tl_str(&l, "autotune FOPDT K=2 tau=10 Td=3, PRBS, capacity 600: ");
+    tl_str(&l, "autotune FOPDT K=2 tau=10 Td=3, PRBS, capacity ");
+    tl_uint(&l, AT_CAPACITY);
+    tl_str(&l, ": ");
     if (!ok) {
         tl_str(&l, pdt_status_str(r.st));
         return t_verdict(false, &l);
@@ -202,7 +205,9 @@ static int check_sopdt(void)
               pdt_model_sopdt_to_tc(&r.res.ident.model.p.sopdt, &gtc) == PDT_OK;
     tline_t l;
     tl_init(&l);
-    tl_str(&l, "autotune SOPDT K=1.5 T1=8 T2=3 Td=2, PRBS, capacity 600: ");
+    tl_str(&l, "autotune SOPDT K=1.5 T1=8 T2=3 Td=2, PRBS, capacity ");
+    tl_uint(&l, AT_CAPACITY);
+    tl_str(&l, ": ");
     if (!ok) {
         tl_str(&l, pdt_status_str(r.st));
         return t_verdict(false, &l);
