@@ -1,7 +1,7 @@
 /*
  * Port surface for a 32-bit RISC-V core (rv32imac, rv32imafc) on QEMU's
  * `virt` machine (-machine virt -bios none), in machine mode, with
- * picolibc: its crt0 sets the stack, the global pointer, the FPU (on an F
+ * picolibc: its crt0 (the hosted one) sets the stack, the global pointer, the FPU (on an F
  * core), .data, .bss and the thread-local errno, calls main and then exit,
  * which ends here in _exit. The memory map is picolibc's picolibc.ld with
  * the addresses the build passes (port/CMakeLists.txt): code from
@@ -41,6 +41,10 @@ void pdt_rv32_trap_handler(void);
 #define SEMI_ADP_RUNTIME_ERROR    0x20023u
 
 #define STACK_PAINT 0xC5AC5AC5u
+
+/* CSR instructions: Zicsr named for the assembler, whatever -march the
+ * compiler was given (the multilib's, rv32imac or rv32imafc). */
+#define CSR_ASM(insn) ".option push\n\t.option arch, +zicsr\n\t" insn "\n\t.option pop"
 
 static bool g_started;
 
@@ -105,7 +109,7 @@ void pdt_port_init(void)
     }
     g_started = true;
     /* Traps report and stop instead of jumping to address 0. */
-    __asm volatile("csrw mtvec, %0" ::"r"((uintptr_t)pdt_rv32_trap_handler));
+    __asm volatile(CSR_ASM("csrw mtvec, %0")::"r"((uintptr_t)pdt_rv32_trap_handler));
     pdt_port_stack_paint();
 }
 
@@ -132,9 +136,9 @@ uint64_t pdt_port_ticks(void)
     uint32_t lo;
     uint32_t hi2;
     do {
-        __asm volatile("rdcycleh %0" : "=r"(hi));
-        __asm volatile("rdcycle %0" : "=r"(lo));
-        __asm volatile("rdcycleh %0" : "=r"(hi2));
+        __asm volatile(CSR_ASM("rdcycleh %0") : "=r"(hi));
+        __asm volatile(CSR_ASM("rdcycle %0") : "=r"(lo));
+        __asm volatile(CSR_ASM("rdcycleh %0") : "=r"(hi2));
     } while (hi != hi2);
     return ((uint64_t)hi << 32) | lo;
 }
@@ -184,9 +188,9 @@ __attribute__((interrupt("machine"), aligned(4))) void pdt_rv32_trap_handler(voi
     uint32_t cause;
     uint32_t epc;
     uint32_t tval;
-    __asm volatile("csrr %0, mcause" : "=r"(cause));
-    __asm volatile("csrr %0, mepc" : "=r"(epc));
-    __asm volatile("csrr %0, mtval" : "=r"(tval));
+    __asm volatile(CSR_ASM("csrr %0, mcause") : "=r"(cause));
+    __asm volatile(CSR_ASM("csrr %0, mepc") : "=r"(epc));
+    __asm volatile(CSR_ASM("csrr %0, mtval") : "=r"(tval));
     write_str("\n*** trap\n");
     report_hex("mcause", cause);
     report_hex("mepc", epc);
