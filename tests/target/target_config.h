@@ -34,9 +34,25 @@ typedef struct target_ident_mem {
                     1u];
 } target_ident_mem_t;
 
+/* One autotune's record (check_autotune.c). */
+typedef struct target_at_run {
+    pdt_status_t st;
+    pdt_autotune_result_t res;
+    uint32_t scans;
+    uint64_t worst[7]; /* ticks of the slowest call in each phase */
+    uint32_t calls[7];
+    uint32_t max_evals;    /* most cost evaluations in one call */
+    uint64_t worst_search; /* ticks of the slowest identify call that
+                            * evaluated (the search's, not a preparation or
+                            * a validation) */
+    size_t stack;          /* bytes below the run's frame */
+} target_at_run_t;
+
 /* The autotune checks' memory (check_autotune.c). */
 typedef struct target_autotune_mem {
     pdt_autotune_t at;
+    pdt_autotune_config_t cfg;
+    target_at_run_t run;
     sim_process_t process; /* the plant of the check running */
     pdt_real_t work[PDT_AUTOTUNE_WORKSPACE_SIZE(TARGET_AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
                         sizeof(pdt_real_t) +
