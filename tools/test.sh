@@ -16,8 +16,10 @@
 #   5. pdtfit consumed as a subproject, as a moved install (CMake package,
 #      pkg-config) and in Cortex-M0+/M7 firmware builds; the PlatformIO,
 #      Arduino, ESP-IDF and Zephyr manifests, and the Arduino example built;
-#   6. the target test program on the Cortex-M4F (float build) under QEMU
-#      (mps2-an386), ctest label "target".
+#   6. the target test program on every core with a toolchain file in cmake/
+#      (Cortex-M0, M4F, M33, RISC-V rv32imac and rv32imafc; float build)
+#      under QEMU, ctest label "target"; before them, the portability steps:
+#      clang, the C standards, the Windows build under Wine.
 # Build trees go to build/test-*; nothing outside the checkout is written
 # except by the package installers.
 set -euo pipefail
@@ -51,6 +53,9 @@ have cppcheck || apt_missing+=(cppcheck)
 # ---- portability: Windows (mingw-w64, Wine) and the other cores' toolchains ----
 have x86_64-w64-mingw32-gcc || apt_missing+=(mingw-w64)
 have wine || apt_missing+=(wine wine64)
+have riscv64-unknown-elf-gcc || apt_missing+=(gcc-riscv64-unknown-elf)
+[ -d /usr/lib/picolibc/riscv64-unknown-elf ] || apt_missing+=(picolibc-riscv64-unknown-elf)
+have qemu-system-riscv32 || apt_missing+=(qemu-system-misc)
 # ---- end of portability ----
 if ((${#apt_missing[@]})); then
     if [ "$(id -u)" = 0 ] && have apt-get; then
@@ -159,11 +164,18 @@ step "consumers (add_subdirectory, moved install, find_package, pkg-config, Cort
 bash tools/check_consumers.sh
 python3 tools/check_packages.py
 
-step "Cortex-M4F target tests under QEMU"
-cmake -S "$root" -B "$out/test-target" -G Ninja \
-    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/arm-none-eabi-cm4.cmake" \
-    -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON -DPDT_WERROR=ON >/dev/null
-cmake --build "$out/test-target" -j "$jobs"
-ctest --test-dir "$out/test-target" -L target --output-on-failure
+# ---- target cores: the target test program of each toolchain file under QEMU ----
+# The Cortex-M4F, M33 and rv32imafc run the full program (seconds); the
+# soft-float Cortex-M0 and rv32imac the small one (about a minute and a
+# half each), docs/port.md#the-cores.
+for core in arm-none-eabi-cm4 arm-none-eabi-cm33 arm-none-eabi-cm0 riscv32-imafc riscv32-imac; do
+    step "target tests under QEMU: $core"
+    cmake -S "$root" -B "$out/test-target-$core" -G Ninja \
+        -DCMAKE_TOOLCHAIN_FILE="$root/cmake/$core.cmake" \
+        -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON -DPDT_WERROR=ON >/dev/null
+    cmake --build "$out/test-target-$core" -j "$jobs"
+    ctest --test-dir "$out/test-target-$core" -L target --output-on-failure
+done
+# ---- end of target cores ----
 
 step "all tests passed"
