@@ -10,7 +10,8 @@ tools/port_figures.md.in).
     python3 tools/port_figures.py [--only NAME ...] [--check]
 
 --check runs the float builds and only checks that every line parses;
---only measures the named toolchains and prints their rows, writing nothing.
+--only measures the named toolchains and prints their rows, writing nothing;
+--no-run writes the table from the builds' last runs (ctest's logs).
 A target is a row of TARGETS: a name, its toolchain file, the real types
 measured and the size tool of its compiler.
 """
@@ -31,7 +32,7 @@ BEGIN, END = "<!-- port figures: begin (tools/port_figures.py) -->", \
 
 # name, toolchain file, real types, size tool
 TARGETS = [
-    ("Cortex-M0 (nRF51, micro:bit)", "arm-none-eabi-cm0.cmake", ["float"],
+    ("Cortex-M0 (nRF51 of the micro:bit)", "arm-none-eabi-cm0.cmake", ["float"],
      "arm-none-eabi-size"),
     ("Cortex-M4F (MPS2 AN386)", "arm-none-eabi-cm4.cmake", ["float", "double"],
      "arm-none-eabi-size"),
@@ -53,10 +54,20 @@ MEM = re.compile(r"info memory: pdt_ident_t (\d+) B, pdt_autotune_t (\d+) B; wor
 HWM = re.compile(r"info stack high-water mark of the program (\d+) of (\d+) bytes")
 
 
+def build_dir(toolchain, real):
+    return ROOT / "build" / f"port-{toolchain.removesuffix('.cmake')}-{real}"
+
+
+def last_run(toolchain, real):
+    """The console of the last run in the build directory (ctest's log)."""
+    out = build_dir(toolchain, real)
+    return (out / "Testing" / "Temporary" / "LastTest.log").read_text(), out
+
+
 def build_and_run(toolchain, real):
     """The target test's console and the build directory of one build."""
     name = toolchain.removesuffix(".cmake")
-    out = ROOT / "build" / f"port-{name}-{real}"
+    out = build_dir(toolchain, real)
     subprocess.run(["cmake", "-S", str(ROOT), "-B", str(out), "-G", "Ninja",
                     f"-DCMAKE_TOOLCHAIN_FILE={ROOT / 'cmake' / toolchain}",
                     "-DPDT_BUILD_TESTS=OFF", "-DPDT_BUILD_TOOLS=OFF",
@@ -104,17 +115,25 @@ def parse(console):
 
 
 def mega(n):
-    return f"{n / 1e6:.2f} M" if n >= 1e6 else f"{n / 1e3:.0f} k"
+    """Instructions in M (three significant digits at least) or k."""
+    if n >= 1e8:
+        return num(round(n / 1e6)) + " M"
+    return f"{n / 1e6:.3g} M" if n >= 1e6 else f"{n / 1e3:.0f} k"
+
+
+def num(n):
+    """n with a space between thousands, as the documents write numbers."""
+    return f"{n:,}".replace(",", " ")
 
 
 def row(name, real, flash, f):
     n_f, fo_i, _ = f["ident"]["FOPDT"]
     n_s, so_i, _ = f["ident"]["SOPDT"]
     ni, wi, cap, wa = f["work"]
-    return (f"| {name} | {real} | {flash:,} | {f['ctx'][0]:,} / {f['ctx'][1]:,} | "
-            f"{wi:,} (n = {ni}) / {wa:,} (capacity {cap}) | {f['hwm'][0]:,} of {f['hwm'][1]:,} | "
-            f"{mega(fo_i)} (n = {n_f}) | {mega(so_i)} (n = {n_s}) | {mega(f['scan'])} |"
-            ).replace(",", " ")
+    return (f"| {name} | {real} | {num(flash)} | {num(f['ctx'][0])} / {num(f['ctx'][1])} | "
+            f"{num(wi)} (n = {ni}) / {num(wa)} (capacity {cap}) | "
+            f"{num(f['hwm'][0])} of {num(f['hwm'][1])} | {mega(fo_i)} (n = {n_f}) | "
+            f"{mega(so_i)} (n = {n_s}) | {mega(f['scan'])} |")
 
 
 HEADER = ("| core | build | library flash, B | context: pdt_ident_t / pdt_autotune_t, B | "
@@ -128,8 +147,10 @@ def provenance():
                             capture_output=True, text=True).stdout.strip()
     qemu = subprocess.run(["qemu-system-arm", "--version"], capture_output=True,
                           text=True).stdout.splitlines()[0]
-    return (f"commit {commit}, {datetime.date.today()}, {platform.machine()} "
-            f"{platform.system()} host, {qemu}")
+    cpu = next((ln.split(":", 1)[1].strip() for ln in
+                pathlib.Path("/proc/cpuinfo").read_text().splitlines()
+                if ln.startswith("model name")), platform.machine())
+    return f"commit {commit}, {datetime.date.today()}, {platform.system()} on {cpu}, {qemu}"
 
 
 def write(rows, consoles):
@@ -148,17 +169,19 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--only", nargs="*", help="toolchain files (e.g. riscv32-imac.cmake)")
     ap.add_argument("--check", action="store_true", help="float builds, parse, write nothing")
+    ap.add_argument("--no-run", action="store_true",
+                    help="read the last run of each build directory instead of running")
     a = ap.parse_args()
     rows, consoles = [], []
     for name, toolchain, reals, size_tool in TARGETS:
         if a.only and toolchain not in a.only:
             continue
         for real in reals[:1] if a.check else reals:
-            console, out = build_and_run(toolchain, real)
+            console, out = (last_run if a.no_run else build_and_run)(toolchain, real)
             f = parse(console)
             rows.append(row(name, real, library_flash(out, size_tool), f))
-            lines = [ln.split(": ", 1)[-1] for ln in console.splitlines()
-                     if ": info " in ln or ": PASS " in ln]
+            lines = [m[1] for ln in console.splitlines()
+                     if (m := re.match(r"(?:\d+: )?((?:info|PASS) .*)", ln))]
             consoles.append((name, real, "\n".join(lines)))
             print(rows[-1], flush=True)
     if not a.check and not a.only:
