@@ -105,7 +105,7 @@ static void test_vectors(void **state)
         canary_fill(buf, MAXN + CANARY_COUNT);
         const double *want = &exc_u[exc_off[i]];
         const double *pv = &exc_pv[exc_off[i]];
-        double scale = fabs(c.u0) + fabs((double)c.amplitude) + fabs((double)c.d);
+        double scale = fabs((double)c.u0) + fabs((double)c.amplitude) + fabs((double)c.d);
         for (int k = 0; k < n; k++) {
             pdt_status_t st = pdt_excite_next(&g, (pdt_real_t)pv[k], &buf[k]);
             int first_ok = exc_first_ok[i];

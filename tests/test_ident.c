@@ -1039,7 +1039,7 @@ static void test_whole_sample_delay(void **state)
     assert_int_equal(pdt_cost_init(&cost, &cc, g_u, g_y, s.n, g_kink_work, sizeof g_kink_work),
                      PDT_OK);
     const double tau = (double)res.model.p.fopdt.tau, r = (double)res.model.p.fopdt.Td / 0.1;
-    double best = INFINITY, best_r = 0.0;
+    double best = (double)INFINITY, best_r = 0.0;
     for (int i = -100; i <= 100; i++) {
         const double ri = floor(r + 0.5) + 0.01 * i;
         const double f = kink_best_over_tau(&cost, tau, ri * 0.1);

@@ -253,7 +253,7 @@ static void test_step_properties(void **state)
     pdt_real_t y[4];
     assert_int_equal(pdt_model_step(&m, t, 4, y), PDT_OK);
     for (int j = 0; j < 4; j++) {
-        assert_close(y[j], 0.5 * (t[j] - 0.33 - 2.0), 1e-5, 0.0);
+        assert_close(y[j], 0.5 * ((double)t[j] - 0.33 - 2.0), 1e-5, 0.0);
     }
     for (int j = 1; j < 4; j++) {
         assert_close(y[j] - y[j - 1], 0.5 * 20.0, 1e-5, 0.0);
@@ -304,7 +304,7 @@ static void test_negative_gain_phase(void **state)
     assert_int_equal(pdt_model_freq(&n, w, 3, mn, pn), PDT_OK);
     for (int j = 0; j < 3; j++) {
         assert_true(mp[j] == mn[j]);
-        assert_close(pn[j], pp[j] - 3.14159265358979, 1e-6, 1e-6);
+        assert_close(pn[j], (double)pp[j] - 3.14159265358979, 1e-6, 1e-6);
     }
     /* integrator at w = 0: +inf, -pi/2 */
     pdt_model_t ig;

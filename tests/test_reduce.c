@@ -94,19 +94,19 @@ static double check_model(const pdt_model_t *m, int kind, const double *want, do
         assert_close(m->p.fopdt.K, want[0], rtol, 0.0);
         assert_close(m->p.fopdt.tau, want[1], rtol, 0.0);
         assert_close(m->p.fopdt.Td, want[2], rtol, rtol * span);
-        worst = fmax(worst, rel_err_atol(m->p.fopdt.K, want[0], 0.0));
-        worst = fmax(worst, rel_err_atol(m->p.fopdt.tau, want[1], 0.0));
-        worst = fmax(worst, rel_err_atol(m->p.fopdt.Td, want[2], span));
+        worst = fmax(worst, rel_err_atol((double)m->p.fopdt.K, want[0], 0.0));
+        worst = fmax(worst, rel_err_atol((double)m->p.fopdt.tau, want[1], 0.0));
+        worst = fmax(worst, rel_err_atol((double)m->p.fopdt.Td, want[2], span));
     } else {
         assert_int_equal(m->kind, PDT_MODEL_SOPDT);
         assert_close(m->p.sopdt.k, want[0], rtol, 0.0);
         assert_close(m->p.sopdt.a, want[1], rtol, 0.0);
         assert_close(m->p.sopdt.b, want[2], rtol, 0.0);
         assert_close(m->p.sopdt.Td, want[3], rtol, rtol * span);
-        worst = fmax(worst, rel_err_atol(m->p.sopdt.k, want[0], 0.0));
-        worst = fmax(worst, rel_err_atol(m->p.sopdt.a, want[1], 0.0));
-        worst = fmax(worst, rel_err_atol(m->p.sopdt.b, want[2], 0.0));
-        worst = fmax(worst, rel_err_atol(m->p.sopdt.Td, want[3], span));
+        worst = fmax(worst, rel_err_atol((double)m->p.sopdt.k, want[0], 0.0));
+        worst = fmax(worst, rel_err_atol((double)m->p.sopdt.a, want[1], 0.0));
+        worst = fmax(worst, rel_err_atol((double)m->p.sopdt.b, want[2], 0.0));
+        worst = fmax(worst, rel_err_atol((double)m->p.sopdt.Td, want[3], span));
     }
     return worst;
 }
@@ -194,7 +194,7 @@ static void test_ultimate_vectors(void **state)
             continue;
         }
         assert_close(w[0], red_wu[i], WU_RTOL, 0.0);
-        worst = fmax(worst, rel_err_atol(w[0], red_wu[i], 0.0));
+        worst = fmax(worst, rel_err_atol((double)w[0], red_wu[i], 0.0));
     }
     print_message("ultimate frequency: worst relative error %.3g\n", worst);
 }
@@ -415,7 +415,8 @@ static void test_invariances(void **state)
         assert_int_equal(pdt_reduce_half_rule(&r, &cfg, &m1, NULL), PDT_OK);
         cfg.h = R(0.25);
         assert_int_equal(pdt_reduce_half_rule(&r, &cfg, &m2, NULL), PDT_OK);
-        assert_close(pdt_model_dead_time(&m2), pdt_model_dead_time(&m1) + 0.125, TEST_RTOL, 0.0);
+        assert_close(pdt_model_dead_time(&m2), (double)pdt_model_dead_time(&m1) + 0.125, TEST_RTOL,
+                     0.0);
         /* theta0 + RHP zero + the lags beyond the order:
          * FOPDT 0.5 + 0.5 + (1/2 + 0.5 + 0.25); SOPDT 0.5 + 0.5 + (0.5/2 + 0.25) */
         assert_close(pdt_model_dead_time(&m1), o ? 1.5 : 2.25, TEST_RTOL, 0.0);

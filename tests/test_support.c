@@ -157,7 +157,7 @@ static void test_discrete_and_reset(void **state)
     assert_int_equal(sim_plant_init_discrete(&q, SIM_PLANT_MAX_STATES + 1u, 0u, p.Phi, p.Gam,
                                              p.Gam_prev, p.C, hq, 64u),
                      -1);
-    p.Gam[1] = NAN;
+    p.Gam[1] = (double)NAN;
     assert_int_equal(sim_plant_init_discrete(&q, p.n, 0u, p.Phi, p.Gam, p.Gam_prev, p.C, hq, 64u),
                      -1);
     p.Gam[1] = 0.0;

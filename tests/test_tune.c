@@ -250,7 +250,7 @@ static void test_forms(void **state)
     assert_int_equal(pdt_tune_to_series(&i2, &s2), PDT_OK);
     assert_close(s2.tauI, 4.0, 1e-5, 0.0);
     assert_close(s2.tauD, 0.5, 1e-5, 0.0);
-    assert_close(s2.Kc * (1.0 + s2.tauD / s2.tauI), i2.Kc, 1e-5, 0.0);
+    assert_close((double)s2.Kc * (1.0 + (double)(s2.tauD / s2.tauI)), i2.Kc, 1e-5, 0.0);
     /* PI: series = ideal */
     pdt_tune_gains_t pi = {TR(-0.7), TR(3.0), TR(0.0), TR(0.0)};
     assert_int_equal(pdt_tune_to_series(&pi, &s2), PDT_OK);

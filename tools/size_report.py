@@ -19,7 +19,8 @@ def build(real_double):
     out = ROOT / "build" / ("size-cm4-double" if real_double else "size-cm4-float")
     subprocess.run(["cmake", "-S", str(ROOT), "-B", str(out), "-G", "Ninja",
                     f"-DCMAKE_TOOLCHAIN_FILE={TOOLCHAIN}", "-DPDT_BUILD_TESTS=OFF",
-                    "-DPDT_BUILD_TOOLS=OFF", f"-DPDT_REAL_DOUBLE={'ON' if real_double else 'OFF'}"],
+                    "-DPDT_BUILD_TOOLS=OFF", "-DPDT_WERROR=ON",
+                    f"-DPDT_REAL_DOUBLE={'ON' if real_double else 'OFF'}"],
                    check=True, stdout=subprocess.DEVNULL)
     subprocess.run(["cmake", "--build", str(out), "--target", "pdtfit"], check=True,
                    stdout=subprocess.DEVNULL)

@@ -17,8 +17,10 @@
 #   5. pdtfit consumed as a subproject, as a moved install (CMake package,
 #      pkg-config) and in Cortex-M0+/M7 firmware builds; the PlatformIO,
 #      Arduino, ESP-IDF and Zephyr manifests, and the Arduino example built;
-#   6. the target test program on the Cortex-M4F (float build) under QEMU
-#      (mps2-an386), ctest label "target".
+#   6. the target test program on every core with a toolchain file in cmake/
+#      (Cortex-M0, M4F, M33, RISC-V rv32imac and rv32imafc; float build)
+#      under QEMU, ctest label "target"; before them, the portability steps:
+#      clang, the C standards, the Windows build under Wine.
 # Build trees go to build/test-*; nothing outside the checkout is written
 # except by the package installers.
 set -euo pipefail
@@ -49,6 +51,13 @@ have clang || apt_missing+=(clang)
 ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 ||
     apt_missing+=(libclang-rt-14-dev)
 have cppcheck || apt_missing+=(cppcheck)
+# ---- portability: Windows (mingw-w64, Wine) and the other cores' toolchains ----
+have x86_64-w64-mingw32-gcc || apt_missing+=(mingw-w64)
+have wine || apt_missing+=(wine wine64)
+have riscv64-unknown-elf-gcc || apt_missing+=(gcc-riscv64-unknown-elf)
+[ -d /usr/lib/picolibc/riscv64-unknown-elf ] || apt_missing+=(picolibc-riscv64-unknown-elf)
+have qemu-system-riscv32 || apt_missing+=(qemu-system-misc)
+# ---- end of portability ----
 if ((${#apt_missing[@]})); then
     if [ "$(id -u)" = 0 ] && have apt-get; then
         apt-get update -q
@@ -101,12 +110,39 @@ build_and_test() { # name, extra cmake args...
     ctest --test-dir "$out/test-$name" --output-on-failure -j "$jobs"
 }
 
-build_and_test float -DPDT_PYTHON_TESTS=ON -DPython3_EXECUTABLE="$py"
+# -Werror is CI's choice (PDT_WERROR, off by default): every build here sets it.
+build_and_test float -DPDT_WERROR=ON -DPDT_PYTHON_TESTS=ON -DPython3_EXECUTABLE="$py"
 
 step "Python package pdtfit against the float build's program"
 PDTFIT_BIN="$out/test-float/tools/pdtfit" "$py" -m pytest -q python/tests
-build_and_test double -DPDT_REAL_DOUBLE=ON
-build_and_test sanitize -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug
+build_and_test double -DPDT_WERROR=ON -DPDT_REAL_DOUBLE=ON
+build_and_test sanitize -DPDT_WERROR=ON -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug
+# ---- portability: every host compiler (issue: every compiler, Windows) ----
+# clang builds everything (library, tools, tests, benchmarks) under its own
+# strict warnings as errors, and runs the unit tests (the certainty smoke
+# run, label bench, is the gcc builds' alone).
+step "clang build"
+CC=clang cmake -S "$root" -B "$out/test-clang" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DPDT_WERROR=ON >/dev/null
+cmake --build "$out/test-clang" -j "$jobs"
+ctest --test-dir "$out/test-clang" --output-on-failure -j "$jobs" -L unit
+step "lib/ as C99, C11 and C17 with -pedantic-errors, gcc and clang"
+bash tools/check_c_standards.sh
+# Windows: the library and pdtfit.exe with mingw-w64; the program run under
+# Wine against the float build's (tools/check_windows.py). Wine's prefix is
+# made once under build/, without a display, its Mono and Gecko prompts off.
+step "Windows build (mingw-w64) and pdtfit.exe under Wine against the Linux program"
+cmake -S "$root" -B "$out/test-mingw" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/mingw-w64-x86_64.cmake" -DPDT_BUILD_TOOLS=ON \
+    -DPDT_WERROR=ON >/dev/null
+cmake --build "$out/test-mingw" -j "$jobs"
+(
+    export WINEPREFIX="$out/wine" WINEARCH=win64 WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
+    unset DISPLAY WAYLAND_DISPLAY
+    "$py" tools/check_windows.py --linux "$out/test-float/tools/pdtfit" \
+        --windows "$out/test-mingw/tools/pdtfit.exe"
+)
+# ---- end of portability ----
 
 step "Cortex-M4F build of lib/ (float and double), symbols, size per module"
 python3 tools/size_report.py --check
@@ -121,7 +157,7 @@ python3 tools/misra_check.py
 
 step "fuzz targets (clang, libFuzzer, ASan + UBSan): 5 s on the seeds, 60 s from an empty corpus"
 CC=clang cmake -S "$root" -B "$out/test-fuzz" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DPDT_BUILD_FUZZERS=ON -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_INSTALL=OFF >/dev/null
+    -DPDT_WERROR=ON -DPDT_BUILD_FUZZERS=ON -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_INSTALL=OFF >/dev/null
 cmake --build "$out/test-fuzz" -j "$jobs"
 tests/fuzz/run.sh "$out/test-fuzz" 5 "$out/test-fuzz/fuzz-work" 60
 
@@ -129,11 +165,18 @@ step "consumers (add_subdirectory, moved install, find_package, pkg-config, Cort
 bash tools/check_consumers.sh
 python3 tools/check_packages.py
 
-step "Cortex-M4F target tests under QEMU"
-cmake -S "$root" -B "$out/test-target" -G Ninja \
-    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/arm-none-eabi-cm4.cmake" \
-    -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON >/dev/null
-cmake --build "$out/test-target" -j "$jobs"
-ctest --test-dir "$out/test-target" -L target --output-on-failure
+# ---- target cores: the target test program of each toolchain file under QEMU ----
+# The Cortex-M4F, M33 and rv32imafc run the full program (seconds); the
+# soft-float Cortex-M0 and rv32imac the small one (about a minute and a
+# half each), docs/port.md#the-cores.
+for core in arm-none-eabi-cm4 arm-none-eabi-cm33 arm-none-eabi-cm0 riscv32-imafc riscv32-imac; do
+    step "target tests under QEMU: $core"
+    cmake -S "$root" -B "$out/test-target-$core" -G Ninja \
+        -DCMAKE_TOOLCHAIN_FILE="$root/cmake/$core.cmake" \
+        -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON -DPDT_WERROR=ON >/dev/null
+    cmake --build "$out/test-target-$core" -j "$jobs"
+    ctest --test-dir "$out/test-target-$core" -L target --output-on-failure
+done
+# ---- end of target cores ----
 
 step "all tests passed"

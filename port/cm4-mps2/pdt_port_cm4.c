@@ -18,6 +18,15 @@
 
 #include "pdt_port.h"
 #include "pdt_port_cm4.h"
+#include "pdt_port_target.h"
+
+/* ARMv7-M and ARMv8-M Mainline have the DWT cycle counter; ARMv6-M
+ * (Cortex-M0/M0+) has none, and its debug registers are not to be touched. */
+#if defined(__ARM_ARCH_7M__) || defined(__ARM_ARCH_7EM__) || defined(__ARM_ARCH_8M_MAIN__)
+#define PDT_CM4_HAVE_DWT 1
+#else
+#define PDT_CM4_HAVE_DWT 0
+#endif
 
 void pdt_cm4_systick_handler(void);
 
@@ -66,6 +75,7 @@ void pdt_port_init(void)
     if (g_counter != PDT_CM4_COUNTER_NONE) {
         return;
     }
+#if PDT_CM4_HAVE_DWT
     /* Try the cycle counter: trace enable, reset, start, and see whether
      * it moves over a short busy loop. */
     DEMCR |= (1u << 24);
@@ -79,6 +89,7 @@ void pdt_port_init(void)
         g_counter = PDT_CM4_COUNTER_DWT;
         return;
     }
+#endif
     g_systick_wraps = 0u;
     SYST_CSR = 0u;
     SYST_RVR = SYST_RELOAD;
@@ -152,6 +163,23 @@ uint64_t pdt_port_ticks(void)
     default:
         return 0u;
     }
+}
+
+const char *pdt_port_counter_name(void)
+{
+    switch (g_counter) {
+    case PDT_CM4_COUNTER_DWT:
+        return "the DWT cycle counter";
+    case PDT_CM4_COUNTER_SYSTICK:
+        return "SysTick";
+    default:
+        return "none";
+    }
+}
+
+uint64_t pdt_port_counter_wrap(void)
+{
+    return g_counter == PDT_CM4_COUNTER_SYSTICK ? (uint64_t)SYST_RELOAD + 1u : 0u;
 }
 
 uint64_t pdt_port_ticks_per_second(void)

@@ -13,8 +13,12 @@
 extern "C" {
 #endif
 
-/* The core clock of the AN386 image, Hz; the tick counter counts it. */
+/* The core clock, Hz; the tick counter counts it. 25 MHz on the AN386
+ * image; the build sets it for the other boards this port serves
+ * (port/CMakeLists.txt: 20 MHz on the AN505, 16 MHz on the nRF51). */
+#ifndef PDT_CM4_CORE_HZ
 #define PDT_CM4_CORE_HZ 25000000u
+#endif
 
 /* Where pdt_port_ticks comes from. */
 typedef enum pdt_cm4_counter {

@@ -9,6 +9,7 @@
 
 #include "pdt_port.h"
 #include "pdt_port_cm4.h"
+#include "pdt_port_target.h"
 
 /* Linker-script symbols (mps2_an386.ld). */
 extern uint32_t __data_start__[];
@@ -35,6 +36,16 @@ void pdt_cm4_fault_report(const uint32_t *frame, uint32_t exc_return);
 #define SCB_ICSR  (*(volatile uint32_t *)0xE000ED04u)
 #define SCB_SHCSR (*(volatile uint32_t *)0xE000ED24u)
 #define SCB_CCR   (*(volatile uint32_t *)0xE000ED14u)
+
+/* ARMv6-M (Cortex-M0/M0+): no FPU, no divide trap, no configurable fault
+ * handlers or fault status registers, Thumb-1 only. The same code serves
+ * the Cortex-M0 (nRF51), M33 (AN505) and M4F (AN386); the linker script
+ * says where memory is. */
+#if defined(__ARM_ARCH_6M__)
+#define PDT_CM4_ARMV6M 1
+#else
+#define PDT_CM4_ARMV6M 0
+#endif
 
 /* Word written over the unused stack at reset. */
 #define STACK_PAINT 0xC5AC5AC5u
@@ -99,18 +110,22 @@ __attribute__((section(".vectors"), used)) const pdt_cm4_vector_t pdt_cm4_vector
 
 void pdt_cm4_reset_handler(void)
 {
+#if defined(__ARM_FP)
     /* The FPU first: with the hard-float ABI the compiler may use its
      * registers anywhere, and until CP10/CP11 are granted full access any
      * floating-point instruction faults (NOCP). */
     SCB_CPACR |= (0xFu << 20);
     __asm volatile("dsb\n\tisb" ::: "memory");
+#endif
 
+#if !PDT_CM4_ARMV6M
     /* Divide by zero traps instead of silently giving 0; unaligned word
      * accesses still work (pdtfit never makes one, newlib might). */
     SCB_CCR |= (1u << 4);
     /* Separate MemManage, BusFault and UsageFault handlers, so a fault
      * shows its own status instead of escalating to HardFault. */
     SCB_SHCSR |= (1u << 16) | (1u << 17) | (1u << 18);
+#endif
 
     pdt_cm4_stack_paint();
 
@@ -186,10 +201,12 @@ void pdt_cm4_fault_report(const uint32_t *frame, uint32_t exc_return)
     static const char msg[] = "\n*** fault: exception";
     pdt_port_write(msg, sizeof msg - 1u);
     report_hex("", exception);
+#if !PDT_CM4_ARMV6M
     report_hex("CFSR", SCB_CFSR);
     report_hex("HFSR", SCB_HFSR);
     report_hex("MMFAR", SCB_MMFAR);
     report_hex("BFAR", SCB_BFAR);
+#endif
     report_hex("EXC_RETURN", exc_return);
     report_hex("PC", frame[6]);
     report_hex("LR", frame[5]);
@@ -200,12 +217,25 @@ void pdt_cm4_fault_report(const uint32_t *frame, uint32_t exc_return)
  * pdt_cm4_fault_report. */
 __attribute__((naked)) void pdt_cm4_fault_handler(void)
 {
+#if PDT_CM4_ARMV6M
+    __asm volatile("movs r0, #4\n\t"
+                   "mov r1, lr\n\t"
+                   "tst r0, r1\n\t"
+                   "bne 1f\n\t"
+                   "mrs r0, msp\n\t"
+                   "b 2f\n\t"
+                   "1: mrs r0, psp\n\t"
+                   "2: ldr r2, =pdt_cm4_fault_report\n\t"
+                   "bx r2\n\t"
+                   ".ltorg\n\t");
+#else
     __asm volatile("tst lr, #4\n\t"
                    "ite eq\n\t"
                    "mrseq r0, msp\n\t"
                    "mrsne r0, psp\n\t"
                    "mov r1, lr\n\t"
                    "b pdt_cm4_fault_report\n\t");
+#endif
 }
 
 void pdt_cm4_default_handler(void)
@@ -214,4 +244,25 @@ void pdt_cm4_default_handler(void)
     pdt_port_write(msg, sizeof msg - 1u);
     report_hex("exception", SCB_ICSR & 0x1FFu);
     pdt_port_exit(4);
+}
+
+/* The target test program's view of the stack (pdt_port_target.h). */
+size_t pdt_port_stack_size(void)
+{
+    return pdt_cm4_stack_size();
+}
+
+size_t pdt_port_stack_used(void)
+{
+    return pdt_cm4_stack_used();
+}
+
+void pdt_port_stack_paint(void)
+{
+    pdt_cm4_stack_paint();
+}
+
+size_t pdt_port_stack_depth(void)
+{
+    return pdt_cm4_stack_depth();
 }

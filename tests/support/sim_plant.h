@@ -34,7 +34,9 @@
 #include <stddef.h>
 
 /* Most states (lags + 2 for the pair + 1 for the integrator). */
-#define SIM_PLANT_MAX_STATES          12u
+#ifndef SIM_PLANT_MAX_STATES /* a small target's build sets fewer */
+#define SIM_PLANT_MAX_STATES 12u
+#endif
 /* Length of the input history a dead time of `delay` s at scan `Ts` s
  * needs (whole scans of delay + 2). */
 #define SIM_PLANT_HIST_LEN(delay, Ts) ((size_t)((delay) / (Ts) + 1e-9) + 2u)

@@ -99,8 +99,11 @@ static inline int sim_desc_of_model(const pdt_model_t *m, double *lag, sim_plant
     return 0;
 }
 
-/* Scans of dead time a sim_process_t holds. */
+/* Scans of dead time a sim_process_t holds (a small target's build sets
+ * fewer). */
+#ifndef SIM_PROCESS_HIST
 #define SIM_PROCESS_HIST 1024u
+#endif
 
 /* A process around an operating point read through a noisy sensor. Keep it
  * where it was initialised: the simulator points into its history. */

@@ -16,31 +16,22 @@
 #include "target_util.h"
 
 #include "pdt_port.h"
-#include "pdt_port_cm4.h"
+#include "pdt_port_target.h"
+#include "target_config.h"
 
 /* Registered in target_main.c. */
 int target_check_autotune(void);
 
-#define AT_CAPACITY 600u
+#define AT_CAPACITY TARGET_AT_CAPACITY
 
-static pdt_real_t g_at_work[PDT_AUTOTUNE_WORKSPACE_SIZE(AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
-                                sizeof(pdt_real_t) +
-                            1u];
-static pdt_autotune_t g_at;
-static sim_process_t g_process; /* the plant of the check running */
+/* The shared arena's (target_config.h). */
+#define g_at_work (t_arena.autotune.work)
+#define g_at      (t_arena.autotune.at)
+#define g_process (t_arena.autotune.process)
 
-typedef struct at_run {
-    pdt_status_t st;
-    pdt_autotune_result_t res;
-    uint32_t scans;
-    uint64_t worst[7]; /* ticks of the slowest call in each phase */
-    uint32_t calls[7];
-    uint32_t max_evals;    /* most cost evaluations in one call */
-    uint64_t worst_search; /* ticks of the slowest identify call that
-                            * evaluated (the search's, not a preparation or
-                            * a validation) */
-    size_t stack;          /* bytes below this function's frame */
-} at_run_t;
+/* A run's record and the configuration live in the arena as well: on
+ * the Cortex-M0 their 1 KiB is more than the stack can spare. */
+typedef target_at_run_t at_run_t;
 
 /* One autotune to the end, timing every call. The stack is painted once
  * and read at the end: the deepest of all the calls (and of the plant's
@@ -53,7 +44,7 @@ static bool at_run(const pdt_autotune_config_t *c, sim_process_t *p, at_run_t *r
         pdt_autotune_init(&g_at, c, (pdt_real_t)p->plant.u0, g_at_work, need) != PDT_OK) {
         return false;
     }
-    size_t depth = pdt_cm4_stack_depth();
+    size_t depth = pdt_port_stack_depth();
     t_stack_repaint();
     r->st = PDT_RUNNING;
     while (r->st == PDT_RUNNING && r->scans < 100000u) {
@@ -83,7 +74,7 @@ static bool at_run(const pdt_autotune_config_t *c, sim_process_t *p, at_run_t *r
         r->scans++;
         sim_process_apply(p, u);
     }
-    r->stack = pdt_cm4_stack_used() - depth;
+    r->stack = pdt_port_stack_used() - depth;
     return pdt_autotune_result(&g_at, &r->res) == PDT_OK;
 }
 
@@ -95,7 +86,8 @@ static void at_config(pdt_autotune_config_t *c, double Ts, pdt_model_kind_t kind
     c->capacity = AT_CAPACITY;
     c->excite.kind = PDT_EXCITE_PRBS;
     c->excite.amplitude = (pdt_real_t)amp;
-    c->excite.prbs_bits = 7u;
+    /* The small program's record holds 128 samples: a PRBS of 5 bits. */
+    c->excite.prbs_bits = PDT_TARGET_SMALL ? 5u : 7u;
     c->excite.prbs_hold = hold;
     c->u_min = (pdt_real_t)0.0;
     c->u_max = (pdt_real_t)100.0;
@@ -159,63 +151,67 @@ static void at_gains(tline_t *l, const at_run_t *r)
  * PI from the true model: Kc = tau / (K 2 Td), tauI = min(tau, 8 Td). */
 static int check_fopdt(void)
 {
-    pdt_autotune_config_t c;
-    at_config(&c, 0.5, PDT_MODEL_FOPDT, 4u, 3.0);
+    pdt_autotune_config_t *const c = &t_arena.autotune.cfg;
+    at_config(c, 0.5, PDT_MODEL_FOPDT, 4u, 3.0);
     const pdt_model_t m = model_fopdt(2.0, 10.0, 3.0);
-    at_run_t r;
-    bool ok = sim_process_init(&g_process, &m, (double)c.Ts, 40.0, 20.0, 0.05, 23u) == 0 &&
-              at_run(&c, &g_process, &r) && r.st == PDT_OK && r.res.has_gains &&
-              r.res.ident.model.kind == PDT_MODEL_FOPDT;
+    at_run_t *const r = &t_arena.autotune.run;
+    bool ok = sim_process_init(&g_process, &m, (double)c->Ts, 40.0, 20.0, 0.05, 23u) == 0 &&
+              at_run(c, &g_process, r) && r->st == PDT_OK && r->res.has_gains &&
+              r->res.ident.model.kind == PDT_MODEL_FOPDT;
     tline_t l;
     tl_init(&l);
-    tl_str(&l, "autotune FOPDT K=2 tau=10 Td=3, PRBS, capacity 600: ");
+    tl_str(&l, "autotune FOPDT K=2 tau=10 Td=3, PRBS, capacity ");
+    tl_uint(&l, AT_CAPACITY);
+    tl_str(&l, ": ");
     if (!ok) {
-        tl_str(&l, pdt_status_str(r.st));
+        tl_str(&l, pdt_status_str(r->st));
         return t_verdict(false, &l);
     }
-    const pdt_model_fopdt_t *g = &r.res.ident.model.p.fopdt;
+    const pdt_model_fopdt_t *g = &r->res.ident.model.p.fopdt;
     double eK = rel_err((double)g->K, 2.0);
     double etau = rel_err((double)g->tau, 10.0);
     double eTd = fabs((double)g->Td - 3.0) / 10.0;
-    double eKc = rel_err((double)r.res.tune.ideal.Kc, 10.0 / (2.0 * 6.0));
-    double etI = rel_err((double)r.res.tune.ideal.tauI, 10.0);
+    double eKc = rel_err((double)r->res.tune.ideal.Kc, 10.0 / (2.0 * 6.0));
+    double etI = rel_err((double)r->res.tune.ideal.tauI, 10.0);
     ok = eK <= 0.03 && etau <= 0.03 && eTd <= 0.03 && eKc <= 0.06 && etI <= 0.03 &&
-         r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;
+         r->max_evals <= c->evals_per_scan && (double)r->res.tune.fig.Ms <= 2.0;
     tl_fopdt(&l, g);
-    at_gains(&l, &r);
+    at_gains(&l, r);
     int failed = t_verdict(ok, &l);
-    at_report("FOPDT", &r);
+    at_report("FOPDT", r);
     return failed;
 }
 
 /* K = 1.5, T1 = 8, T2 = 3, Td = 2: DC gain 3 %, Td within 0.3 s. */
 static int check_sopdt(void)
 {
-    pdt_autotune_config_t c;
-    at_config(&c, 0.5, PDT_MODEL_SOPDT, 4u, 3.0);
+    pdt_autotune_config_t *const c = &t_arena.autotune.cfg;
+    at_config(c, 0.5, PDT_MODEL_SOPDT, 4u, 3.0);
     const pdt_model_t m = model_sopdt_tc(1.5, 8.0, 3.0, 2.0);
-    at_run_t r;
+    at_run_t *const r = &t_arena.autotune.run;
     pdt_model_tc_t gtc;
-    bool ok = sim_process_init(&g_process, &m, (double)c.Ts, 50.0, 10.0, 0.03, 5u) == 0 &&
-              at_run(&c, &g_process, &r) && r.st == PDT_OK && r.res.has_gains &&
-              r.res.ident.model.kind == PDT_MODEL_SOPDT &&
-              pdt_model_sopdt_to_tc(&r.res.ident.model.p.sopdt, &gtc) == PDT_OK;
+    bool ok = sim_process_init(&g_process, &m, (double)c->Ts, 50.0, 10.0, 0.03, 5u) == 0 &&
+              at_run(c, &g_process, r) && r->st == PDT_OK && r->res.has_gains &&
+              r->res.ident.model.kind == PDT_MODEL_SOPDT &&
+              pdt_model_sopdt_to_tc(&r->res.ident.model.p.sopdt, &gtc) == PDT_OK;
     tline_t l;
     tl_init(&l);
-    tl_str(&l, "autotune SOPDT K=1.5 T1=8 T2=3 Td=2, PRBS, capacity 600: ");
+    tl_str(&l, "autotune SOPDT K=1.5 T1=8 T2=3 Td=2, PRBS, capacity ");
+    tl_uint(&l, AT_CAPACITY);
+    tl_str(&l, ": ");
     if (!ok) {
-        tl_str(&l, pdt_status_str(r.st));
+        tl_str(&l, pdt_status_str(r->st));
         return t_verdict(false, &l);
     }
     double eK = rel_err((double)gtc.K, 1.5);
     double eT = rel_err((double)gtc.T1 + (double)gtc.T2, 11.0);
     double eTd = fabs((double)gtc.Td - 2.0);
     ok = !gtc.complex && eK <= 0.03 && eT <= 0.05 && eTd <= 0.3 &&
-         r.max_evals <= c.evals_per_scan && (double)r.res.tune.fig.Ms <= 2.0;
+         r->max_evals <= c->evals_per_scan && (double)r->res.tune.fig.Ms <= 2.0;
     tl_tc(&l, &gtc);
-    at_gains(&l, &r);
+    at_gains(&l, r);
     int failed = t_verdict(ok, &l);
-    at_report("SOPDT", &r);
+    at_report("SOPDT", r);
     return failed;
 }
 

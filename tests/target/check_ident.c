@@ -14,23 +14,22 @@
 #include "target_util.h"
 
 #include "pdt_port.h"
-#include "pdt_port_cm4.h"
+#include "pdt_port_target.h"
+#include "target_config.h"
 
-#define NMAX    2000u
-#define POP_MAX PDT_IDENT_POPULATION_SOPDT
-
-static pdt_real_t g_u[NMAX];
-static pdt_real_t g_y[NMAX];
-static pdt_real_t g_dev[NMAX];
-static pdt_real_t g_sim[NMAX];
-static pdt_real_t g_work[PDT_IDENT_WORKSPACE_SIZE(NMAX, POP_MAX) / sizeof(pdt_real_t) + 1u];
-static pdt_ident_t g_ctx;
+/* The identification's memory is the shared arena's (target_config.h);
+ * the cost work's record of COST_N samples has its own (the full program
+ * only). The records: input deviation into u, the model's response into
+ * y, then both completed in place. */
+#define g_ctx  (t_arena.ident.ctx)
+#define g_work (t_arena.ident.work)
 
 /* ---- Data (as tests/test_ident.c makes it) ----------------------------- */
 
 /* Random binary deviation of +-amp: 0 for `quiet` samples, then a level
  * held `hold` samples, flipped with probability 1/2 at each change. */
-static void make_prbs(size_t n, size_t quiet, size_t hold, uint32_t seed, double amp)
+static void make_prbs(pdt_real_t *g_dev, size_t n, size_t quiet, size_t hold, uint32_t seed,
+                      double amp)
 {
     uint32_t s = seed;
     double level = 1.0;
@@ -56,12 +55,15 @@ typedef struct record {
     double noise_sd; /* set by make_record */
 } record_t;
 
-/* g_u = u0 + g_dev, g_y = y0 + the model's response + noise at snr_db. */
-static bool make_record(record_t *r)
+/* u = u0 + the deviation u holds, y = y0 + the model's response + noise
+ * at snr_db. */
+static bool make_record(record_t *r, pdt_real_t *g_u, pdt_real_t *g_y)
 {
     pdt_discrete_t d;
+    const pdt_real_t *g_dev = g_u;
+    const pdt_real_t *g_sim = g_y;
     if (pdt_discrete_init(&r->m, (pdt_real_t)r->Ts, &d) != PDT_OK ||
-        pdt_discrete_simulate(&d, g_dev, r->n, g_sim) != PDT_OK) {
+        pdt_discrete_simulate(&d, g_u, r->n, g_y) != PDT_OK) {
         return false;
     }
     double mean = 0.0;
@@ -92,7 +94,7 @@ static void line_ticks(tline_t *l, uint64_t ticks)
     tl_str(l, " instructions");
 }
 
-/* pdt_identify on g_u, g_y with exactly the workspace its size query asks
+/* pdt_identify on the arena's record with exactly the workspace its size query asks
  * for; reports the work in ticks and the stack it used in bytes. */
 static pdt_status_t identify(pdt_model_kind_t kind, const record_t *r, pdt_ident_result_t *res,
                              uint64_t *ticks, size_t *stack)
@@ -101,17 +103,17 @@ static pdt_status_t identify(pdt_model_kind_t kind, const record_t *r, pdt_ident
     pdt_ident_config_default(&cfg);
     cfg.model = kind;
     cfg.Ts = (pdt_real_t)r->Ts;
-    pdt_ident_data_t data = {g_u, g_y, r->n};
+    pdt_ident_data_t data = {t_arena.ident.u, t_arena.ident.y, r->n};
     size_t need = pdt_ident_workspace_size(&cfg, r->n);
     if (need == 0u || need > sizeof g_work) {
         return PDT_ERR_NOMEM;
     }
-    size_t depth = pdt_cm4_stack_depth();
+    size_t depth = pdt_port_stack_depth();
     t_stack_repaint();
     uint64_t t0 = pdt_port_ticks();
     pdt_status_t st = pdt_identify(&g_ctx, &cfg, &data, g_work, need, res);
     *ticks = pdt_port_ticks() - t0;
-    *stack = pdt_cm4_stack_used() - depth;
+    *stack = pdt_port_stack_used() - depth;
     return st;
 }
 
@@ -121,12 +123,12 @@ static pdt_status_t identify(pdt_model_kind_t kind, const record_t *r, pdt_ident
  * fit 95 %, output level 0.5 % of the swing. */
 static int check_fopdt(void)
 {
-    record_t r = {model_fopdt(2.0, 12.0, 4.37), 1.0, 1000u, 0.0, 0.0, 30.0, 99u, 0.0};
+    record_t r = {model_fopdt(2.0, 12.0, 4.37), 1.0, TARGET_IDENT_N, 0.0, 0.0, 30.0, 99u, 0.0};
     pdt_ident_result_t res;
     uint64_t ticks = 0;
     size_t stack = 0;
-    make_prbs(r.n, 10u, 8u, 7u, 1.0);
-    bool ok = make_record(&r);
+    make_prbs(t_arena.ident.u, r.n, 10u, 8u, 7u, 1.0);
+    bool ok = make_record(&r, t_arena.ident.u, t_arena.ident.y);
     pdt_status_t st = ok ? identify(PDT_MODEL_FOPDT, &r, &res, &ticks, &stack) : PDT_ERR_ARG;
     ok = ok && st == PDT_OK && res.model.kind == PDT_MODEL_FOPDT;
     double eK = 1.0, etau = 1.0, eTd = 1.0, ey0 = 1.0;
@@ -140,7 +142,9 @@ static int check_fopdt(void)
     }
     tline_t l;
     tl_init(&l);
-    tl_str(&l, "identify FOPDT K=2 tau=12 Td=4.37, n=1000, 30 dB: ");
+    tl_str(&l, "identify FOPDT K=2 tau=12 Td=4.37, n=");
+    tl_uint(&l, r.n);
+    tl_str(&l, ", 30 dB: ");
     if (st != PDT_OK) {
         tl_str(&l, pdt_status_str(st));
         return t_verdict(false, &l);
@@ -157,7 +161,9 @@ static int check_fopdt(void)
     tl_str(&l, " tau (max 0.015, 0.02, 0.02)");
     int failed = t_verdict(ok, &l);
     tl_init(&l);
-    tl_str(&l, "identify FOPDT n=1000: ");
+    tl_str(&l, "identify FOPDT n=");
+    tl_uint(&l, r.n);
+    tl_str(&l, ": ");
     tl_uint(&l, res.evaluations);
     tl_str(&l, " evaluations, ");
     tl_uint(&l, res.generations);
@@ -176,14 +182,16 @@ static int check_fopdt(void)
  * wn, fit 90 %, and the time constants T1 3 %, T2 10 %. */
 static int check_sopdt(void)
 {
-    record_t r = {model_sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, 1000u, 10.0, 50.0, 30.0, 5u, 0.0};
+    record_t r = {
+        model_sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, TARGET_IDENT_N, 10.0, 50.0, 30.0, 5u, 0.0};
     pdt_ident_result_t res;
     pdt_model_natural_t g, w;
     pdt_model_tc_t gtc;
     uint64_t ticks = 0;
     size_t stack = 0;
-    make_prbs(r.n, 10u, 12u, 11u, 2.0);
-    bool ok = make_record(&r) && pdt_model_sopdt_to_natural(&r.m.p.sopdt, &w) == PDT_OK;
+    make_prbs(t_arena.ident.u, r.n, 10u, 12u, 11u, 2.0);
+    bool ok = make_record(&r, t_arena.ident.u, t_arena.ident.y) &&
+              pdt_model_sopdt_to_natural(&r.m.p.sopdt, &w) == PDT_OK;
     pdt_status_t st = ok ? identify(PDT_MODEL_SOPDT, &r, &res, &ticks, &stack) : PDT_ERR_ARG;
     ok = ok && st == PDT_OK && res.model.kind == PDT_MODEL_SOPDT &&
          pdt_model_sopdt_to_natural(&res.model.p.sopdt, &g) == PDT_OK &&
@@ -201,7 +209,9 @@ static int check_sopdt(void)
     }
     tline_t l;
     tl_init(&l);
-    tl_str(&l, "identify SOPDT K=2 T1=10 T2=2 Td=3.3, n=1000, 30 dB: ");
+    tl_str(&l, "identify SOPDT K=2 T1=10 T2=2 Td=3.3, n=");
+    tl_uint(&l, r.n);
+    tl_str(&l, ", 30 dB: ");
     if (!ok && (st != PDT_OK || res.model.kind != PDT_MODEL_SOPDT)) {
         tl_str(&l, pdt_status_str(st));
         return t_verdict(false, &l);
@@ -220,7 +230,9 @@ static int check_sopdt(void)
     tl_str(&l, "/wn (max 0.015, 0.04, 0.04, 0.05)");
     int failed = t_verdict(ok, &l);
     tl_init(&l);
-    tl_str(&l, "identify SOPDT n=1000: ");
+    tl_str(&l, "identify SOPDT n=");
+    tl_uint(&l, r.n);
+    tl_str(&l, ": ");
     tl_uint(&l, res.evaluations);
     tl_str(&l, " evaluations, ");
     tl_uint(&l, res.generations);
@@ -240,10 +252,15 @@ int target_check_ident(void)
 
 /* ---- Cost evaluation at N = 2000 --------------------------------------- */
 
+#if !PDT_TARGET_SMALL
+
 #define COST_N      2000u
 #define COST_REPEAT 10u
 
 static pdt_real_t g_cost_work[PDT_COST_WORKSPACE_SIZE(COST_N) / sizeof(pdt_real_t)];
+static pdt_real_t g_u[COST_N];
+static pdt_real_t g_y[COST_N];
+static pdt_real_t g_sim[COST_N];
 
 /* Times COST_REPEAT evaluations of one kind on the SOPDT record of
  * COST_N samples and reports the ticks of one; the value goes to *value.
@@ -285,14 +302,14 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
                 ok;
         }
         t_prof = (pdt_port_ticks() - t0) / COST_REPEAT;
-        size_t depth = pdt_cm4_stack_depth();
+        size_t depth = pdt_port_stack_depth();
         t_stack_repaint();
         ok = pdt_cost_eval(&c, &r->m, &v) == PDT_OK && ok;
-        stack_eval = pdt_cm4_stack_used() - depth;
+        stack_eval = pdt_port_stack_used() - depth;
         t_stack_repaint();
         ok =
             pdt_cost_profile(&c, &r->m, (pdt_real_t)0, (pdt_real_t)0, g_sim, &prof) == PDT_OK && ok;
-        stack_prof = pdt_cm4_stack_used() - depth;
+        stack_prof = pdt_port_stack_used() - depth;
     }
     tline_t l;
     tl_init(&l);
@@ -343,8 +360,8 @@ static int measure_cost(pdt_cost_kind_t kind, const char *name, const record_t *
 int target_check_cost_work(void)
 {
     record_t r = {model_sopdt_tc(2.0, 10.0, 2.0, 3.3), 0.5, COST_N, 10.0, 50.0, 30.0, 5u, 0.0};
-    make_prbs(r.n, 10u, 12u, 11u, 2.0);
-    if (!make_record(&r)) {
+    make_prbs(g_u, r.n, 10u, 12u, 11u, 2.0);
+    if (!make_record(&r, g_u, g_y)) {
         tline_t l;
         tl_init(&l);
         tl_str(&l, "cost at N=2000: record not made");
@@ -355,3 +372,5 @@ int target_check_cost_work(void)
     int failed = measure_cost(PDT_COST_SIMULATION, "SIMULATION", &r, 0.0, &ct);
     return failed + measure_cost(PDT_COST_COMBINED, "COMBINED", &r, ct, &v);
 }
+
+#endif /* !PDT_TARGET_SMALL */

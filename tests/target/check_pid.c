@@ -12,7 +12,7 @@
 #include "target_util.h"
 
 #include "pdt_port.h"
-#include "pdt_port_cm4.h"
+#include "pdt_port_target.h"
 
 #include "pid_vectors.h"
 
@@ -65,12 +65,12 @@ static int pid_work(void)
     pdt_pid_t pid;
     bool ok = pdt_pid_init(&pid, &c, (pdt_real_t)0.0) == PDT_OK &&
               pdt_pid_track(&pid, (pdt_real_t)0.0, (pdt_real_t)0.0, (pdt_real_t)0.0) == PDT_OK;
-    size_t depth = pdt_cm4_stack_depth();
+    size_t depth = pdt_port_stack_depth();
     t_stack_repaint();
     bool settled = false;
     bool open_ok = false;
     uint64_t with = ok ? run_loop(&pid, &settled) : 0u;
-    size_t stack = pdt_cm4_stack_used() - depth;
+    size_t stack = pdt_port_stack_used() - depth;
     uint64_t without = run_loop(NULL, &open_ok);
     ok = ok && settled && with > without;
     uint64_t per = ok ? t_ticks_to_instructions(with - without) / PID_WORK_SCANS : 0u;

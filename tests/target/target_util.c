@@ -4,7 +4,10 @@
 #include <math.h>
 
 #include "pdt_port.h"
-#include "pdt_port_cm4.h"
+#include "pdt_port_target.h"
+#include "target_config.h"
+
+target_arena_t t_arena;
 
 static unsigned g_run;
 static unsigned g_failed;
@@ -195,8 +198,9 @@ void t_info(tline_t *detail)
 
 uint64_t t_ticks_to_instructions(uint64_t ticks)
 {
+    /* ticks * 1e9 / hz without overflow for any run shorter than 2^64 ns */
     uint64_t hz = pdt_port_ticks_per_second();
-    return hz == 0u ? 0u : ticks * (1000000000u / hz);
+    return hz == 0u ? 0u : ticks / hz * 1000000000u + ticks % hz * 1000000000u / hz;
 }
 
 unsigned t_checks_run(void)
@@ -212,12 +216,12 @@ unsigned t_checks_failed(void)
 void t_stack_repaint(void)
 {
     (void)t_stack_max();
-    pdt_cm4_stack_paint();
+    pdt_port_stack_paint();
 }
 
 size_t t_stack_max(void)
 {
-    size_t used = pdt_cm4_stack_used();
+    size_t used = pdt_port_stack_used();
     if (used > g_stack_max) {
         g_stack_max = used;
     }

@@ -42,10 +42,11 @@ void t_info(tline_t *detail);
 
 /* Ticks of the port counter converted to instructions: with QEMU's
  * -icount shift=0, one instruction is one nanosecond of the emulated clock,
- * and the 25 MHz counter advances once per 40 of them. */
+ * so a counter of f Hz advances once per 1e9 / f of them (40 at the M4F's
+ * 25 MHz, 1 for the RISC-V port's instruction count). */
 uint64_t t_ticks_to_instructions(uint64_t ticks);
 
-/* Repaints the free stack (pdt_cm4_stack_paint) to measure one call,
+/* Repaints the free stack (pdt_port_stack_paint) to measure one call,
  * keeping the program's high-water mark so far for t_stack_max. */
 void t_stack_repaint(void);
 

@@ -87,7 +87,7 @@ static void die(const char *what)
 
 static void read_plant(plant_t *p)
 {
-    long n, l;
+    long n = 0, l = 0;
     double Phi[SIM_PLANT_MAX_STATES * SIM_PLANT_MAX_STATES];
     double Gb[SIM_PLANT_MAX_STATES], Ga[SIM_PLANT_MAX_STATES], C[SIM_PLANT_MAX_STATES];
     if (rd(&p->Ts) || rdl(&n) || rdl(&l) || n < 1 || n > (long)SIM_PLANT_MAX_STATES || l < 0 ||
@@ -121,7 +121,7 @@ static double noise_next(noise_t *z)
 
 static void read_noise(noise_t *z, long *max_scans)
 {
-    long seed;
+    long seed = 0;
     if (rd(&z->std) || rdl(&seed) || rdl(max_scans) || z->std < 0.0 || *max_scans < 1) {
         die("noise");
     }
@@ -525,7 +525,7 @@ static int run_model(void)
 static int run_halfrule(void)
 {
     double k, th0;
-    long nl, nz;
+    long nl = 0, nz;
     pdt_real_t lags[PDT_REDUCE_MAX_LAGS], zeros[PDT_REDUCE_MAX_LAGS];
     if (rd(&k) || rdl(&nl) || nl < 1 || nl > (long)PDT_REDUCE_MAX_LAGS) die("lags");
     for (long i = 0; i < nl; i++) {

@@ -26,8 +26,16 @@
 #define CLI_MAX_OPTS 64
 
 #if defined(__GNUC__)
-#define CLI_NORETURN_PRINTF(f, a) __attribute__((noreturn, format(printf, f, a)))
-#define CLI_PRINTF(f, a)          __attribute__((format(printf, f, a)))
+/* mingw-w64 builds print with its own C99 printf (__USE_MINGW_ANSI_STDIO,
+ * CMakeLists.txt), whose formats are gnu_printf's, not the Windows C
+ * runtime's. */
+#ifdef __MINGW32__
+#define CLI_PRINTF_FORMAT gnu_printf
+#else
+#define CLI_PRINTF_FORMAT printf
+#endif
+#define CLI_NORETURN_PRINTF(f, a) __attribute__((noreturn, format(CLI_PRINTF_FORMAT, f, a)))
+#define CLI_PRINTF(f, a)          __attribute__((format(CLI_PRINTF_FORMAT, f, a)))
 #define CLI_NORETURN              __attribute__((noreturn))
 #else
 #define CLI_NORETURN_PRINTF(f, a)
@@ -119,7 +127,7 @@ extern const char *const cli_model_names[]; /* fopdt, sopdt */
 extern const char *const cli_rule_names[];  /* simc, imc, amigo, zn */
 extern const char *const cli_form_names[];  /* pi, pid */
 /* "fopdt" or "sopdt" of a pdt_model_kind_t. */
-const char *cli_model_str(int kind);
+const char *cli_model_str(pdt_model_kind_t kind);
 
 /* The program's argv[0], set by main (to find the plot script). */
 extern const char *cli_argv0;

@@ -150,8 +150,8 @@ static void check_params(const tune_args_t *a)
     const int *need = a->model == PDT_MODEL_FOPDT ? need1 : tc ? need2t : need2n;
     for (int k = 0; k < (a->model == PDT_MODEL_FOPDT ? 3 : 4); k++)
         if (!a->have[need[k]])
-            cli_fail(EXIT_USAGE, "tune: --model %s needs %s", cli_model_str(a->model),
-                     pname[need[k]]);
+            cli_fail(EXIT_USAGE, "tune: --model %s needs %s",
+                     cli_model_str((pdt_model_kind_t)a->model), pname[need[k]]);
     if (a->par[P_K] == 0.0) cli_fail(EXIT_USAGE, "tune: --K must not be 0");
     if (!(a->par[P_TD] >= 0.0)) cli_fail(EXIT_USAGE, "tune: --Td needs a dead time >= 0 s");
     for (int k = P_TAU; k <= P_TAU2; k++)

@@ -12,7 +12,7 @@ const char *const cli_model_names[] = {"fopdt", "sopdt", NULL};
 const char *const cli_rule_names[] = {"simc", "imc", "amigo", "zn", NULL};
 const char *const cli_form_names[] = {"pi", "pid", NULL};
 
-const char *cli_model_str(int kind)
+const char *cli_model_str(pdt_model_kind_t kind)
 {
     return kind == PDT_MODEL_FOPDT ? "fopdt" : "sopdt";
 }

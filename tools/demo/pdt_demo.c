@@ -160,7 +160,7 @@ static void identify_w(const char *who, size_t n, pdt_model_kind_t kind, pdt_cos
         printf("  %-38s refused: %s\n", who, pdt_status_str(st));
         return;
     }
-    if (res.f_band > 0.0f) {
+    if (res.f_band > (pdt_real_t)0) {
         snprintf(note, sizeof note, "fit %5.1f%%, %u evaluations, band 0-%.3f Hz", (double)res.fit,
                  (unsigned)res.evaluations, (double)res.f_band);
     } else {

@@ -1,0 +1,70 @@
+/*
+ * Sizes of the target test program per core, and the memory its
+ * identification and autotune checks share (they run one at a time).
+ * PDT_TARGET_SMALL (set by port/CMakeLists.txt for the Cortex-M0 with
+ * 16 KiB of RAM) gives the small program: records of 200 samples, an
+ * autotune of capacity 128, no vector or cost-work checks (their tables
+ * and records do not fit).
+ */
+#ifndef PDT_TARGET_CONFIG_H
+#define PDT_TARGET_CONFIG_H
+
+#include "pdt/pdt.h"
+#include "sim_process.h"
+
+#ifndef PDT_TARGET_SMALL
+#define PDT_TARGET_SMALL 0
+#endif
+
+#if PDT_TARGET_SMALL
+#define TARGET_IDENT_N     200u /* samples of the identified records */
+#define TARGET_AT_CAPACITY 128u /* samples the autotune records */
+#else
+#define TARGET_IDENT_N     1000u
+#define TARGET_AT_CAPACITY 600u
+#endif
+
+/* The identification checks' memory (check_ident.c). */
+typedef struct target_ident_mem {
+    pdt_ident_t ctx;
+    pdt_real_t u[TARGET_IDENT_N];
+    pdt_real_t y[TARGET_IDENT_N];
+    pdt_real_t work[PDT_IDENT_WORKSPACE_SIZE(TARGET_IDENT_N, PDT_IDENT_POPULATION_SOPDT) /
+                        sizeof(pdt_real_t) +
+                    1u];
+} target_ident_mem_t;
+
+/* One autotune's record (check_autotune.c). */
+typedef struct target_at_run {
+    pdt_status_t st;
+    pdt_autotune_result_t res;
+    uint32_t scans;
+    uint64_t worst[7]; /* ticks of the slowest call in each phase */
+    uint32_t calls[7];
+    uint32_t max_evals;    /* most cost evaluations in one call */
+    uint64_t worst_search; /* ticks of the slowest identify call that
+                            * evaluated (the search's, not a preparation or
+                            * a validation) */
+    size_t stack;          /* bytes below the run's frame */
+} target_at_run_t;
+
+/* The autotune checks' memory (check_autotune.c). */
+typedef struct target_autotune_mem {
+    pdt_autotune_t at;
+    pdt_autotune_config_t cfg;
+    target_at_run_t run;
+    sim_process_t process; /* the plant of the check running */
+    pdt_real_t work[PDT_AUTOTUNE_WORKSPACE_SIZE(TARGET_AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
+                        sizeof(pdt_real_t) +
+                    1u];
+} target_autotune_mem_t;
+
+typedef union target_arena {
+    target_ident_mem_t ident;
+    target_autotune_mem_t autotune;
+} target_arena_t;
+
+/* The one instance (target_util.c). */
+extern target_arena_t t_arena;
+
+#endif /* PDT_TARGET_CONFIG_H */
