@@ -31,7 +31,8 @@ typedef struct at_args {
     int have_lim[4];
     double lim[4]; /* pv_min, pv_max, u_min, u_max */
     uint64_t seed, decimation, capacity, evaluations;
-    const char *trace;
+    const char *trace, *load_step;
+    fault_cfg_t fault;
 } at_args_t;
 
 static void parse(at_args_t *a, int argc, char **argv)
@@ -70,6 +71,11 @@ static void parse(at_args_t *a, int argc, char **argv)
         {"--u-min", OPT_REAL, &a->lim[2], &a->have_lim[2], CHK_ANY, 0, 0, NULL, NULL, 0},
         {"--u-max", OPT_REAL, &a->lim[3], &a->have_lim[3], CHK_ANY, 0, 0, NULL, NULL, 0},
         {"--trace", OPT_TEXT, &a->trace, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--load-step", OPT_TEXT, &a->load_step, &a->fault.has_load, 0, 0, 0, NULL, NULL, 0},
+        {"--drift", OPT_REAL, &a->fault.drift, NULL, CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--quantise", OPT_REAL, &a->fault.quant, NULL, CHK_GT0, 0, 0, NULL, "a step > 0", 0},
+        {"--u-rate", OPT_REAL, &a->fault.u_rate, NULL, CHK_GT0, 0, 0, NULL, "a rate > 0 per s", 0},
+        {"--stiction", OPT_REAL, &a->fault.stiction, NULL, CHK_GT0, 0, 0, NULL, "a band > 0", 0},
     };
     cli_opt_t tab[CLI_MAX_OPTS];
     const size_t n = sizeof rows / sizeof rows[0];
@@ -100,6 +106,25 @@ static void check_args(const at_args_t *a)
         (a->have_lim[2] && a->have_lim[3] && a->lim[2] > a->lim[3]))
         cli_fail(EXIT_USAGE, "%s: a lower limit lies above its upper limit", cmd);
     tune_opts_check(cmd, &a->t);
+}
+
+/* --load-step T:D, a time >= 0 s and a load in input units. */
+static void parse_load(at_args_t *a)
+{
+    if (!a->fault.has_load) return;
+    const char *s = a->load_step, *colon = strchr(s, ':');
+    char t[64];
+    const size_t n = colon ? (size_t)(colon - s) : 0u;
+    if (!colon || n == 0u || n >= sizeof t)
+        cli_fail(EXIT_USAGE, "autotune-sim: --load-step takes T:D (time s, load in input units)");
+    memcpy(t, s, n);
+    t[n] = '\0';
+    if (cli_parse_real(t, &a->fault.load_t) != 0 || !(a->fault.load_t >= 0.0) ||
+        cli_parse_real(colon + 1, &a->fault.load) != 0)
+        cli_fail(EXIT_USAGE,
+                 "autotune-sim: --load-step takes T:D with a time T >= 0 s and a "
+                 "finite load D, not \"%s\"",
+                 s);
 }
 
 /* The simulated process as the shared simulator takes it. */
@@ -241,6 +266,12 @@ typedef struct at_run {
     loop_figs_t loop;
 } at_run_t;
 
+/* The trace's columns: t,u,pv and, with a fault, what the faults did. */
+static void trace_header(const at_args_t *a, FILE *tf)
+{
+    fputs(fault_any(&a->fault) ? "t,u,pv,u_valve,load,y\n" : "t,u,pv\n", tf);
+}
+
 static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, sim_plant_t *plant,
                      FILE *tf)
 {
@@ -249,15 +280,25 @@ static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, sim_
     /* Scans can only end the experiment (capacity, relay) and the search
      * (its evaluations); this bound only guards the host against a bug. */
     const uint64_t guard = 4ull * a->capacity * a->decimation + 10000000ull;
+    const int faults = fault_any(&a->fault);
+    fault_state_t fs;
+    fault_init(&fs, a->u0);
     for (;;) {
-        double pv = sim_plant_output(plant);
+        const double t = (double)run->scans * a->Ts, y = sim_plant_output(plant);
+        double pv = y;
         if (a->noise > 0.0) pv += a->noise * sim_rng_normal(&ng);
+        pv = fault_sensor(&a->fault, pv, t);
         pdt_autotune_phase_t ph = pdt_autotune_phase(at);
         if (ph >= PDT_AUTOTUNE_SETTLE && ph <= PDT_AUTOTUNE_TUNE) run->phase_scans[ph - 1]++;
         pdt_real_t u;
         pdt_status_t ss = pdt_autotune_scan(at, (pdt_real_t)pv, &u);
-        if (tf) fprintf(tf, "%.9g,%.9g,%.9g\n", (double)run->scans * a->Ts, (double)u, pv);
-        sim_plant_apply(plant, (double)u);
+        const double pos = fault_actuator(&a->fault, &fs, (double)u, a->Ts);
+        const double load = fault_load(&a->fault, t);
+        if (tf && faults)
+            fprintf(tf, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", t, (double)u, pv, pos, load, y);
+        else if (tf)
+            fprintf(tf, "%.9g,%.9g,%.9g\n", t, (double)u, pv);
+        sim_plant_apply(plant, pos + load);
         run->scans++;
         if (ss == PDT_RUNNING && run->scans < guard) continue;
         if (ss == PDT_RUNNING) (void)pdt_autotune_abort(at, &u);
@@ -279,7 +320,7 @@ static void simulate(const at_args_t *a, at_run_t *run)
     if (a->trace) {
         tf = fopen(a->trace, "w");
         if (!tf) cli_fail(EXIT_USAGE, "cannot open %s: %s", a->trace, strerror(errno));
-        fputs("t,u,pv\n", tf);
+        trace_header(a, tf);
     }
     pdt_autotune_t *at = malloc(sizeof *at);
     const size_t work_len = pdt_autotune_workspace_size(&run->cfg);
@@ -401,6 +442,27 @@ static void results_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *
     pdtcli_jb_raw(jb, "}");
 }
 
+/* "faults": the simulator's faults as given; the key only with a fault. */
+static void faults_json(pdtcli_jbuf_t *jb, const at_args_t *a)
+{
+    const fault_cfg_t *f = &a->fault;
+    if (!fault_any(f)) return;
+    pdtcli_jb_raw(jb, ",\"faults\":{\"load_step\":");
+    if (f->has_load) {
+        pdtcli_jb_raw(jb, "{\"t\":");
+        pdtcli_jb_num(jb, f->load_t);
+        pdtcli_jb_key(jb, "d", f->load);
+        pdtcli_jb_raw(jb, "}");
+    } else {
+        pdtcli_jb_raw(jb, "null");
+    }
+    pdtcli_jb_key(jb, "drift", f->drift);
+    pdtcli_jb_key(jb, "quantise", f->quant);
+    pdtcli_jb_key(jb, "u_rate", f->u_rate);
+    pdtcli_jb_key(jb, "stiction", f->stiction);
+    pdtcli_jb_raw(jb, "}");
+}
+
 static void print_run(const at_args_t *a, const at_run_t *run)
 {
     static char buf[8192];
@@ -419,6 +481,7 @@ static void print_run(const at_args_t *a, const at_run_t *run)
     pdtcli_jb_uint(&jb, "scans", (unsigned long)run->scans);
     experiment_json(&jb, a, run);
     results_json(&jb, a, run);
+    faults_json(&jb, a);
     pdtcli_jb_raw(&jb, "}");
     if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "autotune-sim: result too long");
     puts(buf);
@@ -477,6 +540,7 @@ int cmd_autotune_sim(int argc, char **argv)
     a.model = AT_MODEL_AUTO;
     parse(&a, argc, argv);
     check_args(&a);
+    parse_load(&a);
     at_run_t *run = calloc(1, sizeof *run);
     if (!run) cli_fail(EXIT_REFUSED, "out of memory");
     autotune_config(&a, &run->cfg);
