@@ -5,6 +5,7 @@
  */
 #include "pdt/pdt_autotune.h"
 
+#include "pdt_autotune_priv.h"
 #include "pdt_internal.h"
 
 #define AUTOTUNE_MAGIC PDT_MAGIC('P', 'D', 'A', 'T')
@@ -33,6 +34,9 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg)
     cfg->order_auto = true;
     cfg->ms_robust = PDT_R(2.0);
     cfg->relay_agree = PDT_R(2.0);
+    cfg->shift_max = PDT_R(0.08);
+    cfg->relay_spread_max = PDT_R(0.25);
+    cfg->repeats = 1u;
 }
 
 static pdt_real_t rmax0(pdt_real_t x)
@@ -65,6 +69,10 @@ static pdt_status_t check_config(const pdt_autotune_config_t *cfg)
         (cfg->ms_robust != PDT_R(0.0) && !(cfg->ms_robust > PDT_R(1.0))) ||
         !pdt_finite(cfg->relay_agree) ||
         (cfg->relay_agree != PDT_R(0.0) && !(cfg->relay_agree >= PDT_R(1.0)))) {
+        return PDT_ERR_ARG;
+    }
+    if (!pdt_finite(cfg->shift_max) || !(cfg->shift_max >= PDT_R(0.0)) ||
+        !pdt_finite(cfg->relay_spread_max) || !(cfg->relay_spread_max >= PDT_R(0.0))) {
         return PDT_ERR_ARG;
     }
     if (!pdt_finite(cfg->u_min) || !pdt_finite(cfg->u_max) || !pdt_finite(cfg->pv_min) ||
@@ -105,6 +113,9 @@ static size_t ident_bytes(const pdt_autotune_config_t *cfg)
         b = b2 > b ? b2 : b;
     }
     size_t v = validates(cfg) ? pdt_validate_workspace_size(cfg->capacity) : 0u;
+    /* The disturbance check simulates the model beside its input. */
+    const size_t c = cfg->shift_max > PDT_R(0.0) ? 2u * cfg->capacity * sizeof(pdt_real_t) : 0u;
+    v = c > v ? c : v;
     return b == 0u ? 0u : (v > b ? v : b);
 }
 
@@ -120,19 +131,45 @@ size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg)
     return 2u * cfg->capacity * sizeof(pdt_real_t) + ib;
 }
 
-pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
-                               pdt_real_t u_now, void *work, size_t work_len)
+/* The experiment's generator and recorder from u_now, the operating
+ * point: the generator holds u_now while the recorder measures the
+ * operating point, then excites. */
+static pdt_status_t make_experiment(const pdt_autotune_config_t *cfg, pdt_real_t u_now, bool closed,
+                                    pdt_real_t *u, pdt_real_t *y, pdt_excite_t *gen,
+                                    pdt_record_t *rec)
 {
-    if (at == NULL || cfg == NULL || !pdt_finite(u_now)) {
-        return PDT_ERR_ARG;
-    }
-    pdt_status_t st = check_config(cfg);
+    /* With the loop closed the generator moves the set-point (u_now is
+     * then the set-point in service), inside the process value's limits. */
+    pdt_excite_config_t ec = cfg->excite;
+    ec.Ts = cfg->Ts;
+    ec.u0 = u_now;
+    ec.u_min = closed ? cfg->pv_min : cfg->u_min;
+    ec.u_max = closed ? cfg->pv_max : cfg->u_max;
+    ec.pre = cfg->Ts * (pdt_real_t)cfg->decimation * (pdt_real_t)cfg->settle;
+    pdt_status_t st = pdt_excite_init(gen, &ec);
     if (st != PDT_OK) {
         return st;
     }
-    if (u_now < cfg->u_min || u_now > cfg->u_max) {
-        return PDT_ERR_OUTPUT_LIMIT;
-    }
+    pdt_record_config_t rc;
+    pdt_record_config_default(&rc);
+    rc.decimation = cfg->decimation;
+    rc.settle = cfg->settle;
+    rc.u_min = cfg->u_min;
+    rc.u_max = cfg->u_max;
+    rc.pv_min = cfg->pv_min;
+    rc.pv_max = cfg->pv_max;
+    rc.max_scans = cfg->max_scans;
+    rc.move = cfg->move;
+    rc.move = closed ? PDT_RECORD_MOVE_ANY : cfg->move;
+    rc.setpoint = ec.kind == PDT_EXCITE_RELAY ? ec.setpoint : PDT_R(0.0);
+    return pdt_record_init(rec, &rc, u, y, cfg->capacity);
+}
+
+/* The checks of init shared by both loops, and the workspace split: the
+ * record's arrays u and y and the identification's bytes *ib. */
+static pdt_status_t check_work(const pdt_autotune_config_t *cfg, void *work, size_t work_len,
+                               size_t *ib_out)
+{
     size_t ib = ident_bytes(cfg);
     if (ib == 0u) {
         /* The identification refuses its config (or the capacity): say
@@ -148,40 +185,36 @@ pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *
     if (work_len < 2u * cfg->capacity * sizeof(pdt_real_t) + ib) {
         return PDT_ERR_NOMEM;
     }
-    pdt_real_t *u = (pdt_real_t *)work;
-    pdt_real_t *y = u + cfg->capacity;
+    *ib_out = ib;
+    return PDT_OK;
+}
 
-    /* The experiment holds u_now while the recorder measures the operating
-     * point, then excites. */
-    pdt_excite_config_t ec = cfg->excite;
-    ec.Ts = cfg->Ts;
-    ec.u0 = u_now;
-    ec.u_min = cfg->u_min;
-    ec.u_max = cfg->u_max;
-    ec.pre = cfg->Ts * (pdt_real_t)cfg->decimation * (pdt_real_t)cfg->settle;
-    pdt_excite_t gen;
-    st = pdt_excite_init(&gen, &ec);
+/* Both inits after their checks: u_now is the output (open loop) or the
+ * set-point (closed) the experiment starts from. */
+static pdt_status_t start(pdt_autotune_t *at, const pdt_autotune_config_t *cfg, pdt_real_t u_now,
+                          pdt_pid_t *pid, void *work, size_t work_len)
+{
+    size_t ib = 0u;
+    pdt_status_t st = check_work(cfg, work, work_len, &ib);
     if (st != PDT_OK) {
         return st;
     }
-    pdt_record_config_t rc;
-    pdt_record_config_default(&rc);
-    rc.decimation = cfg->decimation;
-    rc.settle = cfg->settle;
-    rc.u_min = cfg->u_min;
-    rc.u_max = cfg->u_max;
-    rc.pv_min = cfg->pv_min;
-    rc.pv_max = cfg->pv_max;
-    rc.max_scans = cfg->max_scans;
-    rc.move = cfg->move;
-    rc.setpoint = ec.kind == PDT_EXCITE_RELAY ? ec.setpoint : PDT_R(0.0);
+    pdt_real_t *u = (pdt_real_t *)work;
+    pdt_real_t *y = u + cfg->capacity;
+    pdt_excite_t gen;
     pdt_record_t rec;
-    st = pdt_record_init(&rec, &rc, u, y, cfg->capacity);
+    st = make_experiment(cfg, u_now, pid != NULL, u, y, &gen, &rec);
     if (st != PDT_OK) {
         return st;
     }
 
     /* Nothing failed: only now is *at written. */
+    at->pid = pid;
+    at->sp0 = u_now;
+    at->pid_ran = false;
+    if (pid != NULL) {
+        u_now = pid->u;
+    }
     at->cfg = *cfg;
     at->phase = PDT_AUTOTUNE_SETTLE;
     at->u_init = u_now;
@@ -203,6 +236,44 @@ pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *
     at->res.status = PDT_RUNNING;
     at->magic = AUTOTUNE_MAGIC;
     return PDT_OK;
+}
+
+pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
+                               pdt_real_t u_now, void *work, size_t work_len)
+{
+    if (at == NULL || cfg == NULL || !pdt_finite(u_now)) {
+        return PDT_ERR_ARG;
+    }
+    pdt_status_t st = check_config(cfg);
+    if (st != PDT_OK) {
+        return st;
+    }
+    if (u_now < cfg->u_min || u_now > cfg->u_max) {
+        return PDT_ERR_OUTPUT_LIMIT;
+    }
+    return start(at, cfg, u_now, NULL, work, work_len);
+}
+
+pdt_status_t pdt_autotune_init_closed(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
+                                      pdt_pid_t *pid, pdt_real_t sp, void *work, size_t work_len)
+{
+    if (at == NULL || cfg == NULL || pid == NULL || !pdt_finite(sp) ||
+        cfg->excite.kind == PDT_EXCITE_RELAY) {
+        return PDT_ERR_ARG;
+    }
+    pdt_status_t st = check_config(cfg);
+    if (st != PDT_OK) {
+        return st;
+    }
+    /* A controller that was never initialised has no gains to keep. */
+    pdt_pid_t copy = *pid;
+    if (pdt_pid_track(&copy, sp, sp, pid->u) != PDT_OK) {
+        return PDT_ERR_STATE;
+    }
+    if (sp < cfg->pv_min || sp > cfg->pv_max) {
+        return PDT_ERR_OUTPUT_LIMIT;
+    }
+    return start(at, cfg, sp, pid, work, work_len);
 }
 
 static pdt_status_t fail(pdt_autotune_t *at, pdt_status_t why, pdt_real_t *u)
@@ -247,6 +318,16 @@ static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_
     if (se != PDT_OK && se != PDT_RUNNING) {
         /* Only a relay fails here (pv not finite): hold the operating point. */
         return fail(at, se, u);
+    }
+    if (at->pid != NULL) {
+        /* Closed loop: the generator gave the set-point; the PID the
+         * output recorded. A pv that is not finite ends the experiment;
+         * the PID holds its output. */
+        const pdt_real_t sp = un;
+        if (pdt_pid_update(at->pid, sp, pv, &un) != PDT_OK) {
+            return fail(at, PDT_ERR_NONFINITE, u);
+        }
+        at->pid_ran = true;
     }
     /* Samples complete before this scan: the tail counts from here when the
      * excitation ends in this scan. */
@@ -304,6 +385,68 @@ static pdt_model_kind_t stage_model(const pdt_autotune_t *at)
 static pdt_real_t dead_time_shift(const pdt_autotune_t *at)
 {
     return at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5);
+}
+
+/* A disturbed experiment once more, from the operating point the last one
+ * measured (the output has rested there since it ended). */
+static pdt_status_t repeat_experiment(pdt_autotune_t *at, pdt_real_t *u)
+{
+    pdt_excite_t gen;
+    pdt_record_t rec;
+    const bool closed = at->pid != NULL;
+    pdt_status_t st =
+        make_experiment(&at->cfg, closed ? at->sp0 : at->u_hold, closed, at->u, at->y, &gen, &rec);
+    if (st != PDT_OK) {
+        return fail(at, st, u);
+    }
+    at->gen = gen;
+    at->rec = rec;
+    at->tail_end = 0u;
+    at->excite_over = false;
+    at->ident_started = false;
+    at->stage = 0u;
+    at->res.repeats++;
+    at->res.has_relay = false;
+    at->res.has_model = false;
+    at->res.has_valid = false;
+    at->res.samples = 0u;
+    at->phase = PDT_AUTOTUNE_SETTLE;
+    *u = at->u_hold;
+    return PDT_RUNNING;
+}
+
+/* The model is chosen: the disturbance check, then the recorder's dead-time
+ * shift added back, and the tuning next. */
+static pdt_status_t finish_identify(pdt_autotune_t *at, pdt_real_t *u)
+{
+    const pdt_ident_data_t data = {at->u, at->y, at->res.samples};
+    const pdt_autotune_config_t *c = &at->cfg;
+    at->res.shift = PDT_R(0.0);
+    /* Measured whenever the workspace has room (always when the check is
+     * on), checked only with shift_max > 0. */
+    if (at->ident_work_len >= 2u * data.n * sizeof(pdt_real_t) &&
+        pdt_autotune_shift(&at->res.ident.model, &data, ident_config(c).Ts, at->res.ident.u0,
+                           at->res.ident.y0, (pdt_real_t *)at->ident_work,
+                           &at->res.shift) != PDT_OK) {
+        return fail(at, PDT_ERR_ARG, u);
+    }
+    at->res.relay_spread = at->res.has_relay ? pdt_autotune_relay_spread(&at->gen) : PDT_R(0.0);
+    pdt_real_t shift = dead_time_shift(at);
+    if (at->res.ident.model.kind == PDT_MODEL_FOPDT) {
+        at->res.ident.model.p.fopdt.Td += shift;
+    } else {
+        at->res.ident.model.p.sopdt.Td += shift;
+    }
+    at->res.has_model = true;
+    const bool disturbed =
+        (c->shift_max > PDT_R(0.0) && at->res.shift > c->shift_max) ||
+        (c->relay_spread_max > PDT_R(0.0) && at->res.relay_spread > c->relay_spread_max);
+    if (disturbed) {
+        return at->res.repeats < c->repeats ? repeat_experiment(at, u)
+                                            : fail(at, PDT_ERR_DISTURBED, u);
+    }
+    at->phase = PDT_AUTOTUNE_TUNE;
+    return PDT_RUNNING;
 }
 
 /* Identification stages: 0 (and 1 with order_auto) identify, one model
@@ -375,15 +518,7 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
         }
         at->res.has_valid = true;
     }
-    pdt_real_t shift = dead_time_shift(at);
-    if (at->res.ident.model.kind == PDT_MODEL_FOPDT) {
-        at->res.ident.model.p.fopdt.Td += shift;
-    } else {
-        at->res.ident.model.p.sopdt.Td += shift;
-    }
-    at->res.has_model = true;
-    at->phase = PDT_AUTOTUNE_TUNE;
-    return PDT_RUNNING;
+    return finish_identify(at, u);
 }
 
 /* Whether the model passes through the point of its frequency response
@@ -474,6 +609,13 @@ static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
             st = fir ? PDT_ERR_MODEL_INVALID : PDT_ERR_UNCERTAIN;
         }
     }
+    if (st == PDT_OK && at->pid != NULL) {
+        /* The hand-over: the new gains take the last output as theirs. */
+        pdt_status_t sg = pdt_pid_set_gains(at->pid, &r.ideal, PDT_PID_IDEAL);
+        if (sg != PDT_OK) {
+            return fail(at, sg, u);
+        }
+    }
     if (st == PDT_OK) {
         at->res.tune = r;
         at->res.ms_robust = ms;
@@ -492,14 +634,9 @@ static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
     return PDT_RUNNING;
 }
 
-pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
+/* One scan of the phase the autotune is in. */
+static pdt_status_t scan_phase(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
 {
-    if (at == NULL || u == NULL) {
-        return PDT_ERR_ARG;
-    }
-    if (at->magic != AUTOTUNE_MAGIC) {
-        return PDT_ERR_STATE;
-    }
     switch (at->phase) {
     case PDT_AUTOTUNE_SETTLE:
     case PDT_AUTOTUNE_EXCITE:
@@ -525,6 +662,29 @@ pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
     }
 }
 
+pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
+{
+    if (at == NULL || u == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (at->magic != AUTOTUNE_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    at->pid_ran = false;
+    pdt_status_t st = scan_phase(at, pv, u);
+    if (at->pid != NULL) {
+        /* Closed loop: outside the experiment the PID runs at the set-point
+         * in service (with the new gains once handed over); a scan it
+         * refuses (pv not finite) holds its last output. */
+        if (!at->pid_ran) {
+            pdt_real_t uc;
+            (void)pdt_pid_update(at->pid, at->sp0, pv, &uc);
+        }
+        *u = at->pid->u;
+    }
+    return st;
+}
+
 pdt_status_t pdt_autotune_abort(pdt_autotune_t *at, pdt_real_t *u)
 {
     if (at == NULL || u == NULL) {
@@ -542,7 +702,7 @@ pdt_status_t pdt_autotune_abort(pdt_autotune_t *at, pdt_real_t *u)
     if (at->phase != PDT_AUTOTUNE_DONE && at->phase != PDT_AUTOTUNE_FAILED) {
         (void)fail(at, PDT_ERR_ABORTED, u);
     }
-    *u = at->u_hold;
+    *u = at->pid != NULL ? at->pid->u : at->u_hold;
     return PDT_OK;
 }
 

@@ -52,6 +52,7 @@
 #include "pdt/pdt_common.h"
 #include "pdt/pdt_excite.h"
 #include "pdt/pdt_ident.h"
+#include "pdt/pdt_pid.h"
 #include "pdt/pdt_record.h"
 #include "pdt/pdt_tune.h"
 #include "pdt/pdt_validate.h"
@@ -126,6 +127,18 @@ typedef struct pdt_autotune_config {
     /* A relay test's Ku and Pu and the model's must agree within this
      * factor, >= 1, or 0 for no check. Default 2 */
     pdt_real_t relay_agree;
+    /* The disturbance check (docs/autotune.md, "Faults of a real plant").
+     * The record is disturbed when the residual of the model kept shifts
+     * its level across the record by more than shift_max of the model's
+     * output range (pdt_autotune_result_t.shift: a load change or a
+     * drift), or a relay's measured cycles spread in length or amplitude
+     * by more than relay_spread_max of their mean. A disturbed experiment
+     * is repeated from the operating point up to `repeats` times, then
+     * refused with PDT_ERR_DISTURBED. shift_max and relay_spread_max
+     * >= 0, 0: no such check. Defaults 0.08, 0.25 and 1 */
+    pdt_real_t shift_max;
+    pdt_real_t relay_spread_max;
+    uint32_t repeats;
 } pdt_autotune_config_t;
 
 typedef struct pdt_autotune_result {
@@ -152,6 +165,11 @@ typedef struct pdt_autotune_result {
     size_t samples;                 /* samples recorded */
     uint32_t scans;                 /* scans since init */
     uint32_t scans_experiment;      /* scans of settle + experiment */
+    pdt_real_t shift;               /* the residual's level shift, fraction
+                               * of the model's output range (the
+                               * disturbance check; 0 until computed) */
+    pdt_real_t relay_spread;        /* spread of the relay's cycles */
+    uint32_t repeats;               /* experiments repeated (disturbed) */
 } pdt_autotune_result_t;
 
 /* The autotune. Fields are private. */
@@ -177,6 +195,9 @@ typedef struct pdt_autotune {
     pdt_record_t rec;
     pdt_ident_t ident;
     pdt_autotune_result_t res;
+    pdt_pid_t *pid; /* closed loop: the controller in service, else NULL */
+    pdt_real_t sp0; /* closed loop: the set-point in service */
+    bool pid_ran;   /* closed loop: this scan's output is the PID's */
 } pdt_autotune_t;
 
 /* Fills cfg with the documented defaults, and its sub-configs with theirs
@@ -213,6 +234,27 @@ size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
 pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
                                pdt_real_t u_now, void *work, size_t work_len);
 
+/* Prepares at for a retune with the loop closed (docs/autotune.md,
+ * "Retune with the loop closed"): pid, the caller's initialised controller
+ * in service, stays in control throughout, and the experiment moves its
+ * set-point instead of the output. cfg->excite.kind is STEP (a set-point
+ * step, held while recorded), PULSE (a step up and back) or PRBS (a small
+ * set-point dither); its amplitude is in pv units and the set-point stays
+ * inside [pv_min, pv_max]. sp is the set-point in service, to which the
+ * loop returns once the record is complete. The model is identified from
+ * the closed-loop record (the PID's output u to pv, output error), tuned
+ * and checked as in the open loop; on PDT_OK the new gains replace pid's
+ * without a bump (pdt_pid_set_gains, ideal form); on a refusal or an abort
+ * pid keeps its gains. After the end pdt_autotune_scan goes on running
+ * pid at sp, so the caller may keep calling it. pid and its state belong
+ * to at until the end; its output limits stay in force, and u_min, u_max
+ * are checked as in the open loop.
+ * Returns as pdt_autotune_init, also PDT_ERR_ARG for a relay experiment
+ * or a sp that is not finite, PDT_ERR_STATE for a pid not initialised,
+ * PDT_ERR_OUTPUT_LIMIT for sp outside [pv_min, pv_max]. O(1). */
+pdt_status_t pdt_autotune_init_closed(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
+                                      pdt_pid_t *pid, pdt_real_t sp, void *work, size_t work_len);
+
 /* One scan: pv is the process value read now; *u receives the output to
  * apply until the next scan (always written, even on error, when at and u
  * are not NULL and at was initialised).
@@ -226,7 +268,9 @@ pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
 /* Stops the autotune now (e.g. the operator cancels): unless it is already
  * done or failed, the phase becomes FAILED with the status PDT_ERR_ABORTED.
  * *u receives the output to apply: the operating point (the output at init
- * if the operating point is not measured yet). Returns PDT_OK, PDT_ERR_ARG
+ * if the operating point is not measured yet); with the loop closed, the
+ * PID's last output (the PID, its gains unchanged, goes on at the
+ * set-point in service with the next scan). Returns PDT_OK, PDT_ERR_ARG
  * for NULL, PDT_ERR_STATE if never initialised. O(1). */
 pdt_status_t pdt_autotune_abort(pdt_autotune_t *at, pdt_real_t *u);
 

@@ -1,0 +1,101 @@
+/*
+ * The autotune's disturbance check: what in a record says that something
+ * other than the experiment moved the process (docs/autotune.md, "Faults
+ * of a real plant").
+ */
+#include "pdt_autotune_priv.h"
+
+#include "pdt/pdt_discrete.h"
+#include "pdt_internal.h"
+
+/* Standard errors a level shift must exceed to count: the largest of the
+ * splits of white noise stays below about 3.5 of them. */
+#define SHIFT_Z PDT_R(6.0)
+
+/* The range of the n values of x. */
+static pdt_real_t range_of(const pdt_real_t *x, size_t n)
+{
+    pdt_real_t lo = x[0];
+    pdt_real_t hi = x[0];
+    for (size_t k = 1u; k < n; k++) {
+        lo = x[k] < lo ? x[k] : lo;
+        hi = x[k] > hi ? x[k] : hi;
+    }
+    return hi - lo;
+}
+
+pdt_status_t pdt_autotune_shift(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
+                                pdt_real_t u0, pdt_real_t y0, pdt_real_t *work, pdt_real_t *shift)
+{
+    pdt_discrete_t d;
+    const size_t n = data->n;
+    if (pdt_discrete_init(m, Ts, &d) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    pdt_real_t *du = work;
+    pdt_real_t *ys = work + n;
+    for (size_t k = 0u; k < n; k++) {
+        du[k] = data->u[k] - u0;
+    }
+    (void)pdt_discrete_simulate(&d, du, n, ys);
+    const pdt_real_t span = range_of(ys, n);
+    /* The residual, in du's place, and its total. */
+    pdt_real_t total = PDT_R(0.0);
+    for (size_t k = 0u; k < n; k++) {
+        du[k] = data->y[k] - y0 - ys[k];
+        total += du[k];
+    }
+    pdt_real_t sq = PDT_R(0.0);
+    for (size_t k = 0u; k < n; k++) {
+        const pdt_real_t e = du[k] - total / (pdt_real_t)n;
+        sq += e * e;
+    }
+    const pdt_real_t var = sq / (pdt_real_t)n;
+    const size_t edge = n / 8u;
+    pdt_real_t before = PDT_R(0.0);
+    pdt_real_t best = PDT_R(0.0);
+    pdt_real_t best_var = PDT_R(0.0);
+    for (size_t k = 0u; k + edge < n; k++) {
+        if (k >= edge && k > 0u) {
+            const pdt_real_t a = before / (pdt_real_t)k;
+            const pdt_real_t b = (total - before) / (pdt_real_t)(n - k);
+            const pdt_real_t s = pdt_fabs(b - a);
+            if (s > best) {
+                best = s;
+                best_var = var * (PDT_R(1.0) / (pdt_real_t)k + PDT_R(1.0) / (pdt_real_t)(n - k));
+            }
+        }
+        before += du[k];
+    }
+    /* A shift the residual's own spread explains (its variance about the
+     * whole mean, which the shift only enlarges) counts as none. */
+    const bool significant = best * best > SHIFT_Z * SHIFT_Z * best_var;
+    *shift = span > PDT_R(0.0) && significant ? best / span : PDT_R(0.0);
+    return PDT_OK;
+}
+
+pdt_real_t pdt_autotune_relay_spread(const pdt_excite_t *gen)
+{
+    const uint32_t c = gen->stored;
+    if (c < 2u) {
+        return PDT_R(0.0);
+    }
+    pdt_real_t pmin = (pdt_real_t)gen->per[0];
+    pdt_real_t pmax = pmin;
+    pdt_real_t psum = PDT_R(0.0);
+    pdt_real_t amin = gen->amp[0];
+    pdt_real_t amax = amin;
+    pdt_real_t asum = PDT_R(0.0);
+    for (uint32_t i = 0u; i < c; i++) {
+        const pdt_real_t p = (pdt_real_t)gen->per[i];
+        pmin = p < pmin ? p : pmin;
+        pmax = p > pmax ? p : pmax;
+        psum += p;
+        amin = gen->amp[i] < amin ? gen->amp[i] : amin;
+        amax = gen->amp[i] > amax ? gen->amp[i] : amax;
+        asum += gen->amp[i];
+    }
+    const pdt_real_t sp = psum > PDT_R(0.0) ? (pmax - pmin) * (pdt_real_t)c / psum : PDT_R(0.0);
+    const pdt_real_t sa = asum > PDT_R(0.0) ? (amax - amin) * (pdt_real_t)c / asum : PDT_R(0.0);
+    return sp > sa ? sp : sa;
+}

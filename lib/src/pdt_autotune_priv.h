@@ -1,0 +1,32 @@
+/*
+ * Private to the autotune: the disturbance check of its record
+ * (pdt_autotune_check.c).
+ */
+#ifndef PDT_AUTOTUNE_PRIV_H
+#define PDT_AUTOTUNE_PRIV_H
+
+#include "pdt/pdt_excite.h"
+#include "pdt/pdt_ident.h"
+#include "pdt/pdt_model.h"
+
+/* The largest shift of the residual's level across the record: with
+ * r = y - y0 - (the model m run on u - u0 at Ts), the largest difference
+ * of r's mean after and before a split, over the splits that leave an
+ * eighth of the record on either side, as a fraction of the range of the
+ * model's output. A load that enters during the experiment or a drift
+ * leaves such a shift that no model of the process removes; noise and a
+ * model's small structural error do not. A shift below 6 standard errors
+ * of the means (from the residual's variance) is noise: *shift is then 0.
+ * work: 2 data->n reals. Returns
+ * PDT_ERR_ARG (a model pdt_discrete_init refuses) or PDT_OK; *shift is 0
+ * when the model's output does not move. O(n). */
+pdt_status_t pdt_autotune_shift(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
+                                pdt_real_t u0, pdt_real_t y0, pdt_real_t *work, pdt_real_t *shift);
+
+/* The spread of a relay's measured cycles: the largest of (longest -
+ * shortest) / mean over the cycle lengths and over their amplitudes; 0 for
+ * one cycle. A relay without bias on an undisturbed process repeats the
+ * same cycle. O(relay_cycles). */
+pdt_real_t pdt_autotune_relay_spread(const pdt_excite_t *gen);
+
+#endif /* PDT_AUTOTUNE_PRIV_H */
