@@ -125,3 +125,40 @@ def test_no_fault_keeps_the_three_columns(tmp_path):
 ])
 def test_fault_usage_errors(args, frag):
     assert_usage_error(run(["autotune-sim", *FOPDT, *args]), frag)
+
+
+@pytest.mark.parametrize("kc", ["0.1", "0.8"])
+def test_closed_loop_retune(kc):
+    out = parse_output(run(["autotune-sim", *FOPDT, "--closed-loop", "--initial-gains",
+                            f"{kc},5", "--experiment", "step", "--noise", "0.01"]))
+    cl = out["closed_loop"]
+    assert out["status"] == "PDT_OK" and cl["gains"] == "new"
+    assert cl["initial"] == {"Kc": pytest.approx(float(kc)), "Ti": 5, "Td": 0}
+    assert out["ident"]["K"] == pytest.approx(2.0, rel=0.05)
+    assert out["loop"]["Ms_true"] < 2.0 and out["loop"]["stable"]
+    # Bumpless: the hand-over moves the output less than the loop's own
+    # largest move in a scan.
+    assert cl["handover_du"] < 0.2 * cl["du_max"]
+
+
+def test_load_step_is_repeated_or_refused():
+    res = run(["autotune-sim", *FOPDT, "--experiment", "prbs", "--noise", "0.02",
+               "--load-step", "150:0.3"])
+    out = parse_output(res) if res.returncode == 0 else None
+    if out is None:
+        import json
+        out = json.loads(res.stdout)
+        assert out["status"] in ("PDT_ERR_DISTURBED", "PDT_ERR_UNCERTAIN")
+    else:
+        assert out["repeats"] == 1 and out["shift"] <= 0.08
+
+
+@pytest.mark.parametrize("args,frag", [
+    (["--closed-loop"], "--initial-gains"),
+    (["--initial-gains", "1,2"], "--closed-loop"),
+    (["--closed-loop", "--initial-gains", "1"], "--initial-gains"),
+    (["--closed-loop", "--initial-gains", "1,0"], "--initial-gains"),
+    (["--closed-loop", "--initial-gains", "1,2", "--experiment", "relay"], "set-point"),
+])
+def test_closed_loop_usage_errors(args, frag):
+    assert_usage_error(run(["autotune-sim", *FOPDT, *args]), frag)
