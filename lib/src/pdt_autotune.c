@@ -208,20 +208,20 @@ static pdt_status_t start(pdt_autotune_t *at, const pdt_autotune_config_t *cfg, 
         return st;
     }
 
-    /* Nothing failed: only now is *at written. */
+    /* Nothing failed: only now is *at written. The output in service is
+     * the PID's with the loop closed. */
+    const pdt_real_t u_out = pid != NULL ? pid->u : u_now;
     at->pid = pid;
     at->sp0 = u_now;
     at->pid_ran = false;
-    if (pid != NULL) {
-        u_now = pid->u;
-    }
     at->cfg = *cfg;
     at->phase = PDT_AUTOTUNE_SETTLE;
-    at->u_init = u_now;
-    at->u_hold = u_now;
+    at->u_init = u_out;
+    at->u_hold = u_out;
     at->u = u;
     at->y = y;
-    at->ident_work = (void *)(y + cfg->capacity);
+    at->scratch = y + cfg->capacity;
+    at->ident_work = (void *)at->scratch;
     at->ident_work_len = ib;
     at->gen = gen;
     at->rec = rec;
@@ -387,20 +387,24 @@ static pdt_real_t dead_time_shift(const pdt_autotune_t *at)
     return at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5);
 }
 
+/* The identification's sample period, s (ident_config's Ts). */
+static pdt_real_t id_period(const pdt_autotune_config_t *cfg)
+{
+    return cfg->Ts * (pdt_real_t)cfg->decimation;
+}
+
 /* A disturbed experiment once more, from the operating point the last one
  * measured (the output has rested there since it ended). */
 static pdt_status_t repeat_experiment(pdt_autotune_t *at, pdt_real_t *u)
 {
-    pdt_excite_t gen;
-    pdt_record_t rec;
+    /* Into at directly: on an error the autotune fails, and neither is
+     * read again. */
     const bool closed = at->pid != NULL;
-    pdt_status_t st =
-        make_experiment(&at->cfg, closed ? at->sp0 : at->u_hold, closed, at->u, at->y, &gen, &rec);
+    pdt_status_t st = make_experiment(&at->cfg, closed ? at->sp0 : at->u_hold, closed, at->u, at->y,
+                                      &at->gen, &at->rec);
     if (st != PDT_OK) {
         return fail(at, st, u);
     }
-    at->gen = gen;
-    at->rec = rec;
     at->tail_end = 0u;
     at->excite_over = false;
     at->ident_started = false;
@@ -425,9 +429,8 @@ static pdt_status_t finish_identify(pdt_autotune_t *at, pdt_real_t *u)
     /* Measured whenever the workspace has room (always when the check is
      * on), checked only with shift_max > 0. */
     if (at->ident_work_len >= 2u * data.n * sizeof(pdt_real_t) &&
-        pdt_autotune_shift(&at->res.ident.model, &data, ident_config(c).Ts, at->res.ident.u0,
-                           at->res.ident.y0, (pdt_real_t *)at->ident_work,
-                           &at->res.shift) != PDT_OK) {
+        pdt_autotune_shift(&at->res.ident.model, &data, id_period(c), at->res.ident.u0,
+                           at->res.ident.y0, at->scratch, &at->res.shift) != PDT_OK) {
         return fail(at, PDT_ERR_ARG, u);
     }
     at->res.relay_spread = at->res.has_relay ? pdt_autotune_relay_spread(&at->gen) : PDT_R(0.0);
@@ -492,8 +495,8 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
     if (v < models && validates(&at->cfg)) {
         const pdt_ident_result_t *ir = v == 0u ? &at->first : &at->res.ident;
         pdt_validate_result_t *vr = v == 0u ? &at->first_valid : &at->res.valid;
-        st = pdt_validate_model(&ir->model, &data, ident_config(&at->cfg).Ts, ir->y0,
-                                at->ident_work, at->ident_work_len, vr);
+        st = pdt_validate_model(&ir->model, &data, id_period(&at->cfg), ir->y0, at->ident_work,
+                                at->ident_work_len, vr);
         if (st != PDT_OK) {
             return fail(at, st, u);
         }

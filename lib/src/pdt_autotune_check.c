@@ -33,7 +33,7 @@ pdt_status_t pdt_autotune_shift(const pdt_model_t *m, const pdt_ident_data_t *da
         return PDT_ERR_ARG;
     }
     pdt_real_t *du = work;
-    pdt_real_t *ys = work + n;
+    pdt_real_t *ys = &work[n];
     for (size_t k = 0u; k < n; k++) {
         du[k] = data->u[k] - u0;
     }
@@ -57,12 +57,13 @@ pdt_status_t pdt_autotune_shift(const pdt_model_t *m, const pdt_ident_data_t *da
     pdt_real_t best_var = PDT_R(0.0);
     for (size_t k = 0u; k + edge < n; k++) {
         if (k >= edge && k > 0u) {
+            const size_t rest = n - k;
             const pdt_real_t a = before / (pdt_real_t)k;
-            const pdt_real_t b = (total - before) / (pdt_real_t)(n - k);
+            const pdt_real_t b = (total - before) / (pdt_real_t)rest;
             const pdt_real_t s = pdt_fabs(b - a);
             if (s > best) {
                 best = s;
-                best_var = var * (PDT_R(1.0) / (pdt_real_t)k + PDT_R(1.0) / (pdt_real_t)(n - k));
+                best_var = var * (PDT_R(1.0) / (pdt_real_t)k + PDT_R(1.0) / (pdt_real_t)rest);
             }
         }
         before += du[k];

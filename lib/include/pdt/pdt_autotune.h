@@ -181,7 +181,8 @@ typedef struct pdt_autotune {
     pdt_real_t u_hold; /* output applied while identifying */
     pdt_real_t *u;     /* record (workspace) */
     pdt_real_t *y;
-    void *ident_work; /* identification's part of the workspace */
+    void *ident_work;    /* identification's part of the workspace */
+    pdt_real_t *scratch; /* the same memory, as reals */
     size_t ident_work_len;
     size_t tail_end;          /* samples recorded when the tail is complete */
     bool excite_over;         /* the excitation has ended */
