@@ -2,7 +2,8 @@
  * The autotune under a real plant's faults and with the loop closed: the
  * disturbance check against its closed forms (a residual's level shift,
  * a relay's cycle spread), a load change that the repeated experiment
- * survives, a drift that is refused with PDT_ERR_DISTURBED, and the
+ * survives, a drift fitted (or, without drift passes, refused with
+ * PDT_ERR_DISTURBED), and the
  * closed-loop retune: the PID in service stays in control, the new gains
  * are handed over without a bump, a refused retune keeps the old ones.
  */
@@ -175,31 +176,68 @@ static void test_load_step_repeated(void **state)
     assert_true(r.shift > R(0.08));
 }
 
-/* A drift of 2 % of the response per time constant in every experiment:
- * repeated once, then refused; the output back at the operating point. */
-static void test_drift_refused(void **state)
+/* A drift of 2 % of the response per time constant (0.02 pv units per s):
+ * fitted and removed from the record by default; with drift_passes 0 the
+ * experiment is repeated once, then refused, the output back at the
+ * operating point. */
+static void test_drift(void **state)
 {
     (void)state;
     pdt_autotune_config_t c;
     sim_process_t p;
-    setup(&c, &p, 0.02);
-    size_t need = work_prepare(&c);
-    assert_int_equal(pdt_autotune_init(&g_at, &c, R(30.0), g_work, need), PDT_OK);
     const fault_t f = {0.0, 0u, 0u, 0.2 / 10.0 * 0.5}; /* pv units per scan */
-    pdt_real_t u;
-    pdt_status_t st = run(&g_at, &p, &f, 200000u, NULL, &u);
-    pdt_autotune_result_t r;
-    assert_int_equal(pdt_autotune_result(&g_at, &r), PDT_OK);
-    print_message("drift: %s, repeats %u, shift %.3g\n", pdt_status_name(st), (unsigned)r.repeats,
-                  (double)r.shift);
-    assert_int_equal(st, PDT_ERR_DISTURBED);
-    assert_int_equal(r.failed_in, PDT_AUTOTUNE_IDENTIFY);
-    assert_int_equal(r.repeats, c.repeats);
-    assert_true(r.has_model && !r.has_gains && r.shift > c.shift_max);
-    assert_close(u, 30.0, 0.0, 1e-3);
+    for (int pass = 0; pass < 2; pass++) {
+        setup(&c, &p, 0.02);
+        c.drift_passes = pass == 0 ? c.drift_passes : 0u;
+        size_t need = work_prepare(&c);
+        assert_int_equal(pdt_autotune_init(&g_at, &c, R(30.0), g_work, need), PDT_OK);
+        pdt_real_t u;
+        pdt_status_t st = run(&g_at, &p, &f, 200000u, NULL, &u);
+        pdt_autotune_result_t r;
+        assert_int_equal(pdt_autotune_result(&g_at, &r), PDT_OK);
+        print_message("drift, %u passes: %s, repeats %u, shift %.3g, drift %.4g in %u, K %.4g\n",
+                      (unsigned)c.drift_passes, pdt_status_name(st), (unsigned)r.repeats,
+                      (double)r.shift, (double)r.drift, (unsigned)r.drift_passes,
+                      (double)r.ident.model.p.fopdt.K);
+        if (pass == 0) {
+            assert_int_equal(st, PDT_OK);
+            assert_true(r.drift_passes >= 1u && r.drift_passes <= c.drift_passes);
+            assert_close(r.drift, 0.02, 0.2, 0.0);
+            assert_close(r.ident.model.p.fopdt.K, 2.0, 0.05, 0.0);
+            assert_true(r.shift <= c.shift_max);
+        } else {
+            assert_int_equal(st, PDT_ERR_DISTURBED);
+            assert_int_equal(r.failed_in, PDT_AUTOTUNE_IDENTIFY);
+            assert_int_equal(r.repeats, c.repeats);
+            assert_true(r.has_model && !r.has_gains && r.shift > c.shift_max);
+            assert_true(r.drift == R(0.0) && r.drift_passes == 0u);
+            assert_close(u, 30.0, 0.0, 1e-3);
+        }
+        work_check(&c);
+    }
     assert_string_equal(pdt_status_name(PDT_ERR_DISTURBED), "PDT_ERR_DISTURBED");
     assert_string_equal(pdt_status_str(PDT_ERR_DISTURBED), "experiment disturbed");
-    work_check(&c);
+}
+
+/* The drift test's closed forms: a straight residual is a drift with its
+ * slope, a level shift is not. */
+static void test_ramp_closed_form(void **state)
+{
+    (void)state;
+    enum { N = 160 };
+    static pdt_real_t r[N];
+    for (size_t k = 0; k < N; k++) {
+        r[k] = R(0.25) + R(0.003) * (pdt_real_t)k;
+    }
+    pdt_real_t slope = R(0.0);
+    assert_true(pdt_autotune_ramp(r, N, &slope));
+    assert_close(slope, 0.003, 1e-4, 0.0);
+    for (size_t k = 0; k < N; k++) {
+        r[k] = k < N / 2u ? R(0.0) : R(0.3);
+    }
+    assert_false(pdt_autotune_ramp(r, N, &slope));
+    assert_false(pdt_autotune_ramp(r, 7u, &slope));
+    assert_true(slope == R(0.0));
 }
 
 /* A PI in service at the operating point, gains Kc, Ti. */
@@ -326,7 +364,8 @@ static void test_closed_loop_bad_inputs(void **state)
     assert_int_equal(pdt_autotune_phase(&at), (pdt_autotune_phase_t)0);
     /* The disturbance check's settings. */
     pdt_autotune_config_default(&c);
-    assert_true(c.shift_max == R(0.08) && c.relay_spread_max == R(0.25) && c.repeats == 1u);
+    assert_true(c.shift_max == R(0.08) && c.relay_spread_max == R(0.25) && c.repeats == 1u &&
+                c.drift_passes == 3u);
     setup(&c, &p, 0.0);
     c.shift_max = R(-0.1);
     assert_int_equal(pdt_autotune_workspace_size(&c), 0u);
@@ -339,9 +378,13 @@ static void test_closed_loop_bad_inputs(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_shift_closed_form),      cmocka_unit_test(test_relay_spread),
-        cmocka_unit_test(test_load_step_repeated),     cmocka_unit_test(test_drift_refused),
-        cmocka_unit_test(test_closed_loop_retune),     cmocka_unit_test(test_closed_loop_refused),
+        cmocka_unit_test(test_shift_closed_form),
+        cmocka_unit_test(test_relay_spread),
+        cmocka_unit_test(test_ramp_closed_form),
+        cmocka_unit_test(test_load_step_repeated),
+        cmocka_unit_test(test_drift),
+        cmocka_unit_test(test_closed_loop_retune),
+        cmocka_unit_test(test_closed_loop_refused),
         cmocka_unit_test(test_closed_loop_bad_inputs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

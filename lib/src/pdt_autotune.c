@@ -37,6 +37,7 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg)
     cfg->shift_max = PDT_R(0.08);
     cfg->relay_spread_max = PDT_R(0.25);
     cfg->repeats = 1u;
+    cfg->drift_passes = 3u;
 }
 
 static pdt_real_t rmax0(pdt_real_t x)
@@ -410,12 +411,30 @@ static pdt_status_t repeat_experiment(pdt_autotune_t *at, pdt_real_t *u)
     at->ident_started = false;
     at->stage = 0u;
     at->res.repeats++;
+    at->res.drift = PDT_R(0.0);
+    at->res.drift_passes = 0u;
     at->res.has_relay = false;
     at->res.has_model = false;
     at->res.has_valid = false;
     at->res.samples = 0u;
     at->phase = PDT_AUTOTUNE_SETTLE;
     *u = at->u_hold;
+    return PDT_RUNNING;
+}
+
+/* The residual is a drift: removed from the record (slope per sample),
+ * which is identified again. */
+static pdt_status_t refit_drift(pdt_autotune_t *at, pdt_real_t slope)
+{
+    for (size_t k = 0u; k < at->res.samples; k++) {
+        at->y[k] -= slope * (pdt_real_t)k;
+    }
+    at->res.drift += slope / id_period(&at->cfg);
+    at->res.drift_passes++;
+    at->ident_started = false;
+    at->stage = 0u;
+    at->res.has_model = false;
+    at->res.has_valid = false;
     return PDT_RUNNING;
 }
 
@@ -444,6 +463,15 @@ static pdt_status_t finish_identify(pdt_autotune_t *at, pdt_real_t *u)
     const bool disturbed =
         (c->shift_max > PDT_R(0.0) && at->res.shift > c->shift_max) ||
         (c->relay_spread_max > PDT_R(0.0) && at->res.relay_spread > c->relay_spread_max);
+    /* A drift is fitted while the residual still looks like one: past a
+     * quarter of the limit once a drift has been found, past the limit
+     * before. */
+    pdt_real_t slope = PDT_R(0.0);
+    const pdt_real_t lim = at->res.drift_passes > 0u ? PDT_R(0.25) * c->shift_max : c->shift_max;
+    if (c->shift_max > PDT_R(0.0) && at->res.shift > lim &&
+        at->res.drift_passes < c->drift_passes && pdt_autotune_ramp(at->scratch, data.n, &slope)) {
+        return refit_drift(at, slope);
+    }
     if (disturbed) {
         return at->res.repeats < c->repeats ? repeat_experiment(at, u)
                                             : fail(at, PDT_ERR_DISTURBED, u);

@@ -100,3 +100,47 @@ pdt_real_t pdt_autotune_relay_spread(const pdt_excite_t *gen)
     const pdt_real_t sa = asum > PDT_R(0.0) ? (amax - amin) * (pdt_real_t)c / asum : PDT_R(0.0);
     return sp > sa ? sp : sa;
 }
+
+bool pdt_autotune_ramp(const pdt_real_t *r, size_t n, pdt_real_t *slope)
+{
+    *slope = PDT_R(0.0);
+    if (n < 8u) {
+        return false;
+    }
+    const size_t last = n - 1u;
+    const pdt_real_t kbar = PDT_R(0.5) * (pdt_real_t)last;
+    pdt_real_t total = PDT_R(0.0);
+    for (size_t k = 0u; k < n; k++) {
+        total += r[k];
+    }
+    const pdt_real_t mean = total / (pdt_real_t)n;
+    pdt_real_t sxx = PDT_R(0.0);
+    pdt_real_t sxy = PDT_R(0.0);
+    pdt_real_t syy = PDT_R(0.0);
+    for (size_t k = 0u; k < n; k++) {
+        const pdt_real_t dx = (pdt_real_t)k - kbar;
+        const pdt_real_t dy = r[k] - mean;
+        sxx += dx * dx;
+        sxy += dx * dy;
+        syy += dy * dy;
+    }
+    /* The best single shift's sum of squares between its two levels. */
+    const size_t edge = n / 8u;
+    pdt_real_t before = PDT_R(0.0);
+    pdt_real_t ssb = PDT_R(0.0);
+    for (size_t k = 0u; k + edge < n; k++) {
+        if (k >= edge && k > 0u) {
+            const size_t rest = n - k;
+            const pdt_real_t a = before / (pdt_real_t)k;
+            const pdt_real_t b = (total - before) / (pdt_real_t)rest;
+            const pdt_real_t w = (pdt_real_t)k * ((pdt_real_t)rest / (pdt_real_t)n);
+            const pdt_real_t sb = w * (b - a) * (b - a);
+            ssb = sb > ssb ? sb : ssb;
+        }
+        before += r[k];
+    }
+    const pdt_real_t line = sxy * sxy / sxx;
+    *slope = sxy / sxx;
+    /* The line leaves syy - line, the shift syy - ssb. */
+    return line >= ssb && syy > PDT_R(0.0);
+}

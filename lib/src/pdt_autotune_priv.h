@@ -17,11 +17,17 @@
  * leaves such a shift that no model of the process removes; noise and a
  * model's small structural error do not. A shift below 6 standard errors
  * of the means (from the residual's variance) is noise: *shift is then 0.
- * work: 2 data->n reals. Returns
+ * work: 2 data->n reals; the residual r is left in work[0 .. n). Returns
  * PDT_ERR_ARG (a model pdt_discrete_init refuses) or PDT_OK; *shift is 0
  * when the model's output does not move. O(n). */
 pdt_status_t pdt_autotune_shift(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
                                 pdt_real_t u0, pdt_real_t y0, pdt_real_t *work, pdt_real_t *shift);
+
+/* Whether the residual r (n values, pdt_autotune_shift's) is a drift
+ * rather than a load change: a straight line through it explains at least
+ * as much of its variance as the best single level shift does. *slope is
+ * the line's slope, per sample (0 below 8 samples). O(n). */
+bool pdt_autotune_ramp(const pdt_real_t *r, size_t n, pdt_real_t *slope);
 
 /* The spread of a relay's measured cycles: the largest of (longest -
  * shortest) / mean over the cycle lengths and over their amplitudes; 0 for

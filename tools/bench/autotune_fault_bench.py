@@ -152,6 +152,7 @@ def run_open(job):
         v.update(plant=p.name, exp=exp, fault=fault, seed=seed,
                  scans=out.get("scans", 0), samples=out.get("samples", 0),
                  retries=out.get("repeats", 0), shift=out.get("shift"),
+                 drift=out.get("drift", 0.0),
                  spread=(out.get("relay") or {}).get("spread"))
         rows.append(v)
     return rows

@@ -28,7 +28,8 @@ typedef struct at_args {
     cli_list_t lags, zeros;
     int have_gain, have_lags, have_ts, have_sp, model, kind, integrating, have_wn;
     double gain, delay, amplitude, Ts, noise, u0, y0, sp, wn, zeta, shift_max, spread_max;
-    int have_shift_max, have_spread_max, have_repeats, closed, have_gains;
+    int have_shift_max, have_spread_max, have_repeats, closed, have_gains, have_dpasses;
+    uint64_t drift_passes;
     cli_list_t gains; /* --initial-gains Kc,Ti[,Td] */
     uint64_t repeats;
     int have_lim[4];
@@ -79,6 +80,8 @@ static void parse(at_args_t *a, int argc, char **argv)
         {"--relay-spread-max", OPT_REAL, &a->spread_max, &a->have_spread_max, CHK_GE0, 0, 0, NULL,
          "a fraction >= 0", 0},
         {"--repeats", OPT_UINT, &a->repeats, &a->have_repeats, 0, 0, 100, NULL,
+         "a whole number 0 .. 100", 0},
+        {"--drift-passes", OPT_UINT, &a->drift_passes, &a->have_dpasses, 0, 0, 100, NULL,
          "a whole number 0 .. 100", 0},
         {"--closed-loop", OPT_FLAG, &a->closed, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--initial-gains", OPT_LIST, &a->gains, &a->have_gains, CHK_ANY, 0, 0, NULL, NULL, 0},
@@ -286,6 +289,7 @@ static void autotune_config(at_args_t *a, pdt_autotune_config_t *cfg)
     if (a->have_shift_max) cfg->shift_max = (pdt_real_t)a->shift_max;
     if (a->have_spread_max) cfg->relay_spread_max = (pdt_real_t)a->spread_max;
     if (a->have_repeats) cfg->repeats = (uint32_t)a->repeats;
+    if (a->have_dpasses) cfg->drift_passes = (uint32_t)a->drift_passes;
     tune_opts_config(&a->t, &cfg->tune);
 }
 
@@ -565,6 +569,7 @@ static void print_run(const at_args_t *a, const at_run_t *run)
     pdtcli_jb_uint(&jb, "scans", (unsigned long)run->scans);
     pdtcli_jb_uint(&jb, "repeats", (unsigned long)run->res.repeats);
     pdtcli_jb_key(&jb, "shift", (double)run->res.shift);
+    pdtcli_jb_key(&jb, "drift", (double)run->res.drift);
     experiment_json(&jb, a, run);
     results_json(&jb, a, run);
     faults_json(&jb, a);

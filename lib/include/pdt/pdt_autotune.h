@@ -135,10 +135,16 @@ typedef struct pdt_autotune_config {
      * by more than relay_spread_max of their mean. A disturbed experiment
      * is repeated from the operating point up to `repeats` times, then
      * refused with PDT_ERR_DISTURBED. shift_max and relay_spread_max
-     * >= 0, 0: no such check. Defaults 0.08, 0.25 and 1 */
+     * >= 0, 0: no such check. Defaults 0.08, 0.25 and 1.
+     * A residual that a straight line explains better than a level shift
+     * is a drift: it is fitted (removed from the record) and the record
+     * identified again, up to drift_passes times, before the experiment
+     * is called disturbed; 0: a drift is refused like a load change.
+     * Default 3 */
     pdt_real_t shift_max;
     pdt_real_t relay_spread_max;
     uint32_t repeats;
+    uint32_t drift_passes;
 } pdt_autotune_config_t;
 
 typedef struct pdt_autotune_result {
@@ -170,6 +176,9 @@ typedef struct pdt_autotune_result {
                                * disturbance check; 0 until computed) */
     pdt_real_t relay_spread;        /* spread of the relay's cycles */
     uint32_t repeats;               /* experiments repeated (disturbed) */
+    pdt_real_t drift;               /* the drift fitted and removed from the
+                               * record, pv units per s (0: none) */
+    uint32_t drift_passes;          /* identifications of the detrended record */
 } pdt_autotune_result_t;
 
 /* The autotune. Fields are private. */
