@@ -240,6 +240,63 @@ static void test_ramp_closed_form(void **state)
     assert_true(slope == R(0.0));
 }
 
+/* A valve with a backlash of 0.25 (5 % of the step): its position is the
+ * command less the band once the command has moved past it. With the
+ * position read (pdt_autotune_scan_position) the model is the plant's;
+ * from the command alone it is not. */
+static void test_actuator_position(void **state)
+{
+    (void)state;
+    for (int pos = 0; pos < 2; pos++) {
+        pdt_autotune_config_t c;
+        sim_process_t p;
+        setup(&c, &p, 0.02);
+        c.order_auto = false;
+        c.actuator_position = pos != 0;
+        size_t need = work_prepare(&c);
+        assert_int_equal(pdt_autotune_init(&g_at, &c, R(30.0), g_work, need), PDT_OK);
+        pdt_real_t valve = R(30.0);
+        pdt_status_t st = PDT_RUNNING;
+        for (uint32_t k = 0u; k < 200000u && st == PDT_RUNNING; k++) {
+            pdt_real_t u = R(-1.0);
+            st = pos != 0 ? pdt_autotune_scan_position(&g_at, sim_process_pv(&p), valve, &u)
+                          : pdt_autotune_scan(&g_at, sim_process_pv(&p), &u);
+            if (u > valve + R(0.25)) {
+                valve = u - R(0.25);
+            } else if (u < valve - R(0.25)) {
+                valve = u + R(0.25);
+            }
+            sim_process_apply(&p, valve);
+        }
+        pdt_autotune_result_t r;
+        assert_int_equal(pdt_autotune_result(&g_at, &r), PDT_OK);
+        print_message("backlash, position %s: %s, K %.4g, Td %.4g\n", pos ? "read" : "not read",
+                      pdt_status_name(st), (double)r.ident.model.p.fopdt.K,
+                      (double)r.ident.model.p.fopdt.Td);
+        assert_int_equal(st, PDT_OK);
+        if (pos != 0) {
+            assert_close(r.ident.model.p.fopdt.K, 2.0, 0.01, 0.0);
+            assert_close(r.ident.model.p.fopdt.Td, 3.0, 0.0, 0.1);
+        } else {
+            /* The valve moved 4.75 up and 4.5 back, the record says 5. */
+            assert_true(fabs((double)r.ident.model.p.fopdt.K - 2.0) > 0.02 ||
+                        fabs((double)r.ident.model.p.fopdt.Td - 3.0) > 0.2);
+        }
+        work_check(&c);
+    }
+    /* A position that is not a number aborts the experiment. */
+    pdt_autotune_config_t c;
+    sim_process_t p;
+    setup(&c, &p, 0.0);
+    c.actuator_position = true;
+    size_t need = work_prepare(&c);
+    assert_int_equal(pdt_autotune_init(&g_at, &c, R(30.0), g_work, need), PDT_OK);
+    pdt_real_t u;
+    assert_int_equal(pdt_autotune_scan_position(&g_at, R(60.0), R(NAN), &u), PDT_ERR_NONFINITE);
+    assert_close(u, 30.0, 0.0, 1e-6);
+    assert_int_equal(pdt_autotune_scan_position(NULL, R(60.0), R(30.0), &u), PDT_ERR_ARG);
+}
+
 /* A PI in service at the operating point, gains Kc, Ti. */
 static void pi_init(pdt_pid_t *pid, double Kc, double Ti)
 {
@@ -383,6 +440,7 @@ int main(void)
         cmocka_unit_test(test_ramp_closed_form),
         cmocka_unit_test(test_load_step_repeated),
         cmocka_unit_test(test_drift),
+        cmocka_unit_test(test_actuator_position),
         cmocka_unit_test(test_closed_loop_retune),
         cmocka_unit_test(test_closed_loop_refused),
         cmocka_unit_test(test_closed_loop_bad_inputs),

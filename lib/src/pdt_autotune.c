@@ -215,6 +215,8 @@ static pdt_status_t start(pdt_autotune_t *at, const pdt_autotune_config_t *cfg, 
     at->pid = pid;
     at->sp0 = u_now;
     at->pid_ran = false;
+    at->u_last = u_out;
+    at->u_pos = u_out;
     at->cfg = *cfg;
     at->phase = PDT_AUTOTUNE_SETTLE;
     at->u_init = u_out;
@@ -333,7 +335,17 @@ static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_
     /* Samples complete before this scan: the tail counts from here when the
      * excitation ends in this scan. */
     const size_t n_before = at->rec.n;
-    pdt_status_t sr = pdt_record_push(&at->rec, un, pv);
+    if (at->cfg.actuator_position && !pdt_finite(at->u_pos)) {
+        /* A failed position sensor: the recorder's safe output once it has
+         * one, the output at init before. */
+        pdt_record_result_t rp;
+        (void)pdt_record_result(&at->rec, &rp);
+        at->u_hold = rp.scans > 0u ? rp.u_safe : at->u_init;
+        return fail(at, PDT_ERR_NONFINITE, u);
+    }
+    /* The actuator as it moved over the last scan, or as commanded now. */
+    const pdt_real_t u_rec = at->cfg.actuator_position ? at->u_pos : un;
+    pdt_status_t sr = pdt_record_push(&at->rec, u_rec, pv);
     at->res.scans_experiment++;
     if (sr != PDT_OK && sr != PDT_RUNNING) {
         pdt_record_result_t rr;
@@ -385,7 +397,10 @@ static pdt_model_kind_t stage_model(const pdt_autotune_t *at)
  * that much less dead time than the process has. */
 static pdt_real_t dead_time_shift(const pdt_autotune_t *at)
 {
-    return at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5);
+    /* A position read at a scan is the one held over the scan before: the
+     * record's input lags the process's by a scan. */
+    const pdt_real_t pos = at->cfg.actuator_position ? at->cfg.Ts : PDT_R(0.0);
+    return at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5) + pos;
 }
 
 /* The identification's sample period, s (ident_config's Ts). */
@@ -693,6 +708,8 @@ static pdt_status_t scan_phase(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
     }
 }
 
+static pdt_status_t scan_common(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u);
+
 pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
 {
     if (at == NULL || u == NULL) {
@@ -702,6 +719,27 @@ pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
         return PDT_ERR_STATE;
     }
     at->pid_ran = false;
+    at->u_pos = at->u_last;
+    return scan_common(at, pv, u);
+}
+
+pdt_status_t pdt_autotune_scan_position(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t u_pos,
+                                        pdt_real_t *u)
+{
+    if (at == NULL || u == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (at->magic != AUTOTUNE_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    at->pid_ran = false;
+    at->u_pos = u_pos;
+    return scan_common(at, pv, u);
+}
+
+/* The scan after its checks: the phase's work, then the output. */
+static pdt_status_t scan_common(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
+{
     pdt_status_t st = scan_phase(at, pv, u);
     if (at->pid != NULL) {
         /* Closed loop: outside the experiment the PID runs at the set-point
@@ -713,6 +751,7 @@ pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
         }
         *u = at->pid->u;
     }
+    at->u_last = *u;
     return st;
 }
 

@@ -55,6 +55,8 @@ FAULTS = {
     "quantise": "a quantisation of 0.02 R",
     "u-rate": "a rate limit of A per T / 20",
     "stiction": "a backlash of 0.05 A",
+    "u-rate, position": "the rate limit, the actuator's position read (--actuator-position)",
+    "stiction, position": "the backlash, the actuator's position read (--actuator-position)",
 }
 MS_OK, MS_UNSAFE = 2.2, 3.0
 # The closed-loop retune's starting PI, from the plant's SIMC-like scale:
@@ -101,6 +103,8 @@ def fault_args(fault, T, R, t_mid):
         return ["--drift", f"{0.02 * R / T:.9g}"]
     if fault == "quantise":
         return ["--quantise", f"{0.02 * R:.9g}"]
+    if fault.endswith(", position"):
+        return fault_args(fault.split(",")[0], T, R, t_mid) + ["--actuator-position"]
     if fault == "u-rate":
         return ["--u-rate", f"{AMP / (T / 20.0):.9g}"]
     if fault == "stiction":

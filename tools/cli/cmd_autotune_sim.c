@@ -28,7 +28,7 @@ typedef struct at_args {
     cli_list_t lags, zeros;
     int have_gain, have_lags, have_ts, have_sp, model, kind, integrating, have_wn;
     double gain, delay, amplitude, Ts, noise, u0, y0, sp, wn, zeta, shift_max, spread_max;
-    int have_shift_max, have_spread_max, have_repeats, closed, have_gains, have_dpasses;
+    int have_shift_max, have_spread_max, have_repeats, closed, have_gains, have_dpasses, act_pos;
     uint64_t drift_passes;
     cli_list_t gains; /* --initial-gains Kc,Ti[,Td] */
     uint64_t repeats;
@@ -83,6 +83,7 @@ static void parse(at_args_t *a, int argc, char **argv)
          "a whole number 0 .. 100", 0},
         {"--drift-passes", OPT_UINT, &a->drift_passes, &a->have_dpasses, 0, 0, 100, NULL,
          "a whole number 0 .. 100", 0},
+        {"--actuator-position", OPT_FLAG, &a->act_pos, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--closed-loop", OPT_FLAG, &a->closed, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--initial-gains", OPT_LIST, &a->gains, &a->have_gains, CHK_ANY, 0, 0, NULL, NULL, 0},
         {"--load-step", OPT_TEXT, &a->load_step, &a->fault.has_load, 0, 0, 0, NULL, NULL, 0},
@@ -290,6 +291,7 @@ static void autotune_config(at_args_t *a, pdt_autotune_config_t *cfg)
     if (a->have_spread_max) cfg->relay_spread_max = (pdt_real_t)a->spread_max;
     if (a->have_repeats) cfg->repeats = (uint32_t)a->repeats;
     if (a->have_dpasses) cfg->drift_passes = (uint32_t)a->drift_passes;
+    cfg->actuator_position = a->act_pos != 0;
     tune_opts_config(&a->t, &cfg->tune);
 }
 
@@ -336,7 +338,11 @@ static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, sim_
         pdt_autotune_phase_t ph = pdt_autotune_phase(at);
         if (ph >= PDT_AUTOTUNE_SETTLE && ph <= PDT_AUTOTUNE_TUNE) run->phase_scans[ph - 1]++;
         pdt_real_t u;
-        pdt_status_t ss = pdt_autotune_scan(at, (pdt_real_t)pv, &u);
+        /* With --actuator-position the port reads where the valve stood
+         * over the last scan. */
+        pdt_status_t ss =
+            a->act_pos ? pdt_autotune_scan_position(at, (pdt_real_t)pv, (pdt_real_t)fs.pos, &u)
+                       : pdt_autotune_scan(at, (pdt_real_t)pv, &u);
         if (run->scans > 0) {
             const double du = fabs((double)u - u_last);
             run->du_max = du > run->du_max ? du : run->du_max;

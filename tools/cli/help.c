@@ -227,6 +227,8 @@ static const char *const autotune_text[] = {
     "  --shift-max F, --relay-spread-max F, --repeats N, --drift-passes N  the\n"
     "                        disturbance check (defaults 0.08, 0.25, 1, 3; 0 turns\n"
     "                        a check off)\n"
+    "  --actuator-position   the autotune reads the valve's position (u_valve) and\n"
+    "                        identifies from it (pdt_autotune_scan_position)\n"
     "  --closed-loop --initial-gains Kc,Ti[,Td]  retune with the loop closed: a\n"
     "                        PID with these gains stays in control and the\n"
     "                        experiment moves its set-point by |K| A (step, pulse,\n"

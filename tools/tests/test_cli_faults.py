@@ -162,3 +162,12 @@ def test_load_step_is_repeated_or_refused():
 ])
 def test_closed_loop_usage_errors(args, frag):
     assert_usage_error(run(["autotune-sim", *FOPDT, *args]), frag)
+
+
+def test_actuator_position_restores_the_gain():
+    base = [*FOPDT, "--experiment", "step", "--noise", "0.02", "--model", "fopdt",
+            "--stiction", "0.05"]
+    cmd = parse_output(run(["autotune-sim", *base]))
+    pos = parse_output(run(["autotune-sim", *base, "--actuator-position"]))
+    assert abs(pos["ident"]["K"] - 2.0) < 0.01 < abs(cmd["ident"]["K"] - 2.0)
+    assert pos["ident"]["Td"] == pytest.approx(1.3, abs=0.03)

@@ -145,6 +145,11 @@ typedef struct pdt_autotune_config {
     pdt_real_t relay_spread_max;
     uint32_t repeats;
     uint32_t drift_passes;
+    /* true: the port reads the actuator's position, passed to
+     * pdt_autotune_scan_position each scan, and the record holds the
+     * actuator as it moved (a rate limit, a sticky valve) instead of the
+     * output as commanded. Default false */
+    bool actuator_position;
 } pdt_autotune_config_t;
 
 typedef struct pdt_autotune_result {
@@ -205,9 +210,11 @@ typedef struct pdt_autotune {
     pdt_record_t rec;
     pdt_ident_t ident;
     pdt_autotune_result_t res;
-    pdt_pid_t *pid; /* closed loop: the controller in service, else NULL */
-    pdt_real_t sp0; /* closed loop: the set-point in service */
-    bool pid_ran;   /* closed loop: this scan's output is the PID's */
+    pdt_pid_t *pid;    /* closed loop: the controller in service, else NULL */
+    pdt_real_t sp0;    /* closed loop: the set-point in service */
+    bool pid_ran;      /* closed loop: this scan's output is the PID's */
+    pdt_real_t u_last; /* the output of the last scan */
+    pdt_real_t u_pos;  /* actuator_position: the position read this scan */
 } pdt_autotune_t;
 
 /* Fills cfg with the documented defaults, and its sub-configs with theirs
@@ -274,6 +281,18 @@ pdt_status_t pdt_autotune_init_closed(pdt_autotune_t *at, const pdt_autotune_con
  * PDT_ERR_STATE if at was never initialised. Work: see the top of this
  * file. */
 pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u);
+
+/* pdt_autotune_scan for a port that reads the actuator's position: u_pos
+ * is the position read now, where the output of the last scan has taken
+ * the actuator (input units). With cfg.actuator_position the record holds
+ * these positions, each paired with the scan before (the interval it was
+ * held over), and the model's dead time is corrected for that scan; the
+ * safety limits u_min, u_max then apply to the position. Without it u_pos
+ * is not used. pdt_autotune_scan on such an autotune takes the last
+ * output as the position. Same returns as pdt_autotune_scan (a position
+ * that is not finite aborts the experiment: PDT_ERR_NONFINITE). */
+pdt_status_t pdt_autotune_scan_position(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t u_pos,
+                                        pdt_real_t *u);
 
 /* Stops the autotune now (e.g. the operator cancels): unless it is already
  * done or failed, the phase becomes FAILED with the status PDT_ERR_ABORTED.
