@@ -297,6 +297,41 @@ static void test_actuator_position(void **state)
     assert_int_equal(pdt_autotune_scan_position(NULL, R(60.0), R(30.0), &u), PDT_ERR_ARG);
 }
 
+/* A relay on a coarse sensor (steps of 0.5, a twentieth of the response)
+ * with a hysteresis set below it: the settle window measures the noise and
+ * the quantum, the hysteresis is raised to them, the relay cycles and the
+ * model agrees with its point. */
+static void test_relay_quantised(void **state)
+{
+    (void)state;
+    pdt_autotune_config_t c;
+    sim_process_t p;
+    setup(&c, &p, 0.3);
+    pdt_excite_config_default(&c.excite, PDT_EXCITE_RELAY);
+    c.excite.d = R(5.0);
+    c.excite.setpoint = R(60.0);
+    c.excite.eps = R(0.05);
+    c.tail = 0u;
+    size_t need = work_prepare(&c);
+    assert_int_equal(pdt_autotune_init(&g_at, &c, R(30.0), g_work, need), PDT_OK);
+    pdt_status_t st = PDT_RUNNING;
+    for (uint32_t k = 0u; k < 200000u && st == PDT_RUNNING; k++) {
+        const double pv = 0.5 * floor((double)sim_process_pv(&p) / 0.5 + 0.5);
+        pdt_real_t u;
+        st = pdt_autotune_scan(&g_at, R(pv), &u);
+        sim_process_apply(&p, u);
+    }
+    pdt_autotune_result_t r;
+    assert_int_equal(pdt_autotune_result(&g_at, &r), PDT_OK);
+    print_message("quantised relay: %s, noise %.3g, quantum %.3g, eps %.3g, cycles %u\n",
+                  pdt_status_name(st), (double)r.noise, (double)r.quantum, (double)r.relay_eps,
+                  (unsigned)r.relay.cycles);
+    assert_close(r.quantum, 0.5, 1e-6, 0.0);
+    assert_true(r.relay_eps >= R(0.5) && r.relay_eps >= R(3.0) * r.noise);
+    assert_int_equal(st, PDT_OK);
+    assert_close(r.ident.model.p.fopdt.K, 2.0, 0.1, 0.0);
+}
+
 /* A PI in service at the operating point, gains Kc, Ti. */
 static void pi_init(pdt_pid_t *pid, double Kc, double Ti)
 {
@@ -441,6 +476,7 @@ int main(void)
         cmocka_unit_test(test_load_step_repeated),
         cmocka_unit_test(test_drift),
         cmocka_unit_test(test_actuator_position),
+        cmocka_unit_test(test_relay_quantised),
         cmocka_unit_test(test_closed_loop_retune),
         cmocka_unit_test(test_closed_loop_refused),
         cmocka_unit_test(test_closed_loop_bad_inputs),

@@ -217,6 +217,9 @@ static pdt_status_t start(pdt_autotune_t *at, const pdt_autotune_config_t *cfg, 
     at->pid_ran = false;
     at->u_last = u_out;
     at->u_pos = u_out;
+    at->pv_n = 0u;
+    at->pv_d2 = PDT_R(0.0);
+    at->pv_prev = PDT_R(0.0);
     at->cfg = *cfg;
     at->phase = PDT_AUTOTUNE_SETTLE;
     at->u_init = u_out;
@@ -314,6 +317,41 @@ static void end_experiment(pdt_autotune_t *at)
     at->phase = PDT_AUTOTUNE_IDENTIFY;
 }
 
+/* The process value at rest, scan by scan: its noise from the first
+ * differences (sd = rms difference / sqrt 2, blind to a slow trend) and
+ * its quantum (the smallest step between two readings). At the end of the
+ * settle window a relay's hysteresis is raised to 3 noise sd and one
+ * quantum when it is below them, so that neither switches the relay. */
+static void settle_scan(pdt_autotune_t *at, pdt_real_t pv)
+{
+    if (at->pv_n > 0u) {
+        const pdt_real_t d = pdt_fabs(pv - at->pv_prev);
+        at->pv_d2 += d * d;
+        if (d > PDT_R(0.0) && (at->res.quantum == PDT_R(0.0) || d < at->res.quantum)) {
+            at->res.quantum = d;
+        }
+    }
+    at->pv_prev = pv;
+    at->pv_n++;
+    pdt_record_result_t rr;
+    (void)pdt_record_result(&at->rec, &rr);
+    if (!rr.settled) {
+        return;
+    }
+    at->phase = PDT_AUTOTUNE_EXCITE;
+    if (at->pv_n > 1u) {
+        const uint32_t m = at->pv_n - 1u;
+        at->res.noise = pdt_sqrt(at->pv_d2 / (PDT_R(2.0) * (pdt_real_t)m));
+    }
+    if (at->gen.cfg.kind == PDT_EXCITE_RELAY) {
+        pdt_real_t eps = at->gen.cfg.eps;
+        eps = PDT_R(3.0) * at->res.noise > eps ? PDT_R(3.0) * at->res.noise : eps;
+        eps = at->res.quantum > eps ? at->res.quantum : eps;
+        at->gen.cfg.eps = eps;
+    }
+    at->res.relay_eps = at->gen.cfg.eps;
+}
+
 static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
 {
     pdt_real_t un;
@@ -354,11 +392,7 @@ static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_
         return fail(at, sr, u);
     }
     if (at->phase == PDT_AUTOTUNE_SETTLE) {
-        pdt_record_result_t rr;
-        (void)pdt_record_result(&at->rec, &rr);
-        if (rr.settled) {
-            at->phase = PDT_AUTOTUNE_EXCITE;
-        }
+        settle_scan(at, pv);
     }
     if (at->cfg.tail != 0u && sr == PDT_RUNNING && (se == PDT_OK || at->excite_over)) {
         /* The excitation is over; the response is not: record `tail` more
@@ -426,6 +460,9 @@ static pdt_status_t repeat_experiment(pdt_autotune_t *at, pdt_real_t *u)
     at->ident_started = false;
     at->stage = 0u;
     at->res.repeats++;
+    at->pv_n = 0u;
+    at->pv_d2 = PDT_R(0.0);
+    at->res.quantum = PDT_R(0.0);
     at->res.drift = PDT_R(0.0);
     at->res.drift_passes = 0u;
     at->res.has_relay = false;
@@ -592,7 +629,7 @@ static bool relay_agrees(const pdt_autotune_t *at)
                at->res.ident.model.p.sopdt.k < PDT_R(0.0)) {
         ph += PDT_PI;
     }
-    pdt_real_t x = at->cfg.excite.eps / rl->a;
+    pdt_real_t x = at->gen.cfg.eps / rl->a; /* the hysteresis used */
     pdt_real_t ph_relay = -PDT_PI + pdt_atan2(x, pdt_sqrt(rmax0(PDT_R(1.0) - x * x)));
     pdt_real_t r = mag * PDT_R(4.0) * rl->d / (PDT_PI * rl->a);
     pdt_real_t f = at->cfg.relay_agree;

@@ -423,6 +423,8 @@ static void experiment_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_
     pdtcli_jb_raw(jb, "\"");
     pdtcli_jb_key(jb, "duration", (double)run->res.scans_experiment * a->Ts);
     pdtcli_jb_uint(jb, "scans", (unsigned long)run->res.scans_experiment);
+    pdtcli_jb_key(jb, "noise", (double)run->res.noise);
+    pdtcli_jb_key(jb, "quantum", (double)run->res.quantum);
     if (a->kind != PDT_EXCITE_RELAY) pdtcli_jb_key(jb, "amplitude", (double)ec->amplitude);
     if (a->kind == PDT_EXCITE_PULSE) {
         pdtcli_jb_key(jb, "t_on", (double)ec->t_on);
@@ -437,6 +439,7 @@ static void experiment_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_
     } else if (a->kind == PDT_EXCITE_RELAY) {
         pdtcli_jb_key(jb, "d", (double)ec->d);
         pdtcli_jb_key(jb, "eps", (double)ec->eps);
+        pdtcli_jb_key(jb, "eps_used", (double)run->res.relay_eps);
         pdtcli_jb_key(jb, "setpoint", (double)ec->setpoint);
         pdtcli_jb_str(jb, "action", ec->action == PDT_EXCITE_REVERSE ? "reverse" : "direct");
     }

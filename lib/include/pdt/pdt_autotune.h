@@ -184,6 +184,13 @@ typedef struct pdt_autotune_result {
     pdt_real_t drift;               /* the drift fitted and removed from the
                                * record, pv units per s (0: none) */
     uint32_t drift_passes;          /* identifications of the detrended record */
+    pdt_real_t noise;               /* pv's noise sd over the settle window,
+                               * from its first differences, pv units */
+    pdt_real_t quantum;             /* the smallest step between two pv
+                               * readings there (a sensor's resolution) */
+    pdt_real_t relay_eps;           /* the relay's hysteresis used: the
+                               * config's, raised to 3 noise and one
+                               * quantum (other experiments: the config's) */
 } pdt_autotune_result_t;
 
 /* The autotune. Fields are private. */
@@ -210,11 +217,14 @@ typedef struct pdt_autotune {
     pdt_record_t rec;
     pdt_ident_t ident;
     pdt_autotune_result_t res;
-    pdt_pid_t *pid;    /* closed loop: the controller in service, else NULL */
-    pdt_real_t sp0;    /* closed loop: the set-point in service */
-    bool pid_ran;      /* closed loop: this scan's output is the PID's */
-    pdt_real_t u_last; /* the output of the last scan */
-    pdt_real_t u_pos;  /* actuator_position: the position read this scan */
+    pdt_pid_t *pid;     /* closed loop: the controller in service, else NULL */
+    pdt_real_t sp0;     /* closed loop: the set-point in service */
+    bool pid_ran;       /* closed loop: this scan's output is the PID's */
+    pdt_real_t u_last;  /* the output of the last scan */
+    uint32_t pv_n;      /* settle: readings seen, the last, and the sum */
+    pdt_real_t pv_prev; /* of squared differences */
+    pdt_real_t pv_d2;
+    pdt_real_t u_pos; /* actuator_position: the position read this scan */
 } pdt_autotune_t;
 
 /* Fills cfg with the documented defaults, and its sub-configs with theirs
