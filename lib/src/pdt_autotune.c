@@ -829,12 +829,13 @@ pdt_status_t pdt_autotune_result(const pdt_autotune_t *at, pdt_autotune_result_t
     if (at->magic != AUTOTUNE_MAGIC) {
         return PDT_ERR_STATE;
     }
-    pdt_autotune_result_t r = at->res;
+    /* Written in place (no error is possible from here): a copy on the
+     * stack would double the frame. */
+    *out = at->res;
     if (at->phase == PDT_AUTOTUNE_SETTLE || at->phase == PDT_AUTOTUNE_EXCITE) {
         pdt_record_result_t rr;
         (void)pdt_record_result(&at->rec, &rr);
-        r.samples = rr.n;
+        out->samples = rr.n;
     }
-    *out = r;
     return PDT_OK;
 }

@@ -4,8 +4,10 @@ real plant's faults, and the closed-loop retune.
 
 Usage (from the repository root):
 
-    nice python3 tools/bench/autotune_fault_bench.py [--jobs N] [--seeds N]
-        [--bin PDTFIT] [--out FILE]
+    nice build/venv/bin/python tools/bench/autotune_fault_bench.py [--jobs N]
+        [--seeds N] [--bin PDTFIT] [--out FILE] [--json FILE]
+
+(the venv of tools/test.sh, in which the tools' packages are installed).
 
 Builds the float `pdtfit` into build/autotune-bench (unless --bin names
 one) and runs `pdtfit autotune-sim` for every plant of the batch
@@ -32,10 +34,8 @@ import pathlib
 import platform
 import string
 import subprocess
-import sys
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-import autotune_bench as ab  # noqa: E402  (the batch of plants)
+from pdtbench import autotune_bench as ab  # the batch of plants, the Nyquist test
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 BUILD = ROOT / "build" / "autotune-bench"
@@ -60,8 +60,13 @@ FAULTS = {
 }
 MS_OK, MS_UNSAFE = 2.2, 3.0
 # The closed-loop retune's starting PI, from the plant's SIMC-like scale:
-# Kc = f / |K| (f / (|K| T) for an integrating plant), Ti = T.
+# Kc = f / |K| and Ti = T; for an integrating plant Kc = f / (|K| T) and
+# Ti = 4 T / f (SIMC's ratio, so that a detuned PI is slow, not
+# underdamped).
 START = {"detuned": 0.2, "aggressive": 1.6}
+# Its experiments: a set-point step of the response, and a set-point dither
+# (a PRBS of a fifth of it).
+CLOSED = {"step": 1.0, "prbs": 0.2}
 
 
 def plant_args(p):
@@ -163,16 +168,17 @@ def run_open(job):
 
 
 def run_closed(job):
-    binary, p, start, seed = job
+    binary, p, start, exp, seed = job
     args, T, K, R = plant_args(p)
     integ = "--plant-integrating" in args
-    kc = START[start] / abs(K) / (T if integ else 1.0)
-    kc = math.copysign(kc, K)
-    out = autotune_sim(binary, [*args, "--closed-loop", "--initial-gains", f"{kc:.9g},{T:.9g}",
-                                "--experiment", "step", "--amplitude", f"{AMP:g}",
+    f = START[start]
+    kc = math.copysign(f / abs(K) / (T if integ else 1.0), K)
+    ti = 4.0 * T / f if integ else T
+    out = autotune_sim(binary, [*args, "--closed-loop", "--initial-gains", f"{kc:.9g},{ti:.9g}",
+                                "--experiment", exp, "--amplitude", f"{CLOSED[exp] * AMP:g}",
                                 "--noise", f"{NOISE * R:.9g}", "--seed", str(seed)])
     v = verdict(out, p, T)
-    v.update(plant=p.name, start=start, seed=seed)
+    v.update(plant=p.name, start=start, exp=exp, seed=seed)
     cl = out.get("closed_loop") or {}
     v["Ms_before"] = cl.get("Ms_before")
     v["kept_old"] = not v["done"]
@@ -224,16 +230,27 @@ def refusals(rows):
 def closed_rows(rows):
     lines = []
     for start in START:
-        sel = [r for r in rows if r["start"] == start]
-        done = [r for r in sel if r["done"]]
-        ms = sorted(r["Ms"] for r in done)
-        before = sorted(float(r["Ms_before"]) for r in sel if r.get("Ms_before") is not None)
-        unsafe = sum(1 for r in done if r["unsafe"])
-        lines.append(f"| {start} | {len(sel)} | {len(done)} | {ms[len(ms) // 2]:.2f} | "
-                     f"{ms[-1]:.2f} | {unsafe} | {before[len(before) // 2]:.2f} |"
-                     if ms and before else f"| {start} | {len(sel)} | {len(done)} | - | - | "
-                     f"{unsafe} | - |")
+        for exp in CLOSED:
+            sel = [r for r in rows if r["start"] == start and r["exp"] == exp]
+            done = [r for r in sel if r["done"]]
+            ms = sorted(r["Ms"] for r in done)
+            before = sorted(float(r["Ms_before"]) for r in sel if r.get("Ms_before") is not None)
+            unsafe = sum(1 for r in done if r["unsafe"])
+            after = f"{ms[len(ms) // 2]:.2f} | {ms[-1]:.2f}" if ms else "- | -"
+            bef = f"{before[len(before) // 2]:.2f}" if before else "-"
+            lines.append(f"| {start} | {exp} | {len(sel)} | {len(done)} | {after} | {unsafe} | "
+                         f"{bef} |")
     return "\n".join(lines)
+
+
+def closed_refusals(rows):
+    counts = {}
+    for r in rows:
+        if not r["done"]:
+            key = (r["plant"], r["start"], r["exp"], r["status"])
+            counts[key] = counts.get(key, 0) + 1
+    return "\n".join(f"| {p} | {st} | {e} | `{s}` | {n} |"
+                     for (p, st, e, s), n in sorted(counts.items())) or "| - | - | - | - | 0 |"
 
 
 def report(open_rows, closed, seeds, binary):
@@ -264,6 +281,7 @@ def report(open_rows, closed, seeds, binary):
         closed_unsafe=str(sum(1 for r in cdone if r["unsafe"])),
         closed_kept_unsafe=str(sum(1 for r in closed if r.get("unsafe_kept"))),
         closed_table=closed_rows(closed),
+        closed_refused=closed_refusals(closed),
         retried=str(sum(1 for r in open_rows if r.get("retries"))),
         unsettled=str(sum(1 for r in done if not r["settled"])),
     )
@@ -283,7 +301,8 @@ def main():
     binary = a.bin or build()
     plants = ab.batch()
     jobs = [(binary, p, e, s, a.extra.split()) for p in plants for e in EXPERIMENTS for s in range(1, a.seeds + 1)]
-    cjobs = [(binary, p, st, s) for p in plants for st in START for s in range(1, a.seeds + 1)]
+    cjobs = [(binary, p, st, e, s) for p in plants for st in START for e in CLOSED
+             for s in range(1, a.seeds + 1)]
     with mp.Pool(a.jobs) as pool:
         open_rows = [r for rows in pool.map(run_open, jobs) for r in rows]
         closed = [r for rows in pool.map(run_closed, cjobs) for r in rows]
