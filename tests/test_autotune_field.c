@@ -106,17 +106,21 @@ static void test_shift_closed_form(void **state)
     }
     const pdt_ident_data_t data = {u, y, N};
     pdt_real_t shift = R(-1.0);
-    assert_int_equal(pdt_autotune_shift(&m, &data, R(0.5), R(3.0), R(7.0), work, &shift), PDT_OK);
+    pdt_real_t span_m = R(-1.0);
+    assert_int_equal(pdt_autotune_shift(&m, &data, R(0.5), R(3.0), R(7.0), work, &shift, &span_m),
+                     PDT_OK);
     assert_true(fabs((double)shift) < 1e-4);
+    assert_close(span_m, (double)span, 1e-6, 0.0);
     const double h = 0.3;
     for (size_t k = N / 2u; k < N; k++) {
         y[k] += R(h);
     }
-    assert_int_equal(pdt_autotune_shift(&m, &data, R(0.5), R(3.0), R(7.0), work, &shift), PDT_OK);
+    assert_int_equal(pdt_autotune_shift(&m, &data, R(0.5), R(3.0), R(7.0), work, &shift, &span_m),
+                     PDT_OK);
     assert_close(shift, h / (double)span, 1e-3, 0.0);
     /* A model that is not one. */
     pdt_model_t bad = model_fopdt(2.0, -1.0, 1.0);
-    assert_int_equal(pdt_autotune_shift(&bad, &data, R(0.5), R(3.0), R(7.0), work, &shift),
+    assert_int_equal(pdt_autotune_shift(&bad, &data, R(0.5), R(3.0), R(7.0), work, &shift, &span_m),
                      PDT_ERR_ARG);
 }
 
@@ -332,6 +336,34 @@ static void test_relay_quantised(void **state)
     assert_close(r.ident.model.p.fopdt.K, 2.0, 0.1, 0.0);
 }
 
+/* A step whose response spans two steps of a coarse sensor (1.0 against
+ * 0.5): too small an experiment for it, PDT_ERR_NO_EXCITATION. */
+static void test_response_below_quanta(void **state)
+{
+    (void)state;
+    pdt_autotune_config_t c;
+    sim_process_t p;
+    setup(&c, &p, 0.3);
+    c.excite.amplitude = R(0.5);
+    size_t need = work_prepare(&c);
+    assert_int_equal(pdt_autotune_init(&g_at, &c, R(30.0), g_work, need), PDT_OK);
+    pdt_status_t st = PDT_RUNNING;
+    pdt_real_t u = R(0.0);
+    for (uint32_t k = 0u; k < 200000u && st == PDT_RUNNING; k++) {
+        const double pv = 0.5 * floor((double)sim_process_pv(&p) / 0.5 + 0.5);
+        st = pdt_autotune_scan(&g_at, R(pv), &u);
+        sim_process_apply(&p, u);
+    }
+    pdt_autotune_result_t r;
+    assert_int_equal(pdt_autotune_result(&g_at, &r), PDT_OK);
+    print_message("response %.3g, quantum %.3g: %s\n", (double)r.response, (double)r.quantum,
+                  pdt_status_name(st));
+    assert_int_equal(st, PDT_ERR_NO_EXCITATION);
+    assert_true(r.quantum == R(0.5) && r.response < R(4.0) * r.quantum);
+    assert_false(r.has_gains);
+    assert_close(u, 30.0, 0.0, 1e-3);
+}
+
 /* A PI in service at the operating point, gains Kc, Ti. */
 static void pi_init(pdt_pid_t *pid, double Kc, double Ti)
 {
@@ -477,6 +509,7 @@ int main(void)
         cmocka_unit_test(test_drift),
         cmocka_unit_test(test_actuator_position),
         cmocka_unit_test(test_relay_quantised),
+        cmocka_unit_test(test_response_below_quanta),
         cmocka_unit_test(test_closed_loop_retune),
         cmocka_unit_test(test_closed_loop_refused),
         cmocka_unit_test(test_closed_loop_bad_inputs),

@@ -437,6 +437,10 @@ static pdt_real_t dead_time_shift(const pdt_autotune_t *at)
     return at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5) + pos;
 }
 
+/* Fewest steps of the sensor (pdt_autotune_result_t.quantum) the model's
+ * response must span. */
+#define RESPONSE_QUANTA PDT_R(4.0)
+
 /* The identification's sample period, s (ident_config's Ts). */
 static pdt_real_t id_period(const pdt_autotune_config_t *cfg)
 {
@@ -501,7 +505,8 @@ static pdt_status_t finish_identify(pdt_autotune_t *at, pdt_real_t *u)
      * on), checked only with shift_max > 0. */
     if (at->ident_work_len >= 2u * data.n * sizeof(pdt_real_t) &&
         pdt_autotune_shift(&at->res.ident.model, &data, id_period(c), at->res.ident.u0,
-                           at->res.ident.y0, at->scratch, &at->res.shift) != PDT_OK) {
+                           at->res.ident.y0, at->scratch, &at->res.shift,
+                           &at->res.response) != PDT_OK) {
         return fail(at, PDT_ERR_ARG, u);
     }
     at->res.relay_spread = at->res.has_relay ? pdt_autotune_relay_spread(&at->gen) : PDT_R(0.0);
@@ -512,6 +517,11 @@ static pdt_status_t finish_identify(pdt_autotune_t *at, pdt_real_t *u)
         at->res.ident.model.p.sopdt.Td += shift;
     }
     at->res.has_model = true;
+    if (at->res.response > PDT_R(0.0) && at->res.response < RESPONSE_QUANTA * at->res.quantum) {
+        /* A response of a few steps of the sensor: the experiment is too
+         * small for it. */
+        return fail(at, PDT_ERR_NO_EXCITATION, u);
+    }
     const bool disturbed =
         (c->shift_max > PDT_R(0.0) && at->res.shift > c->shift_max) ||
         (c->relay_spread_max > PDT_R(0.0) && at->res.relay_spread > c->relay_spread_max);

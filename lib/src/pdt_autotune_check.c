@@ -25,7 +25,8 @@ static pdt_real_t range_of(const pdt_real_t *x, size_t n)
 }
 
 pdt_status_t pdt_autotune_shift(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
-                                pdt_real_t u0, pdt_real_t y0, pdt_real_t *work, pdt_real_t *shift)
+                                pdt_real_t u0, pdt_real_t y0, pdt_real_t *work, pdt_real_t *shift,
+                                pdt_real_t *span_out)
 {
     pdt_discrete_t d;
     const size_t n = data->n;
@@ -72,6 +73,7 @@ pdt_status_t pdt_autotune_shift(const pdt_model_t *m, const pdt_ident_data_t *da
      * whole mean, which the shift only enlarges) counts as none. */
     const bool significant = best * best > SHIFT_Z * SHIFT_Z * best_var;
     *shift = span > PDT_R(0.0) && significant ? best / span : PDT_R(0.0);
+    *span_out = span;
     return PDT_OK;
 }
 

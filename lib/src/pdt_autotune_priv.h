@@ -17,11 +17,13 @@
  * leaves such a shift that no model of the process removes; noise and a
  * model's small structural error do not. A shift below 6 standard errors
  * of the means (from the residual's variance) is noise: *shift is then 0.
+ * *span receives the range of the model's output (pv units).
  * work: 2 data->n reals; the residual r is left in work[0 .. n). Returns
  * PDT_ERR_ARG (a model pdt_discrete_init refuses) or PDT_OK; *shift is 0
  * when the model's output does not move. O(n). */
 pdt_status_t pdt_autotune_shift(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
-                                pdt_real_t u0, pdt_real_t y0, pdt_real_t *work, pdt_real_t *shift);
+                                pdt_real_t u0, pdt_real_t y0, pdt_real_t *work, pdt_real_t *shift,
+                                pdt_real_t *span);
 
 /* Whether the residual r (n values, pdt_autotune_shift's) is a drift
  * rather than a load change: a straight line through it explains at least

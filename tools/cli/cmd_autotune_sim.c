@@ -579,6 +579,7 @@ static void print_run(const at_args_t *a, const at_run_t *run)
     pdtcli_jb_uint(&jb, "repeats", (unsigned long)run->res.repeats);
     pdtcli_jb_key(&jb, "shift", (double)run->res.shift);
     pdtcli_jb_key(&jb, "drift", (double)run->res.drift);
+    pdtcli_jb_key(&jb, "response", (double)run->res.response);
     experiment_json(&jb, a, run);
     results_json(&jb, a, run);
     faults_json(&jb, a);

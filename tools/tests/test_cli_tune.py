@@ -272,7 +272,7 @@ def test_help_mentions_the_commands():
 # pdt_status_t values (lib/include/pdt/pdt_status.h).
 PV_LIMIT, OUTPUT_LIMIT, POOR_FIT = "PDT_ERR_PV_LIMIT", "PDT_ERR_OUTPUT_LIMIT", "PDT_ERR_POOR_FIT"
 AT_KEYS = ["status", "reason", "scan_period", "decimation", "capacity", "samples", "scans",
-           "repeats", "shift", "drift", "experiment", "phases", "ident", "order", "tune", "loop"]
+           "repeats", "shift", "drift", "response", "experiment", "phases", "ident", "order", "tune", "loop"]
 FOPDT_PLANT = ["--plant-gain", "2", "--plant-lags", "5", "--plant-delay", "1.3"]
 
 

@@ -188,6 +188,9 @@ typedef struct pdt_autotune_result {
                                * from its first differences, pv units */
     pdt_real_t quantum;             /* the smallest step between two pv
                                * readings there (a sensor's resolution) */
+    pdt_real_t response;            /* range of the model's output over the
+                               * record, pv units: it must span at least
+                               * 4 quanta, else PDT_ERR_NO_EXCITATION */
     pdt_real_t relay_eps;           /* the relay's hysteresis used: the
                                * config's, raised to 3 noise and one
                                * quantum (other experiments: the config's) */
