@@ -38,7 +38,16 @@
  * validated (pdt_validate_model: O(n) per parameter, O(20 n) and
  * O(78 n) for the residual tests); each tune call, one pdt_tune_compute
  * (a few thousand loop evaluations, see pdt_tune.h) and one
- * pdt_validate_margin (200 frequencies), at most 9 tune calls.
+ * pdt_validate_margin (200 frequencies), at most 9 tune calls. The
+ * disturbance check: O(n) in the identify call that chooses the order; a
+ * drift found repeats the identification (at most drift_passes times), a
+ * disturbed record the experiment (at most repeats times). With the loop
+ * closed, one pdt_pid_update per call more.
+ *
+ * With the loop closed (pdt_autotune_init_closed) the caller's pdt_pid
+ * stays in control: the experiment moves its set-point, and the new gains
+ * are handed to it without a bump (docs/autotune.md, "Retune with the
+ * loop closed").
  *
  * Decisions by evidence (docs/autotune.md): the model is validated
  * against the record (residual tests, parameter covariance), by default
@@ -156,7 +165,8 @@ typedef struct pdt_autotune_result {
     pdt_status_t status;            /* PDT_OK, or why it failed: an abort
                                * (PDT_ERR_PV_LIMIT, ...), data that could
                                * not support a model, or refused gains
-                               * (PDT_ERR_MODEL_INVALID, PDT_ERR_UNCERTAIN,
+                               * (PDT_ERR_DISTURBED, PDT_ERR_MODEL_INVALID,
+                               * PDT_ERR_UNCERTAIN,
                                * PDT_ERR_POOR_FIT, PDT_ERR_UNSTABLE) */
     pdt_autotune_phase_t failed_in; /* the phase that failed (when it did) */
     bool has_model;                 /* the identification finished */
