@@ -35,7 +35,7 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg)
     cfg->ms_robust = PDT_R(2.0);
     cfg->relay_agree = PDT_R(2.0);
     cfg->shift_max = PDT_R(0.08);
-    cfg->relay_spread_max = PDT_R(0.25);
+    cfg->relay_spread_max = PDT_R(0.5);
     cfg->repeats = 1u;
     cfg->drift_passes = 3u;
 }

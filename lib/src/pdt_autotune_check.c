@@ -83,23 +83,16 @@ pdt_real_t pdt_autotune_relay_spread(const pdt_excite_t *gen)
     if (c < 2u) {
         return PDT_R(0.0);
     }
-    pdt_real_t pmin = (pdt_real_t)gen->per[0];
-    pdt_real_t pmax = pmin;
-    pdt_real_t psum = PDT_R(0.0);
-    pdt_real_t amin = gen->amp[0];
-    pdt_real_t amax = amin;
-    pdt_real_t asum = PDT_R(0.0);
-    for (uint32_t i = 0u; i < c; i++) {
-        const pdt_real_t p = (pdt_real_t)gen->per[i];
-        pmin = p < pmin ? p : pmin;
-        pmax = p > pmax ? p : pmax;
-        psum += p;
-        amin = gen->amp[i] < amin ? gen->amp[i] : amin;
-        amax = gen->amp[i] > amax ? gen->amp[i] : amax;
-        asum += gen->amp[i];
-    }
-    const pdt_real_t sp = psum > PDT_R(0.0) ? (pmax - pmin) * (pdt_real_t)c / psum : PDT_R(0.0);
-    const pdt_real_t sa = asum > PDT_R(0.0) ? (amax - amin) * (pdt_real_t)c / asum : PDT_R(0.0);
+    /* The last two cycles: the earlier ones may still be the transient
+     * from rest (a relay that never met its symmetric cycle). */
+    const pdt_real_t p0 = (pdt_real_t)gen->per[c - 2u];
+    const pdt_real_t p1 = (pdt_real_t)gen->per[c - 1u];
+    const pdt_real_t a0 = gen->amp[c - 2u];
+    const pdt_real_t a1 = gen->amp[c - 1u];
+    const pdt_real_t sp =
+        p0 + p1 > PDT_R(0.0) ? PDT_R(2.0) * pdt_fabs(p1 - p0) / (p0 + p1) : PDT_R(0.0);
+    const pdt_real_t sa =
+        a0 + a1 > PDT_R(0.0) ? PDT_R(2.0) * pdt_fabs(a1 - a0) / (a0 + a1) : PDT_R(0.0);
     return sp > sa ? sp : sa;
 }
 

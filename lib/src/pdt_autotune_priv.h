@@ -31,10 +31,10 @@ pdt_status_t pdt_autotune_shift(const pdt_model_t *m, const pdt_ident_data_t *da
  * the line's slope, per sample (0 below 8 samples). O(n). */
 bool pdt_autotune_ramp(const pdt_real_t *r, size_t n, pdt_real_t *slope);
 
-/* The spread of a relay's measured cycles: the largest of (longest -
- * shortest) / mean over the cycle lengths and over their amplitudes; 0 for
- * one cycle. A relay without bias on an undisturbed process repeats the
- * same cycle. O(relay_cycles). */
+/* The spread of a relay's last two measured cycles: the larger of
+ * |difference| / mean of their lengths and of their amplitudes; 0 for
+ * fewer than two cycles. A relay without bias on an undisturbed process
+ * repeats the same cycle once its transient from rest is over. O(1). */
 pdt_real_t pdt_autotune_relay_spread(const pdt_excite_t *gen);
 
 #endif /* PDT_AUTOTUNE_PRIV_H */

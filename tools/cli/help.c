@@ -225,7 +225,7 @@ static const char *const autotune_text[] = {
     "  --stiction S          the valve follows the output only once it has moved\n"
     "                        more than S away (backlash of width S)\n"
     "  --shift-max F, --relay-spread-max F, --repeats N, --drift-passes N  the\n"
-    "                        disturbance check (defaults 0.08, 0.25, 1, 3; 0 turns\n"
+    "                        disturbance check (defaults 0.08, 0.5, 1, 3; 0 turns\n"
     "                        a check off)\n"
     "  --actuator-position   the autotune reads the valve's position (u_valve) and\n"
     "                        identifies from it (pdt_autotune_scan_position)\n"

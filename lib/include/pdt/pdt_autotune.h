@@ -144,7 +144,7 @@ typedef struct pdt_autotune_config {
      * by more than relay_spread_max of their mean. A disturbed experiment
      * is repeated from the operating point up to `repeats` times, then
      * refused with PDT_ERR_DISTURBED. shift_max and relay_spread_max
-     * >= 0, 0: no such check. Defaults 0.08, 0.25 and 1.
+     * >= 0, 0: no such check. Defaults 0.08, 0.5 and 1.
      * A residual that a straight line explains better than a level shift
      * is a drift: it is fitted (removed from the record) and the record
      * identified again, up to drift_passes times, before the experiment
