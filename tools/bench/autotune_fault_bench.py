@@ -192,7 +192,7 @@ def build():
     subprocess.run(["cmake", "-S", str(ROOT), "-B", str(BUILD), "-G", "Ninja",
                     "-DCMAKE_BUILD_TYPE=Release", "-DPDT_BUILD_TESTS=OFF",
                     "-DPDT_REAL_DOUBLE=OFF"], check=True, stdout=subprocess.DEVNULL)
-    subprocess.run(["cmake", "--build", str(BUILD), "--target", "pdtfit", "-j2"],
+    subprocess.run(["cmake", "--build", str(BUILD), "--target", "pdtfit_cli", "-j2"],
                    check=True, stdout=subprocess.DEVNULL)
     return str(BUILD / "tools" / "pdtfit")
 
