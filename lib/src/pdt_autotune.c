@@ -5,6 +5,7 @@
  */
 #include "pdt/pdt_autotune.h"
 
+#include "pdt_autotune_priv.h"
 #include "pdt_internal.h"
 
 #define AUTOTUNE_MAGIC PDT_MAGIC('P', 'D', 'A', 'T')
@@ -33,6 +34,10 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg)
     cfg->order_auto = true;
     cfg->ms_robust = PDT_R(2.0);
     cfg->relay_agree = PDT_R(2.0);
+    cfg->shift_max = PDT_R(0.08);
+    cfg->relay_spread_max = PDT_R(0.5);
+    cfg->repeats = 1u;
+    cfg->drift_passes = 3u;
 }
 
 static pdt_real_t rmax0(pdt_real_t x)
@@ -65,6 +70,10 @@ static pdt_status_t check_config(const pdt_autotune_config_t *cfg)
         (cfg->ms_robust != PDT_R(0.0) && !(cfg->ms_robust > PDT_R(1.0))) ||
         !pdt_finite(cfg->relay_agree) ||
         (cfg->relay_agree != PDT_R(0.0) && !(cfg->relay_agree >= PDT_R(1.0)))) {
+        return PDT_ERR_ARG;
+    }
+    if (!pdt_finite(cfg->shift_max) || !(cfg->shift_max >= PDT_R(0.0)) ||
+        !pdt_finite(cfg->relay_spread_max) || !(cfg->relay_spread_max >= PDT_R(0.0))) {
         return PDT_ERR_ARG;
     }
     if (!pdt_finite(cfg->u_min) || !pdt_finite(cfg->u_max) || !pdt_finite(cfg->pv_min) ||
@@ -105,6 +114,9 @@ static size_t ident_bytes(const pdt_autotune_config_t *cfg)
         b = b2 > b ? b2 : b;
     }
     size_t v = validates(cfg) ? pdt_validate_workspace_size(cfg->capacity) : 0u;
+    /* The disturbance check simulates the model beside its input. */
+    const size_t c = cfg->shift_max > PDT_R(0.0) ? 2u * cfg->capacity * sizeof(pdt_real_t) : 0u;
+    v = c > v ? c : v;
     return b == 0u ? 0u : (v > b ? v : b);
 }
 
@@ -120,19 +132,45 @@ size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg)
     return 2u * cfg->capacity * sizeof(pdt_real_t) + ib;
 }
 
-pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
-                               pdt_real_t u_now, void *work, size_t work_len)
+/* The experiment's generator and recorder from u_now, the operating
+ * point: the generator holds u_now while the recorder measures the
+ * operating point, then excites. */
+static pdt_status_t make_experiment(const pdt_autotune_config_t *cfg, pdt_real_t u_now, bool closed,
+                                    pdt_real_t *u, pdt_real_t *y, pdt_excite_t *gen,
+                                    pdt_record_t *rec)
 {
-    if (at == NULL || cfg == NULL || !pdt_finite(u_now)) {
-        return PDT_ERR_ARG;
-    }
-    pdt_status_t st = check_config(cfg);
+    /* With the loop closed the generator moves the set-point (u_now is
+     * then the set-point in service), inside the process value's limits. */
+    pdt_excite_config_t ec = cfg->excite;
+    ec.Ts = cfg->Ts;
+    ec.u0 = u_now;
+    ec.u_min = closed ? cfg->pv_min : cfg->u_min;
+    ec.u_max = closed ? cfg->pv_max : cfg->u_max;
+    ec.pre = cfg->Ts * (pdt_real_t)cfg->decimation * (pdt_real_t)cfg->settle;
+    pdt_status_t st = pdt_excite_init(gen, &ec);
     if (st != PDT_OK) {
         return st;
     }
-    if (u_now < cfg->u_min || u_now > cfg->u_max) {
-        return PDT_ERR_OUTPUT_LIMIT;
-    }
+    pdt_record_config_t rc;
+    pdt_record_config_default(&rc);
+    rc.decimation = cfg->decimation;
+    rc.settle = cfg->settle;
+    rc.u_min = cfg->u_min;
+    rc.u_max = cfg->u_max;
+    rc.pv_min = cfg->pv_min;
+    rc.pv_max = cfg->pv_max;
+    rc.max_scans = cfg->max_scans;
+    rc.move = cfg->move;
+    rc.move = closed ? PDT_RECORD_MOVE_ANY : cfg->move;
+    rc.setpoint = ec.kind == PDT_EXCITE_RELAY ? ec.setpoint : PDT_R(0.0);
+    return pdt_record_init(rec, &rc, u, y, cfg->capacity);
+}
+
+/* The checks of init shared by both loops, and the workspace split: the
+ * record's arrays u and y and the identification's bytes *ib. */
+static pdt_status_t check_work(const pdt_autotune_config_t *cfg, void *work, size_t work_len,
+                               size_t *ib_out)
+{
     size_t ib = ident_bytes(cfg);
     if (ib == 0u) {
         /* The identification refuses its config (or the capacity): say
@@ -148,47 +186,48 @@ pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *
     if (work_len < 2u * cfg->capacity * sizeof(pdt_real_t) + ib) {
         return PDT_ERR_NOMEM;
     }
+    *ib_out = ib;
+    return PDT_OK;
+}
+
+/* Both inits after their checks: u_now is the output (open loop) or the
+ * set-point (closed) the experiment starts from. */
+static pdt_status_t start(pdt_autotune_t *at, const pdt_autotune_config_t *cfg, pdt_real_t u_now,
+                          pdt_pid_t *pid, void *work, size_t work_len)
+{
+    size_t ib = 0u;
+    pdt_status_t st = check_work(cfg, work, work_len, &ib);
+    if (st != PDT_OK) {
+        return st;
+    }
     pdt_real_t *u = (pdt_real_t *)work;
     pdt_real_t *y = u + cfg->capacity;
-
-    /* The experiment holds u_now while the recorder measures the operating
-     * point, then excites. */
-    pdt_excite_config_t ec = cfg->excite;
-    ec.Ts = cfg->Ts;
-    ec.u0 = u_now;
-    ec.u_min = cfg->u_min;
-    ec.u_max = cfg->u_max;
-    ec.pre = cfg->Ts * (pdt_real_t)cfg->decimation * (pdt_real_t)cfg->settle;
     pdt_excite_t gen;
-    st = pdt_excite_init(&gen, &ec);
-    if (st != PDT_OK) {
-        return st;
-    }
-    pdt_record_config_t rc;
-    pdt_record_config_default(&rc);
-    rc.decimation = cfg->decimation;
-    rc.settle = cfg->settle;
-    rc.u_min = cfg->u_min;
-    rc.u_max = cfg->u_max;
-    rc.pv_min = cfg->pv_min;
-    rc.pv_max = cfg->pv_max;
-    rc.max_scans = cfg->max_scans;
-    rc.move = cfg->move;
-    rc.setpoint = ec.kind == PDT_EXCITE_RELAY ? ec.setpoint : PDT_R(0.0);
     pdt_record_t rec;
-    st = pdt_record_init(&rec, &rc, u, y, cfg->capacity);
+    st = make_experiment(cfg, u_now, pid != NULL, u, y, &gen, &rec);
     if (st != PDT_OK) {
         return st;
     }
 
-    /* Nothing failed: only now is *at written. */
+    /* Nothing failed: only now is *at written. The output in service is
+     * the PID's with the loop closed. */
+    const pdt_real_t u_out = pid != NULL ? pid->u : u_now;
+    at->pid = pid;
+    at->sp0 = u_now;
+    at->pid_ran = false;
+    at->u_last = u_out;
+    at->u_pos = u_out;
+    at->pv_n = 0u;
+    at->pv_d2 = PDT_R(0.0);
+    at->pv_prev = PDT_R(0.0);
     at->cfg = *cfg;
     at->phase = PDT_AUTOTUNE_SETTLE;
-    at->u_init = u_now;
-    at->u_hold = u_now;
+    at->u_init = u_out;
+    at->u_hold = u_out;
     at->u = u;
     at->y = y;
-    at->ident_work = (void *)(y + cfg->capacity);
+    at->scratch = y + cfg->capacity;
+    at->ident_work = (void *)at->scratch;
     at->ident_work_len = ib;
     at->gen = gen;
     at->rec = rec;
@@ -203,6 +242,44 @@ pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *
     at->res.status = PDT_RUNNING;
     at->magic = AUTOTUNE_MAGIC;
     return PDT_OK;
+}
+
+pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
+                               pdt_real_t u_now, void *work, size_t work_len)
+{
+    if (at == NULL || cfg == NULL || !pdt_finite(u_now)) {
+        return PDT_ERR_ARG;
+    }
+    pdt_status_t st = check_config(cfg);
+    if (st != PDT_OK) {
+        return st;
+    }
+    if (u_now < cfg->u_min || u_now > cfg->u_max) {
+        return PDT_ERR_OUTPUT_LIMIT;
+    }
+    return start(at, cfg, u_now, NULL, work, work_len);
+}
+
+pdt_status_t pdt_autotune_init_closed(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
+                                      pdt_pid_t *pid, pdt_real_t sp, void *work, size_t work_len)
+{
+    if (at == NULL || cfg == NULL || pid == NULL || !pdt_finite(sp) ||
+        cfg->excite.kind == PDT_EXCITE_RELAY) {
+        return PDT_ERR_ARG;
+    }
+    pdt_status_t st = check_config(cfg);
+    if (st != PDT_OK) {
+        return st;
+    }
+    /* A controller that was never initialised has no gains to keep. */
+    pdt_pid_t copy = *pid;
+    if (pdt_pid_track(&copy, sp, sp, pid->u) != PDT_OK) {
+        return PDT_ERR_STATE;
+    }
+    if (sp < cfg->pv_min || sp > cfg->pv_max) {
+        return PDT_ERR_OUTPUT_LIMIT;
+    }
+    return start(at, cfg, sp, pid, work, work_len);
 }
 
 static pdt_status_t fail(pdt_autotune_t *at, pdt_status_t why, pdt_real_t *u)
@@ -240,6 +317,41 @@ static void end_experiment(pdt_autotune_t *at)
     at->phase = PDT_AUTOTUNE_IDENTIFY;
 }
 
+/* The process value at rest, scan by scan: its noise from the first
+ * differences (sd = rms difference / sqrt 2, blind to a slow trend) and
+ * its quantum (the smallest step between two readings). At the end of the
+ * settle window a relay's hysteresis is raised to 3 noise sd and one
+ * quantum when it is below them, so that neither switches the relay. */
+static void settle_scan(pdt_autotune_t *at, pdt_real_t pv)
+{
+    if (at->pv_n > 0u) {
+        const pdt_real_t d = pdt_fabs(pv - at->pv_prev);
+        at->pv_d2 += d * d;
+        if (d > PDT_R(0.0) && (at->res.quantum == PDT_R(0.0) || d < at->res.quantum)) {
+            at->res.quantum = d;
+        }
+    }
+    at->pv_prev = pv;
+    at->pv_n++;
+    pdt_record_result_t rr;
+    (void)pdt_record_result(&at->rec, &rr);
+    if (!rr.settled) {
+        return;
+    }
+    at->phase = PDT_AUTOTUNE_EXCITE;
+    if (at->pv_n > 1u) {
+        const uint32_t m = at->pv_n - 1u;
+        at->res.noise = pdt_sqrt(at->pv_d2 / (PDT_R(2.0) * (pdt_real_t)m));
+    }
+    if (at->gen.cfg.kind == PDT_EXCITE_RELAY) {
+        pdt_real_t eps = at->gen.cfg.eps;
+        eps = PDT_R(3.0) * at->res.noise > eps ? PDT_R(3.0) * at->res.noise : eps;
+        eps = at->res.quantum > eps ? at->res.quantum : eps;
+        at->gen.cfg.eps = eps;
+    }
+    at->res.relay_eps = at->gen.cfg.eps;
+}
+
 static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
 {
     pdt_real_t un;
@@ -248,10 +360,30 @@ static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_
         /* Only a relay fails here (pv not finite): hold the operating point. */
         return fail(at, se, u);
     }
+    if (at->pid != NULL) {
+        /* Closed loop: the generator gave the set-point; the PID the
+         * output recorded. A pv that is not finite ends the experiment;
+         * the PID holds its output. */
+        const pdt_real_t sp = un;
+        if (pdt_pid_update(at->pid, sp, pv, &un) != PDT_OK) {
+            return fail(at, PDT_ERR_NONFINITE, u);
+        }
+        at->pid_ran = true;
+    }
     /* Samples complete before this scan: the tail counts from here when the
      * excitation ends in this scan. */
     const size_t n_before = at->rec.n;
-    pdt_status_t sr = pdt_record_push(&at->rec, un, pv);
+    if (at->cfg.actuator_position && !pdt_finite(at->u_pos)) {
+        /* A failed position sensor: the recorder's safe output once it has
+         * one, the output at init before. */
+        pdt_record_result_t rp;
+        (void)pdt_record_result(&at->rec, &rp);
+        at->u_hold = rp.scans > 0u ? rp.u_safe : at->u_init;
+        return fail(at, PDT_ERR_NONFINITE, u);
+    }
+    /* The actuator as it moved over the last scan, or as commanded now. */
+    const pdt_real_t u_rec = at->cfg.actuator_position ? at->u_pos : un;
+    pdt_status_t sr = pdt_record_push(&at->rec, u_rec, pv);
     at->res.scans_experiment++;
     if (sr != PDT_OK && sr != PDT_RUNNING) {
         pdt_record_result_t rr;
@@ -260,11 +392,7 @@ static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_
         return fail(at, sr, u);
     }
     if (at->phase == PDT_AUTOTUNE_SETTLE) {
-        pdt_record_result_t rr;
-        (void)pdt_record_result(&at->rec, &rr);
-        if (rr.settled) {
-            at->phase = PDT_AUTOTUNE_EXCITE;
-        }
+        settle_scan(at, pv);
     }
     if (at->cfg.tail != 0u && sr == PDT_RUNNING && (se == PDT_OK || at->excite_over)) {
         /* The excitation is over; the response is not: record `tail` more
@@ -303,7 +431,115 @@ static pdt_model_kind_t stage_model(const pdt_autotune_t *at)
  * that much less dead time than the process has. */
 static pdt_real_t dead_time_shift(const pdt_autotune_t *at)
 {
-    return at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5);
+    /* A position read at a scan is the one held over the scan before: the
+     * record's input lags the process's by a scan. */
+    const pdt_real_t pos = at->cfg.actuator_position ? at->cfg.Ts : PDT_R(0.0);
+    return at->cfg.Ts * (pdt_real_t)(at->cfg.decimation - 1u) * PDT_R(0.5) + pos;
+}
+
+/* Fewest steps of the sensor (pdt_autotune_result_t.quantum) the model's
+ * response must span. */
+#define RESPONSE_QUANTA PDT_R(4.0)
+
+/* The identification's sample period, s (ident_config's Ts). */
+static pdt_real_t id_period(const pdt_autotune_config_t *cfg)
+{
+    return cfg->Ts * (pdt_real_t)cfg->decimation;
+}
+
+/* A disturbed experiment once more, from the operating point the last one
+ * measured (the output has rested there since it ended). */
+static pdt_status_t repeat_experiment(pdt_autotune_t *at, pdt_real_t *u)
+{
+    /* Into at directly: on an error the autotune fails, and neither is
+     * read again. */
+    const bool closed = at->pid != NULL;
+    pdt_status_t st = make_experiment(&at->cfg, closed ? at->sp0 : at->u_hold, closed, at->u, at->y,
+                                      &at->gen, &at->rec);
+    if (st != PDT_OK) {
+        return fail(at, st, u);
+    }
+    at->tail_end = 0u;
+    at->excite_over = false;
+    at->ident_started = false;
+    at->stage = 0u;
+    at->res.repeats++;
+    at->pv_n = 0u;
+    at->pv_d2 = PDT_R(0.0);
+    at->res.quantum = PDT_R(0.0);
+    at->res.drift = PDT_R(0.0);
+    at->res.drift_passes = 0u;
+    at->res.has_relay = false;
+    at->res.has_model = false;
+    at->res.has_valid = false;
+    at->res.samples = 0u;
+    at->phase = PDT_AUTOTUNE_SETTLE;
+    *u = at->u_hold;
+    return PDT_RUNNING;
+}
+
+/* The residual is a drift: removed from the record (slope per sample),
+ * which is identified again. */
+static pdt_status_t refit_drift(pdt_autotune_t *at, pdt_real_t slope)
+{
+    for (size_t k = 0u; k < at->res.samples; k++) {
+        at->y[k] -= slope * (pdt_real_t)k;
+    }
+    at->res.drift += slope / id_period(&at->cfg);
+    at->res.drift_passes++;
+    at->ident_started = false;
+    at->stage = 0u;
+    at->res.has_model = false;
+    at->res.has_valid = false;
+    return PDT_RUNNING;
+}
+
+/* The model is chosen: the disturbance check, then the recorder's dead-time
+ * shift added back, and the tuning next. */
+static pdt_status_t finish_identify(pdt_autotune_t *at, pdt_real_t *u)
+{
+    const pdt_ident_data_t data = {at->u, at->y, at->res.samples};
+    const pdt_autotune_config_t *c = &at->cfg;
+    at->res.shift = PDT_R(0.0);
+    /* Measured whenever the workspace has room (always when the check is
+     * on), checked only with shift_max > 0. */
+    if (at->ident_work_len >= 2u * data.n * sizeof(pdt_real_t) &&
+        pdt_autotune_shift(&at->res.ident.model, &data, id_period(c), at->res.ident.u0,
+                           at->res.ident.y0, at->scratch, &at->res.shift,
+                           &at->res.response) != PDT_OK) {
+        return fail(at, PDT_ERR_ARG, u);
+    }
+    at->res.relay_spread = at->res.has_relay ? pdt_autotune_relay_spread(&at->gen) : PDT_R(0.0);
+    pdt_real_t shift = dead_time_shift(at);
+    if (at->res.ident.model.kind == PDT_MODEL_FOPDT) {
+        at->res.ident.model.p.fopdt.Td += shift;
+    } else {
+        at->res.ident.model.p.sopdt.Td += shift;
+    }
+    at->res.has_model = true;
+    if (at->res.response > PDT_R(0.0) && at->res.response < RESPONSE_QUANTA * at->res.quantum) {
+        /* A response of a few steps of the sensor: the experiment is too
+         * small for it. */
+        return fail(at, PDT_ERR_NO_EXCITATION, u);
+    }
+    const bool disturbed =
+        (c->shift_max > PDT_R(0.0) && at->res.shift > c->shift_max) ||
+        (c->relay_spread_max > PDT_R(0.0) && at->res.relay_spread > c->relay_spread_max);
+    /* A drift is fitted while the residual still looks like one: past a
+     * quarter of the limit once a drift has been found, past the limit
+     * before. */
+    pdt_real_t slope = PDT_R(0.0);
+    const pdt_real_t lim = at->res.drift_passes > 0u ? PDT_R(0.25) * c->shift_max : c->shift_max;
+    if (c->shift_max > PDT_R(0.0) && at->res.shift > lim &&
+        at->res.drift_passes < c->drift_passes && pdt_autotune_ramp(at->scratch, data.n, &slope)) {
+        return refit_drift(at, slope);
+    }
+    if (disturbed) {
+        return at->res.repeats < c->repeats ? repeat_experiment(at, u)
+                                            : fail(at, PDT_ERR_DISTURBED, u);
+    }
+    at->phase = PDT_AUTOTUNE_TUNE;
+    return PDT_RUNNING;
 }
 
 /* Identification stages: 0 (and 1 with order_auto) identify, one model
@@ -349,8 +585,8 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
     if (v < models && validates(&at->cfg)) {
         const pdt_ident_result_t *ir = v == 0u ? &at->first : &at->res.ident;
         pdt_validate_result_t *vr = v == 0u ? &at->first_valid : &at->res.valid;
-        st = pdt_validate_model(&ir->model, &data, ident_config(&at->cfg).Ts, ir->y0,
-                                at->ident_work, at->ident_work_len, vr);
+        st = pdt_validate_model(&ir->model, &data, id_period(&at->cfg), ir->y0, at->ident_work,
+                                at->ident_work_len, vr);
         if (st != PDT_OK) {
             return fail(at, st, u);
         }
@@ -375,15 +611,7 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
         }
         at->res.has_valid = true;
     }
-    pdt_real_t shift = dead_time_shift(at);
-    if (at->res.ident.model.kind == PDT_MODEL_FOPDT) {
-        at->res.ident.model.p.fopdt.Td += shift;
-    } else {
-        at->res.ident.model.p.sopdt.Td += shift;
-    }
-    at->res.has_model = true;
-    at->phase = PDT_AUTOTUNE_TUNE;
-    return PDT_RUNNING;
+    return finish_identify(at, u);
 }
 
 /* Whether the model passes through the point of its frequency response
@@ -411,7 +639,7 @@ static bool relay_agrees(const pdt_autotune_t *at)
                at->res.ident.model.p.sopdt.k < PDT_R(0.0)) {
         ph += PDT_PI;
     }
-    pdt_real_t x = at->cfg.excite.eps / rl->a;
+    pdt_real_t x = at->gen.cfg.eps / rl->a; /* the hysteresis used */
     pdt_real_t ph_relay = -PDT_PI + pdt_atan2(x, pdt_sqrt(rmax0(PDT_R(1.0) - x * x)));
     pdt_real_t r = mag * PDT_R(4.0) * rl->d / (PDT_PI * rl->a);
     pdt_real_t f = at->cfg.relay_agree;
@@ -474,6 +702,13 @@ static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
             st = fir ? PDT_ERR_MODEL_INVALID : PDT_ERR_UNCERTAIN;
         }
     }
+    if (st == PDT_OK && at->pid != NULL) {
+        /* The hand-over: the new gains take the last output as theirs. */
+        pdt_status_t sg = pdt_pid_set_gains(at->pid, &r.ideal, PDT_PID_IDEAL);
+        if (sg != PDT_OK) {
+            return fail(at, sg, u);
+        }
+    }
     if (st == PDT_OK) {
         at->res.tune = r;
         at->res.ms_robust = ms;
@@ -492,14 +727,9 @@ static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
     return PDT_RUNNING;
 }
 
-pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
+/* One scan of the phase the autotune is in. */
+static pdt_status_t scan_phase(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
 {
-    if (at == NULL || u == NULL) {
-        return PDT_ERR_ARG;
-    }
-    if (at->magic != AUTOTUNE_MAGIC) {
-        return PDT_ERR_STATE;
-    }
     switch (at->phase) {
     case PDT_AUTOTUNE_SETTLE:
     case PDT_AUTOTUNE_EXCITE:
@@ -525,6 +755,53 @@ pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
     }
 }
 
+static pdt_status_t scan_common(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u);
+
+pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
+{
+    if (at == NULL || u == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (at->magic != AUTOTUNE_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    at->pid_ran = false;
+    at->u_pos = at->u_last;
+    return scan_common(at, pv, u);
+}
+
+pdt_status_t pdt_autotune_scan_position(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t u_pos,
+                                        pdt_real_t *u)
+{
+    if (at == NULL || u == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (at->magic != AUTOTUNE_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    at->pid_ran = false;
+    at->u_pos = u_pos;
+    return scan_common(at, pv, u);
+}
+
+/* The scan after its checks: the phase's work, then the output. */
+static pdt_status_t scan_common(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u)
+{
+    pdt_status_t st = scan_phase(at, pv, u);
+    if (at->pid != NULL) {
+        /* Closed loop: outside the experiment the PID runs at the set-point
+         * in service (with the new gains once handed over); a scan it
+         * refuses (pv not finite) holds its last output. */
+        if (!at->pid_ran) {
+            pdt_real_t uc;
+            (void)pdt_pid_update(at->pid, at->sp0, pv, &uc);
+        }
+        *u = at->pid->u;
+    }
+    at->u_last = *u;
+    return st;
+}
+
 pdt_status_t pdt_autotune_abort(pdt_autotune_t *at, pdt_real_t *u)
 {
     if (at == NULL || u == NULL) {
@@ -542,7 +819,7 @@ pdt_status_t pdt_autotune_abort(pdt_autotune_t *at, pdt_real_t *u)
     if (at->phase != PDT_AUTOTUNE_DONE && at->phase != PDT_AUTOTUNE_FAILED) {
         (void)fail(at, PDT_ERR_ABORTED, u);
     }
-    *u = at->u_hold;
+    *u = at->pid != NULL ? at->pid->u : at->u_hold;
     return PDT_OK;
 }
 
@@ -562,12 +839,13 @@ pdt_status_t pdt_autotune_result(const pdt_autotune_t *at, pdt_autotune_result_t
     if (at->magic != AUTOTUNE_MAGIC) {
         return PDT_ERR_STATE;
     }
-    pdt_autotune_result_t r = at->res;
+    /* Written in place (no error is possible from here): a copy on the
+     * stack would double the frame. */
+    *out = at->res;
     if (at->phase == PDT_AUTOTUNE_SETTLE || at->phase == PDT_AUTOTUNE_EXCITE) {
         pdt_record_result_t rr;
         (void)pdt_record_result(&at->rec, &rr);
-        r.samples = rr.n;
+        out->samples = rr.n;
     }
-    *out = r;
     return PDT_OK;
 }

@@ -206,6 +206,8 @@ static bool drive_autotune(plant_t *p, noise_t *z, long max_scans, const pdt_aut
            (int)r->failed_in, (unsigned long)r->scans, (unsigned long)r->scans_experiment,
            (unsigned long)r->samples);
     printf("has_model %d\nhas_gains %d\n", (int)r->has_model, (int)r->has_gains);
+    printf("shift %.9g\nrelay_spread %.9g\nrepeats %lu\ndrift %.9g\n", (double)r->shift,
+           (double)r->relay_spread, (unsigned long)r->repeats, (double)r->drift);
     *st_out = st;
     return true;
 }

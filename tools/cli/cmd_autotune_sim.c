@@ -27,11 +27,16 @@ typedef struct at_args {
     tune_opts_t t;
     cli_list_t lags, zeros;
     int have_gain, have_lags, have_ts, have_sp, model, kind, integrating, have_wn;
-    double gain, delay, amplitude, Ts, noise, u0, y0, sp, wn, zeta;
+    double gain, delay, amplitude, Ts, noise, u0, y0, sp, wn, zeta, shift_max, spread_max;
+    int have_shift_max, have_spread_max, have_repeats, closed, have_gains, have_dpasses, act_pos;
+    uint64_t drift_passes;
+    cli_list_t gains; /* --initial-gains Kc,Ti[,Td] */
+    uint64_t repeats;
     int have_lim[4];
     double lim[4]; /* pv_min, pv_max, u_min, u_max */
     uint64_t seed, decimation, capacity, evaluations;
-    const char *trace;
+    const char *trace, *load_step;
+    fault_cfg_t fault;
 } at_args_t;
 
 static void parse(at_args_t *a, int argc, char **argv)
@@ -70,6 +75,22 @@ static void parse(at_args_t *a, int argc, char **argv)
         {"--u-min", OPT_REAL, &a->lim[2], &a->have_lim[2], CHK_ANY, 0, 0, NULL, NULL, 0},
         {"--u-max", OPT_REAL, &a->lim[3], &a->have_lim[3], CHK_ANY, 0, 0, NULL, NULL, 0},
         {"--trace", OPT_TEXT, &a->trace, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--shift-max", OPT_REAL, &a->shift_max, &a->have_shift_max, CHK_GE0, 0, 0, NULL,
+         "a fraction >= 0", 0},
+        {"--relay-spread-max", OPT_REAL, &a->spread_max, &a->have_spread_max, CHK_GE0, 0, 0, NULL,
+         "a fraction >= 0", 0},
+        {"--repeats", OPT_UINT, &a->repeats, &a->have_repeats, 0, 0, 100, NULL,
+         "a whole number 0 .. 100", 0},
+        {"--drift-passes", OPT_UINT, &a->drift_passes, &a->have_dpasses, 0, 0, 100, NULL,
+         "a whole number 0 .. 100", 0},
+        {"--actuator-position", OPT_FLAG, &a->act_pos, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--closed-loop", OPT_FLAG, &a->closed, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--initial-gains", OPT_LIST, &a->gains, &a->have_gains, CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--load-step", OPT_TEXT, &a->load_step, &a->fault.has_load, 0, 0, 0, NULL, NULL, 0},
+        {"--drift", OPT_REAL, &a->fault.drift, NULL, CHK_ANY, 0, 0, NULL, NULL, 0},
+        {"--quantise", OPT_REAL, &a->fault.quant, NULL, CHK_GT0, 0, 0, NULL, "a step > 0", 0},
+        {"--u-rate", OPT_REAL, &a->fault.u_rate, NULL, CHK_GT0, 0, 0, NULL, "a rate > 0 per s", 0},
+        {"--stiction", OPT_REAL, &a->fault.stiction, NULL, CHK_GT0, 0, 0, NULL, "a band > 0", 0},
     };
     cli_opt_t tab[CLI_MAX_OPTS];
     const size_t n = sizeof rows / sizeof rows[0];
@@ -100,6 +121,40 @@ static void check_args(const at_args_t *a)
         (a->have_lim[2] && a->have_lim[3] && a->lim[2] > a->lim[3]))
         cli_fail(EXIT_USAGE, "%s: a lower limit lies above its upper limit", cmd);
     tune_opts_check(cmd, &a->t);
+    if (a->closed && !a->have_gains)
+        cli_fail(EXIT_USAGE, "%s: --closed-loop needs --initial-gains Kc,Ti[,Td]", cmd);
+    if (a->have_gains && !a->closed)
+        cli_fail(EXIT_USAGE, "%s: --initial-gains is an option of --closed-loop", cmd);
+    if (a->closed && (a->gains.n < 2 || a->gains.n > 3 || a->gains.v[0] == 0.0 ||
+                      !(a->gains.v[1] > 0.0) || (a->gains.n == 3 && a->gains.v[2] < 0.0)))
+        cli_fail(EXIT_USAGE,
+                 "%s: --initial-gains takes Kc,Ti[,Td] with Kc != 0, Ti > 0 s and "
+                 "Td >= 0 s",
+                 cmd);
+    if (a->closed && a->kind == PDT_EXCITE_RELAY)
+        cli_fail(EXIT_USAGE,
+                 "%s: --closed-loop moves the set-point: --experiment step, pulse, "
+                 "chirp or prbs",
+                 cmd);
+}
+
+/* --load-step T:D, a time >= 0 s and a load in input units. */
+static void parse_load(at_args_t *a)
+{
+    if (!a->fault.has_load) return;
+    const char *s = a->load_step, *colon = strchr(s, ':');
+    char t[64];
+    const size_t n = colon ? (size_t)(colon - s) : 0u;
+    if (!colon || n == 0u || n >= sizeof t)
+        cli_fail(EXIT_USAGE, "autotune-sim: --load-step takes T:D (time s, load in input units)");
+    memcpy(t, s, n);
+    t[n] = '\0';
+    if (cli_parse_real(t, &a->fault.load_t) != 0 || !(a->fault.load_t >= 0.0) ||
+        cli_parse_real(colon + 1, &a->fault.load) != 0)
+        cli_fail(EXIT_USAGE,
+                 "autotune-sim: --load-step takes T:D with a time T >= 0 s and a "
+                 "finite load D, not \"%s\"",
+                 s);
 }
 
 /* The simulated process as the shared simulator takes it. */
@@ -226,6 +281,17 @@ static void autotune_config(at_args_t *a, pdt_autotune_config_t *cfg)
     }
     cfg->ident.seed = a->seed;
     if (a->evaluations) cfg->ident.max_evaluations = (uint32_t)a->evaluations;
+    if (a->closed) {
+        /* The set-point moves by the open loop's response to the same
+         * input change. */
+        const double scale = fabs(a->gain) * (a->integrating ? sum + a->delay : 1.0);
+        cfg->excite.amplitude = (pdt_real_t)(a->amplitude * scale);
+    }
+    if (a->have_shift_max) cfg->shift_max = (pdt_real_t)a->shift_max;
+    if (a->have_spread_max) cfg->relay_spread_max = (pdt_real_t)a->spread_max;
+    if (a->have_repeats) cfg->repeats = (uint32_t)a->repeats;
+    if (a->have_dpasses) cfg->drift_passes = (uint32_t)a->drift_passes;
+    cfg->actuator_position = a->act_pos != 0;
     tune_opts_config(&a->t, &cfg->tune);
 }
 
@@ -239,7 +305,18 @@ typedef struct at_run {
     uint64_t scans;
     int has_loop;
     loop_figs_t loop;
+    pdt_pid_t pid;       /* --closed-loop: the controller in service */
+    pdt_tune_gains_t g0; /* its initial gains */
+    loop_figs_t loop0;   /* and their loop on the true plant */
+    double handover_du;  /* the output's change in the hand-over scan */
+    double du_max;       /* the largest change of the output in a scan */
 } at_run_t;
+
+/* The trace's columns: t,u,pv and, with a fault, what the faults did. */
+static void trace_header(const at_args_t *a, FILE *tf)
+{
+    fputs(fault_any(&a->fault) ? "t,u,pv,u_valve,load,y\n" : "t,u,pv\n", tf);
+}
 
 static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, sim_plant_t *plant,
                      FILE *tf)
@@ -249,15 +326,36 @@ static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, sim_
     /* Scans can only end the experiment (capacity, relay) and the search
      * (its evaluations); this bound only guards the host against a bug. */
     const uint64_t guard = 4ull * a->capacity * a->decimation + 10000000ull;
+    const int faults = fault_any(&a->fault);
+    fault_state_t fs;
+    fault_init(&fs, a->u0);
+    double u_last = a->u0;
     for (;;) {
-        double pv = sim_plant_output(plant);
+        const double t = (double)run->scans * a->Ts, y = sim_plant_output(plant);
+        double pv = y;
         if (a->noise > 0.0) pv += a->noise * sim_rng_normal(&ng);
+        pv = fault_sensor(&a->fault, pv, t);
         pdt_autotune_phase_t ph = pdt_autotune_phase(at);
         if (ph >= PDT_AUTOTUNE_SETTLE && ph <= PDT_AUTOTUNE_TUNE) run->phase_scans[ph - 1]++;
         pdt_real_t u;
-        pdt_status_t ss = pdt_autotune_scan(at, (pdt_real_t)pv, &u);
-        if (tf) fprintf(tf, "%.9g,%.9g,%.9g\n", (double)run->scans * a->Ts, (double)u, pv);
-        sim_plant_apply(plant, (double)u);
+        /* With --actuator-position the port reads where the valve stood
+         * over the last scan. */
+        pdt_status_t ss =
+            a->act_pos ? pdt_autotune_scan_position(at, (pdt_real_t)pv, (pdt_real_t)fs.pos, &u)
+                       : pdt_autotune_scan(at, (pdt_real_t)pv, &u);
+        if (run->scans > 0) {
+            const double du = fabs((double)u - u_last);
+            run->du_max = du > run->du_max ? du : run->du_max;
+            if (ss == PDT_OK && ph == PDT_AUTOTUNE_TUNE) run->handover_du = du;
+        }
+        u_last = (double)u;
+        const double pos = fault_actuator(&a->fault, &fs, (double)u, a->Ts);
+        const double load = fault_load(&a->fault, t);
+        if (tf && faults)
+            fprintf(tf, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", t, (double)u, pv, pos, load, y);
+        else if (tf)
+            fprintf(tf, "%.9g,%.9g,%.9g\n", t, (double)u, pv);
+        sim_plant_apply(plant, pos + load);
         run->scans++;
         if (ss == PDT_RUNNING && run->scans < guard) continue;
         if (ss == PDT_RUNNING) (void)pdt_autotune_abort(at, &u);
@@ -279,7 +377,7 @@ static void simulate(const at_args_t *a, at_run_t *run)
     if (a->trace) {
         tf = fopen(a->trace, "w");
         if (!tf) cli_fail(EXIT_USAGE, "cannot open %s: %s", a->trace, strerror(errno));
-        fputs("t,u,pv\n", tf);
+        trace_header(a, tf);
     }
     pdt_autotune_t *at = malloc(sizeof *at);
     const size_t work_len = pdt_autotune_workspace_size(&run->cfg);
@@ -287,7 +385,23 @@ static void simulate(const at_args_t *a, at_run_t *run)
     if (!at || (work_len && !work))
         cli_fail(EXIT_REFUSED, "out of memory (%zu bytes of workspace)", work_len);
     memset(&run->res, 0, sizeof run->res);
-    run->st = pdt_autotune_init(at, &run->cfg, (pdt_real_t)a->u0, work, work_len);
+    if (a->closed) {
+        pdt_pid_config_t pc;
+        pdt_pid_config_default(&pc);
+        pc.Ts = (pdt_real_t)a->Ts;
+        pc.u_min = run->cfg.u_min;
+        pc.u_max = run->cfg.u_max;
+        run->g0 = (pdt_tune_gains_t){(pdt_real_t)a->gains.v[0], (pdt_real_t)a->gains.v[1],
+                                     (pdt_real_t)(a->gains.n == 3 ? a->gains.v[2] : 0.0),
+                                     (pdt_real_t)(a->gains.n == 3 ? a->gains.v[2] / 10.0 : 0.0)};
+        if (pdt_pid_init_from_gains(&run->pid, &pc, &run->g0, PDT_PID_IDEAL, (pdt_real_t)a->u0) !=
+            PDT_OK)
+            cli_fail(EXIT_USAGE, "autotune-sim: the PID refuses --initial-gains");
+        run->st =
+            pdt_autotune_init_closed(at, &run->cfg, &run->pid, (pdt_real_t)a->y0, work, work_len);
+    } else {
+        run->st = pdt_autotune_init(at, &run->cfg, (pdt_real_t)a->u0, work, work_len);
+    }
     run->initialised = run->st == PDT_OK;
     if (run->initialised) {
         run_loop(a, run, at, &plant, tf);
@@ -309,6 +423,8 @@ static void experiment_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_
     pdtcli_jb_raw(jb, "\"");
     pdtcli_jb_key(jb, "duration", (double)run->res.scans_experiment * a->Ts);
     pdtcli_jb_uint(jb, "scans", (unsigned long)run->res.scans_experiment);
+    pdtcli_jb_key(jb, "noise", (double)run->res.noise);
+    pdtcli_jb_key(jb, "quantum", (double)run->res.quantum);
     if (a->kind != PDT_EXCITE_RELAY) pdtcli_jb_key(jb, "amplitude", (double)ec->amplitude);
     if (a->kind == PDT_EXCITE_PULSE) {
         pdtcli_jb_key(jb, "t_on", (double)ec->t_on);
@@ -323,6 +439,7 @@ static void experiment_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_
     } else if (a->kind == PDT_EXCITE_RELAY) {
         pdtcli_jb_key(jb, "d", (double)ec->d);
         pdtcli_jb_key(jb, "eps", (double)ec->eps);
+        pdtcli_jb_key(jb, "eps_used", (double)run->res.relay_eps);
         pdtcli_jb_key(jb, "setpoint", (double)ec->setpoint);
         pdtcli_jb_str(jb, "action", ec->action == PDT_EXCITE_REVERSE ? "reverse" : "direct");
     }
@@ -398,6 +515,48 @@ static void results_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *
     pdtcli_jb_key(jb, "a", (double)res->relay.a);
     pdtcli_jb_key(jb, "d", (double)res->relay.d);
     pdtcli_jb_uint(jb, "cycles", (unsigned long)res->relay.cycles);
+    pdtcli_jb_key(jb, "spread", (double)res->relay_spread);
+    pdtcli_jb_raw(jb, "}");
+}
+
+/* "faults": the simulator's faults as given; the key only with a fault. */
+static void faults_json(pdtcli_jbuf_t *jb, const at_args_t *a)
+{
+    const fault_cfg_t *f = &a->fault;
+    if (!fault_any(f)) return;
+    pdtcli_jb_raw(jb, ",\"faults\":{\"load_step\":");
+    if (f->has_load) {
+        pdtcli_jb_raw(jb, "{\"t\":");
+        pdtcli_jb_num(jb, f->load_t);
+        pdtcli_jb_key(jb, "d", f->load);
+        pdtcli_jb_raw(jb, "}");
+    } else {
+        pdtcli_jb_raw(jb, "null");
+    }
+    pdtcli_jb_key(jb, "drift", f->drift);
+    pdtcli_jb_key(jb, "quantise", f->quant);
+    pdtcli_jb_key(jb, "u_rate", f->u_rate);
+    pdtcli_jb_key(jb, "stiction", f->stiction);
+    pdtcli_jb_raw(jb, "}");
+}
+
+/* "closed_loop": the retune's starting gains and their loop on the true
+ * plant, which gains run at the end, and the output's change in the
+ * hand-over scan beside its largest change in any scan; the key only with
+ * --closed-loop. */
+static void closed_json(pdtcli_jbuf_t *jb, const at_args_t *a, const at_run_t *run)
+{
+    if (!a->closed) return;
+    pdtcli_jb_raw(jb, ",\"closed_loop\":{\"initial\":{\"Kc\":");
+    pdtcli_jb_num(jb, (double)run->g0.Kc);
+    pdtcli_jb_key(jb, "Ti", (double)run->g0.tauI);
+    pdtcli_jb_key(jb, "Td", (double)run->g0.tauD);
+    pdtcli_jb_raw(jb, "}");
+    pdtcli_jb_key(jb, "Ms_before", run->loop0.Ms);
+    pdtcli_jb_raw(jb, run->loop0.stable ? ",\"stable_before\":true" : ",\"stable_before\":false");
+    pdtcli_jb_str(jb, "gains", run->st == PDT_OK ? "new" : "old");
+    pdtcli_jb_key(jb, "handover_du", run->handover_du);
+    pdtcli_jb_key(jb, "du_max", run->du_max);
     pdtcli_jb_raw(jb, "}");
 }
 
@@ -417,8 +576,14 @@ static void print_run(const at_args_t *a, const at_run_t *run)
     pdtcli_jb_uint(&jb, "capacity", (unsigned long)a->capacity);
     pdtcli_jb_uint(&jb, "samples", (unsigned long)run->res.samples);
     pdtcli_jb_uint(&jb, "scans", (unsigned long)run->scans);
+    pdtcli_jb_uint(&jb, "repeats", (unsigned long)run->res.repeats);
+    pdtcli_jb_key(&jb, "shift", (double)run->res.shift);
+    pdtcli_jb_key(&jb, "drift", (double)run->res.drift);
+    pdtcli_jb_key(&jb, "response", (double)run->res.response);
     experiment_json(&jb, a, run);
     results_json(&jb, a, run);
+    faults_json(&jb, a);
+    closed_json(&jb, a, run);
     pdtcli_jb_raw(&jb, "}");
     if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "autotune-sim: result too long");
     puts(buf);
@@ -455,13 +620,16 @@ static void fail_run(const at_run_t *run)
  * experiment's size in output units and a load step, noise-free. */
 static void close_loop(const at_args_t *a, at_run_t *run)
 {
-    if (run->st != PDT_OK || !run->res.has_gains) return;
     double sum, T1;
     time_scales(a, &sum, &T1);
     const sim_plant_desc_t d = plant_desc(a);
     const double t_scale = sum + a->delay;
     const double step = fabs(a->gain) * fabs(a->amplitude) * (a->integrating ? t_scale : 1.0);
     const double horizon = 20.0 * t_scale > 10.0 * a->Ts ? 20.0 * t_scale : 10.0 * a->Ts;
+    if (a->closed)
+        loop_sim_run(&d, a->Ts, &run->g0, a->u0, a->y0, (double)run->cfg.u_min,
+                     (double)run->cfg.u_max, step, horizon, &run->loop0);
+    if (run->st != PDT_OK || !run->res.has_gains) return;
     loop_sim_run(&d, a->Ts, &run->res.tune.ideal, a->u0, a->y0, (double)run->cfg.u_min,
                  (double)run->cfg.u_max, step, horizon, &run->loop);
     run->has_loop = 1;
@@ -477,6 +645,7 @@ int cmd_autotune_sim(int argc, char **argv)
     a.model = AT_MODEL_AUTO;
     parse(&a, argc, argv);
     check_args(&a);
+    parse_load(&a);
     at_run_t *run = calloc(1, sizeof *run);
     if (!run) cli_fail(EXIT_REFUSED, "out of memory");
     autotune_config(&a, &run->cfg);

@@ -99,3 +99,44 @@ void loop_sim_run(const sim_plant_desc_t *d, double Ts, const pdt_tune_gains_t *
     out->stable = e_sp < 0.02 * fabs(step) && e_ld < 0.02 * fabs(step) && isfinite(out->iae_load);
     free(hist);
 }
+
+int fault_any(const fault_cfg_t *f)
+{
+    return f->has_load || f->drift != 0.0 || f->quant > 0.0 || f->u_rate > 0.0 || f->stiction > 0.0;
+}
+
+void fault_init(fault_state_t *s, double u0)
+{
+    s->backlash = u0;
+    s->pos = u0;
+}
+
+double fault_actuator(const fault_cfg_t *f, fault_state_t *s, double c, double Ts)
+{
+    if (f->stiction > 0.0) {
+        if (c > s->backlash + f->stiction) s->backlash = c - f->stiction;
+        if (c < s->backlash - f->stiction) s->backlash = c + f->stiction;
+    } else {
+        s->backlash = c;
+    }
+    const double step = f->u_rate > 0.0 ? f->u_rate * Ts : HUGE_VAL;
+    double d = s->backlash - s->pos;
+    if (d > step) d = step;
+    if (d < -step) d = -step;
+    s->pos += d;
+    return s->pos;
+}
+
+double fault_load(const fault_cfg_t *f, double t)
+{
+    /* A scan's time is a multiple of Ts computed in double: a load at a
+     * scan's nominal time enters at that scan. */
+    return f->has_load && t >= f->load_t - 1e-9 * (1.0 + fabs(f->load_t)) ? f->load : 0.0;
+}
+
+double fault_sensor(const fault_cfg_t *f, double y, double t)
+{
+    double pv = y + f->drift * t;
+    if (f->quant > 0.0) pv = f->quant * floor(pv / f->quant + 0.5);
+    return pv;
+}

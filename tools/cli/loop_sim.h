@@ -24,4 +24,44 @@ void loop_sim_run(const sim_plant_desc_t *d, double Ts, const pdt_tune_gains_t *
                   double y0, double u_lo, double u_hi, double step, double horizon,
                   loop_figs_t *out);
 
+/* The faults autotune-sim adds to the plant (docs/autotune.md, "Faults"),
+ * each off at 0. In the order a scan meets them:
+ *   actuator: the command c passes a backlash of width `stiction` (the
+ *     valve stays where it is until c has moved more than `stiction` away
+ *     from it, then follows c at that distance), then a rate limit: the
+ *     position moves by at most u_rate Ts per scan (u_rate in input units
+ *     per s), and is held over the scan;
+ *   load: `load` input units added to the position at the plant's input
+ *     from the first scan at or after load_t s;
+ *   sensor: the process value is the plant's output plus drift t (drift in
+ *     pv units per s, t the scan's time) plus the noise, read in steps of
+ *     `quant` (rounded to the nearest multiple). */
+typedef struct fault_cfg {
+    int has_load;
+    double load_t, load;
+    double drift, quant, u_rate, stiction;
+} fault_cfg_t;
+
+/* The actuator's state: the backlash's output and the valve position. */
+typedef struct fault_state {
+    double backlash;
+    double pos;
+} fault_state_t;
+
+/* Whether any fault is set. */
+int fault_any(const fault_cfg_t *f);
+
+/* At rest at the command u0. */
+void fault_init(fault_state_t *s, double u0);
+
+/* The valve position held over this scan for the command c, Ts s. */
+double fault_actuator(const fault_cfg_t *f, fault_state_t *s, double c, double Ts);
+
+/* The load at the plant's input at time t s. */
+double fault_load(const fault_cfg_t *f, double t);
+
+/* The process value read at time t s for the plant output y (noise
+ * included). */
+double fault_sensor(const fault_cfg_t *f, double y, double t);
+
 #endif

@@ -272,7 +272,7 @@ def test_help_mentions_the_commands():
 # pdt_status_t values (lib/include/pdt/pdt_status.h).
 PV_LIMIT, OUTPUT_LIMIT, POOR_FIT = "PDT_ERR_PV_LIMIT", "PDT_ERR_OUTPUT_LIMIT", "PDT_ERR_POOR_FIT"
 AT_KEYS = ["status", "reason", "scan_period", "decimation", "capacity", "samples", "scans",
-           "experiment", "phases", "ident", "order", "tune", "loop"]
+           "repeats", "shift", "drift", "response", "experiment", "phases", "ident", "order", "tune", "loop"]
 FOPDT_PLANT = ["--plant-gain", "2", "--plant-lags", "5", "--plant-delay", "1.3"]
 
 
@@ -385,7 +385,7 @@ def test_autotune_relay():
     check_run(out, "relay")
     assert out["decimation"] == 4
     r = out["relay"]
-    assert list(r) == ["Ku", "Pu", "a", "d", "cycles"]
+    assert list(r) == ["Ku", "Pu", "a", "d", "cycles", "spread"] and r["spread"] == 0
     # The relay ends at its first symmetric cycle (relay_settle).
     assert r["d"] == 0.5 and r["cycles"] == 1
     wu, Ku = ultimate(2.0, 5.0, 1.3)

@@ -38,7 +38,16 @@
  * validated (pdt_validate_model: O(n) per parameter, O(20 n) and
  * O(78 n) for the residual tests); each tune call, one pdt_tune_compute
  * (a few thousand loop evaluations, see pdt_tune.h) and one
- * pdt_validate_margin (200 frequencies), at most 9 tune calls.
+ * pdt_validate_margin (200 frequencies), at most 9 tune calls. The
+ * disturbance check: O(n) in the identify call that chooses the order; a
+ * drift found repeats the identification (at most drift_passes times), a
+ * disturbed record the experiment (at most repeats times). With the loop
+ * closed, one pdt_pid_update per call more.
+ *
+ * With the loop closed (pdt_autotune_init_closed) the caller's pdt_pid
+ * stays in control: the experiment moves its set-point, and the new gains
+ * are handed to it without a bump (docs/autotune.md, "Retune with the
+ * loop closed").
  *
  * Decisions by evidence (docs/autotune.md): the model is validated
  * against the record (residual tests, parameter covariance), by default
@@ -52,6 +61,7 @@
 #include "pdt/pdt_common.h"
 #include "pdt/pdt_excite.h"
 #include "pdt/pdt_ident.h"
+#include "pdt/pdt_pid.h"
 #include "pdt/pdt_record.h"
 #include "pdt/pdt_tune.h"
 #include "pdt/pdt_validate.h"
@@ -126,13 +136,37 @@ typedef struct pdt_autotune_config {
     /* A relay test's Ku and Pu and the model's must agree within this
      * factor, >= 1, or 0 for no check. Default 2 */
     pdt_real_t relay_agree;
+    /* The disturbance check (docs/autotune.md, "Faults of a real plant").
+     * The record is disturbed when the residual of the model kept shifts
+     * its level across the record by more than shift_max of the model's
+     * output range (pdt_autotune_result_t.shift: a load change or a
+     * drift), or a relay's measured cycles spread in length or amplitude
+     * by more than relay_spread_max of their mean. A disturbed experiment
+     * is repeated from the operating point up to `repeats` times, then
+     * refused with PDT_ERR_DISTURBED. shift_max and relay_spread_max
+     * >= 0, 0: no such check. Defaults 0.08, 0.5 and 1.
+     * A residual that a straight line explains better than a level shift
+     * is a drift: it is fitted (removed from the record) and the record
+     * identified again, up to drift_passes times, before the experiment
+     * is called disturbed; 0: a drift is refused like a load change.
+     * Default 3 */
+    pdt_real_t shift_max;
+    pdt_real_t relay_spread_max;
+    uint32_t repeats;
+    uint32_t drift_passes;
+    /* true: the port reads the actuator's position, passed to
+     * pdt_autotune_scan_position each scan, and the record holds the
+     * actuator as it moved (a rate limit, a sticky valve) instead of the
+     * output as commanded. Default false */
+    bool actuator_position;
 } pdt_autotune_config_t;
 
 typedef struct pdt_autotune_result {
     pdt_status_t status;            /* PDT_OK, or why it failed: an abort
                                * (PDT_ERR_PV_LIMIT, ...), data that could
                                * not support a model, or refused gains
-                               * (PDT_ERR_MODEL_INVALID, PDT_ERR_UNCERTAIN,
+                               * (PDT_ERR_DISTURBED, PDT_ERR_MODEL_INVALID,
+                               * PDT_ERR_UNCERTAIN,
                                * PDT_ERR_POOR_FIT, PDT_ERR_UNSTABLE) */
     pdt_autotune_phase_t failed_in; /* the phase that failed (when it did) */
     bool has_model;                 /* the identification finished */
@@ -152,6 +186,24 @@ typedef struct pdt_autotune_result {
     size_t samples;                 /* samples recorded */
     uint32_t scans;                 /* scans since init */
     uint32_t scans_experiment;      /* scans of settle + experiment */
+    pdt_real_t shift;               /* the residual's level shift, fraction
+                               * of the model's output range (the
+                               * disturbance check; 0 until computed) */
+    pdt_real_t relay_spread;        /* spread of the relay's cycles */
+    uint32_t repeats;               /* experiments repeated (disturbed) */
+    pdt_real_t drift;               /* the drift fitted and removed from the
+                               * record, pv units per s (0: none) */
+    uint32_t drift_passes;          /* identifications of the detrended record */
+    pdt_real_t noise;               /* pv's noise sd over the settle window,
+                               * from its first differences, pv units */
+    pdt_real_t quantum;             /* the smallest step between two pv
+                               * readings there (a sensor's resolution) */
+    pdt_real_t response;            /* range of the model's output over the
+                               * record, pv units: it must span at least
+                               * 4 quanta, else PDT_ERR_NO_EXCITATION */
+    pdt_real_t relay_eps;           /* the relay's hysteresis used: the
+                               * config's, raised to 3 noise and one
+                               * quantum (other experiments: the config's) */
 } pdt_autotune_result_t;
 
 /* The autotune. Fields are private. */
@@ -163,7 +215,8 @@ typedef struct pdt_autotune {
     pdt_real_t u_hold; /* output applied while identifying */
     pdt_real_t *u;     /* record (workspace) */
     pdt_real_t *y;
-    void *ident_work; /* identification's part of the workspace */
+    void *ident_work;    /* identification's part of the workspace */
+    pdt_real_t *scratch; /* the same memory, as reals */
     size_t ident_work_len;
     size_t tail_end;          /* samples recorded when the tail is complete */
     bool excite_over;         /* the excitation has ended */
@@ -177,6 +230,14 @@ typedef struct pdt_autotune {
     pdt_record_t rec;
     pdt_ident_t ident;
     pdt_autotune_result_t res;
+    pdt_pid_t *pid;     /* closed loop: the controller in service, else NULL */
+    pdt_real_t sp0;     /* closed loop: the set-point in service */
+    bool pid_ran;       /* closed loop: this scan's output is the PID's */
+    pdt_real_t u_last;  /* the output of the last scan */
+    uint32_t pv_n;      /* settle: readings seen, the last, and the sum */
+    pdt_real_t pv_prev; /* of squared differences */
+    pdt_real_t pv_d2;
+    pdt_real_t u_pos; /* actuator_position: the position read this scan */
 } pdt_autotune_t;
 
 /* Fills cfg with the documented defaults, and its sub-configs with theirs
@@ -213,6 +274,27 @@ size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
 pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
                                pdt_real_t u_now, void *work, size_t work_len);
 
+/* Prepares at for a retune with the loop closed (docs/autotune.md,
+ * "Retune with the loop closed"): pid, the caller's initialised controller
+ * in service, stays in control throughout, and the experiment moves its
+ * set-point instead of the output. cfg->excite.kind is STEP (a set-point
+ * step, held while recorded), PULSE (a step up and back) or PRBS (a small
+ * set-point dither); its amplitude is in pv units and the set-point stays
+ * inside [pv_min, pv_max]. sp is the set-point in service, to which the
+ * loop returns once the record is complete. The model is identified from
+ * the closed-loop record (the PID's output u to pv, output error), tuned
+ * and checked as in the open loop; on PDT_OK the new gains replace pid's
+ * without a bump (pdt_pid_set_gains, ideal form); on a refusal or an abort
+ * pid keeps its gains. After the end pdt_autotune_scan goes on running
+ * pid at sp, so the caller may keep calling it. pid and its state belong
+ * to at until the end; its output limits stay in force, and u_min, u_max
+ * are checked as in the open loop.
+ * Returns as pdt_autotune_init, also PDT_ERR_ARG for a relay experiment
+ * or a sp that is not finite, PDT_ERR_STATE for a pid not initialised,
+ * PDT_ERR_OUTPUT_LIMIT for sp outside [pv_min, pv_max]. O(1). */
+pdt_status_t pdt_autotune_init_closed(pdt_autotune_t *at, const pdt_autotune_config_t *cfg,
+                                      pdt_pid_t *pid, pdt_real_t sp, void *work, size_t work_len);
+
 /* One scan: pv is the process value read now; *u receives the output to
  * apply until the next scan (always written, even on error, when at and u
  * are not NULL and at was initialised).
@@ -223,10 +305,24 @@ pdt_status_t pdt_autotune_init(pdt_autotune_t *at, const pdt_autotune_config_t *
  * file. */
 pdt_status_t pdt_autotune_scan(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t *u);
 
+/* pdt_autotune_scan for a port that reads the actuator's position: u_pos
+ * is the position read now, where the output of the last scan has taken
+ * the actuator (input units). With cfg.actuator_position the record holds
+ * these positions, each paired with the scan before (the interval it was
+ * held over), and the model's dead time is corrected for that scan; the
+ * safety limits u_min, u_max then apply to the position. Without it u_pos
+ * is not used. pdt_autotune_scan on such an autotune takes the last
+ * output as the position. Same returns as pdt_autotune_scan (a position
+ * that is not finite aborts the experiment: PDT_ERR_NONFINITE). */
+pdt_status_t pdt_autotune_scan_position(pdt_autotune_t *at, pdt_real_t pv, pdt_real_t u_pos,
+                                        pdt_real_t *u);
+
 /* Stops the autotune now (e.g. the operator cancels): unless it is already
  * done or failed, the phase becomes FAILED with the status PDT_ERR_ABORTED.
  * *u receives the output to apply: the operating point (the output at init
- * if the operating point is not measured yet). Returns PDT_OK, PDT_ERR_ARG
+ * if the operating point is not measured yet); with the loop closed, the
+ * PID's last output (the PID, its gains unchanged, goes on at the
+ * set-point in service with the next scan). Returns PDT_OK, PDT_ERR_ARG
  * for NULL, PDT_ERR_STATE if never initialised. O(1). */
 pdt_status_t pdt_autotune_abort(pdt_autotune_t *at, pdt_real_t *u);
 

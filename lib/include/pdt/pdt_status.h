@@ -76,7 +76,12 @@ typedef enum pdt_status {
     PDT_ERR_MODEL_INVALID = -19,
     /* Gains refused: the data do not determine the model's parameters well
      * enough for any gains to be robust over their confidence region. */
-    PDT_ERR_UNCERTAIN = -20
+    PDT_ERR_UNCERTAIN = -20,
+    /* The experiment was disturbed: something besides the excitation moved
+     * the process while it was recorded (a load change, a drift, a relay
+     * whose cycles do not repeat), so no model of the record is one of the
+     * process. The autotune repeats such an experiment once, then refuses. */
+    PDT_ERR_DISTURBED = -21
 } pdt_status_t;
 
 /* A short, static, English name of a status ("bad argument", ...). Never
