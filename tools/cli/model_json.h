@@ -1,0 +1,17 @@
+/* Reading a model from JSON (model_json.c). */
+#ifndef PDTCLI_MODEL_JSON_H
+#define PDTCLI_MODEL_JSON_H
+
+#include "cli.h"
+
+/* The whole file at path ("-": standard input), NUL-terminated, malloc'ed;
+ * NULL when it cannot be read. */
+char *pdtcli_slurp(const char *path);
+
+/* The model of identify's JSON (or of autotune-sim's "ident", or just the
+ * model's own fields) in the file at path into *m, its "fit" into *fit
+ * (100 when absent). Ends the program with a message naming cmd when the
+ * file cannot be read or holds no valid model. */
+void pdtcli_model_from_json(const char *cmd, const char *path, pdt_model_t *m, double *fit);
+
+#endif /* PDTCLI_MODEL_JSON_H */
