@@ -20,7 +20,7 @@
 #define MON_ALPHA  PDT_R(0.5)
 #define MON_GAMMA  PDT_R(0.75)
 /* The hysteresis band of the zero crossings, a fraction of std(e). */
-#define MON_BAND   PDT_R(0.3)
+#define MON_BAND   PDT_R(0.7)
 /* The idle index's low-pass filter: the fraction of the gap closed per
  * sample. */
 #define MON_LP     PDT_R(0.25)
@@ -47,14 +47,16 @@ void pdt_monitor_config_default(pdt_monitor_config_t *cfg)
     cfg->u_min = PDT_R(0.0);
     cfg->u_max = PDT_R(0.0);
     cfg->sat_band = PDT_R(0.005);
-    cfg->osc_regularity = PDT_R(0.5);
+    cfg->osc_acf = PDT_R(0.14);
+    cfg->osc_regularity = PDT_R(0.32);
     cfg->osc_min_cycles = PDT_R(10.0);
     cfg->stiction_corr = PDT_R(0.35);
+    cfg->stiction_corr_v = PDT_R(0.2);
     cfg->sluggish_ratio = PDT_R(2.0);
     cfg->idle_max = PDT_R(0.4);
     cfg->sat_share = PDT_R(0.1);
     cfg->mismatch_gain = PDT_R(0.25);
-    cfg->mismatch_t = PDT_R(4.0);
+    cfg->mismatch_t = PDT_R(3.8);
 }
 
 static bool in_open01(pdt_real_t x)
@@ -68,10 +70,11 @@ static bool config_ok(const pdt_monitor_config_t *c)
         pdt_finite(c->Ts) && c->Ts > PDT_R(0.0) && c->decimation >= 1u && c->min_samples >= 16u;
     ok = ok && pdt_finite(c->u_min) && pdt_finite(c->u_max) && c->u_min <= c->u_max;
     ok = ok && pdt_finite(c->sat_band) && c->sat_band >= PDT_R(0.0) && c->sat_band < PDT_R(0.5);
-    ok = ok && in_open01(c->osc_regularity) && pdt_finite(c->osc_min_cycles) &&
-         c->osc_min_cycles >= PDT_R(2.0);
+    ok = ok && in_open01(c->osc_acf) && in_open01(c->osc_regularity) &&
+         pdt_finite(c->osc_min_cycles) && c->osc_min_cycles >= PDT_R(2.0);
     ok = ok && pdt_finite(c->stiction_corr) && c->stiction_corr >= PDT_R(0.0) &&
-         c->stiction_corr <= PDT_R(1.0);
+         c->stiction_corr <= PDT_R(1.0) && pdt_finite(c->stiction_corr_v) &&
+         c->stiction_corr_v >= PDT_R(0.0) && c->stiction_corr_v <= PDT_R(1.0);
     ok = ok && pdt_finite(c->sluggish_ratio) && c->sluggish_ratio > PDT_R(1.0) &&
          in_open01(c->idle_max) && in_open01(c->sat_share);
     ok = ok && pdt_finite(c->mismatch_gain) && c->mismatch_gain > PDT_R(0.0) &&
@@ -242,18 +245,22 @@ static void model_step(pdt_monitor_t *m, pdt_real_t sp, pdt_real_t pv, pdt_real_
     m->sv = l * m->sv + v;
     m->svv = l * m->svv + v * v;
     m->szv = l * m->szv + z * v;
-    m->szz1 = l * m->szz1;
-    m->svv1 = l * m->svv1;
-    m->szv1 = l * m->szv1;
-    m->svz1 = l * m->svz1;
-    if (m->n > 1u) {
-        m->szz1 += z * m->last_z;
-        m->svv1 += v * m->last_v;
-        m->szv1 += z * m->last_v;
-        m->svz1 += v * m->last_z;
+    m->sve = l * m->sve + v * e;
+    m->sve = l * m->sve + v * e;
+    /* The slot of this sample still holds sample k - ORDER. */
+    const uint32_t at = m->e_at;
+    m->szzL = l * m->szzL;
+    m->svvL = l * m->svvL;
+    m->szvL = l * m->szvL;
+    m->svzL = l * m->svzL;
+    if (m->n > PDT_MONITOR_ORDER) {
+        m->szzL += z * m->z_ring[at];
+        m->svvL += v * m->v_ring[at];
+        m->szvL += z * m->v_ring[at];
+        m->svzL += v * m->z_ring[at];
     }
-    m->last_z = z;
-    m->last_v = v;
+    m->z_ring[at] = z;
+    m->v_ring[at] = v;
 }
 
 /* The idle index's signs: u and pv low-passed, the signs of their
@@ -382,15 +389,15 @@ pdt_status_t pdt_monitor_scan_block(pdt_monitor_t *mon, const pdt_real_t *sp, co
     return st;
 }
 
-/* The Harris index from the autocovariances c[0..ORDER]: an AR model by
- * Levinson-Durbin (stopping at an order whose reflection is not below 1),
- * its impulse response over the dead time d. */
-static pdt_real_t harris_index(const pdt_real_t *c, uint32_t d)
+/* An autoregressive model of order <= PDT_MONITOR_ORDER of the error from
+ * its autocovariances c[0..ORDER], by Levinson-Durbin (stopping at an
+ * order whose reflection is not below 1): e(k) = sum a[j] e(k - j) +
+ * innovation. Returns the order reached, the innovation variance in *err. */
+static uint32_t ar_fit(const pdt_real_t *c, pdt_real_t *a, pdt_real_t *err)
 {
-    pdt_real_t a[PDT_MONITOR_ORDER + 1u];
     pdt_real_t t[PDT_MONITOR_ORDER + 1u];
-    pdt_real_t err = c[0];
     uint32_t p = 0u;
+    *err = c[0];
     for (uint32_t i = 0u; i <= PDT_MONITOR_ORDER; i++) {
         a[i] = PDT_R(0.0);
     }
@@ -399,7 +406,7 @@ static pdt_real_t harris_index(const pdt_real_t *c, uint32_t d)
         for (uint32_t j = 1u; j < i; j++) {
             acc -= a[j] * c[i - j];
         }
-        const pdt_real_t k = acc / err;
+        const pdt_real_t k = acc / *err;
         if (!(pdt_fabs(k) < PDT_R(1.0))) {
             break;
         }
@@ -410,10 +417,17 @@ static pdt_real_t harris_index(const pdt_real_t *c, uint32_t d)
             a[j] = t[j];
         }
         a[i] = k;
-        err *= PDT_R(1.0) - k * k;
+        *err *= PDT_R(1.0) - k * k;
         p = i;
     }
-    /* psi over the dead time: psi(0) = 1, psi(i) = sum a(j) psi(i - j). */
+    return p;
+}
+
+/* The Harris index: the variance of the model's first d impulse-response
+ * terms (what no controller can remove) over the variance c0. */
+static pdt_real_t harris_index(const pdt_real_t *a, uint32_t p, pdt_real_t err, pdt_real_t c0,
+                               uint32_t d)
+{
     pdt_real_t psi[PDT_MONITOR_ORDER];
     pdt_real_t sum = PDT_R(0.0);
     for (uint32_t i = 0u; i < d; i++) {
@@ -424,8 +438,57 @@ static pdt_real_t harris_index(const pdt_real_t *c, uint32_t d)
         psi[i] = x;
         sum += x * x;
     }
-    pdt_real_t h = err * sum / c[0];
+    const pdt_real_t h = err * sum / c0;
     return h < PDT_R(1.0) ? h : PDT_R(1.0);
+}
+
+/* The autocorrelation of the error, c[j] / c[0] for j <= ORDER and the AR
+ * model's continuation beyond, scanned for its first three zero crossings
+ * (up to PDT_MONITOR_ACF_LAGS): the extreme between the first two (m1 < 0)
+ * and between the second and third (m2 > 0), and the period (the lags
+ * between the first and third crossing, interpolated). */
+static void acf_scan(const pdt_real_t *c, const pdt_real_t *a, uint32_t p, pdt_monitor_result_t *r)
+{
+    pdt_real_t ring[PDT_MONITOR_ORDER + 1u]; /* rho(j - ORDER .. j - 1) */
+    pdt_real_t z[3] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    pdt_real_t ext[2] = {PDT_R(0.0), PDT_R(0.0)};
+    uint32_t nz = 0u;
+    pdt_real_t prev = PDT_R(1.0);
+    for (uint32_t j = 0u; j <= PDT_MONITOR_ORDER; j++) {
+        ring[j] = c[j] / c[0];
+    }
+    for (uint32_t j = 1u; j < PDT_MONITOR_ACF_LAGS && nz < 3u; j++) {
+        pdt_real_t x;
+        if (j <= PDT_MONITOR_ORDER) {
+            x = ring[j];
+        } else {
+            /* rho(j) = sum a[i] rho(j - i), ring shifted by one */
+            x = PDT_R(0.0);
+            for (uint32_t i = 1u; i <= p; i++) {
+                x += a[i] * ring[PDT_MONITOR_ORDER + 1u - i];
+            }
+            for (uint32_t i = 0u; i < PDT_MONITOR_ORDER; i++) {
+                ring[i] = ring[i + 1u];
+            }
+            ring[PDT_MONITOR_ORDER] = x;
+        }
+        if ((prev > PDT_R(0.0)) != (x > PDT_R(0.0))) {
+            z[nz] = (pdt_real_t)(j - 1u) + prev / (prev - x);
+            nz++;
+        }
+        if (nz == 1u && x < ext[0]) {
+            ext[0] = x;
+        }
+        if (nz == 2u && x > ext[1]) {
+            ext[1] = x;
+        }
+        prev = x;
+    }
+    r->acf_min = ext[0];
+    r->acf_max = ext[1];
+    if (nz == 3u) {
+        r->acf_period = z[2] - z[0];
+    }
 }
 
 /* The mismatch regression's figures into r (has_mismatch, gain_ratio,
@@ -438,19 +501,31 @@ static void mismatch(const pdt_monitor_t *m, pdt_monitor_result_t *r)
     const pdt_real_t vz = m->szz / w - mz * mz;
     const pdt_real_t vv = m->svv / w - mv * mv;
     const pdt_real_t cv = m->szv / w - mz * mv;
+    const pdt_real_t me = m->se / w;
+    const pdt_real_t ve = m->see[0] / w - me * me;
+    if (vv > PDT_R(0.0) && ve > PDT_R(0.0)) {
+        r->has_corr_ve = true;
+        r->corr_ve = (m->sve / w - mv * me) / pdt_sqrt(vv * ve);
+    }
     if (!(vz > PDT_R(1e-6) * (mz * mz + m->sp0 * m->sp0)) || !(vz > PDT_R(0.0)) ||
         !(vv > PDT_R(0.0))) {
         return;
     }
     const pdt_real_t beta = cv / vz;
     const pdt_real_t vr = vv - beta * cv;
-    /* lag-1 autocovariance of the residual v - beta z */
-    const pdt_real_t c1 = (m->svv1 / w - mv * mv) -
-                          beta * ((m->szv1 + m->svz1) / w - PDT_R(2.0) * mz * mv) +
-                          beta * beta * (m->szz1 / w - mz * mz);
-    pdt_real_t rho = vr > PDT_R(0.0) ? c1 / vr : PDT_R(0.0);
-    rho = rho > PDT_R(0.0) ? rho : PDT_R(0.0);
-    rho = rho < PDT_R(0.999) ? rho : PDT_R(0.999);
+    /* The residual r = v - beta z's autocorrelation at lag L = ORDER gives
+     * the per-sample correlation rho = rho_L^(1/L) of an AR(1) with the
+     * same memory (a lag-1 estimate would see only the measurement noise
+     * and take slow disturbances for independent samples). */
+    const pdt_real_t cL = (m->svvL / w - mv * mv) -
+                          beta * ((m->szvL + m->svzL) / w - PDT_R(2.0) * mz * mv) +
+                          beta * beta * (m->szzL / w - mz * mz);
+    const pdt_real_t rL = vr > PDT_R(0.0) ? cL / vr : PDT_R(0.0);
+    pdt_real_t rho = PDT_R(0.0);
+    if (rL > PDT_R(0.0)) {
+        rho = rL < PDT_R(1.0) ? pdt_exp(pdt_log(rL) / (pdt_real_t)PDT_MONITOR_ORDER) : PDT_R(1.0);
+    }
+    rho = rho < PDT_R(0.9999) ? rho : PDT_R(0.9999);
     const pdt_real_t neff = (w * w / m->w2) * (PDT_R(1.0) - rho) / (PDT_R(1.0) + rho);
     const pdt_real_t se2 = (vr > PDT_R(0.0) ? vr : PDT_R(0.0)) / (neff * vz);
     r->has_mismatch = true;
@@ -476,6 +551,17 @@ static void figures(const pdt_monitor_t *m, pdt_monitor_result_t *r)
         r->period = Ts * m->s_len / m->n_hp;
         r->amplitude = m->s_amp / m->n_hp;
     }
+    pdt_real_t a[PDT_MONITOR_ORDER + 1u];
+    pdt_real_t err = PDT_R(0.0);
+    uint32_t p = 0u;
+    if (c[0] > PDT_R(0.0)) {
+        p = ar_fit(c, a, &err);
+        acf_scan(c, a, p, r);
+        r->acf_period *= Ts;
+        r->oscillation = (r->acf_min < PDT_R(0.0) && r->acf_max > PDT_R(0.0))
+                             ? pdt_sqrt(-r->acf_min * r->acf_max)
+                             : PDT_R(0.0);
+    }
     const pdt_real_t mu = m->su / w;
     const pdt_real_t vu = m->suu / w - mu * mu;
     if (vu > PDT_R(0.0) && c[0] > PDT_R(0.0)) {
@@ -493,7 +579,7 @@ static void figures(const pdt_monitor_t *m, pdt_monitor_result_t *r)
         r->delay_samples = m->delay;
         if (c[0] > PDT_R(0.0)) {
             r->has_harris = true;
-            r->harris = harris_index(c, m->delay);
+            r->harris = harris_index(a, p, err, c[0], m->delay);
         }
         if (m->s_iae_ref > PDT_R(0.0)) {
             r->has_sluggish = true;
@@ -519,9 +605,12 @@ static pdt_monitor_verdict_t verdict(const pdt_monitor_t *m, const pdt_monitor_r
     if (r->has_saturation && r->saturation > c->sat_share) {
         return PDT_MONITOR_SATURATED;
     }
-    if (r->half_periods >= c->osc_min_cycles && r->regularity >= c->osc_regularity) {
-        *cause = pdt_fabs(r->corr_ue) < c->stiction_corr ? PDT_MONITOR_CAUSE_STICTION
-                                                         : PDT_MONITOR_CAUSE_TUNING;
+    if (r->oscillation >= c->osc_acf ||
+        (r->half_periods >= c->osc_min_cycles && r->regularity >= c->osc_regularity &&
+         r->acf_period > PDT_R(0.0))) {
+        const bool sticky = r->has_corr_ve ? (r->corr_ve < -c->stiction_corr_v)
+                                           : (pdt_fabs(r->corr_ue) < c->stiction_corr);
+        *cause = sticky ? PDT_MONITOR_CAUSE_STICTION : PDT_MONITOR_CAUSE_TUNING;
         return PDT_MONITOR_OSCILLATING;
     }
     const bool slow =

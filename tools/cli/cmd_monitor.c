@@ -152,8 +152,32 @@ static uint32_t decimation(const mon_args_t *a, const mon_data_t *d, const pdt_m
     return q > 1.0 ? (uint32_t)ceil(q) : 1u;
 }
 
+/* Without --model: a FOPDT identified from the record itself (output error
+ * on u -> pv, as identify does on closed-loop data); 0 when it fails or
+ * fits worse than fit_min percent. */
+static int identify_model(const mon_data_t *d, pdt_model_t *m, double *fit)
+{
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.Ts = (pdt_real_t)d->Ts;
+    cfg.seed = 1;
+    const size_t len = pdt_ident_workspace_size(&cfg, d->n);
+    void *work = len ? malloc(len) : NULL;
+    pdt_ident_t *ctx = malloc(sizeof *ctx);
+    pdt_ident_result_t r;
+    const pdt_ident_data_t data = {d->u, d->pv, d->n};
+    const pdt_status_t st =
+        work && ctx ? pdt_identify(ctx, &cfg, &data, work, len, &r) : PDT_ERR_NOMEM;
+    free(work);
+    free(ctx);
+    if (st != PDT_OK || !((double)r.fit >= 50.0)) return 0;
+    *m = r.model;
+    *fit = (double)r.fit;
+    return 1;
+}
+
 static void print_result(const pdt_monitor_result_t *r, const pdt_monitor_config_t *c,
-                         int model_given, int limits)
+                         int model_given, int limits, double fit)
 {
     char buf[2048];
     pdtcli_jbuf_t jb;
@@ -163,26 +187,42 @@ static void print_result(const pdt_monitor_result_t *r, const pdt_monitor_config
     pdtcli_jb_uint(&jb, "samples", r->samples);
     pdtcli_jb_key(&jb, "Ts", (double)c->Ts * c->decimation);
     pdtcli_jb_uint(&jb, "decimation", c->decimation);
+    pdtcli_jb_key(&jb, "oscillation", (double)r->oscillation);
+    pdtcli_jb_key(&jb, "acf_min", (double)r->acf_min);
+    pdtcli_jb_key(&jb, "acf_max", (double)r->acf_max);
+    pdtcli_jb_key(&jb, "period", r->acf_period > 0 ? (double)r->acf_period : (double)NAN);
     pdtcli_jb_key(&jb, "regularity", (double)r->regularity);
     pdtcli_jb_key(&jb, "half_periods", (double)r->half_periods);
-    pdtcli_jb_key(&jb, "period", r->period > 0 ? (double)r->period : (double)NAN);
+    pdtcli_jb_key(&jb, "half_period_mean", r->period > 0 ? (double)r->period / 2 : (double)NAN);
     pdtcli_jb_key(&jb, "amplitude", r->period > 0 ? (double)r->amplitude : (double)NAN);
     pdtcli_jb_key(&jb, "corr_ue", (double)r->corr_ue);
+    pdtcli_jb_key(&jb, "corr_ve", r->has_corr_ve ? (double)r->corr_ve : (double)NAN);
     pdtcli_jb_key(&jb, "idle_index", (double)r->idle_index);
     pdtcli_jb_key(&jb, "std_e", (double)r->std_e);
     pdtcli_jb_key(&jb, "saturation", r->has_saturation ? (double)r->saturation : (double)NAN);
     pdtcli_jb_key(&jb, "u_min", limits ? (double)c->u_min : (double)NAN);
     pdtcli_jb_key(&jb, "u_max", limits ? (double)c->u_max : (double)NAN);
     pdtcli_jb_key(&jb, "harris", r->has_harris ? (double)r->harris : (double)NAN);
-    pdtcli_jb_key(&jb, "delay_samples", model_given ? (double)r->delay_samples : (double)NAN);
+    pdtcli_jb_key(&jb, "delay_samples", c->has_model ? (double)r->delay_samples : (double)NAN);
     pdtcli_jb_key(&jb, "iae_ratio", r->has_sluggish ? (double)r->iae_ratio : (double)NAN);
     pdtcli_jb_key(&jb, "gain_ratio", r->has_mismatch ? (double)r->gain_ratio : (double)NAN);
     pdtcli_jb_key(&jb, "mismatch_t", r->has_mismatch ? (double)r->mismatch_t : (double)NAN);
-    pdtcli_jb_str(&jb, "model", model_given ? "given" : "none");
+    pdtcli_jb_str(&jb, "model", model_given == 1 ? "given" : model_given ? "identified" : "none");
+    if (c->has_model) {
+        pdtcli_jb_raw(&jb, ",\"process\":");
+        pdtcli_jb_model(&jb, &c->model, NULL);
+        pdtcli_jb_key(&jb, "fit", fit);
+        pdtcli_jb_raw(&jb, "}");
+    }
     if (!model_given)
         pdtcli_jb_str(&jb, "note",
-                      "no --model: harris, iae_ratio, gain_ratio are null; sluggishness by the "
-                      "idle index");
+                      "no --model and none could be identified from the record: harris, "
+                      "iae_ratio, gain_ratio are null; sluggishness by the idle index");
+    else if (model_given == 2)
+        pdtcli_jb_str(&jb, "note",
+                      "no --model: the model was identified from this record, so it cannot "
+                      "show a change of the process (gain_ratio compares the record with "
+                      "itself)");
     else if (!r->has_mismatch)
         pdtcli_jb_str(&jb, "note", "the set-point does not move: the model is not tested");
     pdtcli_jb_raw(&jb, "}");
@@ -201,14 +241,15 @@ int cmd_monitor(int argc, char **argv)
     if (a.model) pdtcli_model_from_json("monitor", a.model, &m, &fit);
     mon_data_t d;
     read_data(&a, &d);
+    const int given = a.model ? 1 : identify_model(&d, &m, &fit) ? 2 : 0;
     pdt_monitor_config_t c;
     pdt_monitor_config_default(&c);
     c.Ts = (pdt_real_t)d.Ts;
     c.horizon = (uint32_t)a.horizon;
-    c.decimation = decimation(&a, &d, a.model ? &m : NULL);
+    c.decimation = decimation(&a, &d, given ? &m : NULL);
     if (a.have_min_samples) c.min_samples = (uint32_t)a.min_samples;
-    c.has_model = a.model != NULL;
-    if (a.model) c.model = m;
+    c.has_model = given != 0;
+    if (given) c.model = m;
     const int limits = output_limits(&a, &d, &c);
     pdt_monitor_t mon;
     pdt_status_t st = pdt_monitor_init(&mon, &c);
@@ -222,7 +263,7 @@ int cmd_monitor(int argc, char **argv)
         cli_fail(EXIT_USAGE, "monitor: data row %zu: %s", done + 1u, pdt_status_str(st));
     pdt_monitor_result_t r;
     if (pdt_monitor_result(&mon, &r) != PDT_OK) cli_fail(EXIT_REFUSED, "monitor: no result");
-    print_result(&r, &c, a.model != NULL, limits);
+    print_result(&r, &c, given, limits, fit);
     free(d.sp);
     free(d.pv);
     free(d.u);

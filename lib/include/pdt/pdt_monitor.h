@@ -54,8 +54,11 @@ extern "C" {
 #if (PDT_MONITOR_ORDER < 4u) || (PDT_MONITOR_ORDER > 64u)
 #error "PDT_MONITOR_ORDER must be in 4..64"
 #endif
+/* Lags of the error's autocorrelation scanned for an oscillation (beyond
+ * PDT_MONITOR_ORDER, the AR model's continuation). */
+#define PDT_MONITOR_ACF_LAGS (16u * PDT_MONITOR_ORDER)
 /* Length of the input histories the model simulations keep. */
-#define PDT_MONITOR_RING (PDT_MONITOR_ORDER + 3u)
+#define PDT_MONITOR_RING     (PDT_MONITOR_ORDER + 3u)
 
 typedef enum pdt_monitor_verdict {
     PDT_MONITOR_NOT_ENOUGH_DATA = 0, /* fewer than min_samples samples */
@@ -89,22 +92,28 @@ typedef struct pdt_monitor_config {
     pdt_real_t sat_band;  /* "at a limit": within this fraction of
                            * u_max - u_min, in [0, 0.5). Default 0.005 */
     /* Thresholds (docs/monitor.md says why these values). */
-    pdt_real_t osc_regularity; /* share of regular half-period pairs, (0, 1].
-                                * Default 0.5 */
-    pdt_real_t osc_min_cycles; /* weighted half-periods needed, >= 2.
+    pdt_real_t osc_acf;         /* oscillation index (the error's
+                                * autocorrelation), (0, 1]. Default 0.14 */
+    pdt_real_t osc_regularity;  /* share of regular half-period pairs, (0, 1].
+                                * Default 0.32; counted only when the
+                                * autocorrelation crosses zero 3 times */
+    pdt_real_t osc_min_cycles;  /* weighted half-periods needed, >= 2.
                                 * Default 10 */
-    pdt_real_t stiction_corr;  /* |corr(u, e)| below this names stiction,
-                                * [0, 1]. Default 0.35 */
-    pdt_real_t sluggish_ratio; /* IAE over the reference loop's, > 1.
+    pdt_real_t stiction_corr;   /* no model: |corr(u, e)| below this names
+                                * stiction, [0, 1]. Default 0.35 */
+    pdt_real_t stiction_corr_v; /* with a model: corr(v, e) below minus this
+                                 * names stiction (v = pv - model output),
+                                 * [0, 1]. Default 0.2 */
+    pdt_real_t sluggish_ratio;  /* IAE over the reference loop's, > 1.
                                 * Default 2 */
-    pdt_real_t idle_max;       /* idle index above this is sluggish (no
+    pdt_real_t idle_max;        /* idle index above this is sluggish (no
                                 * model), (0, 1]. Default 0.4 */
-    pdt_real_t sat_share;      /* share of scans at a limit, (0, 1].
+    pdt_real_t sat_share;       /* share of scans at a limit, (0, 1].
                                 * Default 0.1 */
-    pdt_real_t mismatch_gain;  /* |process gain / model gain - 1| the set-
+    pdt_real_t mismatch_gain;   /* |process gain / model gain - 1| the set-
                                 * point moves must show, > 0. Default 0.25 */
-    pdt_real_t mismatch_t;     /* t statistic of that regression, > 0.
-                                * Default 4 */
+    pdt_real_t mismatch_t;      /* t statistic of that regression, > 0.
+                                * Default 3.8 */
 } pdt_monitor_config_t;
 
 /* The verdict and the figures behind it (pdt_monitor_result). A figure
@@ -116,11 +125,17 @@ typedef struct pdt_monitor_result {
     uint32_t samples;          /* samples seen (capped at UINT32_MAX) */
     pdt_real_t weight;         /* their weight in the statistics (<= samples) */
     /* oscillation */
+    pdt_real_t oscillation;  /* sqrt(-acf_min acf_max), [0, 1] */
+    pdt_real_t acf_min;      /* the autocorrelation's first minimum (< 0) */
+    pdt_real_t acf_max;      /* and the maximum after it (> 0) */
+    pdt_real_t acf_period;   /* its period, s (0: fewer than 3 crossings) */
     pdt_real_t regularity;   /* share of regular half-period pairs, [0, 1] */
     pdt_real_t half_periods; /* weighted count of half-periods */
     pdt_real_t period;       /* mean oscillation period, s (0: none) */
     pdt_real_t amplitude;    /* mean amplitude of e, pv units (0: none) */
     pdt_real_t corr_ue;      /* corr(u, e) at lag 0, [-1, 1] */
+    bool has_corr_ve;        /* a model gave v */
+    pdt_real_t corr_ve;      /* corr(pv - model output, e), [-1, 1] */
     /* sluggishness */
     pdt_real_t idle_index; /* Hagglund's idle index, [-1, 1] */
     bool has_sluggish;     /* the model's reference loop ran */
@@ -181,9 +196,10 @@ typedef struct pdt_monitor {
     pdt_pid_t ref;           /* the reference loop's PI */
     pdt_real_t s_iae, s_iae_ref;
     /* mismatch: v = pv - pv0 - ym regressed on z = sp - sp0 */
-    pdt_real_t sz, szz, sv, svv, szv;
-    pdt_real_t szz1, svv1, szv1, svz1; /* lag-1 products */
-    pdt_real_t last_z, last_v;
+    pdt_real_t sz, szz, sv, svv, szv, sve;
+    pdt_real_t szzL, svvL, szvL, svzL;    /* products at lag PDT_MONITOR_ORDER */
+    pdt_real_t z_ring[PDT_MONITOR_ORDER]; /* z and v, at e_ring's positions */
+    pdt_real_t v_ring[PDT_MONITOR_ORDER];
 } pdt_monitor_t;
 
 /* Fills cfg with the documented defaults. Does nothing for NULL. */
