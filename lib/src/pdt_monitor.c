@@ -51,7 +51,7 @@ void pdt_monitor_config_default(pdt_monitor_config_t *cfg)
     cfg->osc_regularity = PDT_R(0.32);
     cfg->osc_min_cycles = PDT_R(10.0);
     cfg->stiction_corr = PDT_R(0.35);
-    cfg->stiction_corr_v = PDT_R(0.2);
+    cfg->stiction_corr_v = PDT_R(0.12);
     cfg->sluggish_ratio = PDT_R(2.0);
     cfg->idle_max = PDT_R(0.4);
     cfg->sat_share = PDT_R(0.1);
@@ -245,7 +245,6 @@ static void model_step(pdt_monitor_t *m, pdt_real_t sp, pdt_real_t pv, pdt_real_
     m->sv = l * m->sv + v;
     m->svv = l * m->svv + v * v;
     m->szv = l * m->szv + z * v;
-    m->sve = l * m->sve + v * e;
     m->sve = l * m->sve + v * e;
     /* The slot of this sample still holds sample k - ORDER. */
     const uint32_t at = m->e_at;

@@ -103,7 +103,7 @@ typedef struct pdt_monitor_config {
                                 * stiction, [0, 1]. Default 0.35 */
     pdt_real_t stiction_corr_v; /* with a model: corr(v, e) below minus this
                                  * names stiction (v = pv - model output),
-                                 * [0, 1]. Default 0.2 */
+                                 * [0, 1]. Default 0.12 */
     pdt_real_t sluggish_ratio;  /* IAE over the reference loop's, > 1.
                                 * Default 2 */
     pdt_real_t idle_max;        /* idle index above this is sluggish (no
