@@ -111,10 +111,10 @@ def _wcov(w, x, y):
     return _wmean(w, x * y) - _wmean(w, x) * _wmean(w, y)
 
 
-def _model_parts(m, Ts, sp, pv, u):
+def _model_parts(m, Ts, sp, pv, u, u_lim):
     """The model's output from u - u0, and the reference loop (SIMC PI on
     the model, tau_c = its dead time) driven by sp and pv - G (u - u_ref):
-    (v, e_ref)."""
+    (v, e_ref). The reference PI has the output's limits when given."""
     d = discrete.zoh(m, Ts)
     ym = discrete.simulate(d, u - u[0])
     status, res = tune.compute(m, tune.SIMC, tune.PI, ms_max=0.0)
@@ -122,7 +122,8 @@ def _model_parts(m, Ts, sp, pv, u):
         status, res = tune.compute(m, tune.SIMC, tune.PI, knob=Ts, ms_max=0.0)
     g = res["ideal"]
     ctrl = pid.Pid(pid.config(Ts=Ts, Kc=g["Kc"], Ti=g["tauI"], Td=0.0, Tf=0.0, N=0.0,
-                              u_min=-1e30, u_max=1e30), 0.0)
+                              u_min=u_lim[0] if u_lim else -1e30,
+                              u_max=u_lim[1] if u_lim else 1e30), 0.0)
     n = len(u)
     du = np.zeros(n + d.delay + 3)   # u_ref - u, after delay + 3 zeros of rest
     yd = np.zeros(n)                 # G (u_ref - u)
@@ -145,10 +146,13 @@ def _model_parts(m, Ts, sp, pv, u):
     return (pv - pv[0]) - ym, e_ref
 
 
-def mismatch(z, v, w):
+def mismatch(z, v, w, sp0):
     """(gain ratio, |t|) of v regressed on z, the t test's memory from the
-    residual's autocorrelation at lag ORDER."""
+    residual's autocorrelation at lag ORDER; (None, None) when the
+    set-point (z + sp0) does not move."""
     vz, vv, cv = _wcov(w, z, z), _wcov(w, v, v), _wcov(w, z, v)
+    if not (vz > 1e-6 * (_wmean(w, z) ** 2 + sp0 * sp0) and vz > 0 and vv > 0):
+        return None, None
     beta = cv / vz
     r = v - beta * z
     W = w.sum()
@@ -185,8 +189,8 @@ def monitor(sp, pv, u, Ts, model=None, horizon=0, u_lim=None, sat_band=0.005):
         l, _ = discrete.split_delay(model.Td, Ts)
         out["delay_samples"] = l + 1
         out["harris"] = harris(c, l + 1)
-        v, e_ref = _model_parts(model, Ts, sp, pv, u)
+        v, e_ref = _model_parts(model, Ts, sp, pv, u, u_lim)
         out["iae_ratio"] = (w @ np.abs(e)) / (w @ np.abs(e_ref))
         out["corr_ve"] = _wcov(w, v, e) / math.sqrt(_wcov(w, v, v) * c[0])
-        out["gain_ratio"], out["mismatch_t"] = mismatch(sp - sp[0], v, w)
+        out["gain_ratio"], out["mismatch_t"] = mismatch(sp - sp[0], v, w, sp[0])
     return out
