@@ -48,8 +48,6 @@ void pdt_monitor_config_default(pdt_monitor_config_t *cfg)
     cfg->u_max = PDT_R(0.0);
     cfg->sat_band = PDT_R(0.005);
     cfg->osc_acf = PDT_R(0.14);
-    cfg->osc_regularity = PDT_R(0.32);
-    cfg->osc_min_cycles = PDT_R(10.0);
     cfg->stiction_corr = PDT_R(0.35);
     cfg->stiction_corr_v = PDT_R(0.12);
     cfg->sluggish_ratio = PDT_R(2.0);
@@ -70,8 +68,7 @@ static bool config_ok(const pdt_monitor_config_t *c)
         pdt_finite(c->Ts) && c->Ts > PDT_R(0.0) && c->decimation >= 1u && c->min_samples >= 16u;
     ok = ok && pdt_finite(c->u_min) && pdt_finite(c->u_max) && c->u_min <= c->u_max;
     ok = ok && pdt_finite(c->sat_band) && c->sat_band >= PDT_R(0.0) && c->sat_band < PDT_R(0.5);
-    ok = ok && in_open01(c->osc_acf) && in_open01(c->osc_regularity) &&
-         pdt_finite(c->osc_min_cycles) && c->osc_min_cycles >= PDT_R(2.0);
+    ok = ok && in_open01(c->osc_acf);
     ok = ok && pdt_finite(c->stiction_corr) && c->stiction_corr >= PDT_R(0.0) &&
          c->stiction_corr <= PDT_R(1.0) && pdt_finite(c->stiction_corr_v) &&
          c->stiction_corr_v >= PDT_R(0.0) && c->stiction_corr_v <= PDT_R(1.0);
@@ -604,9 +601,7 @@ static pdt_monitor_verdict_t verdict(const pdt_monitor_t *m, const pdt_monitor_r
     if (r->has_saturation && r->saturation > c->sat_share) {
         return PDT_MONITOR_SATURATED;
     }
-    if (r->oscillation >= c->osc_acf ||
-        (r->half_periods >= c->osc_min_cycles && r->regularity >= c->osc_regularity &&
-         r->acf_period > PDT_R(0.0))) {
+    if (r->oscillation >= c->osc_acf) {
         const bool sticky = r->has_corr_ve ? (r->corr_ve < -c->stiction_corr_v)
                                            : (pdt_fabs(r->corr_ue) < c->stiction_corr);
         *cause = sticky ? PDT_MONITOR_CAUSE_STICTION : PDT_MONITOR_CAUSE_TUNING;

@@ -94,11 +94,6 @@ typedef struct pdt_monitor_config {
     /* Thresholds (docs/monitor.md says why these values). */
     pdt_real_t osc_acf;         /* oscillation index (the error's
                                 * autocorrelation), (0, 1]. Default 0.14 */
-    pdt_real_t osc_regularity;  /* share of regular half-period pairs, (0, 1].
-                                * Default 0.32; counted only when the
-                                * autocorrelation crosses zero 3 times */
-    pdt_real_t osc_min_cycles;  /* weighted half-periods needed, >= 2.
-                                * Default 10 */
     pdt_real_t stiction_corr;   /* no model: |corr(u, e)| below this names
                                 * stiction, [0, 1]. Default 0.35 */
     pdt_real_t stiction_corr_v; /* with a model: corr(v, e) below minus this
