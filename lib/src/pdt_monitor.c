@@ -166,7 +166,13 @@ static void oscillation_step(pdt_monitor_t *m, pdt_real_t ec, pdt_real_t band)
     m->s_len *= l;
     m->s_amp *= l;
     if (m->sign == 0) {
-        m->sign = ec > band ? 1 : (ec < -band ? -1 : 0);
+        if (ec > band) {
+            m->sign = 1;
+        } else if (ec < -band) {
+            m->sign = -1;
+        } else {
+            /* still inside the band */
+        }
         return;
     }
     const bool crossed = (m->sign > 0 && ec < -band) || (m->sign < 0 && ec > band);
@@ -469,7 +475,7 @@ static void acf_scan(const pdt_real_t *c, const pdt_real_t *a, uint32_t p, pdt_m
             ring[PDT_MONITOR_ORDER] = x;
         }
         if ((prev > PDT_R(0.0)) != (x > PDT_R(0.0))) {
-            z[nz] = (pdt_real_t)(j - 1u) + prev / (prev - x);
+            z[nz] = (pdt_real_t)j - PDT_R(1.0) + prev / (prev - x);
             nz++;
         }
         if (nz == 1u && x < ext[0]) {

@@ -132,6 +132,32 @@ def margins(res):
     return top
 
 
+def count_work():
+    """Instructions (x86-64, callgrind, inclusive) of pdt_monitor_scan per
+    scan at decimation 1 and 10, of pdt_monitor_result and _init, from
+    tools/bench/monitor_count.c built -O2 with the library (float)."""
+    src = sorted(str(p) for p in (ROOT / "lib" / "src").glob("*.c"))
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        exe = pathlib.Path(tmp) / "mc"
+        subprocess.run(["cc", "-O2", "-std=c99", f"-I{ROOT}/lib/include", f"-I{ROOT}/lib/src",
+                        *src, str(pathlib.Path(__file__).with_name("monitor_count.c")), "-lm",
+                        "-o", str(exe)], check=True)
+        for dec in (1, 10):
+            cg = pathlib.Path(tmp) / f"cg{dec}"
+            subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={cg}",
+                            str(exe), str(dec)], check=True, capture_output=True)
+            ann = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100",
+                                  str(cg)], check=True, capture_output=True, text=True).stdout
+            for name in ("pdt_monitor_scan", "pdt_monitor_result", "pdt_monitor_init"):
+                for line in ann.splitlines():
+                    if line.rstrip().split(":")[-1].startswith(name + " "):
+                        out[(name, dec)] = int(line.split()[0].replace(",", ""))
+    return {"scan1": out[("pdt_monitor_scan", 1)] / 4000,
+            "scan10": out[("pdt_monitor_scan", 10)] / 4000,
+            "result": out[("pdt_monitor_result", 1)], "init": out[("pdt_monitor_init", 1)]}
+
+
 def commit():
     run = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                          capture_output=True, text=True)
@@ -142,7 +168,11 @@ def render(res, args):
     n_model = false_alarms(res, "model")
     n_none = false_alarms(res, "none")
     top = margins(res)
+    work = count_work()
     values = {
+        "scan1": f"{work['scan1']:.0f}", "scan10": f"{work['scan10']:.0f}",
+        "result": f"{work['result']:,}".replace(",", " "),
+        "init": f"{work['init']:,}".replace(",", " "),
         "commit": commit(), "machine": f"{platform.machine()}, {platform.system()} "
         f"{platform.release()}, Python {platform.python_version()}",
         "seeds": args.seeds, "false_seeds": args.false, "plants": len(loop.PLANTS),
