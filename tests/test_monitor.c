@@ -109,8 +109,10 @@ static void test_scan_refuses(void **state)
 }
 
 /* A loop of pdt_pid (gains Kc, Ti) around the process (model m, gain times
- * gain_factor) read with noise, the set-point a square wave of period
- * 300 scans, the output within [u_lo, u_hi]; n scans into the monitor. */
+ * gain_factor) read with noise, the set-point stepping between two levels
+ * at irregular times (a periodic set-point makes the error periodic: an
+ * oscillation the monitor cannot tell from the loop's own), the output
+ * within [u_lo, u_hi]; n scans into the monitor. */
 typedef struct loop_case {
     double Kc, Ti, gain_factor, u_lo, u_hi, sp_amp;
     size_t n;
@@ -134,7 +136,13 @@ static pdt_monitor_result_t run_loop(const loop_case_t *lc, pdt_monitor_config_t
     pdt_monitor_t mon;
     assert_int_equal(pdt_monitor_init(&mon, c), PDT_OK);
     for (size_t k = 0; k < lc->n; k++) {
-        const pdt_real_t sp = R(20.0) + (((k / 150u) % 2u) ? (pdt_real_t)lc->sp_amp : R(0.0));
+        static const size_t steps[] = {150u,  380u,  520u,  800u,  1010u, 1300u, 1420u,
+                                       1700u, 1950u, 2200u, 2330u, 2600u, 2870u};
+        size_t level = 0u;
+        for (size_t i = 0; i < sizeof steps / sizeof steps[0]; i++) {
+            level += k >= steps[i] ? 1u : 0u;
+        }
+        const pdt_real_t sp = R(20.0) + ((level % 2u) ? (pdt_real_t)lc->sp_amp : R(0.0));
         const pdt_real_t pv = sim_process_pv(&proc);
         pdt_real_t u;
         assert_int_equal(pdt_pid_update(&pid, sp, pv, &u), PDT_OK);
@@ -199,11 +207,12 @@ static void test_saturated(void **state)
     pdt_monitor_config_t c = base_config();
     c.u_min = R(0.0);
     c.u_max = R(51.0);
-    /* the upper set-point needs u = 53: held at 51 half the time */
+    /* the upper set-point needs u = 53: held at 51 while it lasts (1730 of
+     * the 3000 scans) */
     const loop_case_t lc = {2.5, 10.0, 1.0, 0.0, 51.0, 3.0, 3000u};
     const pdt_monitor_result_t r = run_loop(&lc, &c);
     assert_int_equal(r.verdict, PDT_MONITOR_SATURATED);
-    assert_true(r.has_saturation && r.saturation > R(0.3) && r.saturation < R(0.55));
+    assert_true(r.has_saturation && r.saturation > R(0.55) && r.saturation < R(0.6));
 }
 
 static void test_not_enough_data(void **state)

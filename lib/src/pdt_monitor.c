@@ -143,8 +143,10 @@ pdt_status_t pdt_monitor_init(pdt_monitor_t *mon, const pdt_monitor_config_t *cf
     mon->cfg = *cfg;
     mon->lambda = PDT_R(1.0);
     mon->lambda_s = PDT_R(1.0);
+    mon->lambda_c = PDT_R(1.0);
     if (cfg->horizon > 0u) {
         mon->lambda = pdt_exp(PDT_R(-1.0) / (pdt_real_t)cfg->horizon);
+        mon->lambda_c = pdt_exp(-(pdt_real_t)PDT_MONITOR_COARSE / (pdt_real_t)cfg->horizon);
         mon->lambda_s =
             pdt_exp(PDT_R(-1.0) / ((pdt_real_t)cfg->horizon * (pdt_real_t)cfg->decimation));
     }
@@ -250,7 +252,7 @@ static void model_step(pdt_monitor_t *m, pdt_real_t sp, pdt_real_t pv, pdt_real_
     m->szv = l * m->szv + z * v;
     m->sve = l * m->sve + v * e;
     /* The slot of this sample still holds sample k - ORDER. */
-    const uint32_t at = m->e_at;
+    const uint32_t at = m->el.at;
     m->szzL = l * m->szzL;
     m->svvL = l * m->svvL;
     m->szvL = l * m->szvL;
@@ -286,6 +288,31 @@ static void idle_step(pdt_monitor_t *m, pdt_real_t du, pdt_real_t dpv)
     m->lp_pv = pv_new;
 }
 
+/* x into the lagged products with forgetting l. The ring holds the last
+ * PDT_MONITOR_ORDER values: x(k - ORDER) is the entry this one replaces. */
+static void lags_push(pdt_monitor_lags_t *g, pdt_real_t x, pdt_real_t l)
+{
+    if (g->n < UINT32_MAX) {
+        g->n++;
+    }
+    g->w = l * g->w + PDT_R(1.0);
+    g->s = l * g->s + x;
+    const uint32_t next = (g->at + 1u) % PDT_MONITOR_ORDER;
+    const pdt_real_t oldest = g->ring[next];
+    g->ring[next] = x;
+    g->at = next;
+    for (uint32_t j = 0u; j <= PDT_MONITOR_ORDER; j++) {
+        g->ss[j] *= l;
+        if (j < g->n) {
+            const pdt_real_t old =
+                (j == PDT_MONITOR_ORDER)
+                    ? oldest
+                    : g->ring[(g->at + PDT_MONITOR_ORDER - j) % PDT_MONITOR_ORDER];
+            g->ss[j] += x * old;
+        }
+    }
+}
+
 /* One sample (block averages). */
 static void sample(pdt_monitor_t *m, pdt_real_t sp, pdt_real_t pv, pdt_real_t u)
 {
@@ -301,31 +328,28 @@ static void sample(pdt_monitor_t *m, pdt_real_t sp, pdt_real_t pv, pdt_real_t u)
     m->w = l * m->w + PDT_R(1.0);
     m->w2 = l * l * m->w2 + PDT_R(1.0);
     const pdt_real_t e = sp - pv;
-    m->se = l * m->se + e;
-    /* The ring holds the last PDT_MONITOR_ORDER errors: e(k - ORDER) is
-     * the entry this one replaces. */
-    const uint32_t next = (m->e_at + 1u) % PDT_MONITOR_ORDER;
-    const pdt_real_t oldest = m->e_ring[next];
-    m->e_ring[next] = e;
-    m->e_at = next;
-    for (uint32_t j = 0u; j <= PDT_MONITOR_ORDER; j++) {
-        m->see[j] *= l;
-        if (j < m->n) {
-            const pdt_real_t old =
-                (j == PDT_MONITOR_ORDER)
-                    ? oldest
-                    : m->e_ring[(m->e_at + PDT_MONITOR_ORDER - j) % PDT_MONITOR_ORDER];
-            m->see[j] += e * old;
-        }
+    lags_push(&m->el, e, l);
+    m->ec_sum += e;
+    m->ec_cnt++;
+    if (m->ec_cnt == PDT_MONITOR_COARSE) {
+        lags_push(&m->ec, m->ec_sum / (pdt_real_t)PDT_MONITOR_COARSE, m->lambda_c);
+        m->ec_sum = PDT_R(0.0);
+        m->ec_cnt = 0u;
     }
     const pdt_real_t du = u - m->u0;
     m->su = l * m->su + du;
     m->suu = l * m->suu + du * du;
     m->sue = l * m->sue + du * e;
-    const pdt_real_t mean = m->se / m->w;
-    const pdt_real_t var = m->see[0] / m->w - mean * mean;
+    const pdt_real_t mean = m->el.s / m->el.w;
+    const pdt_real_t var = m->el.ss[0] / m->el.w - mean * mean;
     const pdt_real_t band = var > PDT_R(0.0) ? MON_BAND * pdt_sqrt(var) : PDT_R(0.0);
     oscillation_step(m, e - mean, band);
+    m->sp_moves *= l;
+    if (m->n > 1u &&
+        pdt_fabs(sp - m->sp_last) > PDT_R(0.5) * pdt_sqrt(var > PDT_R(0.0) ? var : PDT_R(0.0))) {
+        m->sp_moves += PDT_R(1.0);
+    }
+    m->sp_last = sp;
     if (m->n == 1u) {
         m->lp_u = du;
         m->lp_pv = pv - m->pv0;
@@ -449,7 +473,11 @@ static pdt_real_t harris_index(const pdt_real_t *a, uint32_t p, pdt_real_t err, 
  * (up to PDT_MONITOR_ACF_LAGS): the extreme between the first two (m1 < 0)
  * and between the second and third (m2 > 0), and the period (the lags
  * between the first and third crossing, interpolated). */
-static void acf_scan(const pdt_real_t *c, const pdt_real_t *a, uint32_t p, pdt_monitor_result_t *r)
+typedef struct acf_figures {
+    pdt_real_t min, max, period, index; /* period in lags, 0: none */
+} acf_figures_t;
+
+static void acf_scan(const pdt_real_t *c, const pdt_real_t *a, uint32_t p, acf_figures_t *r)
 {
     pdt_real_t ring[PDT_MONITOR_ORDER + 1u]; /* rho(j - ORDER .. j - 1) */
     pdt_real_t z[3] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
@@ -486,11 +514,11 @@ static void acf_scan(const pdt_real_t *c, const pdt_real_t *a, uint32_t p, pdt_m
         }
         prev = x;
     }
-    r->acf_min = ext[0];
-    r->acf_max = ext[1];
-    if (nz == 3u) {
-        r->acf_period = z[2] - z[0];
-    }
+    r->min = ext[0];
+    r->max = ext[1];
+    r->period = (nz == 3u) ? (z[2] - z[0]) : PDT_R(0.0);
+    r->index =
+        (ext[0] < PDT_R(0.0) && ext[1] > PDT_R(0.0)) ? pdt_sqrt(-ext[0] * ext[1]) : PDT_R(0.0);
 }
 
 /* The mismatch regression's figures into r (has_mismatch, gain_ratio,
@@ -503,8 +531,8 @@ static void mismatch(const pdt_monitor_t *m, pdt_monitor_result_t *r)
     const pdt_real_t vz = m->szz / w - mz * mz;
     const pdt_real_t vv = m->svv / w - mv * mv;
     const pdt_real_t cv = m->szv / w - mz * mv;
-    const pdt_real_t me = m->se / w;
-    const pdt_real_t ve = m->see[0] / w - me * me;
+    const pdt_real_t me = m->el.s / w;
+    const pdt_real_t ve = m->el.ss[0] / w - me * me;
     if (vv > PDT_R(0.0) && ve > PDT_R(0.0)) {
         r->has_corr_ve = true;
         r->corr_ve = (m->sve / w - mv * me) / pdt_sqrt(vv * ve);
@@ -536,38 +564,69 @@ static void mismatch(const pdt_monitor_t *m, pdt_monitor_result_t *r)
     r->gain_ratio = beta < PDT_R(0.9) ? PDT_R(1.0) / (PDT_R(1.0) - beta) : PDT_R(10.0);
 }
 
+/* The autocovariances c[0..ORDER] of g's signal; false when its variance
+ * is not positive. */
+static bool autocov(const pdt_monitor_lags_t *g, pdt_real_t *c)
+{
+    const pdt_real_t mean = g->s / g->w;
+    for (uint32_t j = 0u; j <= PDT_MONITOR_ORDER; j++) {
+        c[j] = g->ss[j] / g->w - mean * mean;
+    }
+    return c[0] > PDT_R(0.0);
+}
+
 /* The figures of the statistics (all but the verdict). */
 static void figures(const pdt_monitor_t *m, pdt_monitor_result_t *r)
 {
     const pdt_real_t w = m->w;
-    const pdt_real_t mean = m->se / w;
+    const pdt_real_t mean = m->el.s / w;
     pdt_real_t c[PDT_MONITOR_ORDER + 1u];
-    for (uint32_t j = 0u; j <= PDT_MONITOR_ORDER; j++) {
-        c[j] = m->see[j] / w - mean * mean;
-    }
+    pdt_real_t a[PDT_MONITOR_ORDER + 1u];
+    pdt_real_t err = PDT_R(0.0);
+    acf_figures_t f = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    const bool moves = autocov(&m->el, c);
+    const pdt_real_t c0 = c[0];
     const pdt_real_t Ts = m->cfg.Ts * (pdt_real_t)m->cfg.decimation;
-    r->std_e = c[0] > PDT_R(0.0) ? pdt_sqrt(c[0]) : PDT_R(0.0);
+    r->std_e = moves ? pdt_sqrt(c0) : PDT_R(0.0);
     r->half_periods = m->n_hp;
     if (m->n_hp > PDT_R(0.0)) {
         r->regularity = m->n_reg / m->n_hp;
         r->period = Ts * m->s_len / m->n_hp;
         r->amplitude = m->s_amp / m->n_hp;
     }
-    pdt_real_t a[PDT_MONITOR_ORDER + 1u];
-    pdt_real_t err = PDT_R(0.0);
-    uint32_t p = 0u;
-    if (c[0] > PDT_R(0.0)) {
-        p = ar_fit(c, a, &err);
-        acf_scan(c, a, p, r);
-        r->acf_period *= Ts;
-        r->oscillation = (r->acf_min < PDT_R(0.0) && r->acf_max > PDT_R(0.0))
-                             ? pdt_sqrt(-r->acf_min * r->acf_max)
-                             : PDT_R(0.0);
+    if (moves) {
+        const uint32_t p = ar_fit(c, a, &err);
+        acf_scan(c, a, p, &f);
+        r->acf_scale = 1u;
+        if (m->cfg.has_model) {
+            r->has_harris = true;
+            r->harris = harris_index(a, p, err, c0, m->delay);
+        }
     }
+    /* The coarse error, once it has twice its lags (c and a reused). */
+    if (m->ec.n > 2u * PDT_MONITOR_ORDER && autocov(&m->ec, c)) {
+        acf_figures_t fc;
+        acf_scan(c, a, ar_fit(c, a, &err), &fc);
+        if (fc.index > f.index) {
+            f = fc;
+            f.period *= (pdt_real_t)PDT_MONITOR_COARSE;
+            r->acf_scale = PDT_MONITOR_COARSE;
+        }
+    }
+    r->oscillation = f.index;
+    r->acf_min = f.min;
+    r->acf_max = f.max;
+    r->acf_period = f.period;
+    /* An oscillation at least as slow as the set-point's steps may be
+     * their echo (alternate steps make the error alternate). */
+    r->sp_moves = m->sp_moves;
+    r->forced =
+        r->acf_period > PDT_R(0.0) && m->sp_moves > PDT_R(0.0) && r->acf_period * m->sp_moves >= w;
+    r->acf_period *= Ts;
     const pdt_real_t mu = m->su / w;
     const pdt_real_t vu = m->suu / w - mu * mu;
-    if (vu > PDT_R(0.0) && c[0] > PDT_R(0.0)) {
-        r->corr_ue = (m->sue / w - mu * mean) / pdt_sqrt(vu * c[0]);
+    if (vu > PDT_R(0.0) && moves) {
+        r->corr_ue = (m->sue / w - mu * mean) / pdt_sqrt(vu * c0);
     }
     if (m->t_pos + m->t_neg > PDT_R(0.0)) {
         r->idle_index = (m->t_pos - m->t_neg) / (m->t_pos + m->t_neg);
@@ -579,10 +638,6 @@ static void figures(const pdt_monitor_t *m, pdt_monitor_result_t *r)
     }
     if (cf->has_model) {
         r->delay_samples = m->delay;
-        if (c[0] > PDT_R(0.0)) {
-            r->has_harris = true;
-            r->harris = harris_index(a, p, err, c[0], m->delay);
-        }
         if (m->s_iae_ref > PDT_R(0.0)) {
             r->has_sluggish = true;
             r->iae_ratio = m->s_iae / m->s_iae_ref;
@@ -607,7 +662,7 @@ static pdt_monitor_verdict_t verdict(const pdt_monitor_t *m, const pdt_monitor_r
     if (r->has_saturation && r->saturation > c->sat_share) {
         return PDT_MONITOR_SATURATED;
     }
-    if (r->oscillation >= c->osc_acf) {
+    if (r->oscillation >= c->osc_acf && !r->forced) {
         const bool sticky = r->has_corr_ve ? (r->corr_ve < -c->stiction_corr_v)
                                            : (pdt_fabs(r->corr_ue) < c->stiction_corr);
         *cause = sticky ? PDT_MONITOR_CAUSE_STICTION : PDT_MONITOR_CAUSE_TUNING;

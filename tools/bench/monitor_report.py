@@ -175,7 +175,7 @@ def render(res, args):
         "init": f"{work['init']:,}".replace(",", " "),
         "commit": commit(), "machine": f"{platform.machine()}, {platform.system()} "
         f"{platform.release()}, Python {platform.python_version()}",
-        "seeds": args.seeds, "false_seeds": args.false, "plants": len(loop.PLANTS),
+        "seeds": args.seeds, "last_seed": args.seeds - 1, "false_seeds": args.false, "plants": len(loop.PLANTS),
         "plant_list": "\n".join(f"- `{p.name}`: {p.K} / "
                                 + " ".join(f"({T} s + 1)" for T in p.lags)
                                 + f" e^(-{p.Td} s), Ts = {p.Ts} s; model {json.dumps(p.model())}"

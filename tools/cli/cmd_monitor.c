@@ -191,6 +191,8 @@ static void print_result(const pdt_monitor_result_t *r, const pdt_monitor_config
     pdtcli_jb_key(&jb, "acf_min", (double)r->acf_min);
     pdtcli_jb_key(&jb, "acf_max", (double)r->acf_max);
     pdtcli_jb_key(&jb, "period", r->acf_period > 0 ? (double)r->acf_period : (double)NAN);
+    pdtcli_jb_uint(&jb, "acf_scale", r->acf_scale);
+    pdtcli_jb_printf(&jb, ",\"forced\":%s", r->forced ? "true" : "false");
     pdtcli_jb_key(&jb, "regularity", (double)r->regularity);
     pdtcli_jb_key(&jb, "half_periods", (double)r->half_periods);
     pdtcli_jb_key(&jb, "half_period_mean", r->period > 0 ? (double)r->period / 2 : (double)NAN);

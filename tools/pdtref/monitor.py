@@ -14,6 +14,7 @@ import numpy as np
 from . import discrete, pid, tune
 
 ORDER = 24
+COARSE = 8            # samples per coarse sample of the error
 ACF_LAGS = 16 * ORDER
 BAND = 0.7            # hysteresis of the zero crossings, a fraction of std(e)
 ALPHA, GAMMA = 0.5, 0.75
@@ -51,7 +52,8 @@ def harris(c, d):
 
 
 def acf_figures(c):
-    """(first minimum, the maximum after it, period in samples or 0)."""
+    """(first minimum, the maximum after it, period in samples or 0) of the
+    autocovariances c[0..ORDER], continued by their AR model."""
     a, _ = ar_model(c)
     rho = list(c / c[0])
     while len(rho) < ACF_LAGS:
@@ -67,7 +69,7 @@ def acf_figures(c):
     return min(lo, 0.0), max(hi, 0.0), (cross[2] - cross[0]) if len(cross) == 3 else 0.0
 
 
-def half_periods(e, w_all):
+def half_periods(e, w_all, sp):
     """The zero-crossing statistics (Forsman and Stattin), band moving with
     the running mean and std of e: (regularity, weighted half-periods,
     mean length of two half-periods, mean amplitude)."""
@@ -76,13 +78,14 @@ def half_periods(e, w_all):
     W = se = see = 0.0
     sign, seen, iae, length = 0, 0, 0.0, 0
     prev = []                      # (iae, length), newest last
-    n_reg = n_hp = s_len = s_amp = 0.0
+    n_reg = n_hp = s_len = s_amp = moves = 0.0
     for k in range(n):
         W, se, see = lam * W + 1, lam * se + e[k], lam * see + e[k] ** 2
         mean = se / W
         var = see / W - mean * mean
         band = BAND * math.sqrt(var) if var > 0 else 0.0
         ec = e[k] - mean
+        moves = lam * moves + (k > 0 and abs(sp[k] - sp[k - 1]) > 0.5 * math.sqrt(max(var, 0.0)))
         n_reg, n_hp, s_len, s_amp = lam * n_reg, lam * n_hp, lam * s_len, lam * s_amp
         if sign == 0:
             sign = 1 if ec > band else (-1 if ec < -band else 0)
@@ -100,7 +103,7 @@ def half_periods(e, w_all):
         iae += abs(ec)
         length += 1
     return (n_reg / n_hp if n_hp else 0.0), n_hp, (s_len / n_hp if n_hp else 0.0), \
-        (s_amp / n_hp if n_hp else 0.0)
+        (s_amp / n_hp if n_hp else 0.0), moves
 
 
 def _wmean(w, x):
@@ -175,9 +178,19 @@ def monitor(sp, pv, u, Ts, model=None, horizon=0, u_lim=None, sat_band=0.005):
     c, _ = _autocov(e, w)
     out = {"std_e": math.sqrt(c[0])}
     lo, hi, per = acf_figures(c)
+    scale = 1
+    nc = n // COARSE
+    if nc > 2 * ORDER:
+        # the coarse error: means of COARSE samples, weights lambda^COARSE
+        cc, _ = _autocov(e[:nc * COARSE].reshape(nc, COARSE).mean(axis=1),
+                         _weights(nc, horizon / COARSE if horizon else 0)[0])
+        clo, chi, cper = acf_figures(cc)
+        if -clo * chi > -lo * hi:
+            lo, hi, per, scale = clo, chi, cper * COARSE, COARSE
     out.update(acf_min=lo, acf_max=hi, period=per * Ts if per else None,
-               oscillation=math.sqrt(-lo * hi))
-    reg, nhp, slen, samp = half_periods(e, w)
+               oscillation=math.sqrt(-lo * hi), acf_scale=scale)
+    reg, nhp, slen, samp, moves = half_periods(e, w, sp)
+    out["forced"] = bool(per > 0 and moves > 0 and per * moves >= w.sum())
     out.update(regularity=reg, half_periods=nhp, half_period_mean=slen * Ts / 2 if nhp else None,
                amplitude=samp if nhp else None)
     du = u - u[0]

@@ -54,6 +54,9 @@ extern "C" {
 #if (PDT_MONITOR_ORDER < 4u) || (PDT_MONITOR_ORDER > 64u)
 #error "PDT_MONITOR_ORDER must be in 4..64"
 #endif
+/* Samples averaged into one of the coarse error, whose autocorrelation
+ * sees periods up to PDT_MONITOR_COARSE times longer. */
+#define PDT_MONITOR_COARSE   8u
 /* Lags of the error's autocorrelation scanned for an oscillation (beyond
  * PDT_MONITOR_ORDER, the AR model's continuation). */
 #define PDT_MONITOR_ACF_LAGS (16u * PDT_MONITOR_ORDER)
@@ -124,6 +127,14 @@ typedef struct pdt_monitor_result {
     pdt_real_t acf_min;      /* the autocorrelation's first minimum (< 0) */
     pdt_real_t acf_max;      /* and the maximum after it (> 0) */
     pdt_real_t acf_period;   /* its period, s (0: fewer than 3 crossings) */
+    uint32_t acf_scale;      /* samples per lag of the autocorrelation that
+                              * gave them: 1, or PDT_MONITOR_COARSE when the
+                              * coarse error's index is higher */
+    pdt_real_t sp_moves;     /* weighted count of set-point steps (moves of
+                              * more than half std(e) in one sample) */
+    bool forced;             /* the period is as long as the mean interval
+                              * between set-point steps or longer: the
+                              * set-point may drive it; not an oscillation */
     pdt_real_t regularity;   /* share of regular half-period pairs, [0, 1] */
     pdt_real_t half_periods; /* weighted count of half-periods */
     pdt_real_t period;       /* mean oscillation period, s (0: none) */
@@ -149,6 +160,17 @@ typedef struct pdt_monitor_result {
     pdt_real_t mismatch_t; /* its t statistic (|.|) */
 } pdt_monitor_result_t;
 
+/* Lagged products of one signal with forgetting (the monitor's error at
+ * two time scales). */
+typedef struct pdt_monitor_lags {
+    pdt_real_t ring[PDT_MONITOR_ORDER]; /* the last values, newest at `at` */
+    uint32_t at;
+    uint32_t n;                            /* values seen (capped) */
+    pdt_real_t w;                          /* sum of weights */
+    pdt_real_t s;                          /* sum w x */
+    pdt_real_t ss[PDT_MONITOR_ORDER + 1u]; /* sum w x(k) x(k - j) */
+} pdt_monitor_lags_t;
+
 /* The monitor. Caller-owned; fill it with pdt_monitor_init; the fields are
  * private (read the figures through pdt_monitor_result). */
 typedef struct pdt_monitor {
@@ -161,11 +183,12 @@ typedef struct pdt_monitor {
     pdt_real_t blk[3];       /* block sums of sp, pv, u */
     pdt_real_t w, w2;        /* sum of weights, of squared weights */
     pdt_real_t sp0, pv0, u0; /* the first sample: the sums are of deviations */
-    /* error statistics */
-    pdt_real_t e_ring[PDT_MONITOR_ORDER]; /* the last errors, newest at e_at */
-    uint32_t e_at;
-    pdt_real_t se;                          /* sum w e */
-    pdt_real_t see[PDT_MONITOR_ORDER + 1u]; /* sum w e(k) e(k-j) */
+    /* error statistics, per sample and per PDT_MONITOR_COARSE samples */
+    pdt_monitor_lags_t el;
+    pdt_monitor_lags_t ec;
+    pdt_real_t lambda_c; /* forgetting factor per coarse sample */
+    pdt_real_t ec_sum;   /* the coarse sample being summed */
+    uint32_t ec_cnt;
     /* oscillation: half-periods of e between band crossings */
     int32_t sign;           /* side of the band e is on (0: not yet) */
     uint32_t hp_seen;       /* half-periods completed (capped) */
@@ -173,8 +196,9 @@ typedef struct pdt_monitor {
     uint32_t hp_len;        /* its samples */
     pdt_real_t prev_iae[2]; /* the two before it, [0] the latest */
     uint32_t prev_len[2];
-    pdt_real_t n_reg, n_hp;  /* weighted regular pairs, half-periods */
-    pdt_real_t s_len, s_amp; /* weighted sums of 2 len and of amplitude */
+    pdt_real_t n_reg, n_hp;       /* weighted regular pairs, half-periods */
+    pdt_real_t s_len, s_amp;      /* weighted sums of 2 len and of amplitude */
+    pdt_real_t sp_last, sp_moves; /* set-point steps, weighted */
     /* u against e; the idle index */
     pdt_real_t su, suu, sue;
     pdt_real_t lp_u, lp_pv, t_pos, t_neg;
@@ -193,7 +217,7 @@ typedef struct pdt_monitor {
     /* mismatch: v = pv - pv0 - ym regressed on z = sp - sp0 */
     pdt_real_t sz, szz, sv, svv, szv, sve;
     pdt_real_t szzL, svvL, szvL, svzL;    /* products at lag PDT_MONITOR_ORDER */
-    pdt_real_t z_ring[PDT_MONITOR_ORDER]; /* z and v, at e_ring's positions */
+    pdt_real_t z_ring[PDT_MONITOR_ORDER]; /* z and v, at el.ring's positions */
     pdt_real_t v_ring[PDT_MONITOR_ORDER];
 } pdt_monitor_t;
 
