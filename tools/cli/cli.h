@@ -94,7 +94,14 @@ typedef struct cli_opt {
     unsigned flags;
 } cli_opt_t;
 
-typedef enum cli_cmd { CMD_ALL, CMD_IDENTIFY, CMD_REDUCE, CMD_TUNE, CMD_AUTOTUNE } cli_cmd_t;
+typedef enum cli_cmd {
+    CMD_ALL,
+    CMD_IDENTIFY,
+    CMD_REDUCE,
+    CMD_TUNE,
+    CMD_AUTOTUNE,
+    CMD_MONITOR
+} cli_cmd_t;
 
 typedef struct cli_parser {
     const char *cmd;      /* "identify", for messages */
@@ -137,5 +144,6 @@ int cmd_identify(int argc, char **argv);
 int cmd_reduce(int argc, char **argv);
 int cmd_tune(int argc, char **argv);
 int cmd_autotune_sim(int argc, char **argv);
+int cmd_monitor(int argc, char **argv);
 
 #endif /* PDTCLI_CLI_H */

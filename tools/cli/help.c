@@ -13,6 +13,7 @@ const char cli_usage[] =
     "       pdtfit tune --rule RULE [--form pi|pid] --from FILE.json|-\n"
     "       pdtfit tune --rule zn [--form pi|pid] --Ku KU --Pu PU\n"
     "       pdtfit autotune-sim --plant-gain K --plant-lags T1,... [options]\n"
+    "       pdtfit monitor [--model FILE.json] FILE.csv\n"
     "       pdtfit COMMAND --help | pdtfit --help | pdtfit --version\n";
 
 /* In paragraphs: ISO C99 compilers need only take 4095-character strings. */
@@ -297,6 +298,26 @@ static void print_section(const char *const *text, size_t n)
     }
 }
 
+static const char *const monitor_text[] = {
+    "\n"
+    "monitor: the loop-performance monitor (pdt_monitor) over one closed-loop\n"
+    "record; prints one JSON object whose \"verdict\" is ok, oscillating,\n"
+    "sluggish, model_changed, saturated or not_enough_data, with the figures.\n"
+    "  --model FILE.json     the process model, as tune --from reads it (identify's\n"
+    "                        JSON or the model's own fields). Without it the\n"
+    "                        model-based figures (harris, iae_ratio, gain_ratio)\n"
+    "                        are null and sluggishness is judged by the idle index\n"
+    "  --t, --sp, --pv, --u NAME|INDEX  the columns (default t, sp, pv or y, u)\n"
+    "  --sep, --decimal, --skip  as for identify\n"
+    "  --u-min, --u-max U    the output's limits; default: an extreme value the\n"
+    "                        output holds in at least 2 % of the rows\n"
+    "  --horizon N           memory of the statistics, samples; 0 (default): the\n"
+    "                        whole record\n"
+    "  --decimation N        rows averaged into one sample; default: the least\n"
+    "                        that puts the dead time within the monitor's order\n"
+    "  --min-samples N       samples before any verdict, >= 16 (default 400)\n",
+};
+
 #define SECTION(t) print_section(t, sizeof t / sizeof t[0])
 
 void cli_help(cli_cmd_t which)
@@ -306,6 +327,7 @@ void cli_help(cli_cmd_t which)
     if (which == CMD_ALL || which == CMD_REDUCE) SECTION(reduce_text);
     if (which == CMD_ALL || which == CMD_TUNE) SECTION(tune_text);
     if (which == CMD_ALL || which == CMD_AUTOTUNE) SECTION(autotune_text);
+    if (which == CMD_ALL || which == CMD_MONITOR) SECTION(monitor_text);
     fputs("\nOptions take their value as the next argument or after '=', once each;\n"
           "choices are case-insensitive.\n",
           stdout);

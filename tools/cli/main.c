@@ -20,10 +20,8 @@ static const struct command {
     const char *name;
     int (*run)(int argc, char **argv);
 } commands[] = {
-    {"identify", cmd_identify},
-    {"reduce", cmd_reduce},
-    {"tune", cmd_tune},
-    {"autotune-sim", cmd_autotune_sim},
+    {"identify", cmd_identify},         {"reduce", cmd_reduce},   {"tune", cmd_tune},
+    {"autotune-sim", cmd_autotune_sim}, {"monitor", cmd_monitor},
 };
 
 int main(int argc, char **argv)

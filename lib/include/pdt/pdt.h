@@ -15,6 +15,7 @@
 #include "pdt/pdt_ident.h"
 #include "pdt/pdt_ls.h"
 #include "pdt/pdt_model.h"
+#include "pdt/pdt_monitor.h"
 #include "pdt/pdt_pid.h"
 #include "pdt/pdt_record.h"
 #include "pdt/pdt_reduce.h"
