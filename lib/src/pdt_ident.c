@@ -319,7 +319,7 @@ static size_t samples_in(pdt_real_t t, pdt_real_t Ts, size_t cap)
 /* Layout of the workspace after the cost's own part, in reals. */
 static size_t own_reals(uint32_t pop, uint32_t genes, size_t n)
 {
-    return 2u * (size_t)pop * (genes + 3u) + (size_t)pop + n;
+    return 2u * (size_t)pop * ((size_t)genes + 3u) + (size_t)pop + n;
 }
 
 size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
@@ -536,7 +536,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     /* work is aligned for pdt_real_t and cost_bytes a whole number of
      * reals, so the rest of the workspace is addressed in reals. */
     pdt_real_t *p = (pdt_real_t *)work + cost_bytes / sizeof(pdt_real_t);
-    size_t P = c->cfg.population, G = c->genes;
+    size_t P = (size_t)c->cfg.population, G = (size_t)c->genes;
     c->ga.pop = p;
     p += P * G;
     c->ga.pop_cost = p;
