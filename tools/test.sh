@@ -6,7 +6,8 @@
 #      reference's own tests and the vectors' reproducibility, the Python
 #      package pdtfit (pip install .) against the pdtfit program;
 #   3. the CMocka unit tests in the float build, the double build, and the
-#      float build under AddressSanitizer + UndefinedBehaviorSanitizer;
+#      float build under AddressSanitizer + UndefinedBehaviorSanitizer with
+#      the library's own expm1/log1p (PDT_MATH_FALLBACK, avr-libc's case);
 #   4. the Cortex-M4F build of lib/ (float and double) under -Werror, a check
 #      that it references no allocator, stdio or (float build) double-precision
 #      symbol, and its size per module;
@@ -17,7 +18,10 @@
 #      pkg-config) and in Cortex-M0+/M7 firmware builds; the PlatformIO,
 #      Arduino, ESP-IDF and Zephyr manifests, and the Arduino example built;
 #   6. the target test program on the Cortex-M4F (float build) under QEMU
-#      (mps2-an386), ctest label "target".
+#      (mps2-an386), ctest label "target";
+#   6a. lib/ for the ATmega2560 (16-bit int and size_t) at -Werror, its
+#      double build refused, and the AVR target test program under simavr,
+#      ctest label "target".
 # Build trees go to build/test-*; nothing outside the checkout is written
 # except by the package installers.
 set -euo pipefail
@@ -48,6 +52,11 @@ have clang || apt_missing+=(clang)
 ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 ||
     apt_missing+=(libclang-rt-14-dev)
 have cppcheck || apt_missing+=(cppcheck)
+# --- AVR (step 6a) ---
+have avr-gcc || apt_missing+=(gcc-avr)
+[ -e /usr/lib/avr/include/avr/io.h ] || apt_missing+=(avr-libc)
+have simavr || apt_missing+=(simavr)
+# --- end AVR ---
 if ((${#apt_missing[@]})); then
     if [ "$(id -u)" = 0 ] && have apt-get; then
         apt-get update -q
@@ -105,7 +114,8 @@ build_and_test float -DPDT_PYTHON_TESTS=ON -DPython3_EXECUTABLE="$py"
 step "Python package pdtfit against the float build's program"
 PDTFIT_BIN="$out/test-float/tools/pdtfit" "$py" -m pytest -q python/tests
 build_and_test double -DPDT_REAL_DOUBLE=ON
-build_and_test sanitize -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug
+build_and_test sanitize -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug \
+    -DPDT_MATH_FALLBACK=ON
 
 step "Cortex-M4F build of lib/ (float and double), symbols, size per module"
 python3 tools/size_report.py --check
@@ -134,5 +144,20 @@ cmake -S "$root" -B "$out/test-target" -G Ninja \
     -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON >/dev/null
 cmake --build "$out/test-target" -j "$jobs"
 ctest --test-dir "$out/test-target" -L target --output-on-failure
+
+# --- AVR (step 6a; tests/target/avr, cmake/avr-atmega2560.cmake) ---
+step "ATmega2560 (16-bit int and size_t): lib/ at -Werror, double refused, target tests under simavr"
+if printf '#include "pdt/pdt.h"\n' | avr-gcc -mmcu=atmega2560 -DPDT_REAL_DOUBLE=1 \
+    -I lib/include -x c -fsyntax-only - 2>/dev/null; then
+    echo "PDT_REAL_DOUBLE=1 compiled for AVR, where double is 32 bits: it must be refused"
+    exit 1
+fi
+echo "PDT_REAL_DOUBLE=1 refused for AVR"
+cmake -S "$root" -B "$out/test-avr" -G Ninja \
+    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/avr-atmega2560.cmake" \
+    -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON >/dev/null
+cmake --build "$out/test-avr" -j "$jobs"
+ctest --test-dir "$out/test-avr" -L target --output-on-failure
+# --- end AVR ---
 
 step "all tests passed"

@@ -33,8 +33,11 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-/* Most states (lags + 2 for the pair + 1 for the integrator). */
-#define SIM_PLANT_MAX_STATES          12u
+/* Most states (lags + 2 for the pair + 1 for the integrator). A target
+ * short of RAM may define fewer (the AVR's: tests/target/avr). */
+#ifndef SIM_PLANT_MAX_STATES
+#define SIM_PLANT_MAX_STATES 12u
+#endif
 /* Length of the input history a dead time of `delay` s at scan `Ts` s
  * needs (whole scans of delay + 2). */
 #define SIM_PLANT_HIST_LEN(delay, Ts) ((size_t)((delay) / (Ts) + 1e-9) + 2u)

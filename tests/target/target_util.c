@@ -4,7 +4,7 @@
 #include <math.h>
 
 #include "pdt_port.h"
-#include "pdt_port_cm4.h"
+#include "target_stack.h"
 
 static unsigned g_run;
 static unsigned g_failed;
@@ -212,12 +212,12 @@ unsigned t_checks_failed(void)
 void t_stack_repaint(void)
 {
     (void)t_stack_max();
-    pdt_cm4_stack_paint();
+    t_port_stack_paint();
 }
 
 size_t t_stack_max(void)
 {
-    size_t used = pdt_cm4_stack_used();
+    size_t used = t_port_stack_used();
     if (used > g_stack_max) {
         g_stack_max = used;
     }
