@@ -3,8 +3,9 @@
 // task. It is the configuration the AVR target test runs under simavr
 // (tests/target/avr): a record of 50 samples at 1 s, the model order fixed
 // to a FOPDT and no validation, which is what 8 KiB hold beside the 3 KiB
-// autotune object and the 2.3 KiB of stack its scans take. The tuning's
-// scan takes about 1.4 s at 16 MHz (docs/port.md). Replace readProcess()
+// autotune object and the 1.5 KiB of stack its scans take, with room for
+// the core's own. The tuning's scan takes about 1.4 s at 16 MHz
+// (docs/port.md). Replace readProcess()
 // and writeOutput() with your sensor and actuator.
 #include <pdtfit.h>
 
