@@ -95,6 +95,9 @@ def figures(lines, elf):
     ev, cyc, work, ctx, st = grab(lines, r"n=\d+: (\d+) evaluations, (\d+) cycles .*workspace (\d+) \+ context (\d+) bytes, stack (\d+)")
     f.update(ident_evals=ev, ident_cycles=num(cyc), ident_seconds="%.1f" % (int(cyc) / HZ),
              ident_work=work, ident_ctx=ctx, ident_stack=st)
+    f["expm1_neg"], f["expm1_pos"] = grab(lines, r"pdt_math_expm1: \d+ arguments, largest error (\S+) ulps at x <= 0, (\S+)")
+    f["log1p_err"] = max(grab(lines, r"pdt_math_log1p: \d+ arguments, largest error (\S+) ulps at x <= 0, (\S+)"),
+                         key=float)
     f["pid_scenarios"], f["pid_error"] = grab(lines, r"pid: (\d+) scenarios of \d+ scans, largest error (\S+)")
     cyc, st = grab(lines, r"pid: (\d+) cycles per pdt_pid_update .*stack (\d+)")
     f.update(pid_cycles=num(cyc), pid_us="%.0f" % (int(cyc) / HZ * 1e6), pid_stack=st)

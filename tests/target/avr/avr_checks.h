@@ -69,6 +69,9 @@ typedef union avr_arena {
 
 extern avr_arena_t g_avr_arena;
 
+/* check_avr_math.c: expm1 and log1p (the library's own) against numpy. */
+int avr_check_math(void);
+
 /* check_avr_ident.c: a FOPDT of AVR_IDENT_N samples against the truth. */
 int avr_check_ident(void);
 

@@ -42,6 +42,7 @@ typedef struct avr_check {
 } avr_check_t;
 
 static const avr_check_t avr_checks[] = {
+    {"expm1 and log1p", avr_check_math},
     {"identification", avr_check_ident},
     {"pid", avr_check_pid},
     {"autotune", avr_check_autotune},
