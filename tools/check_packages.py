@@ -89,7 +89,8 @@ def config_settings():
     text = (ROOT / "lib/include/pdt/pdt_config.h").read_text()
     out = {}
     for name, val in re.findall(
-            r"#ifndef (PDT_\w+)\n(?:#if SIZE_MAX > 0xFFFFu\n)?#define \1 (\d+)u?\n", text):
+            r"#ifndef (PDT_\w+)\n(?:#if !defined\(SIZE_MAX\) \|\| \(SIZE_MAX > 0xFFFFu\)\n)?"
+            r"#define \1 (\d+)u?\n", text):
         rng = re.search(r"#if \(?%s < (\d+)\)?(?: \|\| \(%s > (\d+)\))?" % (name, name), text)
         lo = int(rng.group(1)) if rng else None
         hi = int(rng.group(2)) if rng and rng.group(2) else None

@@ -113,7 +113,7 @@ typedef struct pdt_real_align {
 /* True when p is aligned for pdt_real_t arrays. */
 static inline bool pdt_aligned(const void *p)
 {
-    return ((uintptr_t)p % PDT_REAL_ALIGN) == 0u;
+    return ((uintptr_t)p % (uintptr_t)PDT_REAL_ALIGN) == 0u;
 }
 
 /* A delay_max resolved against the record length n (PDT_DELAY_HALF,

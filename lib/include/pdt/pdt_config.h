@@ -11,7 +11,9 @@
 #define PDT_CONFIG_H
 
 /* SIZE_MAX: the limits below follow the width of size_t (16 bits on AVR
- * and MSP430, where int is 16 bits too). */
+ * and MSP430, where int is 16 bits too). A tool that reads no system
+ * header (a static analyser) sees no SIZE_MAX and gets the defaults of a
+ * 32-bit size_t. */
 #include <stdint.h>
 
 #ifdef PDT_USER_CONFIG_FILE
@@ -39,7 +41,7 @@
  * N_f is below 32 N_f bytes (at most 3.5 N_f reals of 8 bytes, plus the
  * population's few hundred), so 32 * 2^PDT_FFT_MAX_LOG2 must fit size_t. */
 #ifndef PDT_FFT_MAX_LOG2
-#if SIZE_MAX > 0xFFFFu
+#if !defined(SIZE_MAX) || (SIZE_MAX > 0xFFFFu)
 #define PDT_FFT_MAX_LOG2 16
 #else
 #define PDT_FFT_MAX_LOG2 10
@@ -48,7 +50,7 @@
 #if (PDT_FFT_MAX_LOG2 < 4) || (PDT_FFT_MAX_LOG2 > 24)
 #error "PDT_FFT_MAX_LOG2 must be between 4 and 24"
 #endif
-#if (SIZE_MAX >> (PDT_FFT_MAX_LOG2 + 5)) == 0
+#if defined(SIZE_MAX) && ((SIZE_MAX >> (PDT_FFT_MAX_LOG2 + 5)) == 0)
 #error "PDT_FFT_MAX_LOG2 too large for this size_t: 32 * 2^PDT_FFT_MAX_LOG2 bytes must fit"
 #endif
 
@@ -88,7 +90,7 @@
  * 32 bytes a sample). Default 2^20, or 1024 where size_t has 16 bits.
  * Larger capacities are refused with PDT_ERR_LENGTH. */
 #ifndef PDT_MAX_SAMPLES
-#if SIZE_MAX > 0xFFFFu
+#if !defined(SIZE_MAX) || (SIZE_MAX > 0xFFFFu)
 #define PDT_MAX_SAMPLES 1048576u
 #else
 #define PDT_MAX_SAMPLES 1024u
@@ -97,7 +99,7 @@
 #if (PDT_MAX_SAMPLES < 64) || (PDT_MAX_SAMPLES > 134217728)
 #error "PDT_MAX_SAMPLES must be between 64 and 2^27"
 #endif
-#if (PDT_MAX_SAMPLES - 1) > (SIZE_MAX >> 5)
+#if defined(SIZE_MAX) && ((PDT_MAX_SAMPLES - 1) > (SIZE_MAX >> 5))
 #error "PDT_MAX_SAMPLES too large for this size_t: 32 bytes a sample must fit"
 #endif
 
