@@ -84,10 +84,13 @@ def check_idf(ver):
 
 
 def config_settings():
-    """{name: (default, lo, hi)} of pdt_config.h's integer settings."""
+    """{name: (default, lo, hi)} of pdt_config.h's integer settings; for a
+    default that follows SIZE_MAX, the one of a 32-bit size_t (Zephyr's)."""
     text = (ROOT / "lib/include/pdt/pdt_config.h").read_text()
     out = {}
-    for name, val in re.findall(r"#ifndef (PDT_\w+)\n#define \1 (\d+)u?\n", text):
+    for name, val in re.findall(
+            r"#ifndef (PDT_\w+)\n(?:#if !defined\(SIZE_MAX\) \|\| \(SIZE_MAX > 0xFFFFu\)\n)?"
+            r"#define \1 (\d+)u?\n", text):
         rng = re.search(r"#if \(?%s < (\d+)\)?(?: \|\| \(%s > (\d+)\))?" % (name, name), text)
         lo = int(rng.group(1)) if rng else None
         hi = int(rng.group(2)) if rng and rng.group(2) else None
@@ -192,7 +195,9 @@ def check_arduino(ver, compile_it):
                         "-c", str(c), "-o", str(o)]):
                 return
             objs.append(o)
+        lib_objs = objs
         for s in sketches:
+            objs = list(lib_objs)
             cpp = obj / (s.name + ".cpp")
             cpp.write_text('#include <Arduino.h>\n#line 1 "%s"\n%s' % (s.name, s.read_text()))
             sources = [cpp, core / "main.cpp"]
@@ -208,6 +213,61 @@ def check_arduino(ver, compile_it):
                         "--specs=nosys.specs", *map(str, objs), "-lm", "-o", str(elf)]):
                 return
             print("arduino: %s compiled and linked for %s" % (s.stem, cpu))
+    check_arduino_avr(lib, sketches, out)
+
+
+# The AVR example of each sketch folder: AutotuneMega must build and run on
+# an ATmega2560 (simavr) and print gains; the others must refuse AVR with
+# their #error.
+AVR_SKETCH = "AutotuneMega"
+AVR_FLAGS = ["-mmcu=atmega2560", "-DF_CPU=16000000UL", "-Os", "-ffunction-sections",
+             "-fdata-sections"]
+
+
+def avr_objects(lib, obj):
+    objs = []
+    for c in sorted((lib / "src").glob("*.c")):
+        o = obj / (c.stem + ".o")
+        if not run(["avr-gcc", *AVR_FLAGS, "-std=gnu11", "-Wall", "-Werror", "-I", str(lib / "src"),
+                     "-c", str(c), "-o", str(o)]):
+            return None
+        objs.append(o)
+    return objs
+
+
+def check_arduino_avr(lib, sketches, out):
+    if not (shutil.which("avr-g++") and shutil.which("simavr")):
+        fail("avr-g++ or simavr not found (apt-get install gcc-avr avr-libc simavr)")
+        return
+    core = ROOT / "packaging/arduino/ci-core"
+    obj = out / "obj-atmega2560"
+    obj.mkdir(parents=True, exist_ok=True)
+    objs = avr_objects(lib, obj)
+    if objs is None:
+        return
+    for s in sketches:
+        cpp = obj / (s.name + ".cpp")
+        cpp.write_text('#include <Arduino.h>\n#line 1 "%s"\n%s' % (s.name, s.read_text()))
+        cxx = ["avr-g++", *AVR_FLAGS, "-std=gnu++11", "-fno-exceptions", "-Wall", "-Werror",
+               "-I", str(lib / "src"), "-I", str(core), "-c"]
+        r = subprocess.run([*cxx, str(cpp), "-o", str(obj / (s.stem + ".o"))],
+                           capture_output=True, text=True)
+        if s.stem != AVR_SKETCH:
+            if r.returncode == 0 or "#error" not in r.stderr:
+                fail("arduino: %s does not refuse AVR with an #error" % s.stem)
+            continue
+        elf = obj / (s.stem + ".elf")
+        if r.returncode != 0 or not run([*cxx, str(core / "main.cpp"), "-o", str(obj / "main.o")]) \
+                or not run(["avr-g++", *AVR_FLAGS, "-Wl,--gc-sections", str(obj / (s.stem + ".o")),
+                            str(obj / "main.o"), *map(str, objs), "-lm", "-o", str(elf)]):
+            fail("arduino: %s does not build for the ATmega2560\n%s" % (s.stem, r.stderr))
+            continue
+        sim = subprocess.run(["simavr", "-m", "atmega2560", "-f", "16000000", str(elf)],
+                             capture_output=True, text=True, timeout=600)
+        if "Kc = " not in sim.stdout + sim.stderr:
+            fail("arduino: %s printed no gains under simavr\n%s" % (s.stem, sim.stdout[-500:]))
+            continue
+        print("arduino: %s built for the ATmega2560 and printed its gains under simavr" % s.stem)
 
 
 def main():

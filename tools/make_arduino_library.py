@@ -18,6 +18,16 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 PKG = ROOT / "packaging" / "arduino"
 
+# The Arduino architectures library.properties declares: only those whose
+# CPU a target test runs on (tools/test.sh), each with the test. Add a row
+# when a core gets one.
+ARCHITECTURES = {
+    "avr": "ATmega2560 under simavr (tests/target/avr); parts with less than 8 KiB of RAM "
+           "run the PID only (the examples say so with #error)",
+    "mbed_nano": "Cortex-M4F (Nano 33 BLE) under QEMU (tests/target)",
+    "renesas_uno": "Cortex-M4F (UNO R4) under QEMU (tests/target)",
+}
+
 
 def version():
     text = (ROOT / "lib/include/pdt/pdt_common.h").read_text()
@@ -41,6 +51,7 @@ def make(out_dir):
     shutil.copytree(PKG / "examples", lib / "examples")
     shutil.copy2(ROOT / "LICENSE", lib / "LICENSE")
     props = (PKG / "library.properties.in").read_text().replace("@VERSION@", version())
+    props = props.replace("@ARCHITECTURES@", ",".join(ARCHITECTURES))
     (lib / "library.properties").write_text(props)
     return lib
 

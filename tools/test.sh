@@ -6,7 +6,8 @@
 #      reference's own tests and the vectors' reproducibility, the Python
 #      package pdtfit (pip install .) against the pdtfit program;
 #   3. the CMocka unit tests in the float build, the double build, and the
-#      float build under AddressSanitizer + UndefinedBehaviorSanitizer;
+#      float build under AddressSanitizer + UndefinedBehaviorSanitizer with
+#      the library's own expm1/log1p (PDT_MATH_FALLBACK, avr-libc's case);
 #   4. the Cortex-M4F build of lib/ (float and double) under -Werror, a check
 #      that it references no allocator, stdio or (float build) double-precision
 #      symbol, and its size per module;
@@ -21,6 +22,9 @@
 #      (Cortex-M0, M4F, M33, RISC-V rv32imac and rv32imafc; float build)
 #      under QEMU, ctest label "target"; before them, the portability steps:
 #      clang, the C standards, the Windows build under Wine.
+#   6a. lib/ for the ATmega2560 (16-bit int and size_t) at -Werror, its
+#      double build refused, and the AVR target test program under simavr,
+#      ctest label "target".
 # Build trees go to build/test-*; nothing outside the checkout is written
 # except by the package installers.
 set -euo pipefail
@@ -58,6 +62,11 @@ have riscv64-unknown-elf-gcc || apt_missing+=(gcc-riscv64-unknown-elf)
 [ -d /usr/lib/picolibc/riscv64-unknown-elf ] || apt_missing+=(picolibc-riscv64-unknown-elf)
 have qemu-system-riscv32 || apt_missing+=(qemu-system-misc)
 # ---- end of portability ----
+# --- AVR (step 6a) ---
+have avr-gcc || apt_missing+=(gcc-avr)
+[ -e /usr/lib/avr/include/avr/io.h ] || apt_missing+=(avr-libc)
+have simavr || apt_missing+=(simavr)
+# --- end AVR ---
 if ((${#apt_missing[@]})); then
     if [ "$(id -u)" = 0 ] && have apt-get; then
         apt-get update -q
@@ -116,7 +125,8 @@ build_and_test float -DPDT_WERROR=ON -DPDT_PYTHON_TESTS=ON -DPython3_EXECUTABLE=
 step "Python package pdtfit against the float build's program"
 PDTFIT_BIN="$out/test-float/tools/pdtfit" "$py" -m pytest -q python/tests
 build_and_test double -DPDT_WERROR=ON -DPDT_REAL_DOUBLE=ON
-build_and_test sanitize -DPDT_WERROR=ON -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug
+build_and_test sanitize -DPDT_WERROR=ON -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug \
+    -DPDT_MATH_FALLBACK=ON
 # ---- portability: every host compiler (issue: every compiler, Windows) ----
 # clang builds everything (library, tools, tests, benchmarks) under its own
 # strict warnings as errors, and runs the unit tests (the certainty smoke
@@ -178,5 +188,20 @@ for core in arm-none-eabi-cm4 arm-none-eabi-cm33 arm-none-eabi-cm0 riscv32-imafc
     ctest --test-dir "$out/test-target-$core" -L target --output-on-failure
 done
 # ---- end of target cores ----
+
+# --- AVR (step 6a; tests/target/avr, cmake/avr-atmega2560.cmake) ---
+step "ATmega2560 (16-bit int and size_t): lib/ at -Werror, double refused, target tests under simavr"
+if printf '#include "pdt/pdt.h"\n' | avr-gcc -mmcu=atmega2560 -DPDT_REAL_DOUBLE=1 \
+    -I lib/include -x c -fsyntax-only - 2>/dev/null; then
+    echo "PDT_REAL_DOUBLE=1 compiled for AVR, where double is 32 bits: it must be refused"
+    exit 1
+fi
+echo "PDT_REAL_DOUBLE=1 refused for AVR"
+cmake -S "$root" -B "$out/test-avr" -G Ninja \
+    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/avr-atmega2560.cmake" \
+    -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON >/dev/null
+cmake --build "$out/test-avr" -j "$jobs"
+ctest --test-dir "$out/test-avr" -L target --output-on-failure
+# --- end AVR ---
 
 step "all tests passed"

@@ -401,7 +401,9 @@ static pdt_status_t scan_experiment(pdt_autotune_t *at, pdt_real_t pv, pdt_real_
         (void)pdt_record_result(&at->rec, &rr);
         if (!at->excite_over) {
             at->excite_over = true;
-            at->tail_end = n_before + at->cfg.tail;
+            /* Saturated: tail is any uint32_t, size_t may be narrower. */
+            at->tail_end =
+                at->cfg.tail < SIZE_MAX - n_before ? n_before + (size_t)at->cfg.tail : SIZE_MAX;
         }
         if (rr.n >= at->tail_end && pdt_record_stop(&at->rec) == PDT_OK) {
             sr = PDT_OK;

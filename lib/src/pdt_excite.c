@@ -108,7 +108,7 @@ static bool config_valid(const pdt_excite_config_t *c)
     case PDT_EXCITE_PRBS:
         return pdt_finite(c->amplitude) && c->amplitude > PDT_R(0.0) && c->prbs_bits >= 2u &&
                c->prbs_bits <= 31u && c->prbs_hold >= 1u &&
-               (c->prbs_seed & ((1u << c->prbs_bits) - 1u)) != 0u;
+               (c->prbs_seed & (((uint32_t)1u << c->prbs_bits) - 1u)) != 0u;
     case PDT_EXCITE_RELAY:
         return pdt_finite(c->setpoint) && pdt_finite(c->d) && c->d > PDT_R(0.0) &&
                pdt_finite(c->bias) && pdt_finite(c->eps) && c->eps >= PDT_R(0.0) &&
@@ -129,7 +129,7 @@ static uint32_t prbs_mask(uint32_t n)
     for (unsigned i = 0; i < 4u; i++) {
         uint32_t t = prbs_taps[n - 2u][i];
         if (t != 0u) {
-            mask |= 1u << (n - t);
+            mask |= (uint32_t)1u << (n - t);
         }
     }
     return mask;
@@ -215,7 +215,7 @@ pdt_status_t pdt_excite_init(pdt_excite_t *gen, const pdt_excite_config_t *cfg)
         break;
     case PDT_EXCITE_PRBS:
         body = (uint64_t)cfg->periods * (((uint64_t)1u << cfg->prbs_bits) - 1u) * cfg->prbs_hold;
-        g.lfsr = cfg->prbs_seed & ((1u << cfg->prbs_bits) - 1u);
+        g.lfsr = cfg->prbs_seed & (((uint32_t)1u << cfg->prbs_bits) - 1u);
         g.taps = prbs_mask(cfg->prbs_bits);
         down = cfg->u0 - cfg->amplitude;
         break;

@@ -336,7 +336,7 @@ static size_t screen_reals(size_t n)
 /* Layout of the workspace after the cost's own part, in reals. */
 static size_t own_reals(uint32_t pop, uint32_t genes, size_t n)
 {
-    return 2u * (size_t)pop * (genes + 3u) + (size_t)pop + n + screen_reals(n);
+    return 2u * (size_t)pop * ((size_t)genes + 3u) + (size_t)pop + n + screen_reals(n);
 }
 
 size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
@@ -543,7 +543,7 @@ static void carve(pdt_ident_t *c, void *work, size_t cost_bytes)
     /* work is aligned for pdt_real_t and the cost's part a whole number
      * of reals, so the rest of the workspace is addressed in reals. */
     pdt_real_t *p = &reals_of(work)[whole];
-    size_t P = c->cfg.population, G = c->genes;
+    size_t P = (size_t)c->cfg.population, G = (size_t)c->genes;
     c->ga.pop = p;
     p += P * G;
     c->ga.pop_cost = p;

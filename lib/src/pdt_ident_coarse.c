@@ -98,7 +98,7 @@ static size_t factor_of(const pdt_ident_t *c)
         return 1u;
     }
     if (cfg->coarse != 0u) {
-        return (n / cfg->coarse >= (size_t)PDT_MIN_SAMPLES) ? cfg->coarse : 1u;
+        return (n / cfg->coarse >= (size_t)PDT_MIN_SAMPLES) ? (size_t)cfg->coarse : 1u;
     }
     size_t D = n / PDT_IDENT_COARSE_SAMPLES;
     D = D < COARSE_MAX ? D : COARSE_MAX;
@@ -136,7 +136,7 @@ size_t pdt_ident_coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
     /* The whole record's configuration at the coarse period: the polish
      * gets it back from the coarse cost's copy (Ts, delay_max). */
     cc->Ts = c->cfg.Ts * (pdt_real_t)D;
-    cc->delay_max = (c->coarse.delay_max / D) + 2u;
+    cc->delay_max = ((size_t)c->coarse.delay_max / D) + 2u;
     cc->delay_max = cc->delay_max < nc ? cc->delay_max : nc - 1u;
     c->coarse.factor = (uint32_t)D;
     return nc;
@@ -148,7 +148,7 @@ void pdt_ident_coarse_begin(pdt_ident_t *c, bool prepared, pdt_cost_config_t *cc
         /* Searched whole: the configuration back to the whole record's. */
         c->coarse.factor = 1u;
         cc->Ts = c->cfg.Ts;
-        cc->delay_max = c->coarse.delay_max;
+        cc->delay_max = (size_t)c->coarse.delay_max;
         return;
     }
     c->coarse.stage = 1u;
@@ -186,7 +186,7 @@ void pdt_ident_coarse_fine(pdt_ident_t *c)
      * workspace: init prepared it once, so it cannot fail now. */
     pdt_cost_config_t cc = c->cost.cfg;
     cc.Ts = c->cfg.Ts;
-    cc.delay_max = c->coarse.delay_max;
+    cc.delay_max = (size_t)c->coarse.delay_max;
     if (pdt_cost_init(&c->cost, &cc, c->data.u, c->data.y, c->data.n, c->cost_work,
                       c->cost_work_len) != PDT_OK) {
         /* Should it fail all the same, the coarse answer stands, said to

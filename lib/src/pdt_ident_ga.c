@@ -14,7 +14,7 @@
 void pdt_ident_ga_start(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
-    const size_t P = c->cfg.population, G = c->genes;
+    const size_t P = (size_t)c->cfg.population, G = (size_t)c->genes;
     pdt_rng_seed(&ga->rng, c->cfg.seed, 0x5eed5eedu + c->vote.done);
     for (size_t j = 0; j < G; j++) {
         pdt_real_t *perm = ga->off;
@@ -22,7 +22,7 @@ void pdt_ident_ga_start(pdt_ident_t *c)
             perm[i] = (pdt_real_t)i;
         }
         for (size_t i = P - 1u; i > 0u; i--) {
-            size_t k = pdt_rng_below(&ga->rng, (uint32_t)(i + 1u));
+            size_t k = (size_t)pdt_rng_below(&ga->rng, (uint32_t)(i + 1u));
             pdt_real_t t = perm[i];
             perm[i] = perm[k];
             perm[k] = t;
@@ -111,8 +111,8 @@ void pdt_ident_ga_eval_parent(pdt_ident_t *c)
 static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
 {
     uint32_t P = c->cfg.population;
-    size_t a = pdt_rng_below(r, P);
-    size_t b = pdt_rng_below(r, P);
+    size_t a = (size_t)pdt_rng_below(r, P);
+    size_t b = (size_t)pdt_rng_below(r, P);
     return pdt_ga_tournament(c->ga.shared, a, b, pdt_rng_u32(r) & 1u);
 }
 
@@ -120,7 +120,7 @@ static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
 void pdt_ident_ga_breed(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
-    const size_t P = c->cfg.population, G = c->genes;
+    const size_t P = (size_t)c->cfg.population, G = (size_t)c->genes;
     pdt_rng_t *r = &ga->rng;
     pdt_real_t pm = c->cfg.p_mutation > PDT_R(0.0) ? c->cfg.p_mutation : PDT_R(1.0) / (pdt_real_t)G;
     pdt_ga_share(ga->pop, P, G, c->lo, c->hi, ga->pop_cost, c->cfg.sigma_share, PDT_R(1.0),
@@ -161,7 +161,7 @@ void pdt_ident_ga_breed(pdt_ident_t *c)
 static void survive(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
-    const size_t P = c->cfg.population, G = c->genes;
+    const size_t P = (size_t)c->cfg.population, G = (size_t)c->genes;
     for (uint32_t e = 0; e < c->cfg.elite; e++) {
         size_t best = 0u, worst = 0u;
         for (size_t i = 1; i < P; i++) {

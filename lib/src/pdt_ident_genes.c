@@ -100,7 +100,7 @@ bool pdt_ident_whole_between(pdt_real_t Ts, pdt_real_t lo, pdt_real_t hi)
 pdt_real_t pdt_ident_gene_of_td(const pdt_ident_t *c, pdt_real_t Td)
 {
     const uint32_t j = c->genes - 1u;
-    return pdt_ident_clamp(c, j, pdt_log(Td + c->td_offset));
+    return pdt_ident_clamp(c, (size_t)j, pdt_log(Td + c->td_offset));
 }
 
 pdt_real_t pdt_ident_nearest_whole(pdt_real_t r)
@@ -236,7 +236,8 @@ void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count
         pdt_ident_shape(c, &g[i * G], &shapes[i]);
         pdt_ident_gain_bounds(c, &shapes[i], &glo[i], &ghi[i]);
     }
-    if (pdt_cost_profile_many(&c->cost, shapes, count, glo, ghi, &hint, c->scratch, pr) != PDT_OK) {
+    if (pdt_cost_profile_many(&c->cost, shapes, (size_t)count, glo, ghi, &hint, c->scratch, pr) !=
+        PDT_OK) {
         /* One shape the cost refuses: each on its own, as the single
          * evaluation scores it. */
         for (uint32_t i = 0; i < count; i++) {

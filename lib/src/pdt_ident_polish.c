@@ -309,7 +309,7 @@ static void propose(pdt_ident_t *c)
     p->len = PDT_R(0.0);
     for (uint32_t j = 0; j < G; j++) {
         const pdt_real_t x =
-            pdt_ident_clamp(c, j, p->x[j] + scale * z[j] * p->w[j] * (c->hi[j] - c->lo[j]));
+            pdt_ident_clamp(c, (size_t)j, p->x[j] + scale * z[j] * p->w[j] * (c->hi[j] - c->lo[j]));
         const pdt_real_t d = pdt_fabs(x - p->x[j]) / (c->hi[j] - c->lo[j]);
         p->len = d > p->len ? d : p->len;
         p->trial[j] = x;
@@ -399,7 +399,7 @@ static bool kink_pass(pdt_ident_t *c, uint32_t dims, const pdt_real_t *x)
     }
     newton_start(c, dims);
     for (uint32_t j = 0; j < G; j++) {
-        c->nm.late.polish.x[j] = pdt_ident_clamp(c, j, x[j]);
+        c->nm.late.polish.x[j] = pdt_ident_clamp(c, (size_t)j, x[j]);
     }
     return true;
 }

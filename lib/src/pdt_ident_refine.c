@@ -69,7 +69,7 @@ static void refine_starts(pdt_ident_t *c)
     }
     nm->nstarts = 1u;
     while (nm->nstarts < NM_STARTS) {
-        size_t chosen = P;
+        size_t chosen = (size_t)P;
         for (size_t i = 0; i < P; i++) {
             bool distinct = ga->pop_cost[i] < PDT_REAL_MAX;
             for (uint32_t s = 0; s < nm->nstarts && distinct; s++) {
@@ -94,7 +94,7 @@ static void refine_starts(pdt_ident_t *c)
 static void simplex_start(const pdt_ident_t *c, pdt_ident_simplex_t *sx, const pdt_real_t *x0,
                           uint32_t budget)
 {
-    const size_t G = c->genes;
+    const size_t G = (size_t)c->genes;
     for (size_t i = 0; i <= G; i++) {
         for (size_t j = 0; j < G; j++) {
             sx->x[i][j] = x0[j];
@@ -186,7 +186,7 @@ static void nm_order(pdt_ident_simplex_t *sx, size_t G)
 static void nm_point(const pdt_ident_t *c, const pdt_ident_simplex_t *sx, pdt_real_t coef,
                      pdt_real_t *out)
 {
-    const size_t G = c->genes;
+    const size_t G = (size_t)c->genes;
     for (size_t j = 0; j < G; j++) {
         pdt_real_t cen = PDT_R(0.0);
         for (size_t i = 0; i < G; i++) {
@@ -199,7 +199,7 @@ static void nm_point(const pdt_ident_t *c, const pdt_ident_simplex_t *sx, pdt_re
 
 static bool nm_converged(const pdt_ident_t *c, const pdt_ident_simplex_t *sx)
 {
-    const size_t G = c->genes;
+    const size_t G = (size_t)c->genes;
     pdt_real_t size = PDT_R(0.0);
     for (size_t i = 1; i <= G; i++) {
         for (size_t j = 0; j < G; j++) {
@@ -221,7 +221,7 @@ static void nm_replace_worst(pdt_ident_simplex_t *sx, size_t G, const pdt_real_t
 /* Sets up the next trial after the simplex changed; NM_END when done. */
 static void nm_next_iteration(const pdt_ident_t *c, pdt_ident_simplex_t *sx)
 {
-    nm_order(sx, c->genes);
+    nm_order(sx, (size_t)c->genes);
     if (sx->budget == 0u || nm_converged(c, sx)) {
         sx->state = NM_END;
         return;
@@ -263,7 +263,7 @@ static void nm_take(const pdt_ident_t *c, pdt_ident_simplex_t *sx, pdt_real_t f)
             nm_point(c, sx, PDT_R(2.0), sx->trial2);
             sx->state = NM_EXPAND;
         } else if (f < sx->f[G - 1u]) {
-            nm_replace_worst(sx, G, sx->trial, f);
+            nm_replace_worst(sx, (size_t)G, sx->trial, f);
             nm_next_iteration(c, sx);
         } else {
             /* Contract outside when the reflection beat the worst, inside
@@ -274,15 +274,15 @@ static void nm_take(const pdt_ident_t *c, pdt_ident_simplex_t *sx, pdt_real_t f)
         break;
     case NM_EXPAND:
         if (f < sx->ftrial) {
-            nm_replace_worst(sx, G, sx->trial2, f);
+            nm_replace_worst(sx, (size_t)G, sx->trial2, f);
         } else {
-            nm_replace_worst(sx, G, sx->trial, sx->ftrial);
+            nm_replace_worst(sx, (size_t)G, sx->trial, sx->ftrial);
         }
         nm_next_iteration(c, sx);
         break;
     case NM_CONTRACT:
         if (f < sx->ftrial && f < sx->f[G]) {
-            nm_replace_worst(sx, G, sx->trial2, f);
+            nm_replace_worst(sx, (size_t)G, sx->trial2, f);
             nm_next_iteration(c, sx);
         } else {
             for (uint32_t i = 1; i <= G; i++) {

@@ -43,7 +43,7 @@ static void consider(pdt_ident_scan_t *s, pdt_real_t Td, pdt_real_t gain, pdt_re
 /* The dead-time range of the genes. */
 static void td_range(const pdt_ident_t *c, pdt_real_t *lo, pdt_real_t *hi)
 {
-    const size_t dt = c->genes - 1u;
+    const size_t dt = (size_t)c->genes - 1u;
     *lo = pdt_ident_td_of_gene(c, c->lo[dt]);
     *hi = pdt_ident_td_of_gene(c, c->hi[dt]);
 }

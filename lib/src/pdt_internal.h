@@ -16,9 +16,7 @@
 #define PDT_R(x)            (x)
 #define pdt_sqrt            sqrt
 #define pdt_exp             exp
-#define pdt_expm1           expm1
 #define pdt_log             log
-#define pdt_log1p           log1p
 #define pdt_sin             sin
 #define pdt_cos             cos
 #define pdt_sinh            sinh
@@ -36,9 +34,7 @@
 #define PDT_R(x)            (x##f)
 #define pdt_sqrt            sqrtf
 #define pdt_exp             expf
-#define pdt_expm1           expm1f
 #define pdt_log             logf
-#define pdt_log1p           log1pf
 #define pdt_sin             sinf
 #define pdt_cos             cosf
 #define pdt_sinh            sinhf
@@ -55,6 +51,21 @@
 #endif
 
 #define PDT_PI PDT_R(3.14159265358979323846)
+
+/* expm1 and log1p in the real type: the C library's, or with
+ * PDT_MATH_FALLBACK (pdt_config.h) the library's own (pdt_math.c). */
+pdt_real_t pdt_math_expm1(pdt_real_t x);
+pdt_real_t pdt_math_log1p(pdt_real_t x);
+#if PDT_MATH_FALLBACK
+#define pdt_expm1 pdt_math_expm1
+#define pdt_log1p pdt_math_log1p
+#elif PDT_REAL_DOUBLE
+#define pdt_expm1 expm1
+#define pdt_log1p log1p
+#else
+#define pdt_expm1 expm1f
+#define pdt_log1p log1pf
+#endif
 
 static inline bool pdt_finite(pdt_real_t x)
 {
@@ -90,10 +101,19 @@ typedef pdt_real_t pdt_vec4_t __attribute__((vector_size(4 * sizeof(pdt_real_t))
 #define PDT_UNROLL
 #endif
 
+/* The alignment pdt_real_t needs: its offset after a char. It is below
+ * sizeof(pdt_real_t) on some targets (1 on AVR, where a float may lie at
+ * any address, so a caller's uint8_t workspace is as good as any). */
+typedef struct pdt_real_align {
+    char c;
+    pdt_real_t r;
+} pdt_real_align_t;
+#define PDT_REAL_ALIGN offsetof(pdt_real_align_t, r)
+
 /* True when p is aligned for pdt_real_t arrays. */
 static inline bool pdt_aligned(const void *p)
 {
-    return ((uintptr_t)p % sizeof(pdt_real_t)) == 0u;
+    return ((uintptr_t)p % (uintptr_t)PDT_REAL_ALIGN) == 0u;
 }
 
 /* A delay_max resolved against the record length n (PDT_DELAY_HALF,

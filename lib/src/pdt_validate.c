@@ -105,7 +105,9 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
     if (out == NULL) {
         return PDT_ERR_ARG;
     }
-    val_ctx_t c;
+    /* Zeroed: prepare fills it on success only, and avr-gcc 5 took a
+     * field for unset on the success path. */
+    val_ctx_t c = {0};
     pdt_status_t st = prepare(m, data, Ts, y0, work, work_len, &c);
     if (st != PDT_OK) {
         return st;

@@ -33,8 +33,9 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-/* Most states (lags + 2 for the pair + 1 for the integrator). */
-#ifndef SIM_PLANT_MAX_STATES /* a small target's build sets fewer */
+/* Most states (lags + 2 for the pair + 1 for the integrator). A target
+ * short of RAM may define fewer (the AVR's: tests/target/avr). */
+#ifndef SIM_PLANT_MAX_STATES
 #define SIM_PLANT_MAX_STATES 12u
 #endif
 /* Length of the input history a dead time of `delay` s at scan `Ts` s

@@ -4,10 +4,7 @@
 #include <math.h>
 
 #include "pdt_port.h"
-#include "pdt_port_target.h"
-#include "target_config.h"
-
-target_arena_t t_arena;
+#include "target_stack.h"
 
 static unsigned g_run;
 static unsigned g_failed;
@@ -216,12 +213,12 @@ unsigned t_checks_failed(void)
 void t_stack_repaint(void)
 {
     (void)t_stack_max();
-    pdt_port_stack_paint();
+    t_port_stack_paint();
 }
 
 size_t t_stack_max(void)
 {
-    size_t used = pdt_port_stack_used();
+    size_t used = t_port_stack_used();
     if (used > g_stack_max) {
         g_stack_max = used;
     }

@@ -10,6 +10,12 @@
 #ifndef PDT_CONFIG_H
 #define PDT_CONFIG_H
 
+/* SIZE_MAX: the limits below follow the width of size_t (16 bits on AVR
+ * and MSP430, where int is 16 bits too). A tool that reads no system
+ * header (a static analyser) sees no SIZE_MAX and gets the defaults of a
+ * 32-bit size_t. */
+#include <stdint.h>
+
 #ifdef PDT_USER_CONFIG_FILE
 #include PDT_USER_CONFIG_FILE
 #endif
@@ -22,15 +28,30 @@
 #if (PDT_REAL_DOUBLE != 0) && (PDT_REAL_DOUBLE != 1)
 #error "PDT_REAL_DOUBLE must be 0 (float) or 1 (double)"
 #endif
+/* avr-gcc's double is float (32 bits) unless -mdouble=64 is given: a
+ * double build there would be a float build under another name. */
+#if PDT_REAL_DOUBLE && defined(__AVR__) && (!defined(__SIZEOF_DOUBLE__) || __SIZEOF_DOUBLE__ < 8)
+#error "PDT_REAL_DOUBLE needs a 64-bit double; avr-gcc's double is 32 bits: use the float build"
+#endif
 
 /* Largest real FFT the library accepts, as log2 of the size. The FFT code
  * has no tables of its own, so this bounds only the sizes callers may ask
- * for (and therefore the record length the frequency cost accepts). */
+ * for (and therefore the record length the cost accepts). Default 16, or
+ * 10 where size_t has 16 bits. Every workspace derived from an FFT size
+ * N_f is below 32 N_f bytes (at most 3.5 N_f reals of 8 bytes, plus the
+ * population's few hundred), so 32 * 2^PDT_FFT_MAX_LOG2 must fit size_t. */
 #ifndef PDT_FFT_MAX_LOG2
+#if !defined(SIZE_MAX) || (SIZE_MAX > 0xFFFFu)
 #define PDT_FFT_MAX_LOG2 16
+#else
+#define PDT_FFT_MAX_LOG2 10
+#endif
 #endif
 #if (PDT_FFT_MAX_LOG2 < 4) || (PDT_FFT_MAX_LOG2 > 24)
 #error "PDT_FFT_MAX_LOG2 must be between 4 and 24"
+#endif
+#if defined(SIZE_MAX) && ((SIZE_MAX >> (PDT_FFT_MAX_LOG2 + 5)) == 0)
+#error "PDT_FFT_MAX_LOG2 too large for this size_t: 32 * 2^PDT_FFT_MAX_LOG2 bytes must fit"
 #endif
 
 /* Fewest samples a cost may be computed from (after the delay bound has
@@ -65,13 +86,21 @@
 /* Most samples a record may hold: the capacity of pdt_record_init and of
  * pdt_autotune_config_t. One autotune scan evaluates the cost over the
  * whole record, so this bounds a scan's work (and keeps every byte count
- * derived from a capacity far from overflowing size_t). Larger capacities
- * are refused with PDT_ERR_LENGTH. */
+ * derived from a capacity far from overflowing size_t: those are below
+ * 32 bytes a sample). Default 2^20, or 1024 where size_t has 16 bits.
+ * Larger capacities are refused with PDT_ERR_LENGTH. */
 #ifndef PDT_MAX_SAMPLES
+#if !defined(SIZE_MAX) || (SIZE_MAX > 0xFFFFu)
 #define PDT_MAX_SAMPLES 1048576u
+#else
+#define PDT_MAX_SAMPLES 1024u
+#endif
 #endif
 #if (PDT_MAX_SAMPLES < 64) || (PDT_MAX_SAMPLES > 134217728)
 #error "PDT_MAX_SAMPLES must be between 64 and 2^27"
+#endif
+#if defined(SIZE_MAX) && ((PDT_MAX_SAMPLES - 1) > (SIZE_MAX >> 5))
+#error "PDT_MAX_SAMPLES too large for this size_t: 32 bytes a sample must fit"
 #endif
 
 /* Candidates the identification evaluates in one pass over the record, a
@@ -88,6 +117,22 @@
 #endif
 #if (PDT_VECTOR_LANES != 1) && (PDT_VECTOR_LANES != 4)
 #error "PDT_VECTOR_LANES must be 1 or 4"
+#endif
+
+/* 1: expm1 and log1p come from the library's own fallbacks
+ * (lib/src/pdt_math.c: exp and log with Kahan's corrections, within a few
+ * ulps), for a C library that lacks them. 0: from <math.h> (expm1f and
+ * log1pf in the float build). Default 1 with avr-libc, which has neither,
+ * else 0. */
+#ifndef PDT_MATH_FALLBACK
+#if defined(__AVR__)
+#define PDT_MATH_FALLBACK 1
+#else
+#define PDT_MATH_FALLBACK 0
+#endif
+#endif
+#if (PDT_MATH_FALLBACK != 0) && (PDT_MATH_FALLBACK != 1)
+#error "PDT_MATH_FALLBACK must be 0 or 1"
 #endif
 
 /* Checks of programmer errors that cost time on every call. By default they

@@ -4,6 +4,10 @@
 // replace readProcess() and writeOutput() with your sensor and actuator.
 #include <pdtfit.h>
 
+#if defined(__AVR__)
+#error "this example's record (300 samples, both model orders, validated) needs a 32-bit board: on an Arduino Mega 2560 use AutotuneMega"
+#endif
+
 static const float SCAN_S = 0.5f;      // control period, s
 static const size_t CAPACITY = 300u;   // samples recorded: 150 s
 
