@@ -348,8 +348,11 @@ void pdt_ident_screen_step(pdt_ident_t *c)
     pdt_real_t *h = c->scratch;
     pdt_real_t range;
     c->phase = PH_DONE;
+    /* Where no candidate scored (every gain the bounds allow costs beyond
+     * the real type) there is no answer to screen with: the result refuses
+     * it. */
     if (c->cfg.no_screen || s->rounds >= PDT_IDENT_SCREEN_ROUNDS || s->settled ||
-        !residual(c, h, &range)) {
+        !(c->best.cost < PDT_REAL_MAX) || !residual(c, h, &range)) {
         return;
     }
     high_pass(h, s->mask, n);
