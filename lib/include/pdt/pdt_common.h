@@ -20,9 +20,9 @@ extern "C" {
 /* CMake and the package checks read these lines as written. */
 /* clang-format off */
 #define PDT_VERSION_MAJOR 0
-#define PDT_VERSION_MINOR 2
+#define PDT_VERSION_MINOR 3
 #define PDT_VERSION_PATCH 0
-#define PDT_VERSION_STRING "0.2.0"
+#define PDT_VERSION_STRING "0.3.0"
 /* clang-format on */
 
 #if PDT_REAL_DOUBLE
