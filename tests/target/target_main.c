@@ -10,6 +10,10 @@
 #include "target_config.h"
 #include "target_util.h"
 
+/* The memory the identification and autotune checks share
+ * (target_config.h). */
+target_arena_t t_arena;
+
 typedef struct target_check {
     const char *name;
     int (*run)(void); /* returns the number of failed checks */

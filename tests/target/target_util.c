@@ -5,9 +5,6 @@
 
 #include "pdt_port.h"
 #include "pdt_port_target.h"
-#include "target_config.h"
-
-target_arena_t t_arena;
 
 static unsigned g_run;
 static unsigned g_failed;
