@@ -198,7 +198,7 @@ if printf '#include "pdt/pdt.h"\n' | avr-gcc -mmcu=atmega2560 -DPDT_REAL_DOUBLE=
 fi
 echo "PDT_REAL_DOUBLE=1 refused for AVR"
 cmake -S "$root" -B "$out/test-avr" -G Ninja \
-    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/avr-atmega2560.cmake" \
+    -DCMAKE_TOOLCHAIN_FILE="$root/cmake/avr-atmega2560.cmake" -DPDT_WERROR=ON \
     -DPDT_BUILD_TESTS=OFF -DPDT_BUILD_TOOLS=OFF -DPDT_BUILD_TARGET_TESTS=ON >/dev/null
 cmake --build "$out/test-avr" -j "$jobs"
 ctest --test-dir "$out/test-avr" -L target --output-on-failure

@@ -64,7 +64,7 @@ typedef union target_arena {
     target_autotune_mem_t autotune;
 } target_arena_t;
 
-/* The one instance (target_util.c). */
+/* The one instance (target_main.c). */
 extern target_arena_t t_arena;
 
 #endif /* PDT_TARGET_CONFIG_H */

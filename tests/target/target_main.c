@@ -10,7 +10,8 @@
 #include "target_config.h"
 #include "target_util.h"
 
-/* The memory the identification and autotune checks share. */
+/* The memory the identification and autotune checks share
+ * (target_config.h). */
 target_arena_t t_arena;
 
 typedef struct target_check {
