@@ -228,6 +228,17 @@ static void test_clean_unchanged(void **state)
         assert_int_equal(run(KINDS[m], &cfg, &b), PDT_OK);
         assert_int_equal(a.excluded, 0u);
         assert_memory_equal(&a, &b, sizeof a);
+        /* With missing samples refused too, the workspace has no copy of
+         * y and no masks, and the answer is the same. */
+        cfg.model = KINDS[m];
+        cfg.Ts = (pdt_real_t)1.0;
+        const size_t with = pdt_ident_workspace_size(&cfg, N);
+        cfg.refuse_missing = true;
+        const size_t bits = 8u * sizeof(pdt_real_t);
+        assert_int_equal(pdt_ident_workspace_size(&cfg, N),
+                         with - (N + 2u * ((N + bits - 1u) / bits)) * sizeof(pdt_real_t));
+        assert_int_equal(run(KINDS[m], &cfg, &b), PDT_OK);
+        assert_memory_equal(&a, &b, sizeof a);
     }
 }
 

@@ -326,17 +326,22 @@ static size_t samples_in(pdt_real_t t, pdt_real_t Ts, size_t cap)
 }
 
 /* The screen's part of the workspace, in reals: the filled y and two
- * bits per sample. */
-static size_t screen_reals(size_t n)
+ * bits per sample; none where the configuration needs no screen. */
+static size_t screen_reals(const pdt_ident_config_t *cfg, size_t n)
 {
+    /* Without the screen and with missing samples refused, y is never
+     * filled or screened: a small part's RAM is spared the copy. */
+    if (cfg->no_screen && cfg->refuse_missing) {
+        return 0u;
+    }
     const size_t bits = 8u * sizeof(pdt_real_t);
     return n + 2u * ((n + bits - 1u) / bits);
 }
 
 /* Layout of the workspace after the cost's own part, in reals. */
-static size_t own_reals(uint32_t pop, uint32_t genes, size_t n)
+static size_t own_reals(const pdt_ident_config_t *cfg, uint32_t pop, uint32_t genes, size_t n)
 {
-    return 2u * (size_t)pop * ((size_t)genes + 3u) + (size_t)pop + n + screen_reals(n);
+    return 2u * (size_t)pop * ((size_t)genes + 3u) + (size_t)pop + n + screen_reals(cfg, n);
 }
 
 size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
@@ -357,7 +362,8 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
     }
     /* Round the cost part up so the rest stays aligned for pdt_real_t. */
     cost_bytes = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) * sizeof(pdt_real_t);
-    return cost_bytes + own_reals(population_of(cfg), genes_of(cfg->model), n) * sizeof(pdt_real_t);
+    return cost_bytes +
+           own_reals(cfg, population_of(cfg), genes_of(cfg->model), n) * sizeof(pdt_real_t);
 }
 
 /* The input before the record: u_before when given, else u[0]. */
@@ -525,14 +531,21 @@ static pdt_real_t *reals_of(void *work)
 static void screen_layout(const pdt_ident_config_t *cfg, size_t n, void *work,
                           pdt_ident_screen_t *s)
 {
-    const size_t at = pdt_ident_workspace_size(cfg, n) / sizeof(pdt_real_t) - screen_reals(n);
+    const size_t reals = screen_reals(cfg, n);
+    s->work = work;
+    if (reals == 0u) {
+        s->yfill = NULL;
+        s->mask = NULL;
+        s->fresh = NULL;
+        return;
+    }
+    const size_t at = pdt_ident_workspace_size(cfg, n) / sizeof(pdt_real_t) - reals;
     const size_t bits = 8u * sizeof(pdt_real_t);
     s->yfill = &reals_of(work)[at];
     /* Bytes of the reals after the filled y: a character type may alias
      * any object. */
     s->mask = (uint8_t *)&s->yfill[n];
     s->fresh = (uint8_t *)&s->yfill[n + (n + bits - 1u) / bits];
-    s->work = work;
 }
 
 /* The GA's arrays and the scratch, after the cost's part of the
@@ -567,7 +580,7 @@ static void carve(pdt_ident_t *c, void *work, size_t cost_bytes)
 
 /* The screen's state of a new context: as prepared (screen), or with
  * nothing left out and y copied. The context's record becomes the filled
- * one. */
+ * one (the caller's own where the workspace has no screen part). */
 static void screen_begin(pdt_ident_t *c, const pdt_ident_screen_t *screen, void *work,
                          size_t work_len)
 {
@@ -576,10 +589,10 @@ static void screen_begin(pdt_ident_t *c, const pdt_ident_screen_t *screen, void 
         c->screen = *screen;
     } else {
         screen_layout(&c->cfg, n, work, &c->screen);
-        for (size_t k = 0; k < n; k++) {
+        for (size_t k = 0; (c->screen.yfill != NULL) && (k < n); k++) {
             c->screen.yfill[k] = c->data.y[k];
         }
-        for (size_t k = 0; k < (n + 7u) / 8u; k++) {
+        for (size_t k = 0; (c->screen.mask != NULL) && (k < (n + 7u) / 8u); k++) {
             c->screen.mask[k] = 0u;
         }
         c->screen.first = n;
@@ -589,7 +602,9 @@ static void screen_begin(pdt_ident_t *c, const pdt_ident_screen_t *screen, void 
     c->screen.work = work;
     c->screen.work_len = work_len;
     c->screen.status = PDT_OK;
-    c->data.y = c->screen.yfill;
+    if (c->screen.yfill != NULL) {
+        c->data.y = c->screen.yfill;
+    }
 }
 
 /* init's work once the configuration and the workspace are known to be

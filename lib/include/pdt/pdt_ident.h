@@ -170,7 +170,10 @@ typedef struct pdt_ident_config {
                             * (PDT_ERR_NONFINITE), as a non-finite u
                             * always is. Default false */
     bool no_screen;        /* true: no screen for gross errors (missing
-                            * samples are still left out). Default false */
+                            * samples are still left out). With
+                            * refuse_missing too, the workspace has no
+                            * copy of y: n + n / 16 reals less, for parts
+                            * short of RAM. Default false */
     uint32_t max_excluded; /* most samples left out, missing ones and
                             * gross errors together; more is refused with
                             * PDT_ERR_OUTLIER. 0: n / 20, at least

@@ -21,12 +21,17 @@
 void tl_str_flash(tline_t *l, const char *flash_str);
 
 /* The identification: a FOPDT of AVR_IDENT_N samples by the default
- * configuration (SIMULATION, no frequency part). Its workspace, as
- * pdt_ident_workspace_size gives it: the record's 2 n reals, n more, and
- * 2 P (genes + 3) + P for the population of P = 24 and 2 genes; one
- * real more, as the check starts the workspace a byte in. */
+ * configuration (SIMULATION, no frequency part) without the screen for
+ * gross errors and with missing samples refused, so that the workspace
+ * holds no copy of y. Its workspace, as pdt_ident_workspace_size gives it:
+ * the record's 2 n reals, n more, and 2 P (genes + 3) + P for the
+ * population of P = 24 and 2 genes; one real more, as the check starts the
+ * workspace a byte in. */
 #define AVR_IDENT_N          150u
 #define AVR_IDENT_WORK_REALS (3u * AVR_IDENT_N + 11u * PDT_IDENT_POPULATION_FOPDT + 1u)
+/* The screen for gross errors (pdt_ident_screen.c) keeps a filled copy of
+ * y and two bit masks: n + 2 ceil(n / 32) reals more. */
+#define AVR_SCREEN_REALS(n)  ((n) + 2u * (((n) + 31u) / 32u))
 
 /* The autotune: a FOPDT order fixed and no validation (what else fits is
  * in docs/port.md), a record of AVR_AT_CAPACITY samples. Workspace: the

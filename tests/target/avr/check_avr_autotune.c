@@ -53,6 +53,9 @@ static void at_config(pdt_autotune_config_t *c)
     c->pv_min = (pdt_real_t)-100.0;
     c->pv_max = (pdt_real_t)200.0;
     c->ident.model = PDT_MODEL_FOPDT;
+    /* As the identification check: no screen, no copy of y (RAM). */
+    c->ident.no_screen = true;
+    c->ident.refuse_missing = true;
     c->order_auto = false;
     c->ms_robust = (pdt_real_t)0.0;
 }

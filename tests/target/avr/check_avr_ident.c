@@ -69,6 +69,9 @@ int avr_check_ident(void)
     pdt_ident_config_t cfg;
     pdt_ident_config_default(&cfg);
     cfg.Ts = (pdt_real_t)TS;
+    /* A clean record, and 8 KiB of RAM: no screen and no copy of y. */
+    cfg.no_screen = true;
+    cfg.refuse_missing = true;
     const pdt_ident_data_t data = {u, y, AVR_IDENT_N};
     /* One byte into the workspace: a float needs no alignment on AVR. */
     uint8_t *work = (uint8_t *)g_avr_arena.ident.work + 1;
