@@ -41,7 +41,10 @@ typedef struct pdtcli_jbuf {
 void pdtcli_jb_init(pdtcli_jbuf_t *jb, char *buf, size_t len);
 void pdtcli_jb_raw(pdtcli_jbuf_t *jb, const char *text);
 void pdtcli_jb_printf(pdtcli_jbuf_t *jb, const char *fmt, ...)
-#if defined(__GNUC__)
+#if defined(__MINGW32__)
+    /* mingw-w64's own C99 printf (__USE_MINGW_ANSI_STDIO), as cli.h says. */
+    __attribute__((format(gnu_printf, 2, 3)))
+#elif defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
