@@ -336,6 +336,19 @@ static void test_mid_transient(void **state)
         assert_int_equal(run(PDT_MODEL_FOPDT, &cfg, &r), PDT_OK);
         assert_int_equal(r.flags & PDT_IDENT_FLAG_MID_TRANSIENT, 0u);
     }
+    /* A record from rest under a slowly wandering disturbance (AR(1),
+     * pole 0.98): not flagged. */
+    const pdt_model_t f = truth(PDT_MODEL_FOPDT);
+    pdt_ident_result_t r;
+    record(&f, 0.0, 17u);
+    double v = 0.0;
+    for (size_t k = 0; k < N; k++) {
+        v = 0.98 * v + 0.1 * sim_rng_normal(&rng);
+        g_y[k] = (pdt_real_t)((double)g_y[k] + v);
+    }
+    assert_int_equal(run(PDT_MODEL_FOPDT, NULL, &r), PDT_OK);
+    print_message("  wandering disturbance: flags 0x%x\n", (unsigned)r.flags);
+    assert_int_equal(r.flags & PDT_IDENT_FLAG_MID_TRANSIENT, 0u);
 }
 
 int main(void)

@@ -579,6 +579,7 @@ static void screen_begin(pdt_ident_t *c, const pdt_ident_screen_t *screen, void 
         }
         c->screen.first = n;
         c->screen.limit = pdt_ident_screen_limit(&c->cfg, n);
+        c->screen.y_in = c->data.y;
     }
     c->screen.work = work;
     c->screen.work_len = work_len;

@@ -8,9 +8,12 @@
  * first W samples (a twentieth of the record, at least PDT_MIN_SAMPLES)
  * is regressed on a straight line: a change along it of more than
  * MID_SIGMAS of its standard error (the noise's deviation from the
- * residual's first differences, robustly) and more than MID_SHARE of y's
- * range means the output was moving at the start where the model says
- * it was still: PDT_IDENT_FLAG_MID_TRANSIENT.
+ * residual's first differences, robustly), more than MID_SHARE of y's
+ * range and more than MID_OTHERS times the median change over the
+ * record's other windows of W samples (a residual that wanders all along,
+ * as a coloured disturbance makes it, is no sign of the start) means the
+ * output was moving at the start where the model says it was still:
+ * PDT_IDENT_FLAG_MID_TRANSIENT.
  */
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
@@ -18,6 +21,7 @@
 #define MID_SIGMAS   PDT_R(8.0)
 #define MID_SHARE    PDT_R(0.05)
 #define MID_DIV      20u
+#define MID_OTHERS   PDT_R(5.0)
 /* Bisection steps of the median: the real type's precision. */
 #define MEDIAN_STEPS ((sizeof(pdt_real_t) > 4u) ? 56u : 28u)
 
@@ -48,20 +52,44 @@ static pdt_real_t median_step(const pdt_real_t *e, size_t n)
  * sample to its last. */
 static pdt_real_t trend(const pdt_real_t *e, size_t w)
 {
-    const pdt_real_t kc = PDT_R(0.5) * (pdt_real_t)(w - 1u);
+    const size_t last = w - 1u;
+    const pdt_real_t kc = PDT_R(0.5) * (pdt_real_t)last;
     pdt_real_t sxy = PDT_R(0.0), sxx = PDT_R(0.0);
     for (size_t k = 0u; k < w; k++) {
         const pdt_real_t x = (pdt_real_t)k - kc;
         sxy += x * (e[k] - e[0]);
         sxx += x * x;
     }
-    return sxy / sxx * (pdt_real_t)(w - 1u);
+    return sxy / sxx * (pdt_real_t)last;
+}
+
+/* The median of the changes' magnitudes over the windows after the
+ * first (at least three of them; else the largest real: no record to
+ * compare with). */
+static pdt_real_t median_others(const pdt_real_t *e, size_t n, size_t w)
+{
+    pdt_real_t c[MID_DIV];
+    const size_t m = n / w < MID_DIV ? n / w : MID_DIV;
+    if (m < 4u) {
+        return PDT_REAL_MAX;
+    }
+    for (size_t i = 1u; i < m; i++) {
+        const pdt_real_t v = pdt_fabs(trend(&e[i * w], w));
+        size_t p = i - 1u;
+        while (p > 0u && c[p - 1u] > v) {
+            c[p] = c[p - 1u];
+            p--;
+        }
+        c[p] = v;
+    }
+    const size_t k = m - 1u;
+    return (k % 2u) != 0u ? c[k / 2u] : PDT_R(0.5) * (c[k / 2u - 1u] + c[k / 2u]);
 }
 
 bool pdt_ident_mid_transient(const pdt_real_t *e, const pdt_real_t *y, size_t n)
 {
-    size_t w = n / MID_DIV;
-    w = w < PDT_MIN_SAMPLES ? PDT_MIN_SAMPLES : w;
+    const size_t least = (size_t)PDT_MIN_SAMPLES;
+    const size_t w = n / MID_DIV < least ? least : n / MID_DIV;
     if (w > n) {
         return false;
     }
@@ -79,5 +107,6 @@ bool pdt_ident_mid_transient(const pdt_real_t *e, const pdt_real_t *y, size_t n)
     const pdt_real_t se =
         sigma * pdt_sqrt(PDT_R(12.0) * (wr - PDT_R(1.0)) / (wr * (wr + PDT_R(1.0))));
     const pdt_real_t change = pdt_fabs(trend(e, w));
-    return change > MID_SIGMAS * se && change > MID_SHARE * (ymax - ymin);
+    return change > MID_SIGMAS * se && change > MID_SHARE * (ymax - ymin) &&
+           change > MID_OTHERS * median_others(e, n, w);
 }

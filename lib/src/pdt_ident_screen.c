@@ -13,12 +13,15 @@
  * so that a smooth misfit of the model (a FOPDT of a higher-order plant)
  * is not taken for an error while a run of up to PDT_IDENT_RUN_MAX bad
  * samples is (the median of a window over a whole run is a good sample).
- * A sample is left out where |h| exceeds both SCREEN_SIGMAS robust
- * standard deviations of h (1.4826 times its median absolute value over
- * the kept samples) and SCREEN_RANGE of the range of the model's output:
- * an error no FOPDT or SOPDT plus noise explains, and large enough to
- * move the model. Its neighbours with |h| above half that bound go with
- * it (the edges of a run).
+ * A sample is left out where |h| exceeds SCREEN_SIGMAS robust standard
+ * deviations of h (1.4826 times its median absolute value over the kept
+ * samples), SCREEN_RANGE of the range of the model's output and
+ * SCREEN_TOP of the largest |h| kept: an error no FOPDT or SOPDT plus
+ * noise explains, large enough to move the model, and among the largest
+ * of the round. Its neighbours of the same sign with |h| above half that
+ * bound go with it (the edges of a run); a sample of an earlier round
+ * whose measured value the answer explains within half the bound is
+ * taken back.
  */
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
@@ -32,7 +35,7 @@
  * SOPDT reached a quarter). */
 #define SCREEN_RANGE  PDT_R(0.5)
 /* The least error left out, as a share of the largest in this round. */
-#define SCREEN_TOP    PDT_R(0.25)
+#define SCREEN_TOP    PDT_R(0.5)
 /* 1 / Phi^-1(3/4): the median absolute value of a Gaussian in standard
  * deviations. */
 #define MAD_TO_SIGMA  PDT_R(1.4826)
@@ -49,6 +52,11 @@ static bool is_out(const uint8_t *m, size_t k)
 static void set_out(uint8_t *m, size_t k)
 {
     m[k >> 3u] = (uint8_t)((uint32_t)m[k >> 3u] | (1u << (k & 7u)));
+}
+
+static void set_in(uint8_t *m, size_t k)
+{
+    m[k >> 3u] = (uint8_t)((uint32_t)m[k >> 3u] & ~(1u << (k & 7u)));
 }
 
 /* The samples left out of y, filled by straight lines between the
@@ -132,6 +140,7 @@ pdt_status_t pdt_ident_screen_prepare(pdt_ident_screen_t *s, const pdt_ident_con
     }
     s->limit = pdt_ident_screen_limit(cfg, n);
     s->missing = missing;
+    s->y_in = d->y;
     fill_gaps(s->yfill, s->mask, n);
     /* Values orders of magnitude off the rest (pdt_cost_outlier: 1e20 in
      * a record of order 1), which the cost refuses: one at a time. */
@@ -149,34 +158,45 @@ pdt_status_t pdt_ident_screen_prepare(pdt_ident_screen_t *s, const pdt_ident_con
 
 /* The median of the window about k of the residual e, whose samples
  * before k were overwritten and are kept in ring (index mod the window). */
-static pdt_real_t window_median(const pdt_real_t *e, const pdt_real_t *ring, size_t n, size_t k)
+static pdt_real_t window_median(const pdt_real_t *e, const pdt_real_t *ring, const uint8_t *mask,
+                                size_t n, size_t k)
 {
     pdt_real_t w[SCREEN_WINDOW];
     const size_t len = n < SCREEN_WINDOW ? n : SCREEN_WINDOW;
     size_t s = k > PDT_IDENT_SCREEN_HALF ? k - PDT_IDENT_SCREEN_HALF : 0u;
     s = (s + len > n) ? n - len : s;
+    size_t kept = 0u;
     for (size_t i = 0u; i < SCREEN_WINDOW; i++) {
         w[i] = PDT_R(0.0);
     }
+    /* The samples left out are filled, not measured: not in the median. */
     for (size_t i = 0u; i < len; i++) {
         const size_t j = s + i;
+        if (is_out(mask, j)) {
+            continue;
+        }
         const pdt_real_t v = (j < k) ? ring[j % SCREEN_WINDOW] : e[j];
-        size_t p = i;
+        size_t p = kept;
         while (p > 0u && w[p - 1u] > v) {
             w[p] = w[p - 1u];
             p--;
         }
         w[p] = v;
+        kept++;
     }
-    return (len % 2u) != 0u ? w[len / 2u] : PDT_R(0.5) * (w[len / 2u - 1u] + w[len / 2u]);
+    if (kept == 0u) {
+        return PDT_R(0.0);
+    }
+    return (kept % 2u) != 0u ? w[kept / 2u] : PDT_R(0.5) * (w[kept / 2u - 1u] + w[kept / 2u]);
 }
 
-/* e high-passed in place: e - its running median. O(n W^2 / 4). */
-static void high_pass(pdt_real_t *e, size_t n)
+/* e high-passed in place: e - its running median over the kept samples.
+ * O(n W^2 / 4). */
+static void high_pass(pdt_real_t *e, const uint8_t *mask, size_t n)
 {
     pdt_real_t ring[SCREEN_WINDOW];
     for (size_t k = 0u; k < n; k++) {
-        const pdt_real_t med = window_median(e, ring, n, k);
+        const pdt_real_t med = window_median(e, ring, mask, n, k);
         ring[k % SCREEN_WINDOW] = e[k];
         e[k] -= med;
     }
@@ -243,8 +263,10 @@ static uint32_t mark(pdt_ident_screen_t *s, const pdt_real_t *h, size_t n, pdt_r
         /* Forward, then backward: a run's edges on either side. */
         const size_t k = i < n ? i : 2u * n - 1u - i;
         const size_t from = i < n ? k - 1u : k + 1u;
+        /* Of the run's sign: a model the run bent errs the other way
+         * beside it. */
         if (k < n && from < n && is_out(s->fresh, from) && !is_out(s->mask, k) &&
-            pdt_fabs(h[k]) > edge) {
+            pdt_fabs(h[k]) > edge && (h[k] > PDT_R(0.0)) == (h[from] > PDT_R(0.0))) {
             set_out(s->mask, k);
             set_out(s->fresh, k);
             added++;
@@ -264,7 +286,8 @@ static pdt_real_t bound_of(const pdt_ident_screen_t *s, const pdt_real_t *h, siz
 {
     pdt_real_t top = PDT_R(0.0);
     for (size_t k = 0u; k < n; k++) {
-        top = pdt_fabs(h[k]) > top ? pdt_fabs(h[k]) : top;
+        const pdt_real_t a = is_out(s->mask, k) ? PDT_R(0.0) : pdt_fabs(h[k]);
+        top = a > top ? a : top;
     }
     if (!pdt_finite(top)) {
         *grow = false;
@@ -289,6 +312,35 @@ static void refill(pdt_ident_screen_t *s, const pdt_real_t *ysim, size_t n)
     fill_gaps(s->yfill, s->fresh, n);
 }
 
+/* The samples of earlier rounds that the answer explains after all (a
+ * model a gross error bent erred beside it): measured values within half
+ * the bound (h holds their high-passed residual) are taken back. Missing
+ * samples never are. Returns how many. */
+static uint32_t restore(pdt_ident_screen_t *s, const pdt_real_t *h, size_t n, pdt_real_t bound)
+{
+    uint32_t back = 0u;
+    for (size_t k = 0u; k < n; k++) {
+        if (is_out(s->mask, k) && pdt_finite(s->y_in[k]) && pdt_fabs(h[k]) <= PDT_R(0.5) * bound) {
+            set_in(s->mask, k);
+            s->yfill[k] = s->y_in[k];
+            back++;
+        }
+    }
+    return back;
+}
+
+/* h of the samples left out as their measured values would have it: the
+ * fill's residual moved by the measured value's distance from the fill
+ * (the running median does not see them). */
+static void measured_h(const pdt_ident_screen_t *s, pdt_real_t *h, size_t n)
+{
+    for (size_t k = 0u; k < n; k++) {
+        if (is_out(s->mask, k) && pdt_finite(s->y_in[k])) {
+            h[k] += s->y_in[k] - s->yfill[k];
+        }
+    }
+}
+
 void pdt_ident_screen_step(pdt_ident_t *c)
 {
     pdt_ident_screen_t *s = &c->screen;
@@ -300,14 +352,16 @@ void pdt_ident_screen_step(pdt_ident_t *c)
         !residual(c, h, &range)) {
         return;
     }
-    high_pass(h, n);
+    high_pass(h, s->mask, n);
+    measured_h(s, h, n);
     for (size_t k = 0u; k < (n + 7u) / 8u; k++) {
         s->fresh[k] = 0u;
     }
     bool grow = false;
     const pdt_real_t bound = bound_of(s, h, n, range, &grow);
+    const uint32_t back = restore(s, h, n, bound);
     const uint32_t added = mark(s, h, n, bound, grow);
-    if (added == 0u && s->excluded == 0u) {
+    if (added == 0u && back == 0u && s->excluded == 0u) {
         return;
     }
     recount(s, n);
@@ -323,9 +377,10 @@ void pdt_ident_screen_step(pdt_ident_t *c)
         h[k] = s->yfill[k] - h[k];
     }
     refill(s, h, n);
-    /* Without new samples, this round only filled the old ones with a
-     * model that did not see them: the next answer is the last. */
-    s->settled = added == 0u;
+    /* Without new samples or ones taken back, this round only filled the
+     * old ones with a model that did not see them: the next answer is the
+     * last. */
+    s->settled = added == 0u && back == 0u;
     s->rounds++;
     const pdt_status_t st = pdt_ident_restart(c);
     if (st != PDT_OK) {

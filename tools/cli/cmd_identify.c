@@ -251,6 +251,14 @@ static void fail_outlier(const ident_data_t *d)
              k + 1u);
 }
 
+/* The samples of y that are not finite: missing. */
+static size_t missing_of(const ident_data_t *d)
+{
+    size_t m = 0;
+    for (size_t k = 0; k < d->s.n; k++) m += isfinite((double)d->y[k]) ? 0u : 1u;
+    return m;
+}
+
 /* Whether u is constant over the record while y moves. */
 static int still_input(const ident_data_t *d)
 {
@@ -341,6 +349,11 @@ static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind
                  "at data row %zu (counting from 1): the record is too damaged",
                  pdt_status_str(st), (unsigned long)least_kept(&cfg, n),
                  "missing ones and gross errors", pdt_ident_outlier(ctx) + 1u);
+    if (st == PDT_ERR_OUTLIER && missing_of(d) > least_kept(&cfg, n))
+        cli_fail(EXIT_REFUSED,
+                 "cannot identify: %s: %zu samples of y are missing, more than the %lu that "
+                 "may be left out",
+                 pdt_status_str(st), missing_of(d), least_kept(&cfg, n));
     if (st == PDT_ERR_OUTLIER) fail_outlier(d);
     if (st == PDT_ERR_NO_EXCITATION && !a->have_u_before && still_input(d))
         cli_fail(EXIT_REFUSED,

@@ -420,11 +420,12 @@ typedef struct pdt_ident_coarse {
 } pdt_ident_coarse_t;
 
 typedef struct pdt_ident_screen {
-    pdt_real_t *yfill; /* n reals of the workspace: y with the samples
+    pdt_real_t *yfill;      /* n reals of the workspace: y with the samples
                         * left out filled in */
-    uint8_t *mask;     /* n bits of the workspace: the samples left out */
-    uint8_t *fresh;    /* n bits of the workspace: those of this round */
-    void *work;        /* the whole workspace, for the next round */
+    uint8_t *mask;          /* n bits of the workspace: the samples left out */
+    uint8_t *fresh;         /* n bits of the workspace: those of this round */
+    const pdt_real_t *y_in; /* the caller's y */
+    void *work;             /* the whole workspace, for the next round */
     size_t work_len;
     size_t first;        /* the first sample left out; n when none */
     uint32_t excluded;   /* samples left out */
