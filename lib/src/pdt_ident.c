@@ -743,7 +743,13 @@ pdt_status_t pdt_ident_restart(pdt_ident_t *c)
 {
     /* start copies what it keeps before it writes *c. */
     c->screen.prior += c->evaluations;
-    return start(c, &c->cfg, &c->data, c->screen.work, c->screen.work_len, &c->screen);
+    /* The count of samples scored goes on across the rounds, so that a
+     * caller's per-call measure of the work never runs backwards. */
+    const uint64_t samples = c->samples;
+    const pdt_status_t st =
+        start(c, &c->cfg, &c->data, c->screen.work, c->screen.work_len, &c->screen);
+    c->samples = samples;
+    return st;
 }
 
 size_t pdt_ident_outlier(const pdt_ident_t *ctx)

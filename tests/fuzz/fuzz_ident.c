@@ -155,8 +155,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         FZ_CHECK(fz_canary_ok(g_work + len));
         calls++;
         /* Every call makes progress or a preparation step: far fewer calls
-         * than twice the budget. */
-        FZ_CHECK(calls <= 2u * cfg.max_evaluations + 64u);
+         * than twice the budget, for the first answer and for each round
+         * of the screen for gross errors. */
+        FZ_CHECK(calls <= (PDT_IDENT_SCREEN_ROUNDS + 1u) * (2u * cfg.max_evaluations + 64u));
     } while (st == PDT_RUNNING);
     FZ_CHECK(st == PDT_OK);
     FZ_CHECK(pdt_ident_step(&ctx, 1u) == PDT_OK);
