@@ -389,6 +389,12 @@ void pdt_ident_screen_step(pdt_ident_t *c)
     if (st != PDT_OK) {
         c->screen.status = st;
         c->phase = PH_DONE;
+        /* The cost refused the refilled record for a value orders of
+         * magnitude off: that sample is the one to name. */
+        const size_t k = pdt_cost_outlier(s->yfill, n);
+        if (st == PDT_ERR_OUTLIER && k < n) {
+            s->first = k;
+        }
     }
 }
 

@@ -513,7 +513,10 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
  * at rest: over its last twentieth, at least 8 samples, the mean of u or
  * of y lies more than a fifth of its range from its starting level),
  * PDT_ERR_LENGTH (record too long for the FFT), PDT_ERR_NOMEM (work NULL or
- * too small). ctx is left untouched on error. */
+ * too small). ctx is left untouched on error; so is work, except for a
+ * record with a missing sample or, without no_screen, a value
+ * pdt_cost_outlier names: its screened copy of y is written into work before
+ * the checks that can still refuse it. */
 pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                             const pdt_ident_data_t *data, void *work, size_t work_len);
 
@@ -530,7 +533,13 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
  * searches, O(n)) or the answer's uncertainty (once, O(n) per
  * parameter). Returns PDT_RUNNING while there is work left, PDT_OK when
  * done (also on every later call), PDT_ERR_ARG for NULL or
- * max_evaluations = 0, PDT_ERR_STATE if ctx was not initialised. */
+ * max_evaluations = 0, PDT_ERR_STATE if ctx was not initialised. Once the
+ * screen has left samples out, the identification starts again on the
+ * record without them: PDT_ERR_OUTLIER when more are to be left out than
+ * max_excluded allows (pdt_ident_outlier names the first), or a status
+ * pdt_ident_init gives a record that the rest no longer passes (e.g.
+ * PDT_ERR_NO_EXCITATION); every later call and pdt_ident_result then
+ * return it. */
 pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations);
 
 /* The result once pdt_ident_step has returned PDT_OK. PDT_ERR_STATE before
