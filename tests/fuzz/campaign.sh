@@ -92,6 +92,6 @@ for item in "${plan[@]}"; do
         awk '{print $2" | "$4" | "$6}')
     found=$(find "$dir/artifacts" -type f | wc -l)
     found_text=none
-    ((found == 0)) || found_text="$found input(s) in $dir/artifacts"
+    ((found == 0)) || found_text="$found inputs (kept in WORK_DIR/$name/artifacts)"
     echo "| \`$name\` | $runs | $time | $rate | ${cov:-? | ? | ?} | $found_text |" | tee -a "$table"
 done
