@@ -553,6 +553,40 @@ static void test_ident_gain_bounds_beyond_float(void **state)
     }
 }
 
+/* fuzz_ident's input (tests/fuzz/corpus/ident/finding-coarse-budget): a
+ * FOPDT on a coarse record of half the samples, 143 evaluations in all.
+ * The dead-time profile took the searches' budget to its last evaluation,
+ * and the whole record's polish after the coarse searches then made one
+ * more: 144. The profile now leaves that polish its evaluations. */
+static void test_ident_coarse_budget(void **state)
+{
+    (void)state;
+    static pdt_real_t u[63], y[63];
+    static const double head[] = {
+        2048.0, 2.86985925e-42, 0.0,     -17920.0, 2048.0,  0.0,    0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+        0.0,    2052.0,         13645.0, 0.0,      15437.0, 19712.0};
+    for (size_t k = 0; k < 63u; k++) {
+        u[k] = k < 16u ? R(1.6e-14) : R(0.0);
+        y[k] = k < sizeof head / sizeof head[0] ? (pdt_real_t)head[k] : (pdt_real_t)k;
+    }
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.Ts = R(0.08);
+    cfg.weight = PDT_IDENT_WEIGHT_BAND;
+    cfg.population = 4u;
+    cfg.max_evaluations = 143u;
+    cfg.refine_evaluations = 23u;
+    cfg.seed = 167772160u;
+    cfg.coarse = 2u;
+    pdt_ident_result_t r;
+    memset(&r, 0, sizeof r);
+    const pdt_status_t st = ident_steps(&cfg, u, y, 63u, 1u, &r);
+    assert_true(st == PDT_OK || st == PDT_ERR_NONFINITE);
+    if (st == PDT_OK) {
+        assert_true(r.evaluations <= cfg.max_evaluations);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -570,6 +604,7 @@ int main(void)
         cmocka_unit_test(test_ident_tau_bound_at_scale),
         cmocka_unit_test(test_ident_empty_band_writes_nothing),
         cmocka_unit_test(test_ident_gain_bounds_beyond_float),
+        cmocka_unit_test(test_ident_coarse_budget),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -126,7 +126,10 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
         return false;
     }
     const uint32_t scan = dead_times(p) * PROFILE_SHAPES;
-    const uint32_t need = scan + c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg);
+    /* On a coarse record, the whole record's polish (at least genes + 1,
+     * pdt_ident_coarse_fine) comes after it. */
+    const uint32_t fine = c->coarse.stage == 1u ? c->genes + 1u : 0u;
+    const uint32_t need = scan + c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg) + fine;
     if (c->evaluations >= c->cfg.max_evaluations ||
         c->cfg.max_evaluations - c->evaluations < need) {
         return false;

@@ -7,7 +7,7 @@
 # input stays in WORK_DIR/<target>/artifacts/. fuzz_ident runs in its quick
 # mode (FZ_IDENT_SMALL=1: records of at most 64 samples, smaller budgets).
 # The runs of an earlier call in WORK_DIR count (run*.log), so a campaign
-# can be resumed. Prints a Markdown table (also WORK_DIR/campaign.md):
+# can be resumed (a target given 0 s only prints its line of the table). Prints a Markdown table (also WORK_DIR/campaign.md):
 # executions, run time, rate, coverage and findings per target.
 #
 # Usage: tests/fuzz/campaign.sh BUILD_DIR WORK_DIR SECONDS [TARGET[:QUOTA[:SECONDS]]...]
@@ -42,11 +42,25 @@ sum_logs() {
     echo "$total"
 }
 executed() { sum_logs "$1" "(number_of_executed_units: *|^#)[0-9]+"; }
-seconds_run() { sum_logs "$1" "Done [0-9]+ runs in [0-9]+"; }
+# seconds_run DIR: the run time of DIR/run<start>-<k>.log, from the start
+# in its name to its last write (a run that found something prints no
+# "Done ... in S second(s)").
+seconds_run() {
+    local total=0 log start
+    for log in "$1"/run*.log; do
+        [ -e "$log" ] || continue
+        start=${log##*/run}
+        start=${start%%-*}
+        total=$((total + $(stat -c %Y "$log") - start))
+    done
+    echo "$total"
+}
 
 table=$work/campaign.md
 mkdir -p "$work"
-git -C "$here" rev-parse --short HEAD >"$work/commit"
+# The commits the campaign ran at, one a line (a resumed campaign may add one).
+head=$(git -C "$here" rev-parse --short HEAD)
+[ "$(tail -1 "$work/commit" 2>/dev/null)" = "$head" ] || echo "$head" >>"$work/commit"
 {
     echo "| target | executions | run time (s) | executions/s | coverage (cov) | features (ft) | corpus | findings |"
     echo "|---|---:|---:|---:|---:|---:|---:|---|"
@@ -78,6 +92,6 @@ for item in "${plan[@]}"; do
         awk '{print $2" | "$4" | "$6}')
     found=$(find "$dir/artifacts" -type f | wc -l)
     found_text=none
-    ((found == 0)) || found_text="$found input(s) in $dir/artifacts"
+    ((found == 0)) || found_text="$found inputs (kept in WORK_DIR/$name/artifacts)"
     echo "| \`$name\` | $runs | $time | $rate | ${cov:-? | ? | ?} | $found_text |" | tee -a "$table"
 done

@@ -65,7 +65,7 @@ done
 
 mkdir -p "$(dirname "$out")"
 awk -v ct="$campaign_table" -v qt="$quota_table" -v kt="$check_table" \
-    -v cc="$(cat "$camp/commit")" -v kc="$(cat "$check/commit")" -v m="$machine" \
+    -v cc="$(paste -sd, "$camp/commit" | sed 's/,/, then /g')" -v kc="$(cat "$check/commit")" -v m="$machine" \
     -v tot="$total" -v sec="$seconds" -v cs="$secs" '
     { gsub(/@CAMPAIGN_COMMIT@/, cc); gsub(/@CHECK_COMMIT@/, kc); gsub(/@MACHINE@/, m)
       gsub(/@CAMPAIGN_TOTAL@/, tot); gsub(/@CAMPAIGN_SECONDS@/, sec); gsub(/@CHECK_SECONDS@/, cs) }
