@@ -35,8 +35,8 @@ from pdtsupport.cli import write_csv
 from pdtsupport.records import multistep_input, noise, simulate
 
 # Keys of the search's trace and of flat maxima, and their tolerances.
-TRACE = {"evaluations", "scans", "identify", "std", "cost", "bic", "searches", "coarse",
-         "runner_up"}
+TRACE = {"evaluations", "scans", "identify", "std", "cov", "ci95", "cost", "bic", "evidence",
+         "searches", "coarse", "runner_up"}
 FLAT = {"w_ms", "w_pc", "w_gc"}
 FOPDT_PLANT = ["--plant-gain", "2", "--plant-lags", "5", "--plant-delay", "1.3"]
 SOPDT_PLANT = ["--plant-gain", "1.5", "--plant-lags", "8,3", "--plant-delay", "2"]
