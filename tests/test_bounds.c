@@ -578,6 +578,9 @@ static void test_ident_coarse_budget(void **state)
     cfg.refine_evaluations = 23u;
     cfg.seed = 167772160u;
     cfg.coarse = 2u;
+    /* The budget of one identification: without the screen's rounds, each
+     * of which has a whole budget of its own. */
+    cfg.no_screen = true;
     pdt_ident_result_t r;
     memset(&r, 0, sizeof r);
     const pdt_status_t st = ident_steps(&cfg, u, y, 63u, 1u, &r);

@@ -123,7 +123,10 @@ typedef struct pdt_ident_config {
                                * even; 0: PDT_IDENT_POPULATION_FOPDT or
                                * _SOPDT by the model. Default 0 */
     uint32_t max_evaluations;    /* cost evaluations in all, every search
-                               * included. Default 9000 */
+                               * included; each of the screen's rounds
+                               * (at most PDT_IDENT_SCREEN_ROUNDS more, only
+                               * where it leaves samples out) has as many
+                               * again. Default 9000 */
     uint32_t searches;           /* independent searches that must agree, 1 .. 3
                                * (time criteria; the frequency criteria run
                                * one): each gets max_evaluations / searches,
