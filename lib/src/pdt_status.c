@@ -47,6 +47,8 @@ const char *pdt_status_str(pdt_status_t status)
         return "data contradict the model";
     case PDT_ERR_UNCERTAIN:
         return "model too uncertain for robust gains";
+    case PDT_ERR_MS_LIMIT:
+        return "gains exceed the robustness limit Ms";
     default:
         return "unknown status";
     }
@@ -99,6 +101,8 @@ const char *pdt_status_name(pdt_status_t status)
         return "PDT_ERR_MODEL_INVALID";
     case PDT_ERR_UNCERTAIN:
         return "PDT_ERR_UNCERTAIN";
+    case PDT_ERR_MS_LIMIT:
+        return "PDT_ERR_MS_LIMIT";
     default:
         return "PDT_STATUS_UNKNOWN";
     }

@@ -284,7 +284,7 @@ def tune(model_or_result, rule="simc", form="pi", *, tau_c=None, lambda_=None, m
          deriv_filter=None):
     """PI/PID gains of a model by a published rule (pdt_tune_compute) and
     the robustness of the loop they make, as `pdtfit tune` prints them.
-    Raises PdtError (e.g. PDT_ERR_POOR_FIT when Ms exceeds ms_max, default
+    Raises PdtError (e.g. PDT_ERR_MS_LIMIT when Ms exceeds ms_max, default
     2)."""
     m = _as_model(model_or_result)
     o = _lib.TuneOpts()

@@ -252,7 +252,7 @@ int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refus
     pdt_tune_result_t r;
     memset(&r, 0, sizeof r);
     st = pdt_tune_compute(&m, 100, &cfg, &r);
-    if (st == PDT_ERR_POOR_FIT) {
+    if (st == PDT_ERR_MS_LIMIT) {
         /* The Ms the refused gains would have had, for the message. */
         pdt_tune_config_t open = cfg;
         open.ms_max = 0;

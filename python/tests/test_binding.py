@@ -183,7 +183,7 @@ def test_tune_refused_by_ms_limit(records):
     r = pdtfit.identify(u, y, fs)
     with pytest.raises(pdtfit.PdtError) as e:
         pdtfit.tune(r, rule="zn", form="pid", ms_max=1.1)
-    assert e.value.status == "PDT_ERR_POOR_FIT" and "Ms " in str(e.value)
+    assert e.value.status == "PDT_ERR_MS_LIMIT" and "Ms " in str(e.value)
 
 
 def test_simulate_gives_the_reported_fit(records):

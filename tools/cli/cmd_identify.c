@@ -439,9 +439,35 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
     return warned;
 }
 
-static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
-                         const order_info_t *o)
+/* ,"tune":{...}: the gains of --tune, or its refusal (status, reason,
+ * rule, form) with the model kept. Returns 1 when refused. */
+static int tune_json_of(const ident_args_t *a, const pdt_ident_result_t *r, pdtcli_jbuf_t *jb)
 {
+    pdt_tune_result_t tr;
+    memset(&tr, 0, sizeof tr);
+    char why[320];
+    const pdt_status_t st =
+        tune_model_try("identify", &r->model, (double)r->fit, &a->t, &tr, why, sizeof why);
+    pdtcli_jb_raw(jb, ",\"tune\":");
+    if (st == PDT_OK) {
+        tune_json(jb, &a->t, &tr, &tr.fig, (double)NAN, (double)NAN);
+        return 0;
+    }
+    cli_warn("identify: the model is printed, its tuning refused: %s", why);
+    /* The reason holds no quote or backslash: it goes in as it is. */
+    pdtcli_jb_printf(jb, "{\"status\":\"%s\"", pdt_status_name(st));
+    pdtcli_jb_str(jb, "reason", why);
+    pdtcli_jb_str(jb, "rule", cli_rule_names[a->t.rule]);
+    pdtcli_jb_str(jb, "form", cli_form_names[a->t.form]);
+    pdtcli_jb_raw(jb, "}");
+    return 1;
+}
+
+/* Prints the JSON; returns 1 when --tune's gains were refused. */
+static int print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
+                        const order_info_t *o)
+{
+    int refused = 0;
     char buf[4096];
     int len = pdtcli_ident_json(r, d->u, d->y, d->s.Ts, d->s.n, buf, sizeof buf);
     if (len < 0) cli_fail(EXIT_REFUSED, "result too long");
@@ -455,13 +481,9 @@ static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt
         len = (int)strlen(buf);
     }
     if (a->tune) {
-        pdt_tune_result_t tr;
-        memset(&tr, 0, sizeof tr);
-        tune_model("identify", &r->model, (double)r->fit, &a->t, &tr);
         pdtcli_jbuf_t jb;
         pdtcli_jb_init(&jb, buf + len - 1, sizeof buf - (size_t)len + 1);
-        pdtcli_jb_raw(&jb, ",\"tune\":");
-        tune_json(&jb, &a->t, &tr, &tr.fig, (double)NAN, (double)NAN);
+        refused = tune_json_of(a, r, &jb);
         pdtcli_jb_raw(&jb, "}");
         if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "result too long");
     }
@@ -469,6 +491,7 @@ static void print_result(const ident_args_t *a, const ident_data_t *d, const pdt
     if (a->plot) ident_plot(a, d, r);
     puts(buf);
     cli_flush();
+    return refused;
 }
 
 int cmd_identify(int argc, char **argv)
@@ -490,9 +513,9 @@ int cmd_identify(int argc, char **argv)
     else
         identify_ls(&a, &d, &res, &delay_max);
     const int warned = suspect(&a, &d, &res, delay_max);
-    print_result(&a, &d, &res, &order);
+    const int refused = print_result(&a, &d, &res, &order);
     free(d.u);
     free(d.y);
     pdtcli_series_free(&d.s);
-    return warned ? EXIT_SUSPECT : 0;
+    return refused ? EXIT_TUNE_REFUSED : warned ? EXIT_SUSPECT : 0;
 }
