@@ -30,13 +30,16 @@ class IdentOpts(ctypes.Structure):
                 ("evaluations", ctypes.c_uint32), ("population", ctypes.c_uint32),
                 ("td_max", ctypes.c_double), ("f_lo", ctypes.c_double),
                 ("f_hi", ctypes.c_double), ("phi_t", ctypes.c_double),
-                ("phi_f", ctypes.c_double), ("coarse", ctypes.c_uint32)]
+                ("phi_f", ctypes.c_double), ("coarse", ctypes.c_uint32),
+                ("offset", ctypes.c_int)]
 
 
 class TuneOpts(ctypes.Structure):
     _fields_ = [("rule", ctypes.c_int), ("form", ctypes.c_int), ("tau_c", ctypes.c_double),
                 ("lambda_", ctypes.c_double), ("ms_max", ctypes.c_double),
-                ("deriv_filter", ctypes.c_double)]
+                ("deriv_filter", ctypes.c_double), ("fit", ctypes.c_double),
+                ("fit_min", ctypes.c_double), ("span", ctypes.c_double),
+                ("Ku", ctypes.c_double), ("Pu", ctypes.c_double)]
 
 
 class CsvOpts(ctypes.Structure):
@@ -55,6 +58,7 @@ class Series(ctypes.Structure):
 NOMEM = -1000  # PDTPY_ERR_NOMEM
 SOPDT_NATURAL, SOPDT_TC, SOPDT_INTEG = 0, 1, 2  # PDTPY_SOPDT_*
 METHODS = {"ga": 0, "elms": 1, "eiv": 2}  # PDTPY_METHOD_*
+MODEL_AUTO = 3  # PDTPY_MODEL_AUTO
 
 D = ctypes.POINTER(ctypes.c_double)
 lib = _load()
@@ -77,11 +81,14 @@ lib.pdtpy_read_series.argtypes = [ctypes.c_char_p, ctypes.POINTER(CsvOpts),
                                   ctypes.POINTER(Series), ctypes.c_char_p, ctypes.c_size_t]
 lib.pdtpy_series_free.argtypes = [ctypes.POINTER(Series)]
 lib.pdtpy_series_free.restype = None
+lib.pdtpy_outlier.argtypes = [D, ctypes.c_size_t]
+lib.pdtpy_outlier.restype = ctypes.c_size_t
 
 # The enums, from the headers installed with the package; a status's name
 # is the library's own (pdt_status_name), as the command line prints it.
 STATUS_CODES = sorted(_cheader.enums(INCLUDE / "pdt_status.h")["pdt_status_t"].values())
 STATUS_NAMES = {code: lib.pdtpy_status_name(code).decode() for code in STATUS_CODES}
+STATUS_CODE = {name: code for code, name in _cheader.status_names(INCLUDE / "pdt_status.h").items()}
 _cost = _cheader.enums(INCLUDE / "pdt_cost.h")
 _tune = _cheader.enums(INCLUDE / "pdt_tune.h")
 _model = _cheader.enums(INCLUDE / "pdt_model.h")
@@ -96,8 +103,12 @@ MODELS = _choices(_model["pdt_model_kind_t"], "PDT_MODEL_")
 COSTS = _choices(_cost["pdt_cost_kind_t"], "PDT_COST_")
 WEIGHTS = {k: v for k, v in _choices(_ident["pdt_ident_weight_t"], "PDT_IDENT_WEIGHT_").items()
            if k != "custom"}  # needs an array of weights: not offered
+OFFSETS = _choices(_ident["pdt_ident_offset_t"], "PDT_IDENT_OFFSET_")
 RULES = _choices(_tune["pdt_tune_rule_t"], "PDT_TUNE_")
 FORMS = _choices(_tune["pdt_tune_form_t"], "PDT_TUNE_")
+_common = _cheader.defines(INCLUDE / "pdt_common.h")
+VERSION = "%d.%d.%d" % tuple(_common["PDT_VERSION_" + p] for p in ("MAJOR", "MINOR", "PATCH"))
+MAX_POPULATION = _cheader.defines(INCLUDE / "pdt_ident.h")["PDT_IDENT_MAX_POPULATION"]
 
 
 def darray(values):

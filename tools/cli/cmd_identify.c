@@ -321,34 +321,10 @@ static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_
     *res = o->r[o->kept == PDT_MODEL_SOPDT];
 }
 
-/* The gain's std and the whole covariance finite: the first thing
- * pdt_ident_select_order weighs. */
-static int determined(const pdt_validate_result_t *v)
-{
-    int ok = isfinite((double)v->std.std[0]);
-    for (uint32_t i = 0; i < v->std.count; i++)
-        for (uint32_t j = 0; j < v->std.count; j++) ok = ok && isfinite((double)v->std.cov[i][j]);
-    return ok;
-}
-
-/* ,"order":{"kept",...,"fopdt":{...},"sopdt":{...}}: the evidence each
- * model had, in the order pdt_ident_select_order weighs it. */
+/* ,"order":{...} (pdtcli_jb_order). */
 static void order_json(pdtcli_jbuf_t *jb, const order_info_t *o)
 {
-    static const char *const names[2] = {"fopdt", "sopdt"};
-    pdtcli_jb_printf(jb, ",\"order\":{\"kept\":\"%s\"", names[o->kept == PDT_MODEL_SOPDT]);
-    for (int k = 0; k < 2; k++) {
-        const pdt_validate_result_t *v = &o->v[k];
-        pdtcli_jb_printf(jb, ",\"%s\":{\"determined\":%s,\"independent\":%s,\"bic\":", names[k],
-                         determined(v) ? "true" : "false", v->independent ? "true" : "false");
-        pdtcli_jb_num(jb, (double)v->bic);
-        pdtcli_jb_key(jb, "aic", (double)v->aic);
-        pdtcli_jb_raw(jb, v->white ? ",\"white\":true" : ",\"white\":false");
-        pdtcli_jb_key(jb, "sigma", (double)v->sigma);
-        pdtcli_jb_key(jb, "fit", (double)o->r[k].fit);
-        pdtcli_jb_raw(jb, "}");
-    }
-    pdtcli_jb_raw(jb, "}");
+    pdtcli_jb_order(jb, o->kept, o->r, o->v);
 }
 
 /* --method elms|eiv: the least-squares delay scan, as a GA result. */

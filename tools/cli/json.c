@@ -281,3 +281,31 @@ void pdtcli_jb_tune(pdtcli_jbuf_t *jb, const char *rule, const char *form, int k
     if (isfinite(Pu)) pdtcli_jb_key(jb, "Pu", Pu);
     pdtcli_jb_raw(jb, "}");
 }
+
+/* The gain's std and the whole covariance finite: the first thing
+ * pdt_ident_select_order weighs. */
+static int determined(const pdt_validate_result_t *v)
+{
+    int ok = isfinite((double)v->std.std[0]);
+    for (uint32_t i = 0; i < v->std.count; i++)
+        for (uint32_t j = 0; j < v->std.count; j++) ok = ok && isfinite((double)v->std.cov[i][j]);
+    return ok;
+}
+
+void pdtcli_jb_order(pdtcli_jbuf_t *jb, pdt_model_kind_t kept, const pdt_ident_result_t r[2],
+                     const pdt_validate_result_t v[2])
+{
+    static const char *const names[2] = {"fopdt", "sopdt"};
+    pdtcli_jb_printf(jb, ",\"order\":{\"kept\":\"%s\"", names[kept == PDT_MODEL_SOPDT]);
+    for (int k = 0; k < 2; k++) {
+        pdtcli_jb_printf(jb, ",\"%s\":{\"determined\":%s,\"independent\":%s,\"bic\":", names[k],
+                         determined(&v[k]) ? "true" : "false", v[k].independent ? "true" : "false");
+        pdtcli_jb_num(jb, (double)v[k].bic);
+        pdtcli_jb_key(jb, "aic", (double)v[k].aic);
+        pdtcli_jb_raw(jb, v[k].white ? ",\"white\":true" : ",\"white\":false");
+        pdtcli_jb_key(jb, "sigma", (double)v[k].sigma);
+        pdtcli_jb_key(jb, "fit", (double)r[k].fit);
+        pdtcli_jb_raw(jb, "}");
+    }
+    pdtcli_jb_raw(jb, "}");
+}

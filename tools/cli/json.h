@@ -60,6 +60,12 @@ void pdtcli_jb_tune(pdtcli_jbuf_t *jb, const char *rule, const char *form, int k
                     int knob_lambda, const pdt_tune_result_t *r, const pdt_tune_figures_t *fig,
                     double span, double Ku, double Pu);
 
+/* ,"order":{"kept",...,"fopdt":{...},"sopdt":{...}} of --model auto: the
+ * evidence each model had (r, v: FOPDT then SOPDT), in the order
+ * pdt_ident_select_order weighs it. */
+void pdtcli_jb_order(pdtcli_jbuf_t *jb, pdt_model_kind_t kept, const pdt_ident_result_t r[2],
+                     const pdt_validate_result_t v[2]);
+
 #ifdef __cplusplus
 }
 #endif
