@@ -219,11 +219,12 @@ class TuneResult(_Json):
 class Record:
     """One record read by read_csv: u, y (numpy arrays), Ts (s), fs (Hz), n,
     and what the reader did: jitter_warn (time stamps off the grid within
-    its tolerance), filled (samples filled by resampling)."""
+    its tolerance), filled (samples filled by resampling), units_row (the
+    line of a units row found under the header and skipped, else 0)."""
 
-    def __init__(self, u, y, Ts, jitter_warn=0, filled=0):
+    def __init__(self, u, y, Ts, jitter_warn=0, filled=0, units_row=0):
         self.u, self.y, self.Ts = u, y, Ts
-        self.jitter_warn, self.filled = jitter_warn, filled
+        self.jitter_warn, self.filled, self.units_row = jitter_warn, filled, units_row
 
     @property
     def fs(self):
@@ -568,7 +569,7 @@ def reduce(gain, lags, zeros=(), delay=0.0, model="fopdt", method="skogestad", h
 
 
 def read_csv(path, t=None, u=None, y=None, *, fs=None, sep=None, decimal=None, skip=0,
-             time_unit="s", resample=False):
+             time_unit="s", resample=False, units_row=False, time_format=None):
     """Reads u, y and the sampling period from a CSV file with the reader of
     `pdtfit identify` (the same options, docs/cli.md).
 
@@ -582,6 +583,13 @@ def read_csv(path, t=None, u=None, y=None, *, fs=None, sep=None, decimal=None, s
     skip        lines to skip before the header (>= 0).
     time_unit   "s", "ms" or "us": the time column's unit.
     resample    fill gaps on the median interval by zero-order hold.
+    units_row   one row of units under the header, to skip (without it a
+                units row is found and skipped, and Record.units_row says
+                on which line).
+    time_format the time column's date-time form, strftime-like: %Y %y %m
+                %d %H %I %M %S %f %p %z (None: ISO 8601,
+                "01.03.2024 08:00:00,500" and "3/1/2024 8:00:00 AM" forms
+                are found).
 
     Returns a Record (u, y, Ts, fs, n, jitter_warn, filled); raises
     ValueError naming the file, line and column of a malformed file."""
@@ -596,6 +604,8 @@ def read_csv(path, t=None, u=None, y=None, *, fs=None, sep=None, decimal=None, s
     o.time_unit = _choice({"s": 0, "ms": 1, "us": 2}, time_unit, "time unit")
     o.resample = int(bool(resample))
     o.fs = float(fs or 0.0)
+    o.units_row = int(bool(units_row))
+    o.time_format = None if time_format is None else str(time_format).encode()
     s = _lib.Series()
     err = ctypes.create_string_buffer(512)
     if lib.pdtpy_read_series(str(path).encode(), ctypes.byref(o), ctypes.byref(s), err,
@@ -604,6 +614,6 @@ def read_csv(path, t=None, u=None, y=None, *, fs=None, sep=None, decimal=None, s
     try:
         u_a = np.ctypeslib.as_array(s.u, shape=(s.n,)).copy()
         y_a = np.ctypeslib.as_array(s.y, shape=(s.n,)).copy()
-        return Record(u_a, y_a, s.Ts, s.jitter_warn, s.filled)
+        return Record(u_a, y_a, s.Ts, s.jitter_warn, s.filled, s.units_row)
     finally:
         lib.pdtpy_series_free(ctypes.byref(s))

@@ -46,13 +46,15 @@ class CsvOpts(ctypes.Structure):
     _fields_ = [("t_col", ctypes.c_char_p), ("u_col", ctypes.c_char_p),
                 ("y_col", ctypes.c_char_p), ("sep", ctypes.c_char), ("decimal", ctypes.c_char),
                 ("skip", ctypes.c_uint), ("time_unit", ctypes.c_int),
-                ("resample", ctypes.c_int), ("fs", ctypes.c_double)]
+                ("resample", ctypes.c_int), ("fs", ctypes.c_double),
+                ("units_row", ctypes.c_int), ("time_format", ctypes.c_char_p)]
 
 
 class Series(ctypes.Structure):
     _fields_ = [("u", ctypes.POINTER(ctypes.c_double)), ("y", ctypes.POINTER(ctypes.c_double)),
                 ("n", ctypes.c_size_t), ("Ts", ctypes.c_double),
-                ("jitter_warn", ctypes.c_uint), ("filled", ctypes.c_uint)]
+                ("jitter_warn", ctypes.c_uint), ("filled", ctypes.c_uint),
+                ("units_row", ctypes.c_size_t)]
 
 
 NOMEM = -1000  # PDTPY_ERR_NOMEM

@@ -388,6 +388,8 @@ int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o, pdtpy_series_
     co.time_unit = o->time_unit;
     co.resample = o->resample;
     co.fs = o->fs;
+    co.units_row = o->units_row;
+    co.time_format = o->time_format;
     co.max_abs = sizeof(pdt_real_t) == sizeof(float) ? (double)FLT_MAX : DBL_MAX;
     memset(out, 0, sizeof *out);
     if (pdtcli_csv_read_series(path, &co, &se, err, errlen) != 0) return -1;
@@ -397,6 +399,7 @@ int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o, pdtpy_series_
     out->Ts = se.Ts;
     out->jitter_warn = se.jitter_warn;
     out->filled = se.filled;
+    out->units_row = se.units_row;
     return 0;
 }
 

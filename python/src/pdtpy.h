@@ -63,7 +63,9 @@ typedef struct pdtpy_csv_opts {
     unsigned skip;
     int time_unit; /* 0 s, 1 ms, 2 us */
     int resample;
-    double fs; /* 0: from the time column */
+    double fs;               /* 0: from the time column */
+    int units_row;           /* 1: a units row under the header */
+    const char *time_format; /* NULL: detected */
 } pdtpy_csv_opts_t;
 
 /* The record read (pdtcli_series_t): u, y malloc'ed, free with
@@ -74,6 +76,7 @@ typedef struct pdtpy_series {
     double Ts;            /* s */
     unsigned jitter_warn; /* time stamps off the grid within the tolerance */
     unsigned filled;      /* samples filled by resampling */
+    size_t units_row;     /* the line of a units row found and skipped, 0 */
 } pdtpy_series_t;
 
 /* The library's description of a status (pdt_status_str). */

@@ -36,6 +36,8 @@ WHERE = {
         "--sep": ("read_csv", "sep"), "--decimal": ("read_csv", "decimal"),
         "--skip": ("read_csv", "skip"), "--time-unit": ("read_csv", "time_unit"),
         "--resample": ("read_csv", "resample"),
+        "--units-row": ("read_csv", "units_row"),
+        "--time-format": ("read_csv", "time_format"),
         # outputs beside the JSON: result.simulate(), result.plot()
         "--out-sim": None, "--plot": None, "--plot-script": None,
     },
@@ -269,3 +271,21 @@ def test_tune_refusal_reason_is_the_programs():
 ])
 def test_reduce_equals_the_program(args, kwargs):
     same(pdtfit.reduce(**kwargs).as_dict(), cli_json("reduce", *args))
+
+
+@cli_test
+def test_read_csv_units_row_and_date_form_equal_the_program(tmp_path):
+    rows = ["Zeit;CV [%];PV [degC]", "s;%;degC"]
+    for k in range(80):
+        y = 20 + (0.6 * (1 - np.exp(-(k - 12) / 5)) if k > 12 else 0.0)
+        rows.append(f"01.03.2024 08:00:{k // 2:02d},{5 * (k % 2)}00;{5 if k > 10 else 0};"
+                    + f"{y:.6f}".replace(".", ","))
+    path = tmp_path / "plc.csv"
+    path.write_text("\n".join(rows) + "\n")
+    res = cli.run(["identify", "--model", "fopdt", "--t", "zeit", "--u", "CV [%]", "--y", "pv",
+                   path])
+    assert res.returncode == 0 and "units under the header" in res.stderr
+    rec = pdtfit.read_csv(path, t="zeit", u="cv", y="PV [degC]")
+    assert rec.units_row == 2 and rec.n == 80 and rec.Ts == pytest.approx(0.5)
+    same(pdtfit.identify(rec.u, rec.y, Ts=rec.Ts).as_dict(), json.loads(res.stdout))
+    assert pdtfit.read_csv(path, t="zeit", u="cv", y="pv", units_row=True).units_row == 0

@@ -56,6 +56,8 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--skip", OPT_UINT, &a->skip, NULL, 0, 0, 1000000, NULL, "a line count 0 .. 1000000", 0},
         {"--time-unit", OPT_CHOICE, &a->time_unit, NULL, 0, 0, 0, unit_names, "time unit", 0},
         {"--resample", OPT_FLAG, &a->resample, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--units-row", OPT_FLAG, &a->units_row, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--time-format", OPT_TEXT, &a->time_format, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--out-sim", OPT_TEXT, &a->out_sim, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot", OPT_TEXT, &a->plot, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot-script", OPT_TEXT, &a->plot_script, NULL, 0, 0, 0, NULL, NULL, 0},
@@ -143,6 +145,8 @@ static void read_data(const ident_args_t *a, ident_data_t *d)
     o.time_unit = a->time_unit;
     o.resample = a->resample;
     o.fs = a->have_fs ? a->fs : 0.0;
+    o.units_row = a->units_row;
+    o.time_format = a->time_format;
     char err[600];
     if (pdtcli_csv_read_series(a->file, &o, &d->s, err, sizeof err) != 0)
         cli_fail(EXIT_USAGE, "%s", err);
@@ -153,6 +157,9 @@ static void read_data(const ident_args_t *a, ident_data_t *d)
                  (unsigned)PDT_MIN_SAMPLES);
     if (!((double)(pdt_real_t)d->s.Ts > 0.0) || !isfinite((double)(pdt_real_t)d->s.Ts))
         cli_fail(EXIT_USAGE, "%s: sampling period %.9g s is out of range", name, d->s.Ts);
+    if (d->s.units_row)
+        cli_warn("%s:%zu: a row of units under the header, skipped (--units-row says so)", name,
+                 d->s.units_row);
     if (d->s.jitter_warn)
         cli_warn("%s: %u time stamp%s more than 1%% of Ts off a uniform grid: Ts = %.9g s, the "
                  "median interval",

@@ -12,6 +12,8 @@ enum { METHOD_GA, METHOD_ELMS, METHOD_EIV };
 
 typedef struct ident_args {
     int model, method, cost, weight, offset, integer_delay, time_unit, resample;
+    int units_row;           /* --units-row */
+    const char *time_format; /* --time-format */
     double td_max, fs, phi_t, phi_f, f_lo, f_hi;
     uint64_t seed, evaluations, population, coarse, skip;
     const char *band, *t_col, *u_col, *y_col, *sep, *decimal, *file;
