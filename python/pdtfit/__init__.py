@@ -47,7 +47,7 @@ line's JSON prints it."""
 REAL_BYTES = lib.pdtpy_real_size()
 """4 in the float build of the library, 8 in the double build."""
 
-_JSON_LEN = 2048
+_JSON_LEN = 16384
 
 
 class PdtError(Exception):
@@ -308,8 +308,9 @@ def _outlier_detail(u, y):
 def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None,
              method="ga", evaluations=None, population=None, td_max=None, weight=None,
              band=None, phi_t=None, phi_f=None, integer_delay=False, coarse=None,
-             offset="auto", tune=None, tau_c=None, lambda_=None, ms_max=None,
-             deriv_filter=None, u_span=None, y_span=None, fit_min=None):
+             offset="auto", uncertainty="auto", bootstrap=None, tune=None, tau_c=None,
+             lambda_=None, ms_max=None, deriv_filter=None, u_span=None, y_span=None,
+             fit_min=None):
     """Identifies a FOPDT or SOPDT model from one record, as
     `pdtfit identify` does with the same options (docs/cli.md).
 
@@ -336,6 +337,12 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
                 record, D a record D times coarser.
     offset      "auto" (default), "estimate" (y0 fitted with the model) or
                 "rest" (y0 the output's mean over the record's rest window).
+    uncertainty how "std", "cov" and "ci95" are found: "auto" (default:
+                the Fisher information for a FOPDT, the bootstrap for a
+                SOPDT), "fisher", or "bootstrap" (a parametric bootstrap:
+                records simulated from the model with the residual's noise,
+                identified again; docs/uncertainty.md).
+    bootstrap   the bootstrap's runs (2 .. 100000; None: 50).
     tune        "RULE[:FORM]" (e.g. "simc:pid"): also tune the model as
                 `identify --tune` does, with tau_c, lambda_, ms_max,
                 deriv_filter, u_span, y_span, fit_min as for tune(). The
@@ -345,8 +352,9 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
 
     Returns an IdentResult: the JSON's keys as attributes (model, K, tau,
     Td or K, wn, zeta, tau1, tau2, a, b, Ki; y0, u0, cost, fit,
-    evaluations, searches, coarse, runner_up, flags, std, Ts, n; order
-    with model="auto"). Raises ValueError for a bad argument (naming it,
+    evaluations, searches, coarse, runner_up, flags; std and cov (every
+    printed parameter, by its name), ci95 and bootstrap_runs with the
+    bootstrap, uncertainty; Ts, n; order with model="auto"). Raises ValueError for a bad argument (naming it,
     or the first sample that is not finite) and PdtError when the library
     refuses the data or the options (PDT_ERR_OUTLIER names the sample).
     """
@@ -360,8 +368,15 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     y, py = _darray(y, "y")
     if len(u) != len(y):
         raise ValueError(f"u has {len(u)} samples, y {len(y)}")
+    if str(method).lower() != "ga" and (uncertainty != "auto" or bootstrap is not None):
+        raise ValueError("uncertainty, bootstrap: options of method='ga' only")
     o = _ident_opts(model, method, cost, seed, evaluations, population, td_max, weight, band,
                     phi_t, phi_f, integer_delay, coarse, offset)
+    o.uncertainty = _choice({"auto": 0, "fisher": 1, "bootstrap": 2}, uncertainty,
+                            "uncertainty")
+    o.boot_runs = _whole("bootstrap", bootstrap, 2, 100000, "a run count 2 .. 100000")
+    if bootstrap is not None and o.uncertainty == 1:
+        raise ValueError("bootstrap goes with uncertainty='auto' or 'bootstrap'")
     topts = dict(tau_c=tau_c, lambda_=lambda_, ms_max=ms_max, deriv_filter=deriv_filter,
                  u_span=u_span, y_span=y_span, fit_min=fit_min)
     if tune is None and any(v is not None for v in topts.values()):

@@ -31,7 +31,8 @@ class IdentOpts(ctypes.Structure):
                 ("td_max", ctypes.c_double), ("f_lo", ctypes.c_double),
                 ("f_hi", ctypes.c_double), ("phi_t", ctypes.c_double),
                 ("phi_f", ctypes.c_double), ("coarse", ctypes.c_uint32),
-                ("offset", ctypes.c_int)]
+                ("offset", ctypes.c_int), ("uncertainty", ctypes.c_int),
+                ("boot_runs", ctypes.c_uint32)]
 
 
 class TuneOpts(ctypes.Structure):

@@ -219,6 +219,20 @@ static int ga_auto(const pdt_real_t *u, const pdt_real_t *y, size_t n, double Ts
     return st == PDT_OK ? pdt_ident_select_order(&v[0], &v[1], kept) : st;
 }
 
+/* The bootstrap `pdtfit identify --uncertainty` would run, or NULL. */
+static const pdtcli_boot_t *bootstrap(const pdt_real_t *u, const pdt_real_t *y, size_t n, double Ts,
+                                      const pdtpy_ident_opts_t *o, const pdt_ident_result_t *r,
+                                      pdtcli_boot_t *b)
+{
+    const int on = o->uncertainty == 2 || (o->uncertainty == 0 && r->model.kind == PDT_MODEL_SOPDT);
+    if (o->method != PDTPY_METHOD_GA || !on) return NULL;
+    pdt_ident_config_t cfg;
+    ga_config(o, Ts, &cfg);
+    cfg.model = r->model.kind;
+    const unsigned runs = o->boot_runs ? o->boot_runs : PDTCLI_BOOT_RUNS;
+    return pdtcli_bootstrap(&cfg, r, u, y, n, runs, b) == 0 ? b : NULL;
+}
+
 int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
                    const pdtpy_ident_opts_t *o, double *model, char *json, size_t json_len)
 {
@@ -237,7 +251,9 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
     if (st == PDT_OK && autom) res = both[kept == PDT_MODEL_SOPDT];
     if (st == PDT_OK) {
         model_out(&res.model, model);
-        int len = pdtcli_ident_json(&res, ur, yr, Ts, n, json, json_len);
+        pdtcli_boot_t boot;
+        int len = pdtcli_ident_json_boot(&res, ur, yr, Ts, n,
+                                         bootstrap(ur, yr, n, Ts, o, &res, &boot), json, json_len);
         if (len > 0 && autom) {
             /* In place of the closing brace, which comes back after it. */
             pdtcli_jbuf_t jb;

@@ -44,8 +44,10 @@ typedef struct pdtpy_ident_opts {
     uint32_t evaluations; /* 0 default */
     uint32_t population;  /* 0 default */
     double td_max, f_lo, f_hi, phi_t, phi_f;
-    uint32_t coarse; /* 0 automatic */
-    int offset;      /* pdt_ident_offset_t */
+    uint32_t coarse;    /* 0 automatic */
+    int offset;         /* pdt_ident_offset_t */
+    int uncertainty;    /* 0 auto (the bootstrap for a SOPDT), 1 fisher, 2 bootstrap */
+    uint32_t boot_runs; /* 0: PDTCLI_BOOT_RUNS */
 } pdtpy_ident_opts_t;
 
 typedef struct pdtpy_tune_opts {

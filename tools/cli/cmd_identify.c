@@ -12,6 +12,8 @@ static const char *const weight_names[] = {"auto", "control", "uniform", "band",
 static const pdt_ident_weight_t weight_kinds[] = {PDT_IDENT_WEIGHT_AUTO, PDT_IDENT_WEIGHT_CONTROL,
                                                   PDT_IDENT_WEIGHT_UNIFORM, PDT_IDENT_WEIGHT_BAND};
 static const char *const unit_names[] = {"s", "ms", "us", NULL};
+/* --uncertainty: in the order of UNC_*. */
+static const char *const uncertainty_names[] = {"auto", "fisher", "bootstrap", NULL};
 /* --offset: in pdt_ident_offset_t's order. */
 static const char *const offset_names[] = {"auto", "estimate", "rest", NULL};
 
@@ -58,6 +60,10 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--resample", OPT_FLAG, &a->resample, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--units-row", OPT_FLAG, &a->units_row, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--time-format", OPT_TEXT, &a->time_format, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--uncertainty", OPT_CHOICE, &a->uncertainty, NULL, 0, 0, 0, uncertainty_names,
+         "uncertainty", GA},
+        {"--bootstrap", OPT_UINT, &a->boot_runs, &a->have_boot_runs, 0, 2, 100000, NULL,
+         "a run count 2 .. 100000", GA},
         {"--out-sim", OPT_TEXT, &a->out_sim, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot", OPT_TEXT, &a->plot, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot-script", OPT_TEXT, &a->plot_script, NULL, 0, 0, 0, NULL, NULL, 0},
@@ -118,6 +124,8 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
                      a->t.have_u_span || a->t.have_y_span))
         cli_fail(EXIT_USAGE, "identify: the tuning options go with --tune RULE[:FORM]");
     tune_opts_check("identify", &a->t);
+    if (a->have_boot_runs && a->uncertainty == UNC_FISHER)
+        cli_fail(EXIT_USAGE, "identify: --bootstrap goes with --uncertainty auto or bootstrap");
     if (a->plot_script && !a->plot)
         cli_fail(EXIT_USAGE, "identify: --plot-script goes with --plot");
     if (!a->file) cli_fail(EXIT_USAGE, "identify: missing FILE (a CSV file, or - for stdin)");
@@ -422,6 +430,24 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
     return warned;
 }
 
+/* The bootstrap of the answer (--uncertainty: bootstrap, or auto for a
+ * SOPDT, whose Fisher information is a poor guide from a step), or NULL
+ * when the Fisher information's is reported. */
+static const pdtcli_boot_t *bootstrap(const ident_args_t *a, const ident_data_t *d,
+                                      const pdt_ident_result_t *r, pdtcli_boot_t *b)
+{
+    const int on = a->uncertainty == UNC_BOOTSTRAP ||
+                   (a->uncertainty == UNC_AUTO && r->model.kind == PDT_MODEL_SOPDT);
+    if (a->method != METHOD_GA || !on) return NULL;
+    pdt_ident_config_t cfg;
+    ga_config(a, d->s.Ts, &cfg);
+    cfg.model = r->model.kind;
+    const unsigned runs = a->have_boot_runs ? (unsigned)a->boot_runs : PDTCLI_BOOT_RUNS;
+    if (pdtcli_bootstrap(&cfg, r, d->u, d->y, d->s.n, runs, b) == 0) return b;
+    cli_warn("identify: the bootstrap failed: the Fisher information's uncertainty is printed");
+    return NULL;
+}
+
 /* ,"tune":{...}: the gains of --tune, or its refusal (status, reason,
  * rule, form) with the model kept. Returns 1 when refused. */
 static int tune_json_of(const ident_args_t *a, const pdt_ident_result_t *r, pdtcli_jbuf_t *jb)
@@ -451,8 +477,10 @@ static int print_result(const ident_args_t *a, const ident_data_t *d, const pdt_
                         const order_info_t *o)
 {
     int refused = 0;
-    char buf[4096];
-    int len = pdtcli_ident_json(r, d->u, d->y, d->s.Ts, d->s.n, buf, sizeof buf);
+    char buf[16384];
+    pdtcli_boot_t boot;
+    int len = pdtcli_ident_json_boot(r, d->u, d->y, d->s.Ts, d->s.n, bootstrap(a, d, r, &boot), buf,
+                                     sizeof buf);
     if (len < 0) cli_fail(EXIT_REFUSED, "result too long");
     if (o->have) {
         /* In place of the closing brace, which comes back after it. */
