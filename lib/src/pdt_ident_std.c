@@ -9,6 +9,9 @@
 /* The model's own parameters: FOPDT K, tau, Td, y0; SOPDT k, a, b, Td, y0. */
 #define NATIVE_MAX PDT_IDENT_MAX_PARAMS
 
+/* The printed parameters' count as an unsigned loop bound. */
+#define N_PAR ((uint32_t)PDT_IDENT_PAR_COUNT)
+
 typedef pdt_real_t jacobian_t[PDT_IDENT_PAR_COUNT][NATIVE_MAX];
 
 static void set_row(pdt_ident_printed_t *p, pdt_ident_par_t i)
@@ -101,8 +104,8 @@ static bool on_undetermined(jacobian_t J, uint32_t i, const pdt_ident_std_t *s)
 /* J cov J^T where both rows exist. */
 static void propagate(jacobian_t J, const pdt_ident_std_t *s, pdt_ident_printed_t *p)
 {
-    for (uint32_t i = 0u; i < PDT_IDENT_PAR_COUNT; i++) {
-        for (uint32_t k = 0u; k < PDT_IDENT_PAR_COUNT; k++) {
+    for (uint32_t i = 0u; i < N_PAR; i++) {
+        for (uint32_t k = 0u; k < N_PAR; k++) {
             pdt_real_t c = PDT_R(0.0);
             for (uint32_t j = 0u; j < s->count; j++) {
                 for (uint32_t l = 0u; l < s->count; l++) {
@@ -113,7 +116,7 @@ static void propagate(jacobian_t J, const pdt_ident_std_t *s, pdt_ident_printed_
             p->cov[i][k] = held ? (pdt_real_t)NAN : c;
         }
     }
-    for (uint32_t i = 0u; i < PDT_IDENT_PAR_COUNT; i++) {
+    for (uint32_t i = 0u; i < N_PAR; i++) {
         const bool exists = (p->have & ((uint32_t)1u << i)) != 0u;
         if (!exists) {
             p->std[i] = (pdt_real_t)NAN;
@@ -133,19 +136,28 @@ pdt_status_t pdt_ident_std_printed(const pdt_model_t *m, const pdt_ident_std_t *
     if ((m == NULL) || (s == NULL) || (out == NULL) || (pdt_model_check(m) != PDT_OK)) {
         return PDT_ERR_ARG;
     }
-    const uint32_t need = (m->kind == PDT_MODEL_FOPDT) ? 4u : 5u;
+    uint32_t need = 5u;
+    if (m->kind == PDT_MODEL_FOPDT) {
+        need = 4u;
+    }
     if (s->count != need) {
         return PDT_ERR_ARG;
     }
-    pdt_ident_printed_t p = {0};
+    /* Nothing can fail from here: *out is built in place. */
+    out->have = 0u;
+    for (uint32_t i = 0u; i < N_PAR; i++) {
+        out->std[i] = PDT_R(0.0);
+        for (uint32_t k = 0u; k < N_PAR; k++) {
+            out->cov[i][k] = PDT_R(0.0);
+        }
+    }
     jacobian_t J = {{0}};
     if (m->kind == PDT_MODEL_FOPDT) {
-        fopdt_rows(&p, J);
+        fopdt_rows(out, J);
     } else {
-        sopdt_rows(&m->p.sopdt, &p, J);
+        sopdt_rows(&m->p.sopdt, out, J);
     }
-    set_row(&p, PDT_IDENT_PAR_Y0);
-    propagate(J, s, &p);
-    *out = p;
+    set_row(out, PDT_IDENT_PAR_Y0);
+    propagate(J, s, out);
     return PDT_OK;
 }

@@ -138,17 +138,20 @@ def main():
                          "the report is written to stdout then")
     args = ap.parse_args()
     binary = args.bin or find_binary()
-    cases = [(p, e, c) for p in args.plants.split(",") for e in ("step", "prbs")
-             for c in ("white", "coloured")]
+    # The program's default, and for a SOPDT also the Fisher information
+    # (what a device reports, pdt_ident_std_printed).
+    cases = [(p, e, c, o) for p in args.plants.split(",")
+             for o in ((), ("--uncertainty", "fisher")) if p == "sopdt" or not o
+             for e in ("step", "prbs") for c in ("white", "coloured")]
     sections, summary, misses = [], [], 0
     with tempfile.TemporaryDirectory() as tmp, \
             concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        for plant, exc, colour in cases:
+        for plant, exc, colour, opt in cases:
             outs = list(pool.map(lambda s: run_one(binary, plant, exc, colour, s, tmp,
-                                                   args.option), range(args.seeds)))
+                                                   [*opt, *args.option]), range(args.seeds)))
             outs = [o for o in outs if o is not None]
             rows = case_rows(outs, plant)
-            name = f"{plant.upper()}, {exc}, {colour} noise"
+            name = f"{plant.upper()}, {exc}, {colour} noise{', --uncertainty fisher' if opt else ''}"
             sections.append(table(name, outs, rows))
             bad = [r[0] for r in rows if not r[7]]
             misses += len(bad)
@@ -158,8 +161,14 @@ def main():
             print(name, "done")
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
                             capture_output=True, text=True).stdout.strip()
+    cpu = platform.processor() or "cpu"
+    try:
+        cpu = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo")
+                   if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
     text = TEMPLATE.read_text().format(
-        commit=commit, machine=f"{platform.machine()}, {platform.processor() or 'cpu'}, "
+        commit=commit, machine=f"{platform.machine()}, {cpu}, "
         f"{platform.system()} {platform.release()}",
         date=datetime.date.today().isoformat(), seeds=args.seeds, n=N, ts=TS,
         noise=int(100 * NOISE), phi=PHI, summary="\n".join(summary), misses=misses,

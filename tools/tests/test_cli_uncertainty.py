@@ -103,3 +103,18 @@ def test_uncertainty_usage(fopdt_csv):
     res = run(["identify", "--model", "fopdt", "--method", "elms", "--uncertainty", "bootstrap",
                fopdt_csv])
     assert res.returncode == 2 and "--method ga only" in res.stderr
+
+
+def test_report_script_smoke():
+    """tools/bench/uncertainty.py on a few seeds of the FOPDT: it runs and
+    prints its tables (a trial run writes no file)."""
+    import subprocess
+    import sys
+
+    from pdtsupport.cli import ROOT, find_binary
+    res = subprocess.run([sys.executable, str(ROOT / "tools/bench/uncertainty.py"), "--seeds",
+                          "4", "--plants", "fopdt", "--bin", str(find_binary())],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert "| FOPDT, step, white noise | fisher |" in res.stdout
+    assert "| Td | 1.33 |" in res.stdout
