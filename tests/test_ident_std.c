@@ -51,7 +51,8 @@ static void printed_of(const double x[4], double v[PDT_IDENT_PAR_COUNT])
     }
 }
 
-/* J cov J^T with J by central differences of printed_of. */
+/* J cov J^T with J by central differences of printed_of (step 1e-3 of each
+ * parameter: a relative truncation error below 1e-5). */
 static void check_sopdt(const double x[4], const pdt_ident_std_t *s, const pdt_ident_printed_t *p)
 {
     double J[PDT_IDENT_PAR_COUNT][5] = {{0}};
@@ -72,7 +73,7 @@ static void check_sopdt(const double x[4], const pdt_ident_std_t *s, const pdt_i
         double c = 0.0;
         for (int j = 0; j < 5; j++)
             for (int l = 0; l < 5; l++) c += J[i][j] * (double)s->cov[j][l] * J[i][l];
-        assert_close((double)p->std[i], sqrt(c), PDT_REAL_DOUBLE ? 1e-5 : 2e-3, 0.0);
+        assert_close((double)p->std[i], sqrt(c), PDT_REAL_DOUBLE ? 1e-4 : 2e-3, 0.0);
     }
 }
 
