@@ -330,3 +330,34 @@ def test_slash_date_without_am_pm_asks_for_the_format(tmp_path, rec):
     path = write(tmp_path / "dm.csv", "t,u,y", cells(stamps, u, y))
     assert_usage_error(run([*MODEL, path]), "dm.csv:2:", "--time-format")
     fopdt(ok(run([*MODEL, "--time-format", "%d/%m/%Y %H:%M:%S", path])), Ts=1.0, scale=10.0)
+
+
+def test_header_unit_units_row_and_markers_together(tmp_path, rec):
+    """The header's time unit (after a slash too), a units row found, a
+    missing-value marker and names given without their units, in one
+    file: the model, the marker left out, the unit row reported."""
+    t, u, y = rec
+    rows = [["ms", "%", "degC"]] + cells(t * 1000.0, u, y, decimal=",")
+    rows[41][2] = "#N/A"
+    path = write(tmp_path / "all.csv", "Time / ms;CV [%];PV {degC}", rows, sep=";")
+    res = run([*MODEL, "--u", "cv", "--y", "PV [degC]", path])
+    assert res.returncode == 0, res.stderr
+    assert "all.csv:2: a row of units under the header, skipped" in res.stderr
+    out = json.loads(res.stdout)
+    assert out["Ts"] == pytest.approx(TS, rel=1e-6)
+    assert out["missing"] == {"count": 1, "first": [40], "u_held": 0}
+    assert out["K"] == pytest.approx(2.0, rel=0.02)
+    # A slash in a name is no unit unless it names one: "Date/Time" is a name.
+    path = write(tmp_path / "dt.csv", "Date/Time,u,y", cells(t, u, y))
+    fopdt(ok(run([*MODEL, "--t", "date/time", path])))
+
+
+def test_plc_dates_with_epoch_check_and_units_row(tmp_path, rec):
+    """Date-times are no counts: the epoch check leaves them alone, and a
+    units row under a PLC export's header is found."""
+    t, u, y = rec
+    stamps = [s[:-3] for s in clock(t, "%d.%m.%Y %H:%M:%S,%f")]
+    rows = [["", "%", "degC"]] + [[st, *r] for st, r in zip(stamps, cells(u, y, decimal=","))]
+    path = write(tmp_path / "plc.csv", "Zeit;CV;PV", rows, sep=";")
+    fopdt(ok(run([*MODEL, "--t", "zeit", "--u", "cv", path]),
+             warn="plc.csv:2: a row of units under the header, skipped"))
