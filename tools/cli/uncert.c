@@ -51,20 +51,62 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The residual's samples the noise is measured on: not those the fit left
+ * out (a missing y, NaN, and a gross error, beyond 8 scaled median
+ * absolute deviations as the library's screen judges). Returns 1 for
+ * sample k. */
+static int noise_sample(const pdt_real_t *y, const pdt_real_t *ysim, size_t k, double med,
+                        double lim)
+{
+    const double e = (double)(y[k] - ysim[k]);
+    return isfinite(e) && (lim <= 0.0 || fabs(e - med) <= lim);
+}
+
+/* The median of the finite residuals and the limit of a gross error
+ * (0 when it cannot be told). */
+static void residual_limit(const pdt_real_t *y, const pdt_real_t *ysim, size_t n, double *med,
+                           double *lim)
+{
+    double *e = malloc((n ? n : 1u) * sizeof *e);
+    size_t m = 0;
+    *med = 0.0;
+    *lim = 0.0;
+    if (!e) return;
+    for (size_t k = 0; k < n; k++)
+        if (isfinite((double)(y[k] - ysim[k]))) e[m++] = (double)(y[k] - ysim[k]);
+    if (m > 0) {
+        qsort(e, m, sizeof *e, cmp_double);
+        *med = e[m / 2];
+        for (size_t k = 0; k < m; k++) e[k] = fabs(e[k] - *med);
+        qsort(e, m, sizeof *e, cmp_double);
+        *lim = 8.0 * 1.4826 * e[m / 2];
+    }
+    free(e);
+}
+
 /* The noise of the bootstrap's records: the residual's standard deviation
- * and lag-one correlation (clamped to [0, 0.95]). */
+ * and lag-one correlation (clamped to [0, 0.95]), over the samples the fit
+ * kept. */
 static void residual_noise(const pdt_real_t *y, const pdt_real_t *ysim, size_t n, int np,
                            double *sd, double *phi)
 {
-    double mean = 0.0, ss = 0.0, c1 = 0.0;
-    for (size_t k = 0; k < n; k++) mean += (double)(y[k] - ysim[k]);
-    mean /= (double)n;
+    double med, lim, mean = 0.0, ss = 0.0, c1 = 0.0;
+    size_t m = 0;
+    residual_limit(y, ysim, n, &med, &lim);
+    for (size_t k = 0; k < n; k++)
+        if (noise_sample(y, ysim, k, med, lim)) {
+            mean += (double)(y[k] - ysim[k]);
+            m++;
+        }
+    mean /= (double)(m ? m : 1u);
     for (size_t k = 0; k < n; k++) {
+        if (!noise_sample(y, ysim, k, med, lim)) continue;
         const double e = (double)(y[k] - ysim[k]) - mean;
         ss += e * e;
-        if (k > 0) c1 += e * ((double)(y[k - 1] - ysim[k - 1]) - mean);
+        if (k > 0 && noise_sample(y, ysim, k - 1, med, lim))
+            c1 += e * ((double)(y[k - 1] - ysim[k - 1]) - mean);
     }
-    *sd = sqrt(ss / (double)(n > (size_t)np + 1u ? n - (size_t)np : 1u));
+    *sd = sqrt(ss / (double)(m > (size_t)np + 1u ? m - (size_t)np : 1u));
     *phi = ss > 0.0 ? c1 / ss : 0.0;
     *phi = *phi < 0.0 ? 0.0 : *phi > 0.95 ? 0.95 : *phi;
 }
@@ -161,6 +203,19 @@ static void summarise(double (*vals)[PDT_IDENT_PAR_COUNT], const uint32_t *have,
     free(col);
 }
 
+/* y with each missing sample (not finite) the one before it (the first
+ * ones y0): the model is simulated on the record the library checks. */
+static pdt_real_t *filled_copy(const pdt_real_t *y, size_t n, pdt_real_t y0)
+{
+    pdt_real_t *f = malloc((n ? n : 1u) * sizeof *f);
+    pdt_real_t last = y0;
+    for (size_t k = 0; f && k < n; k++) {
+        if (isfinite((double)y[k])) last = y[k];
+        f[k] = last;
+    }
+    return f;
+}
+
 int pdtcli_bootstrap(const pdt_ident_config_t *cfg, const pdt_ident_result_t *r,
                      const pdt_real_t *u, const pdt_real_t *y, size_t n, unsigned runs,
                      pdtcli_boot_t *out)
@@ -168,6 +223,7 @@ int pdtcli_bootstrap(const pdt_ident_config_t *cfg, const pdt_ident_result_t *r,
     memset(out, 0, sizeof *out);
     const size_t work_len = pdt_ident_workspace_size(cfg, n);
     pdt_real_t *ysim = malloc(n * sizeof *ysim), *yb = malloc(n * sizeof *yb);
+    pdt_real_t *yf = filled_copy(y, n, r->y0);
     void *work = work_len ? malloc(work_len) : NULL;
     pdt_ident_t *ctx = malloc(sizeof *ctx);
     double(*vals)[PDT_IDENT_PAR_COUNT] = malloc((runs ? runs : 1u) * sizeof *vals);
@@ -175,8 +231,8 @@ int pdtcli_bootstrap(const pdt_ident_config_t *cfg, const pdt_ident_result_t *r,
     int rc = -1;
     double v0[PDT_IDENT_PAR_COUNT];
     const uint32_t want = pdtcli_printed_values(&r->model, (double)r->y0, v0);
-    if (ysim && yb && work && ctx && vals && have &&
-        pdtcli_model_on_record(&r->model, (double)cfg->Ts, u, y, n, r->u0, r->y0, ysim, NULL) ==
+    if (ysim && yb && yf && work && ctx && vals && have &&
+        pdtcli_model_on_record(&r->model, (double)cfg->Ts, u, yf, n, r->u0, r->y0, ysim, NULL) ==
             PDT_OK) {
         double sd, phi;
         residual_noise(y, ysim, n, r->model.kind == PDT_MODEL_FOPDT ? 4 : 5, &sd, &phi);
@@ -196,6 +252,7 @@ int pdtcli_bootstrap(const pdt_ident_config_t *cfg, const pdt_ident_result_t *r,
     free(vals);
     free(ctx);
     free(work);
+    free(yf);
     free(yb);
     free(ysim);
     return rc;
