@@ -368,8 +368,8 @@ static long find_column(const reader_t *r, int c, const char *spec)
     return found;
 }
 
-/* The time unit of the t column's header: "t [ms]", "t (us)", "time_ms";
- * an option overrides it. A bracketed unit that is no time unit is kept
+/* The time unit of the t column's header: "t [ms]", "t (us)", "t / ms",
+ * "time_ms"; an option overrides it. A bracketed unit that is no time unit is kept
  * as text: numbers in that column are then refused. */
 static void header_unit(reader_t *r)
 {
