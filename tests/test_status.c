@@ -36,6 +36,9 @@ static void test_names_and_wordings(void **state)
     }
     assert_string_equal(pdt_status_name(PDT_OK), "PDT_OK");
     assert_string_equal(pdt_status_name(PDT_ERR_POOR_FIT), "PDT_ERR_POOR_FIT");
+    assert_string_equal(pdt_status_name(PDT_ERR_MS_LIMIT), "PDT_ERR_MS_LIMIT");
+    /* A refusal for robustness names the limit, not the fit. */
+    assert_non_null(strstr(pdt_status_str(PDT_ERR_MS_LIMIT), "Ms"));
 }
 
 int main(void)

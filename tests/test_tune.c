@@ -474,7 +474,7 @@ static void test_refusals(void **state)
 
     /* Ms above the limit: ZN PID (Ms about 2.75 here) */
     c = config(PDT_TUNE_ZN, PDT_TUNE_PID);
-    assert_int_equal(pdt_tune_compute(&m, TR(100.0), &c, &out.r), PDT_ERR_POOR_FIT);
+    assert_int_equal(pdt_tune_compute(&m, TR(100.0), &c, &out.r), PDT_ERR_MS_LIMIT);
     assert_memory_equal(&out.r, &before, sizeof before);
     c.ms_max = TR(3.0);
     assert_int_equal(pdt_tune_compute(&m, TR(100.0), &c, &out.r), PDT_OK);

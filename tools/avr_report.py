@@ -9,6 +9,7 @@ as docs/port.md says). The report's prose is tools/avr_report.md.in; the
 figures are the program's own lines and avr-size's. Fails if a check of the
 run failed.
 """
+import argparse
 import platform
 import re
 import subprocess
@@ -133,7 +134,10 @@ def port_table(f):
 
 
 def main():
-    elf = Path(sys.argv[1]) if len(sys.argv) > 1 else ELF
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("elf", nargs="?", type=Path, default=ELF,
+                        help="the AVR target test program (default: %(default)s)")
+    elf = parser.parse_args().elf
     if not elf.is_file():
         sys.exit("%s not found: build the AVR target tests first (docs/port.md)" % elf)
     lines = run_program(elf)

@@ -6,6 +6,7 @@
 #   tools/check_c_standards.sh [compiler...]   (default: gcc clang)
 # Front end only (-fsyntax-only): the optimised builds of tools/test.sh see
 # the warnings that need the optimiser.
+case "${1:-}" in -h | --help) sed -n '2,/^set -euo/{/^#/s/^# \{0,1\}//p}' "$0"; exit 0 ;; esac
 set -euo pipefail
 cd "$(dirname "$0")/.."
 compilers=("$@")

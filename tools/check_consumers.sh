@@ -7,6 +7,7 @@
 #   3. Cortex-M0+ and Cortex-M7 firmware through add_subdirectory with
 #      arm-none-eabi-gcc: the default target links.
 set -euo pipefail
+case "${1:-}" in -h | --help) sed -n '2,/^set -euo/{/^#/s/^# \{0,1\}//p}' "$0"; exit 0 ;; esac
 cd "$(dirname "$0")/.."
 root=$(pwd)
 out=$root/build/consumers

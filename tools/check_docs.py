@@ -15,6 +15,7 @@ and are skipped. Exit status 1 with one line per missing name.
 
     python3 tools/check_docs.py
 """
+import argparse
 import re
 import subprocess
 import sys
@@ -180,4 +181,6 @@ def main():
 
 
 if __name__ == "__main__":
+    argparse.ArgumentParser(description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     sys.exit(main())

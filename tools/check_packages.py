@@ -16,6 +16,7 @@
 
     python3 tools/check_packages.py [--no-compile]
 """
+import argparse
 import json
 import re
 import shutil
@@ -52,6 +53,10 @@ def check_platformio(ver):
         if not (ROOT / b.get(key, "?")).is_dir():
             fail("library.json: build.%s %r is not a folder" % (key, b.get(key)))
     for flag in b.get("flags", []):
+        # The real type and the limits are the project's to choose
+        # (build_flags); a flag here would fight them.
+        if re.match(r"-D\s*PDT_", flag):
+            fail("library.json: flag %r overrides a pdt_config.h setting" % flag)
         if flag.startswith("-I"):
             if not (ROOT / flag[2:].strip()).is_dir():
                 fail("library.json: include flag %r names no folder" % flag)
@@ -80,6 +85,10 @@ def check_idf(ver):
         fail("CMakeLists.txt: no ESP_PLATFORM branch registering the component")
     elif cm.index("if(ESP_PLATFORM)") > cm.index("project("):
         fail("CMakeLists.txt: the ESP_PLATFORM branch must come before project()")
+    if "Kconfig" not in m.get("files", {}).get("include", []):
+        fail("idf_component.yml: the component's Kconfig is not included")
+    if branch:
+        check_kconfig(ROOT / "Kconfig", "Kconfig", branch.group(1), "the ESP_PLATFORM branch")
     print("idf_component.yml: ok")
 
 
@@ -98,6 +107,43 @@ def config_settings():
     return out
 
 
+def check_kconfig(path, name, cmake, cmake_name):
+    """Every option of the Kconfig at path mirrors a pdt_config.h setting
+    (default and range), every setting has one, and cmake uses each."""
+    text = path.read_text() if path.is_file() else ""
+    if not text:
+        fail("%s: missing" % name)
+        return
+    settings = config_settings()
+    opts = re.findall(r"^config (PDTFIT_\w+)\n(.*?)(?=^config |^endif|^endmenu|\Z)", text,
+                      re.S | re.M)
+    seen = set()
+    for opt, body in opts:
+        if opt == "PDTFIT":
+            continue
+        c_name = "PDT_" + opt[len("PDTFIT_"):]
+        seen.add(c_name)
+        if c_name not in settings:
+            fail("%s: %s mirrors no pdt_config.h setting" % (name, opt))
+            continue
+        if "\tbool" in body:
+            continue
+        default, lo, hi = settings[c_name]
+        d = re.search(r"default (\d+)", body)
+        r = re.search(r"range (\d+) (\d+)", body)
+        if not d or int(d.group(1)) != default:
+            fail("%s: %s default differs from pdt_config.h (%d)" % (name, opt, default))
+        if lo is not None and (not r or int(r.group(1)) != lo or
+                               (hi is not None and int(r.group(2)) != hi)):
+            fail("%s: %s range differs from pdt_config.h" % (name, opt))
+    for c_name in settings:
+        if c_name not in seen:
+            fail("%s: no option for %s" % (name, c_name))
+    for opt, _ in opts:
+        if opt != "PDTFIT" and "CONFIG_" + opt not in cmake:
+            fail("%s: CONFIG_%s is not used" % (cmake_name, opt))
+
+
 def check_zephyr():
     m = yaml.safe_load((ROOT / "zephyr/module.yml").read_text())
     build = m.get("build", {})
@@ -107,37 +153,8 @@ def check_zephyr():
     if not kconfig.is_file():
         fail("zephyr/module.yml: build.kconfig is not a file")
         return
-    text = kconfig.read_text()
-    settings = config_settings()
-    opts = re.findall(r"^config (PDTFIT_\w+)\n(.*?)(?=^config |^endif|\Z)", text, re.S | re.M)
-    seen = set()
-    for name, body in opts:
-        if name == "PDTFIT":
-            continue
-        c_name = "PDT_" + name[len("PDTFIT_"):]
-        seen.add(c_name)
-        if "\tbool" in body:
-            if c_name not in settings:
-                fail("zephyr/Kconfig: %s mirrors no pdt_config.h setting" % name)
-            continue
-        if c_name not in settings:
-            fail("zephyr/Kconfig: %s mirrors no pdt_config.h setting" % name)
-            continue
-        default, lo, hi = settings[c_name]
-        d = re.search(r"default (\d+)", body)
-        r = re.search(r"range (\d+) (\d+)", body)
-        if not d or int(d.group(1)) != default:
-            fail("zephyr/Kconfig: %s default differs from pdt_config.h (%d)" % (name, default))
-        if lo is not None and (not r or int(r.group(1)) != lo or
-                               (hi is not None and int(r.group(2)) != hi)):
-            fail("zephyr/Kconfig: %s range differs from pdt_config.h" % name)
-    for c_name in settings:
-        if c_name not in seen and c_name != "PDT_REAL_DOUBLE":
-            fail("zephyr/Kconfig: no option for %s" % c_name)
-    zc = (ROOT / "zephyr/CMakeLists.txt").read_text()
-    for name, _ in opts:
-        if name != "PDTFIT" and "CONFIG_" + name not in zc:
-            fail("zephyr/CMakeLists.txt: CONFIG_%s is not used" % name)
+    check_kconfig(kconfig, "zephyr/Kconfig", (ROOT / "zephyr/CMakeLists.txt").read_text(),
+                  "zephyr/CMakeLists.txt")
     print("zephyr module: ok")
 
 
@@ -271,11 +288,16 @@ def check_arduino_avr(lib, sketches, out):
 
 
 def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--no-compile", action="store_true",
+                    help="check the Arduino library without compiling its example")
+    args = ap.parse_args()
     ver = version()
     check_platformio(ver)
     check_idf(ver)
     check_zephyr()
-    check_arduino(ver, "--no-compile" not in sys.argv)
+    check_arduino(ver, not args.no_compile)
     if errors:
         print("%d package check(s) failed" % len(errors))
         return 1

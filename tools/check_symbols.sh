@@ -5,6 +5,7 @@
 # build must not silently compute in double, which a Cortex-M4F emulates.
 # Usage: tools/check_symbols.sh LIB.a [--float]
 set -euo pipefail
+case "${1:-}" in -h | --help) sed -n '2,/^set -euo/{/^#/s/^# \{0,1\}//p}' "$0"; exit 0 ;; esac
 lib=$1
 nm=nm
 case "$lib" in *cm4*) nm=arm-none-eabi-nm ;; esac

@@ -2,6 +2,7 @@
 # Builds pdtfit (float) and runs the demo. Needs gcc, cmake and ninja; installs
 # them with apt when run as root on Debian and they are missing.
 set -euo pipefail
+case "${1:-}" in -h | --help) sed -n '2,/^set -euo/{/^#/s/^# \{0,1\}//p}' "$0"; exit 0 ;; esac
 cd "$(dirname "$0")/.."
 missing=()
 for tool in gcc cmake ninja; do

@@ -10,9 +10,9 @@ or copy it into the sketchbook's libraries/ folder. The tree itself cannot
 be used as is, because the builder compiles src/ recursively with only
 src/ on the include path.
 """
+import argparse
 import re
 import shutil
-import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -57,6 +57,8 @@ def make(out_dir):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
-        sys.exit("usage: make_arduino_library.py OUT_DIR")
-    print(make(sys.argv[1]))
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out_dir", metavar="OUT_DIR",
+                    help="the folder to write pdtfit/ into (created when missing)")
+    print(make(ap.parse_args().out_dir))

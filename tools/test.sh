@@ -28,6 +28,7 @@
 # Build trees go to build/test-*; nothing outside the checkout is written
 # except by the package installers.
 set -euo pipefail
+case "${1:-}" in -h | --help) sed -n '2,/^set -euo/{/^#/s/^# \{0,1\}//p}' "$0"; exit 0 ;; esac
 cd "$(dirname "$0")/.."
 # Tests that need the pdtfit program fail here instead of skipping.
 export PDTFIT_REQUIRE_BIN=1

@@ -46,7 +46,8 @@
  *    xError): a refused start (bad parameter: PDT_ERR_ARG, ...), a safety
  *    abort (PDT_ERR_PV_LIMIT, PDT_ERR_TIMEOUT, ...), data that could not
  *    support a model, or refused gains (PDT_ERR_POOR_FIT,
- *    PDT_ERR_UNSTABLE; the model outputs are still valid then).
+ *    PDT_ERR_MS_LIMIT, PDT_ERR_UNSTABLE; the model outputs are still
+ *    valid then).
  *  - rOutput: rOutputNow before the first start and after a refused start;
  *    the experiment while busy; the operating point once the command has
  *    ended, held until the next start.

@@ -693,7 +693,7 @@ static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
     pdt_real_t ms = PDT_R(0.0);
     bool fir = false;
     if (st == PDT_OK && tc->ms_max > PDT_R(0.0) && r.fig.Ms > tc->ms_max) {
-        st = PDT_ERR_POOR_FIT;
+        st = PDT_ERR_MS_LIMIT;
     }
     if (st == PDT_OK && at->cfg.ms_robust > PDT_R(0.0)) {
         if (pdt_validate_margin(&at->res.valid, dead_time_shift(at), &r.ideal, &ms, &fir) !=

@@ -49,6 +49,8 @@ const char *pdt_status_str(pdt_status_t status)
         return "model too uncertain for robust gains";
     case PDT_ERR_DISTURBED:
         return "experiment disturbed";
+    case PDT_ERR_MS_LIMIT:
+        return "gains exceed the robustness limit Ms";
     default:
         return "unknown status";
     }
@@ -103,6 +105,8 @@ const char *pdt_status_name(pdt_status_t status)
         return "PDT_ERR_UNCERTAIN";
     case PDT_ERR_DISTURBED:
         return "PDT_ERR_DISTURBED";
+    case PDT_ERR_MS_LIMIT:
+        return "PDT_ERR_MS_LIMIT";
     default:
         return "PDT_STATUS_UNKNOWN";
     }

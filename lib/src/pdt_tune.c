@@ -907,7 +907,7 @@ pdt_status_t pdt_tune_compute(const pdt_model_t *m, pdt_real_t fit, const pdt_tu
         return st;
     }
     if (cfg->ms_max > PDT_R(0.0) && r.fig.Ms > cfg->ms_max) {
-        return PDT_ERR_POOR_FIT;
+        return PDT_ERR_MS_LIMIT;
     }
     *out = r;
     return PDT_OK;

@@ -19,6 +19,12 @@ def enums(path):
             for _, body, typedef in _ENUM.findall(text)}
 
 
+def defines(path):
+    """{name: value} of every `#define PDT_NAME <integer>` in the header."""
+    text = pathlib.Path(path).read_text(encoding="utf-8")
+    return {m: int(v) for m, v in re.findall(r"^#define\s+(PDT_\w+)\s+(\d+)u?\s", text, re.M)}
+
+
 def status_names(path):
     """{value: name} of pdt_status_t, the name without PDT_ / PDT_ERR_
     ("NO_EXCITATION", "OK", "RUNNING")."""

@@ -159,61 +159,126 @@ static int identify_ls(const pdt_real_t *u, const pdt_real_t *y, size_t n, doubl
     return PDT_OK;
 }
 
-int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
-                   const pdtpy_ident_opts_t *o, double *model, char *json, size_t json_len)
+static void ga_config(const pdtpy_ident_opts_t *o, double Ts, pdt_ident_config_t *cfg)
+{
+    pdt_ident_config_default(cfg);
+    cfg->model = (pdt_model_kind_t)o->model;
+    cfg->Ts = (pdt_real_t)Ts;
+    cfg->cost = (pdt_cost_kind_t)o->cost;
+    cfg->seed = o->seed;
+    if (o->integer_delay) cfg->delay_mode = PDT_DELAY_INTEGER;
+    if (o->evaluations) cfg->max_evaluations = o->evaluations;
+    if (o->population) cfg->population = o->population;
+    cfg->coarse = o->coarse;
+    if (!isnan(o->td_max)) cfg->Td_max = (pdt_real_t)o->td_max;
+    if (o->weight >= 0) cfg->weight = (pdt_ident_weight_t)o->weight;
+    cfg->offset = (pdt_ident_offset_t)o->offset;
+    cfg->f_lo = (pdt_real_t)o->f_lo;
+    cfg->f_hi = (pdt_real_t)o->f_hi;
+    if (!isnan(o->phi_t)) cfg->phi_t = (pdt_real_t)o->phi_t;
+    if (!isnan(o->phi_f)) cfg->phi_f = (pdt_real_t)o->phi_f;
+    cfg->u_before_given = !isnan(o->u_before);
+    cfg->u_before = cfg->u_before_given ? (pdt_real_t)o->u_before : (pdt_real_t)0;
+    cfg->refuse_missing = o->refuse_missing != 0;
+    cfg->initial = (pdt_ident_initial_t)o->initial;
+}
+
+/* pdt_identify of one model kind, as `pdtfit identify` runs it. */
+static int ga_run(const pdt_real_t *u, const pdt_real_t *y, size_t n, double Ts,
+                  const pdtpy_ident_opts_t *o, int kind, pdt_ident_result_t *res)
 {
     pdt_ident_config_t cfg;
-    pdt_ident_config_default(&cfg);
-    cfg.model = (pdt_model_kind_t)o->model;
-    cfg.Ts = (pdt_real_t)Ts;
-    cfg.cost = (pdt_cost_kind_t)o->cost;
-    cfg.seed = o->seed;
-    if (o->integer_delay) cfg.delay_mode = PDT_DELAY_INTEGER;
-    if (o->evaluations) cfg.max_evaluations = o->evaluations;
-    if (o->population) cfg.population = o->population;
-    cfg.coarse = o->coarse;
-    if (!isnan(o->td_max)) cfg.Td_max = (pdt_real_t)o->td_max;
-    if (o->weight >= 0) cfg.weight = (pdt_ident_weight_t)o->weight;
-    cfg.f_lo = (pdt_real_t)o->f_lo;
-    cfg.f_hi = (pdt_real_t)o->f_hi;
-    if (!isnan(o->phi_t)) cfg.phi_t = (pdt_real_t)o->phi_t;
-    if (!isnan(o->phi_f)) cfg.phi_f = (pdt_real_t)o->phi_f;
-    cfg.u_before_given = !isnan(o->u_before);
-    cfg.u_before = cfg.u_before_given ? (pdt_real_t)o->u_before : (pdt_real_t)0;
-    cfg.refuse_missing = o->refuse_missing != 0;
-    cfg.initial = (pdt_ident_initial_t)o->initial;
-
-    pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n);
-    pdt_ident_result_t res;
-    if (o->method != PDTPY_METHOD_GA) {
-        int rc = ur && yr ? identify_ls(ur, yr, n, Ts, o, &res) : PDTPY_ERR_NOMEM;
-        if (rc == PDT_OK) {
-            model_out(&res.model, model);
-            if (pdtcli_ident_json(&res, ur, yr, Ts, n, json, json_len) < 0) rc = PDTPY_ERR_NOMEM;
-        }
-        free(yr);
-        free(ur);
-        return rc;
-    }
+    ga_config(o, Ts, &cfg);
+    cfg.model = (pdt_model_kind_t)kind;
     pdt_ident_t *ctx = malloc(sizeof *ctx);
     /* A size of 0 means the configuration is refused; pdt_identify then
      * says why, so it is still called. */
     size_t work_len = pdt_ident_workspace_size(&cfg, n);
     void *work = work_len ? malloc(work_len) : NULL;
     int st = PDTPY_ERR_NOMEM;
-    if (ur && yr && ctx && (work || !work_len)) {
-        const pdt_ident_data_t data = {ur, yr, n};
-        st = pdt_identify(ctx, &cfg, &data, work, work_len, &res);
-        if (st == PDT_OK) {
-            model_out(&res.model, model);
-            if (pdtcli_ident_json(&res, ur, yr, Ts, n, json, json_len) < 0) st = PDTPY_ERR_NOMEM;
-        }
+    if (ctx && (work || !work_len)) {
+        const pdt_ident_data_t data = {u, y, n};
+        st = pdt_identify(ctx, &cfg, &data, work, work_len, res);
     }
     free(work);
     free(ctx);
+    return st;
+}
+
+/* --model auto: both models validated on the record and the order the
+ * evidence supports (pdt_ident_select_order); *res the kept one. */
+static int ga_auto(const pdt_real_t *u, const pdt_real_t *y, size_t n, double Ts,
+                   const pdtpy_ident_opts_t *o, pdt_ident_result_t r[2], pdt_validate_result_t v[2],
+                   pdt_model_kind_t *kept)
+{
+    const pdt_ident_data_t data = {u, y, n};
+    const size_t wlen = pdt_validate_workspace_size(n);
+    int st = ga_run(u, y, n, Ts, o, PDT_MODEL_FOPDT, &r[0]);
+    if (st == PDT_OK) st = ga_run(u, y, n, Ts, o, PDT_MODEL_SOPDT, &r[1]);
+    void *work = st == PDT_OK && wlen ? malloc(wlen) : NULL;
+    if (st == PDT_OK && !work) st = PDTPY_ERR_NOMEM;
+    for (int k = 0; k < 2 && st == PDT_OK; k++)
+        st = pdt_validate_model(&r[k].model, &data, (pdt_real_t)Ts, r[k].y0, work, wlen, &v[k]);
+    free(work);
+    return st == PDT_OK ? pdt_ident_select_order(&v[0], &v[1], kept) : st;
+}
+
+/* The bootstrap `pdtfit identify --uncertainty` would run, or NULL. */
+static const pdtcli_boot_t *bootstrap(const pdt_real_t *u, const pdt_real_t *y, size_t n, double Ts,
+                                      const pdtpy_ident_opts_t *o, const pdt_ident_result_t *r,
+                                      pdtcli_boot_t *b)
+{
+    const int on = o->uncertainty == 2 || (o->uncertainty == 0 && r->model.kind == PDT_MODEL_SOPDT);
+    if (o->method != PDTPY_METHOD_GA || !on) return NULL;
+    pdt_ident_config_t cfg;
+    ga_config(o, Ts, &cfg);
+    cfg.model = r->model.kind;
+    const unsigned runs = o->boot_runs ? o->boot_runs : PDTCLI_BOOT_RUNS;
+    return pdtcli_bootstrap(&cfg, r, u, y, n, runs, b) == 0 ? b : NULL;
+}
+
+int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
+                   const pdtpy_ident_opts_t *o, double *model, char *json, size_t json_len)
+{
+    pdt_real_t *ur = to_real(u, n), *yr = to_real(y, n);
+    pdt_ident_result_t res, both[2];
+    pdt_validate_result_t v[2];
+    pdt_model_kind_t kept = PDT_MODEL_FOPDT;
+    int st = PDTPY_ERR_NOMEM;
+    const int autom = o->method == PDTPY_METHOD_GA && o->model == PDTPY_MODEL_AUTO;
+    if (ur && yr && o->method != PDTPY_METHOD_GA)
+        st = identify_ls(ur, yr, n, Ts, o, &res);
+    else if (ur && yr && autom)
+        st = ga_auto(ur, yr, n, Ts, o, both, v, &kept);
+    else if (ur && yr)
+        st = ga_run(ur, yr, n, Ts, o, o->model, &res);
+    if (st == PDT_OK && autom) res = both[kept == PDT_MODEL_SOPDT];
+    if (st == PDT_OK) {
+        model_out(&res.model, model);
+        pdtcli_boot_t boot;
+        int len = pdtcli_ident_json_boot(&res, ur, yr, Ts, n,
+                                         bootstrap(ur, yr, n, Ts, o, &res, &boot), json, json_len);
+        if (len > 0 && autom) {
+            /* In place of the closing brace, which comes back after it. */
+            pdtcli_jbuf_t jb;
+            pdtcli_jb_init(&jb, json + len - 1, json_len - (size_t)len + 1);
+            pdtcli_jb_order(&jb, kept, both, v);
+            pdtcli_jb_raw(&jb, "}");
+            len = pdtcli_jb_done(&jb);
+        }
+        if (len < 0) st = PDTPY_ERR_NOMEM;
+    }
     free(yr);
     free(ur);
     return st;
+}
+
+size_t pdtpy_outlier(const double *x, size_t n)
+{
+    pdt_real_t *r = to_real(x, n);
+    const size_t k = r ? pdt_cost_outlier(r, n) : n;
+    free(r);
+    return k;
 }
 
 int pdtpy_simulate(const double *model, double Ts, const double *u, const double *y, size_t n,
@@ -238,13 +303,30 @@ int pdtpy_simulate(const double *model, double Ts, const double *u, const double
 static const char *const rule_names[] = {"simc", "imc", "amigo", "zn"};
 static const char *const form_names[] = {"pi", "pid"};
 
+/* zn from a relay's Ku and Pu (`pdtfit tune --Ku --Pu`); with a model, the
+ * figures of those gains on it and the Ms limit. */
+static pdt_status_t tune_relay(const pdt_model_t *m, const pdtpy_tune_opts_t *o,
+                               const pdt_tune_config_t *cfg, pdt_tune_result_t *r)
+{
+    pdt_status_t st = pdt_tune_ziegler_nichols((pdt_real_t)o->Ku, (pdt_real_t)o->Pu,
+                                               (pdt_tune_form_t)o->form, &r->ideal);
+    if (st != PDT_OK) return st;
+    r->series_exists = pdt_tune_to_series(&r->ideal, &r->series) == PDT_OK;
+    if (!m) return PDT_OK;
+    st = pdt_tune_robustness(m, &r->ideal, &r->fig);
+    if (st == PDT_OK && cfg->ms_max > 0 && r->fig.Ms > cfg->ms_max) st = PDT_ERR_MS_LIMIT;
+    return st;
+}
+
 int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refused, char *json,
                size_t json_len)
 {
     pdt_model_t m;
-    pdt_status_t st = model_in(model, &m);
+    pdt_status_t st = model ? model_in(model, &m) : PDT_OK;
     if (st != PDT_OK) return st;
     if (o->rule < 0 || o->rule > 3 || o->form < 0 || o->form > 1) return PDT_ERR_ARG;
+    const int relay = !isnan(o->Ku);
+    if (!model && !relay) return PDT_ERR_ARG;
     pdt_tune_config_t cfg;
     pdt_tune_config_default(&cfg);
     cfg.rule = (pdt_tune_rule_t)o->rule;
@@ -253,22 +335,28 @@ int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refus
     if (!isnan(o->lambda)) cfg.lambda = (pdt_real_t)o->lambda;
     if (!isnan(o->ms_max)) cfg.ms_max = (pdt_real_t)o->ms_max;
     if (!isnan(o->deriv_filter)) cfg.deriv_filter = (pdt_real_t)o->deriv_filter;
+    if (!isnan(o->fit_min)) cfg.fit_min = (pdt_real_t)o->fit_min;
+    const pdt_real_t fit = (pdt_real_t)(isnan(o->fit) ? 100.0 : o->fit);
     pdt_tune_result_t r;
     memset(&r, 0, sizeof r);
-    st = pdt_tune_compute(&m, 100, &cfg, &r);
-    if (st == PDT_ERR_POOR_FIT) {
+    st = relay ? tune_relay(model ? &m : NULL, o, &cfg, &r) : pdt_tune_compute(&m, fit, &cfg, &r);
+    if (st == PDT_ERR_MS_LIMIT) {
         /* The Ms the refused gains would have had, for the message. */
         pdt_tune_config_t open = cfg;
         open.ms_max = 0;
         pdt_tune_result_t r2;
-        *ms_refused =
-            pdt_tune_compute(&m, 100, &open, &r2) == PDT_OK ? (double)r2.fig.Ms : (double)NAN;
+        memset(&r2, 0, sizeof r2);
+        *ms_refused = (relay ? tune_relay(&m, o, &open, &r2)
+                             : pdt_tune_compute(&m, fit, &open, &r2)) == PDT_OK
+                          ? (double)r2.fig.Ms
+                          : (double)NAN;
     }
     if (st != PDT_OK) return st;
     pdtcli_jbuf_t jb;
     pdtcli_jb_init(&jb, json, json_len);
     pdtcli_jb_tune(&jb, rule_names[cfg.rule], form_names[cfg.form], cfg.rule == PDT_TUNE_SIMC,
-                   cfg.rule == PDT_TUNE_IMC, &r, &r.fig, (double)NAN, (double)NAN, (double)NAN);
+                   cfg.rule == PDT_TUNE_IMC, &r, model ? &r.fig : NULL, o->span,
+                   relay ? o->Ku : (double)NAN, relay ? o->Pu : (double)NAN);
     return pdtcli_jb_done(&jb) < 0 ? PDTPY_ERR_NOMEM : PDT_OK;
 }
 
@@ -320,6 +408,11 @@ int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o, pdtpy_series_
     co.time_unit = o->time_unit;
     co.resample = o->resample;
     co.fs = o->fs;
+    co.units_row = o->units_row;
+    co.time_format = o->time_format;
+    co.bad_values = o->bad_values;
+    co.n_bad_values = o->n_bad_values;
+    co.bad_rows = o->bad_rows;
     co.max_abs = sizeof(pdt_real_t) == sizeof(float) ? (double)FLT_MAX : DBL_MAX;
     memset(out, 0, sizeof *out);
     if (pdtcli_csv_read_series(path, &co, &se, err, errlen) != 0) return -1;
@@ -329,6 +422,7 @@ int pdtpy_read_series(const char *path, const pdtpy_csv_opts_t *o, pdtpy_series_
     out->Ts = se.Ts;
     out->jitter_warn = se.jitter_warn;
     out->filled = se.filled;
+    out->units_row = se.units_row;
     return 0;
 }
 

@@ -29,10 +29,14 @@
 #define PDTPY_METHOD_ELMS 1
 #define PDTPY_METHOD_EIV  2
 
+/* pdtpy_ident_opts_t.model: both models, the order chosen by the evidence
+ * (`pdtfit identify --model auto`). */
+#define PDTPY_MODEL_AUTO 3
+
 /* identify's options; NaN or a negative weight means the library default. */
 typedef struct pdtpy_ident_opts {
     int method; /* PDTPY_METHOD_*; ELMS and EIV read model and td_max only */
-    int model;  /* pdt_model_kind_t */
+    int model;  /* pdt_model_kind_t, or PDTPY_MODEL_AUTO (GA only) */
     int cost;   /* pdt_cost_kind_t */
     int weight; /* pdt_weight_kind_t, -1 default */
     int integer_delay;
@@ -44,11 +48,17 @@ typedef struct pdtpy_ident_opts {
     double u_before;    /* the input before the record; NaN: not given */
     int refuse_missing; /* a non-finite y is refused, not left out */
     int initial;        /* pdt_ident_initial_t */
+    int offset;         /* pdt_ident_offset_t */
+    int uncertainty;    /* 0 auto (the bootstrap for a SOPDT), 1 fisher, 2 bootstrap */
+    uint32_t boot_runs; /* 0: PDTCLI_BOOT_RUNS */
 } pdtpy_ident_opts_t;
 
 typedef struct pdtpy_tune_opts {
     int rule, form;                             /* pdt_tune_rule_t, pdt_tune_form_t */
     double tau_c, lambda, ms_max, deriv_filter; /* NaN: default */
+    double fit, fit_min;                        /* %; NaN: 100, the default */
+    double span;                                /* y_span / u_span for "percent"; NaN: none */
+    double Ku, Pu;                              /* zn from a relay's ultimate point; NaN: none */
 } pdtpy_tune_opts_t;
 
 /* The options of the command line's reader (pdtcli_csv_opts_t). */
@@ -58,7 +68,12 @@ typedef struct pdtpy_csv_opts {
     unsigned skip;
     int time_unit; /* -1 the header's (else s), 0 s, 1 ms, 2 us, 3 min, 4 h */
     int resample;
-    double fs; /* 0: from the time column */
+    double fs;                /* 0: from the time column */
+    int units_row;            /* 1: a units row under the header */
+    const char *time_format;  /* NULL: detected */
+    const double *bad_values; /* declared bad values, n_bad_values of them */
+    size_t n_bad_values;
+    int bad_rows; /* 0: missing samples, 1: refused */
 } pdtpy_csv_opts_t;
 
 /* The record read (pdtcli_series_t): u, y malloc'ed, free with
@@ -69,6 +84,7 @@ typedef struct pdtpy_series {
     double Ts;            /* s */
     unsigned jitter_warn; /* time stamps off the grid within the tolerance */
     unsigned filled;      /* samples filled by resampling */
+    size_t units_row;     /* the line of a units row found and skipped, 0 */
 } pdtpy_series_t;
 
 /* The library's description of a status (pdt_status_str). */
@@ -86,8 +102,11 @@ PDTPY_API int pdtpy_identify(const double *u, const double *y, size_t n, double 
                              size_t json_len);
 PDTPY_API int pdtpy_simulate(const double *model, double Ts, const double *u, const double *y,
                              size_t n, double u0, double y0, double *ysim);
+/* model NULL: no model (zn from Ku and Pu only, the figures null). */
 PDTPY_API int pdtpy_tune(const double *model, const pdtpy_tune_opts_t *o, double *ms_refused,
                          char *json, size_t json_len);
+/* The index of the first gross outlier of x (pdt_cost_outlier), n: none. */
+PDTPY_API size_t pdtpy_outlier(const double *x, size_t n);
 PDTPY_API int pdtpy_reduce(int method, int kind, double gain, const double *lags, size_t n_lags,
                            const double *zeros, size_t n_zeros, double delay, double h,
                            double *model, char *json, size_t json_len);

@@ -183,7 +183,7 @@ def test_tune_refused_by_ms_limit(records):
     r = pdtfit.identify(u, y, fs)
     with pytest.raises(pdtfit.PdtError) as e:
         pdtfit.tune(r, rule="zn", form="pid", ms_max=1.1)
-    assert e.value.status == "PDT_ERR_POOR_FIT" and "Ms " in str(e.value)
+    assert e.value.status == "PDT_ERR_MS_LIMIT" and "Ms " in str(e.value)
 
 
 def test_simulate_gives_the_reported_fit(records):
@@ -243,6 +243,22 @@ def test_read_csv_header_unit_and_missing_samples(records, tmp_path):
     assert math.isnan(rec.y[10]) and np.isfinite(np.delete(rec.y, 10)).all()
     assert rec.u[20] == rec.u[19]
     assert pdtfit.read_csv(path, time_unit="s").Ts == pytest.approx(1000.0 / fs, rel=1e-9)
+
+
+def test_read_csv_bad_value_and_bad_rows(records, tmp_path):
+    """A declared bad value is a missing sample (--bad-value); with
+    bad_rows="refuse" a missing sample is refused with its line."""
+    u, y, fs = records["fopdt"]
+    lines = ["t,u,y"] + [f"{k / fs!r},{float(a)!r},{float(b)!r}" for k, (a, b) in
+                         enumerate(zip(u, y))]
+    lines[31] = lines[31].rsplit(",", 1)[0] + ",-9999"
+    path = tmp_path / "bad.csv"
+    path.write_text("\n".join(lines) + "\n")
+    assert pdtfit.read_csv(path).y[30] == -9999
+    rec = pdtfit.read_csv(path, bad_value=[-9999, 32767])
+    assert math.isnan(rec.y[30]) and np.isfinite(np.delete(rec.y, 30)).all()
+    with pytest.raises(ValueError, match=r"bad\.csv:32: .*declared bad value"):
+        pdtfit.read_csv(path, bad_value=-9999, bad_rows="refuse")
 
 
 def _fopdt_response(u, Ts, u0):

@@ -37,7 +37,7 @@ import scipy.linalg as sla
 import scipy.optimize as so
 import scipy.signal as ss
 
-from pdtsupport.status import NAMES
+from pdtsupport.status import NAMES, STATUS as CODES
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 BUILD = ROOT / "build" / "autotune-bench"
@@ -495,7 +495,7 @@ def status_of(at, tag):
     if st == 0:
         return "ok"
     why = STATUS.get(st, str(st))
-    if st == -14 and f"{tag}_refused_Ms_model" in at:
+    if st == CODES["MS_LIMIT"] and f"{tag}_refused_Ms_model" in at:
         why = f"Ms {at[f'{tag}_refused_Ms_model']:.2f} on model > 2"
     return why
 

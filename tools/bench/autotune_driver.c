@@ -163,7 +163,7 @@ static void tune_print(const char *tag, const pdt_model_t *m, pdt_real_t fit, pd
     if (st == PDT_OK) {
         print_gains(tag, &r.ideal);
         printf("%s_Ms_model %.9g\n", tag, (double)r.fig.Ms);
-    } else if (st == PDT_ERR_POOR_FIT || st == PDT_ERR_UNSTABLE) {
+    } else if (st == PDT_ERR_POOR_FIT || st == PDT_ERR_MS_LIMIT || st == PDT_ERR_UNSTABLE) {
         /* The gains the limits refused, for the record. */
         tc.ms_max = RL(0.0);
         tc.fit_min = RL(-1.0);

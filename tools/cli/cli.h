@@ -21,6 +21,9 @@
 #define EXIT_SUSPECT                                                                               \
     3 /* a model printed, but with a warning that it is
                         * probably wrong (negative fit, on a bound) */
+/* identify --tune: the model printed, its tuning refused (the JSON's "tune"
+ * holds the refusal's status and reason) */
+#define EXIT_TUNE_REFUSED 4
 
 #define CLI_MAX_LIST 64
 #define CLI_MAX_OPTS 64

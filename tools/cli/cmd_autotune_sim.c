@@ -603,7 +603,7 @@ static void fail_run(const at_run_t *run)
                  "autotune-sim: %s (in %s): fit %.4g%% below %.4g%%: too much noise "
                  "or too little excitation",
                  pdt_status_str(st), where, (double)res->ident.fit, (double)run->cfg.tune.fit_min);
-    if (st == PDT_ERR_POOR_FIT && res->has_model) {
+    if (st == PDT_ERR_MS_LIMIT && res->has_model) {
         pdt_tune_config_t open = run->cfg.tune;
         open.ms_max = 0;
         pdt_tune_result_t tr;

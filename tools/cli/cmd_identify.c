@@ -15,6 +15,8 @@ static const pdt_ident_weight_t weight_kinds[] = {PDT_IDENT_WEIGHT_AUTO, PDT_IDE
 static const char *const unit_names[] = {"s", "ms", "us", "min", "h", NULL};
 /* --bad-rows: in PDTCLI_BAD_ROWS_* order. */
 static const char *const bad_rows_names[] = {"missing", "refuse", NULL};
+/* --uncertainty: in the order of UNC_*. */
+static const char *const uncertainty_names[] = {"auto", "fisher", "bootstrap", NULL};
 /* --offset: in pdt_ident_offset_t's order. */
 static const char *const offset_names[] = {"auto", "estimate", "rest", NULL};
 /* --initial: in pdt_ident_initial_t's order. */
@@ -69,6 +71,12 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
          CLI_REPEAT},
         {"--bad-rows", OPT_CHOICE, &a->bad_rows, NULL, 0, 0, 0, bad_rows_names, "bad-rows mode", 0},
         {"--force", OPT_FLAG, &a->force, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--units-row", OPT_FLAG, &a->units_row, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--time-format", OPT_TEXT, &a->time_format, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--uncertainty", OPT_CHOICE, &a->uncertainty, NULL, 0, 0, 0, uncertainty_names,
+         "uncertainty", GA},
+        {"--bootstrap", OPT_UINT, &a->boot_runs, &a->have_boot_runs, 0, 2, 100000, NULL,
+         "a run count 2 .. 100000", GA},
         {"--out-sim", OPT_TEXT, &a->out_sim, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot", OPT_TEXT, &a->plot, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--plot-script", OPT_TEXT, &a->plot_script, NULL, 0, 0, 0, NULL, NULL, 0},
@@ -133,6 +141,8 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
                      a->t.have_u_span || a->t.have_y_span))
         cli_fail(EXIT_USAGE, "identify: the tuning options go with --tune RULE[:FORM]");
     tune_opts_check("identify", &a->t);
+    if (a->have_boot_runs && a->uncertainty == UNC_FISHER)
+        cli_fail(EXIT_USAGE, "identify: --bootstrap goes with --uncertainty auto or bootstrap");
     if (a->plot_script && !a->plot)
         cli_fail(EXIT_USAGE, "identify: --plot-script goes with --plot");
     if (!a->file) cli_fail(EXIT_USAGE, "identify: missing FILE (a CSV file, or - for stdin)");
@@ -182,6 +192,8 @@ static void read_data(const ident_args_t *a, ident_data_t *d)
     o.bad_values = a->bad_values.v;
     o.n_bad_values = (size_t)a->bad_values.n;
     o.fs = a->have_fs ? a->fs : 0.0;
+    o.units_row = a->units_row;
+    o.time_format = a->time_format;
     char err[600];
     if (pdtcli_csv_read_series(a->file, &o, &d->s, err, sizeof err) != 0)
         cli_fail(EXIT_USAGE, "%s", err);
@@ -192,6 +204,9 @@ static void read_data(const ident_args_t *a, ident_data_t *d)
                  (unsigned)PDT_MIN_SAMPLES);
     if (!((double)(pdt_real_t)d->s.Ts > 0.0) || !isfinite((double)(pdt_real_t)d->s.Ts))
         cli_fail(EXIT_USAGE, "%s: sampling period %.9g s is out of range", name, d->s.Ts);
+    if (d->s.units_row)
+        cli_warn("%s:%zu: a row of units under the header, skipped (--units-row says so)", name,
+                 d->s.units_row);
     if (d->s.jitter_warn)
         cli_warn("%s: %u time stamp%s more than 1%% of Ts off a uniform grid: Ts = %.9g s, the "
                  "median interval",
@@ -442,34 +457,10 @@ static void identify_ga(const ident_args_t *a, const ident_data_t *d, pdt_ident_
     *res = o->r[o->kept == PDT_MODEL_SOPDT];
 }
 
-/* The gain's std and the whole covariance finite: the first thing
- * pdt_ident_select_order weighs. */
-static int determined(const pdt_validate_result_t *v)
-{
-    int ok = isfinite((double)v->std.std[0]);
-    for (uint32_t i = 0; i < v->std.count; i++)
-        for (uint32_t j = 0; j < v->std.count; j++) ok = ok && isfinite((double)v->std.cov[i][j]);
-    return ok;
-}
-
-/* ,"order":{"kept",...,"fopdt":{...},"sopdt":{...}}: the evidence each
- * model had, in the order pdt_ident_select_order weighs it. */
+/* ,"order":{...} (pdtcli_jb_order). */
 static void order_json(pdtcli_jbuf_t *jb, const order_info_t *o)
 {
-    static const char *const names[2] = {"fopdt", "sopdt"};
-    pdtcli_jb_printf(jb, ",\"order\":{\"kept\":\"%s\"", names[o->kept == PDT_MODEL_SOPDT]);
-    for (int k = 0; k < 2; k++) {
-        const pdt_validate_result_t *v = &o->v[k];
-        pdtcli_jb_printf(jb, ",\"%s\":{\"determined\":%s,\"independent\":%s,\"bic\":", names[k],
-                         determined(v) ? "true" : "false", v->independent ? "true" : "false");
-        pdtcli_jb_num(jb, (double)v->bic);
-        pdtcli_jb_key(jb, "aic", (double)v->aic);
-        pdtcli_jb_raw(jb, v->white ? ",\"white\":true" : ",\"white\":false");
-        pdtcli_jb_key(jb, "sigma", (double)v->sigma);
-        pdtcli_jb_key(jb, "fit", (double)o->r[k].fit);
-        pdtcli_jb_raw(jb, "}");
-    }
-    pdtcli_jb_raw(jb, "}");
+    pdtcli_jb_order(jb, o->kept, o->r, o->v);
 }
 
 /* --method elms|eiv: the least-squares delay scan, as a GA result. */
@@ -578,6 +569,48 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
     return warned;
 }
 
+/* The bootstrap of the answer (--uncertainty: bootstrap, or auto for a
+ * SOPDT, whose Fisher information is a poor guide from a step), or NULL
+ * when the Fisher information's is reported. */
+static const pdtcli_boot_t *bootstrap(const ident_args_t *a, const ident_data_t *d,
+                                      const pdt_ident_result_t *r, pdtcli_boot_t *b)
+{
+    const int on = a->uncertainty == UNC_BOOTSTRAP ||
+                   (a->uncertainty == UNC_AUTO && r->model.kind == PDT_MODEL_SOPDT);
+    if (a->method != METHOD_GA || !on) return NULL;
+    pdt_ident_config_t cfg;
+    ga_config(a, d->s.Ts, &cfg);
+    cfg.model = r->model.kind;
+    const unsigned runs = a->have_boot_runs ? (unsigned)a->boot_runs : PDTCLI_BOOT_RUNS;
+    if (pdtcli_bootstrap(&cfg, r, d->u, d->y, d->s.n, runs, b) == 0) return b;
+    cli_warn("identify: the bootstrap failed: the Fisher information's uncertainty is printed");
+    return NULL;
+}
+
+/* ,"tune":{...}: the gains of --tune, or its refusal (status, reason,
+ * rule, form) with the model kept. Returns 1 when refused. */
+static int tune_json_of(const ident_args_t *a, const pdt_ident_result_t *r, pdtcli_jbuf_t *jb)
+{
+    pdt_tune_result_t tr;
+    memset(&tr, 0, sizeof tr);
+    char why[320];
+    const pdt_status_t st =
+        tune_model_try("identify", &r->model, (double)r->fit, &a->t, &tr, why, sizeof why);
+    pdtcli_jb_raw(jb, ",\"tune\":");
+    if (st == PDT_OK) {
+        tune_json(jb, &a->t, &tr, &tr.fig, (double)NAN, (double)NAN);
+        return 0;
+    }
+    cli_warn("identify: the model is printed, its tuning refused: %s", why);
+    /* The reason holds no quote or backslash: it goes in as it is. */
+    pdtcli_jb_printf(jb, "{\"status\":\"%s\"", pdt_status_name(st));
+    pdtcli_jb_str(jb, "reason", why);
+    pdtcli_jb_str(jb, "rule", cli_rule_names[a->t.rule]);
+    pdtcli_jb_str(jb, "form", cli_form_names[a->t.form]);
+    pdtcli_jb_raw(jb, "}");
+    return 1;
+}
+
 /* ,"missing":{"count":N,"first":[...],"u_held":M}: the reader's missing
  * samples of y (left out of the fit; the first as indices into the record,
  * from 0) and of u (the u before held), when there are any. */
@@ -589,12 +622,14 @@ static void missing_json(pdtcli_jbuf_t *jb, const pdtcli_series_t *s)
     pdtcli_jb_printf(jb, "],\"u_held\":%zu}", s->missing_u);
 }
 
-/* The identification's JSON, with the reader's missing samples and the
- * order evidence of --model auto; returns its length. */
-static int result_json(const ident_data_t *d, const pdt_ident_result_t *r, const order_info_t *o,
-                       char *buf, size_t size)
+/* The identification's JSON, with its uncertainty, the reader's missing
+ * samples and the order evidence of --model auto; returns its length. */
+static int result_json(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
+                       const order_info_t *o, char *buf, size_t size)
 {
-    int len = pdtcli_ident_json(r, d->u, d->y, d->s.Ts, d->s.n, buf, size);
+    pdtcli_boot_t boot;
+    int len = pdtcli_ident_json_boot(r, d->u, d->y, d->s.Ts, d->s.n, bootstrap(a, d, r, &boot), buf,
+                                     size);
     if (len < 0) cli_fail(EXIT_REFUSED, "result too long");
     if (d->s.missing_y || d->s.missing_u) {
         pdtcli_jbuf_t jb;
@@ -616,25 +651,21 @@ static int result_json(const ident_data_t *d, const pdt_ident_result_t *r, const
     return len;
 }
 
-/* Prints the result; returns 1 when the tuning of a flagged model was
- * forced (exit 3). */
+/* Prints the result; returns 1 when --tune's gains were refused, *forced
+ * 1 when the tuning of a flagged model was forced (exit 3). */
 static int print_result(const ident_args_t *a, const ident_data_t *d, const pdt_ident_result_t *r,
-                        const order_info_t *o)
+                        const order_info_t *o, int *forced)
 {
-    char buf[4096];
-    const int len = result_json(d, r, o, buf, sizeof buf);
-    int forced = 0;
+    static char buf[16384];
+    const int len = result_json(a, d, r, o, buf, sizeof buf);
+    int refused = 0;
     if (a->tune) {
         char flags[256];
         const int n_flags = tune_json_flags(buf, buf + len, flags, sizeof flags);
-        forced = tune_check_flags("identify", flags, n_flags, a->force);
-        pdt_tune_result_t tr;
-        memset(&tr, 0, sizeof tr);
-        tune_model("identify", &r->model, (double)r->fit, &a->t, &tr);
+        *forced = tune_check_flags("identify", flags, n_flags, a->force);
         pdtcli_jbuf_t jb;
         pdtcli_jb_init(&jb, buf + len - 1, sizeof buf - (size_t)len + 1);
-        pdtcli_jb_raw(&jb, ",\"tune\":");
-        tune_json(&jb, &a->t, &tr, &tr.fig, (double)NAN, (double)NAN);
+        refused = tune_json_of(a, r, &jb);
         pdtcli_jb_raw(&jb, "}");
         if (pdtcli_jb_done(&jb) < 0) cli_fail(EXIT_REFUSED, "result too long");
     }
@@ -642,7 +673,7 @@ static int print_result(const ident_args_t *a, const ident_data_t *d, const pdt_
     if (a->plot) ident_plot(a, d, r);
     puts(buf);
     cli_flush();
-    return forced;
+    return refused;
 }
 
 int cmd_identify(int argc, char **argv)
@@ -664,10 +695,11 @@ int cmd_identify(int argc, char **argv)
     else
         identify_ls(&a, &d, &res, &delay_max);
     note_excluded(&res);
-    int warned = suspect(&a, &d, &res, delay_max);
-    warned |= print_result(&a, &d, &res, &order);
+    int warned = suspect(&a, &d, &res, delay_max), forced = 0;
+    const int refused = print_result(&a, &d, &res, &order, &forced);
+    warned |= forced;
     free(d.u);
     free(d.y);
     pdtcli_series_free(&d.s);
-    return warned ? EXIT_SUSPECT : 0;
+    return refused ? EXIT_TUNE_REFUSED : warned ? EXIT_SUSPECT : 0;
 }

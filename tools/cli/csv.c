@@ -39,10 +39,12 @@ typedef struct reader {
     size_t *line;        /* each row's line number */
     unsigned char *miss; /* each row's missing cells: MISS_U | MISS_Y */
     size_t rows, cap;
-    int unit, unit_from; /* the time unit taken (PDTCLI_TIME_*, _UNIT_*) */
-    char unit_text[24];  /* the header's unit when it is no time unit */
-    int iso;             /* a t cell was an ISO date-time */
-    int t_by_time;       /* the t column is a default name past t */
+    int unit, unit_from;     /* the time unit taken (PDTCLI_TIME_*, _UNIT_*) */
+    char unit_text[24];      /* the header's unit when it is no time unit */
+    int iso;                 /* a t cell was a date-time */
+    int t_by_time;           /* the t column is a default name past t */
+    size_t units_line;       /* a units row detected and skipped, else 0 */
+    const char *time_format; /* the date-time pattern of t, once known */
     char *err;
     size_t errlen;
 } reader_t;
@@ -74,12 +76,13 @@ static span_t trim(span_t s)
     return s;
 }
 
-/* A header name without its unit: "y [degC]" and "y (degC)" are "y". */
+/* A header name without its unit: "y [degC]", "y (degC)", "y {degC}" are
+ * "y". */
 static span_t strip_unit(span_t s)
 {
     s = trim(s);
-    if (s.e > s.b && (s.e[-1] == ']' || s.e[-1] == ')')) {
-        const char open = s.e[-1] == ']' ? '[' : '(';
+    if (s.e > s.b && (s.e[-1] == ']' || s.e[-1] == ')' || s.e[-1] == '}')) {
+        const char open = s.e[-1] == ']' ? '[' : s.e[-1] == ')' ? '(' : '{';
         const char *q = s.e - 1;
         while (q > s.b && *q != open) q--;
         if (q > s.b && *q == open) s.e = q;
@@ -248,6 +251,16 @@ static int whole_number(const char *s, unsigned long *v)
     return *stop == '\0' && errno == 0;
 }
 
+/* A header name without a unit after a slash: "y / degC" is "y". */
+static span_t strip_slash_unit(span_t s)
+{
+    const char *slash = s.e;
+    while (slash > s.b && *--slash != '/') {
+    }
+    if (slash > s.b && *slash == '/') s = trim((span_t){s.b, slash});
+    return s;
+}
+
 /* The time units a header may name, in PDTCLI_TIME_* order, and their
  * length in seconds. */
 static const char *const unit_words[][6] = {
@@ -293,7 +306,7 @@ static const char *const time_names[] = {"t", "time", "timestamp"};
 static int is_time_name(span_t s, int family)
 {
     int unit;
-    s = split_unit_suffix(strip_unit(s), &unit);
+    s = split_unit_suffix(strip_slash_unit(strip_unit(s)), &unit);
     return span_is(s, time_names[family]);
 }
 
@@ -301,29 +314,62 @@ static int is_time_name(span_t s, int family)
 static int default_name(int c, span_t cell, int family)
 {
     if (c == COL_T) return is_time_name(cell, family);
-    const span_t s = strip_unit(cell);
+    const span_t s = strip_slash_unit(strip_unit(cell));
     return family == 0 && (span_is(s, col_names[c]) || (c == COL_Y && span_is(s, "pv")));
 }
 
-/* The column chosen by spec (a name or a 1-based index: the first match),
- * else by the default names (-2 when two match; t before time before
+/* A column name as it is compared: case folded, without blanks and double
+ * quotes, and with_unit 0 without its unit ("CV [%]", "CV (%)", "CV / %"
+ * are "cv"). Returns 0, or -1 when it does not fit. */
+static int fold_name(span_t s, int with_unit, char *out, size_t len)
+{
+    s = with_unit ? trim(s) : strip_slash_unit(strip_unit(s));
+    size_t j = 0;
+    for (const char *p = s.b; p < s.e; p++) {
+        char ch = *p;
+        if (is_blank(ch) || ch == '"') continue;
+        if (j + 1 >= len) return -1;
+        out[j++] = ch >= 'A' && ch <= 'Z' ? (char)(ch - 'A' + 'a') : ch;
+    }
+    out[j] = '\0';
+    return 0;
+}
+
+/* The column spec names: with its unit as written if exactly one column
+ * has it, else by the name alone (-2 when several share it); -1 absent. */
+static long find_named(const reader_t *r, const char *spec)
+{
+    char want[256], have[256];
+    const span_t sp = {spec, spec + strlen(spec)};
+    for (int with_unit = 1; with_unit >= 0; with_unit--) {
+        long found = -1;
+        if (fold_name(sp, with_unit, want, sizeof want) != 0) return -1;
+        for (size_t i = 0; i < r->ncols; i++)
+            if (fold_name(r->fields[i], with_unit, have, sizeof have) == 0 &&
+                strcmp(have, want) == 0)
+                found = found < 0 ? (long)i : -2;
+        if (found != -1) return found;
+    }
+    return -1;
+}
+
+/* The column chosen by spec (a name, find_named, or a 1-based index), else
+ * by the default names (-2 when two match; t before time before
  * timestamp); -1 when absent. */
 static long find_column(const reader_t *r, int c, const char *spec)
 {
     unsigned long idx;
     if (spec && whole_number(spec, &idx)) return idx >= 1 && idx <= r->ncols ? (long)idx - 1 : -1;
+    if (spec) return find_named(r, spec);
     long found = -1;
     for (int family = 0; family < (int)TIME_FAMILIES && found == -1; family++)
-        for (size_t i = 0; i < r->ncols; i++) {
-            const int hit = spec ? family == 0 && span_is(strip_unit(r->fields[i]), spec)
-                                 : default_name(c, r->fields[i], family);
-            if (hit) found = found < 0 ? (long)i : spec ? found : -2;
-        }
+        for (size_t i = 0; i < r->ncols; i++)
+            if (default_name(c, r->fields[i], family)) found = found < 0 ? (long)i : -2;
     return found;
 }
 
-/* The time unit of the t column's header: "t [ms]", "t (us)", "time_ms";
- * an option overrides it. A bracketed unit that is no time unit is kept
+/* The time unit of the t column's header: "t [ms]", "t (us)", "t / ms",
+ * "time_ms"; an option overrides it. A bracketed unit that is no time unit is kept
  * as text: numbers in that column are then refused. */
 static void header_unit(reader_t *r)
 {
@@ -334,11 +380,16 @@ static void header_unit(reader_t *r)
     r->unit_from = PDTCLI_UNIT_DEFAULT;
     if (r->col[COL_T] < 0) return;
     const span_t cell = trim(r->fields[r->col[COL_T]]);
-    const span_t name = strip_unit(cell);
+    const span_t name = strip_unit(cell), bare = strip_slash_unit(name);
     int unit = -1;
-    if (name.e < cell.e) {
+    if (bare.e < name.e) {
+        span_t u = {bare.e, name.e};
+        while (u.b < u.e && *u.b != '/') u.b++;
+        /* Only a time unit: "Date/Time" is a name. */
+        unit = unit_of(trim((span_t){u.b + 1, u.e}));
+    } else if (name.e < cell.e) {
         span_t u = {name.e, cell.e};
-        while (u.b < u.e && *u.b != '[' && *u.b != '(') u.b++;
+        while (u.b < u.e && *u.b != '[' && *u.b != '(' && *u.b != '{') u.b++;
         u.b++;
         u.e--;
         u = trim(u);
@@ -535,16 +586,142 @@ static int parse_iso(const char *s, double *out)
     return 1;
 }
 
-static int parse_time(reader_t *r, span_t s, double *out)
+/* The fields of a date-time as a pattern reads them. */
+typedef struct when {
+    long Y, M, D, h, m, s, oh, om, sign;
+    int pm, has_p;
+    double frac;
+} when_t;
+
+/* One or two digits (n 2) or exactly n digits at *p. */
+static int some_digits(const char **p, int n, long *v)
+{
+    if (n != 2) return digits(p, n, v);
+    if (!digits(p, 1, v)) return 0;
+    if (**p >= '0' && **p <= '9') *v = *v * 10 + (*(*p)++ - '0');
+    return 1;
+}
+
+/* One conversion of a pattern (the letter after '%') at *p into w. */
+static int convert(char f, const char **p, when_t *w)
+{
+    switch (f) {
+    case 'Y':
+        return digits(p, 4, &w->Y);
+    case 'y':
+        return digits(p, 2, &w->Y) && (w->Y += 2000) > 0;
+    case 'm':
+        return some_digits(p, 2, &w->M);
+    case 'd':
+        return some_digits(p, 2, &w->D);
+    case 'H':
+    case 'I':
+        return some_digits(p, 2, &w->h);
+    case 'M':
+        return some_digits(p, 2, &w->m);
+    case 'S':
+        return some_digits(p, 2, &w->s);
+    case 'f': {
+        double scale = 0.1;
+        if (**p < '0' || **p > '9') return 0;
+        for (; **p >= '0' && **p <= '9'; (*p)++, scale *= 0.1) w->frac += (**p - '0') * scale;
+        return 1;
+    }
+    case 'p':
+        w->has_p = 1;
+        w->pm = (**p == 'P' || **p == 'p');
+        if (!w->pm && **p != 'A' && **p != 'a') return 0;
+        (*p)++;
+        return **p == 'M' || **p == 'm' ? ((*p)++, 1) : 0;
+    case 'z':
+        if (**p == 'Z') return (*p)++, 1;
+        if (**p != '+' && **p != '-') return 0;
+        w->sign = *(*p)++ == '-' ? -1 : 1;
+        if (!digits(p, 2, &w->oh)) return 0;
+        if (**p == ':') (*p)++;
+        return digits(p, 2, &w->om);
+    case '%':
+        return *(*p)++ == '%';
+    default:
+        return 0;
+    }
+}
+
+/* s read by the strftime-like pattern fmt (csv.h), in s since the epoch
+ * (UTC when %z gives an offset, else the clock's own time): 1 when it
+ * matches the whole text. */
+static int parse_format(const char *fmt, const char *s, double *out)
+{
+    when_t w = {1970, 1, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0.0};
+    const char *p = s;
+    for (const char *f = fmt; *f; f++) {
+        if (*f == '%' && f[1]) {
+            if (!convert(*++f, &p, &w)) return 0;
+        } else if (*f == ' ') {
+            while (*p == ' ' || *p == '\t') p++;
+        } else if (*p++ != *f) {
+            return 0;
+        }
+    }
+    if (w.has_p && (w.h < 1 || w.h > 12)) return 0;
+    if (w.has_p) w.h = w.h % 12 + (w.pm ? 12 : 0);
+    if (*p != '\0' || w.M < 1 || w.M > 12 || w.D < 1 || w.D > 31 || w.h > 24 || w.m > 59 ||
+        w.s > 60)
+        return 0;
+    *out = days_from_civil(w.Y, w.M, w.D) * 86400.0 + (double)(w.h * 3600 + w.m * 60 + w.s) +
+           w.frac - (double)(w.sign * (w.oh * 3600 + w.om * 60));
+    return 1;
+}
+
+/* The date-time forms recognised without --time-format, beside ISO 8601:
+ * PLC exports (day.month.year, a decimal comma or point) and spreadsheets
+ * (month/day/year with AM/PM). */
+static const char *const time_forms[] = {
+    "%d.%m.%Y %H:%M:%S,%f",    "%d.%m.%Y %H:%M:%S.%f", "%d.%m.%Y %H:%M:%S", "%d.%m.%Y %H:%M",
+    "%m/%d/%Y %I:%M:%S.%f %p", "%m/%d/%Y %I:%M:%S %p", "%m/%d/%Y %I:%M %p",
+};
+
+/* A time cell that is a date-time: 1 read into *out, 0 not one (a number,
+ * perhaps), -1 an error set. The first cell fixes the form for the rest. */
+static int parse_date(reader_t *r, span_t s, double *out)
 {
     char text[64];
-    if ((size_t)(s.e - s.b) < sizeof text && s.e - s.b >= 16 && s.b[4] == '-') {
-        memcpy(text, s.b, (size_t)(s.e - s.b));
-        text[s.e - s.b] = '\0';
-        r->iso = 1;
-        if (parse_iso(text, out)) return 0;
-        return cell_error(r, COL_T, s, "is not a number or an ISO 8601 date-time");
+    const size_t n = (size_t)(s.e - s.b);
+    if (n >= sizeof text) return 0;
+    memcpy(text, s.b, n);
+    text[n] = '\0';
+    const char *fmt = r->o->time_format ? r->o->time_format : r->time_format;
+    if (fmt) {
+        if (parse_format(fmt, text, out)) return 1;
+        char why[96];
+        snprintf(why, sizeof why, "does not match the time format \"%.40s\"", fmt);
+        return cell_error(r, COL_T, s, why);
     }
+    if (n >= 16 && text[4] == '-')
+        return parse_iso(text, out)
+                   ? 1
+                   : cell_error(r, COL_T, s, "is not a number or an ISO 8601 date-time");
+    if (!strpbrk(text, ":/") || (strchr(text, '/') && !strpbrk(text, "AaPp"))) {
+        if (strchr(text, '/'))
+            return cell_error(r, COL_T, s,
+                              "is a date without AM/PM: day/month or month/day? (give "
+                              "--time-format, e.g. \"%d/%m/%Y %H:%M:%S\")");
+        return 0;
+    }
+    for (size_t k = 0; k < sizeof time_forms / sizeof time_forms[0]; k++)
+        if (parse_format(time_forms[k], text, out)) {
+            r->time_format = time_forms[k];
+            return 1;
+        }
+    return cell_error(r, COL_T, s,
+                      "is not a number or a known date-time (give its form with --time-format)");
+}
+
+static int parse_time(reader_t *r, span_t s, double *out)
+{
+    const int date = parse_date(r, s, out);
+    if (date > 0) r->iso = 1;
+    if (date != 0) return date > 0 ? 0 : -1;
     if (parse_number(r, COL_T, s, out) != 0) return -1;
     if (r->unit_text[0] && r->unit_from == PDTCLI_UNIT_DEFAULT)
         return set_err(r,
@@ -615,12 +792,44 @@ static int row_is_comment(const reader_t *r, span_t line)
     return !is_marker(trim(first));
 }
 
+/* Whether the line is a row of units: the chosen columns' cells hold text
+ * and no number (some may be empty). */
+static int units_like(const reader_t *r, span_t line)
+{
+    span_t f[MAX_COLS];
+    int text = 0;
+    if (split(line, r->sep, f, MAX_COLS) != r->ncols) return 0;
+    for (int c = 0; c < COL_COUNT; c++) {
+        if (r->col[c] < 0) continue;
+        const span_t s = trim(f[r->col[c]]);
+        char cell[128], *stop;
+        const size_t n = (size_t)(s.e - s.b);
+        if (n == 0 || is_marker(s)) continue;
+        if (n >= sizeof cell) return 0;
+        memcpy(cell, s.b, n);
+        cell[n] = '\0';
+        (void)strtod(cell, &stop);
+        if (stop != cell) return 0;
+        text = 1;
+    }
+    return text;
+}
+
 static int read_rows(reader_t *r)
 {
     size_t blank_at = 0;
+    int first = 1;
     while (has_line(r)) {
         span_t line = next_line(r);
         if (row_is_comment(r, line)) continue;
+        /* A units row under the header: skipped when asked for, else when
+         * it looks like one (reported in the series). */
+        if (first && !line_is_blank(line) && (r->o->units_row || units_like(r, line))) {
+            if (!r->o->units_row) r->units_line = r->lineno;
+            first = 0;
+            continue;
+        }
+        first = 0;
         if (line_is_blank(line)) {
             if (!blank_at) blank_at = r->lineno;
             continue;
@@ -888,6 +1097,8 @@ static int read_series(const char *path, const char *text, size_t len, const pdt
     if (rc == 0) rc = hold_missing(r, out);
     if (rc == 0) rc = sample(r, out);
     if (rc == 0) count_missing_y(out);
+    if (rc == 0) out->units_row = r->units_line;
+    if (rc == 0) out->time_format = r->time_format;
     if (rc != 0) pdtcli_series_free(out);
     free(r->buf);
     free(r->t);

@@ -8,13 +8,26 @@
  * starting with '#' anywhere, a header row naming the columns, then one row
  * per sample. The separator (comma, semicolon or tab) is found in the
  * header unless given; with a semicolon or tab separator a decimal comma is
- * read as a decimal point. Columns are chosen by name (case-insensitive,
- * blanks, double quotes and a trailing unit in brackets, "y [degC]",
- * ignored) or by 1-based index. Time is an ISO 8601 date-time
- * ("2024-03-01T08:00:00.250", a space for the T, optional Z or +hh:mm), or
- * a count in the unit the header gives ("t [ms]", "time_ms", "t (us)",
- * "t_min") or time_unit says, else seconds. A count that looks like epoch
- * milliseconds or microseconds read as seconds is refused.
+ * read as a decimal point. Columns are chosen by name or by 1-based index.
+ * A name matches with or without its unit, however either is written: case,
+ * blanks and double quotes do not count, and a unit in brackets ("y [degC]",
+ * "y (degC)", "y {degC}") or after a slash ("y / degC") may be given or
+ * left out, in the header and in the option alike; where two columns share
+ * a name, the unit given decides. A row of units under the header ("s;%;degC")
+ * is skipped: with units_row, or when its cells in the chosen columns are
+ * text and the next row's are numbers (reported in units_row). Time is a
+ * count in the unit the header gives ("t [ms]", "time_ms", "t (us)",
+ * "t_min") or time_unit says, else seconds (a count that looks like epoch
+ * milliseconds or microseconds read as seconds is refused), or a date-time:
+ * ISO 8601 ("2024-03-01T08:00:00.250", a space for the T, optional Z or
+ * +hh:mm), day.month.year as PLCs write it ("01.03.2024 08:00:00,500"),
+ * month/day/year with AM/PM as spreadsheets write it
+ * ("3/1/2024 8:00:00 AM"), or any form a time_format pattern describes:
+ * %Y year, %y two-digit year (2000-2099), %m month, %d day, %H hour
+ * (0-23), %I hour (1-12) with %p AM/PM, %M minute, %S second, %f the
+ * fraction of a second (any digits), %z Z or +hh[:]mm, %% a percent
+ * sign; other characters match themselves, a blank any run of blanks.
+ * Month, day, hour and minute take one or two digits.
  *
  * Missing samples: an empty cell, a marker ("NaN", "#N/A", "N/A", "ERR",
  * a spreadsheet error such as "#VALUE!", a historian state such as "Bad
@@ -81,14 +94,19 @@ typedef struct pdtcli_csv_opts {
     const double *bad_values;          /* declared bad values (sentinels
                                         * such as -9999), n_bad_values */
     size_t n_bad_values;
-    int resample;     /* fill gaps by zero-order hold */
-    double fs;        /* Hz; 0 = from the time column.
+    int resample;            /* fill gaps by zero-order hold */
+    double fs;               /* Hz; 0 = from the time column.
                                         * With a t column it must agree
                                         * within 1 % and is the Ts used */
-    double max_abs;   /* largest |cell| of u, y accepted;
+    double max_abs;          /* largest |cell| of u, y accepted;
                                         * default: what pdt_real_t holds */
-    const char *name; /* the file in messages; NULL: path
+    const char *name;        /* the file in messages; NULL: path
                                         * ("stdin" for "-") */
+    int units_row;           /* 1: one row of units under the
+                                        * header, skipped; 0: detected */
+    const char *time_format; /* strftime-like pattern of t
+                                        * (pdtcli_csv_read_series); NULL:
+                                        * detected */
 } pdtcli_csv_opts_t;
 
 typedef struct pdtcli_series {
@@ -108,6 +126,11 @@ typedef struct pdtcli_series {
     size_t first_line[PDTCLI_MISSING_FIRST]; /* the lines of the first
                                               * missing samples, u or y */
     unsigned n_first_y, n_first_line;
+    size_t units_row;        /* the line of a units row found under
+                                              * the header and skipped (not asked
+                                              * for), else 0 */
+    const char *time_format; /* the date-time pattern detected in
+                                              * t (static text), or NULL */
 } pdtcli_series_t;
 
 /* Fills o with the defaults above. */

@@ -9,11 +9,17 @@
 #include "tune_opts.h"
 
 enum { METHOD_GA, METHOD_ELMS, METHOD_EIV };
+enum { UNC_AUTO, UNC_FISHER, UNC_BOOTSTRAP };
 
 typedef struct ident_args {
     int model, method, cost, weight, offset, initial, integer_delay, time_unit, resample;
     int bad_rows, force;
     cli_list_t bad_values;
+    int units_row;      /* --units-row */
+    int uncertainty;    /* --uncertainty: UNC_AUTO, UNC_FISHER, UNC_BOOTSTRAP */
+    uint64_t boot_runs; /* --bootstrap N */
+    int have_boot_runs;
+    const char *time_format; /* --time-format */
     double td_max, fs, phi_t, phi_f, f_lo, f_hi, u_before;
     uint64_t seed, evaluations, population, coarse, skip;
     const char *band, *t_col, *u_col, *y_col, *sep, *decimal, *file;

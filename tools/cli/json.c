@@ -171,44 +171,151 @@ void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_re
     }
 }
 
-/* "std": the standard deviations of the model's parameters (form (2) for a
- * SOPDT: k, a, b) and of y0, as the identification reports them (a result
- * of pdt_ls has none: computed here the same way, pdt_ident_uncertainty);
- * null where the record does not determine one, or the whole key null
- * when they cannot be computed. */
-static void std_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r, const pdt_real_t *u,
-                     const pdt_real_t *y, double Ts, size_t n)
+/* The printed parameters in the JSON's order and under its names. */
+static const struct {
+    pdt_ident_par_t par;
+    const char *name;
+} printed_names[] = {
+    {PDT_IDENT_PAR_K, "K"},   {PDT_IDENT_PAR_KI, "Ki"},     {PDT_IDENT_PAR_TAU, "tau"},
+    {PDT_IDENT_PAR_WN, "wn"}, {PDT_IDENT_PAR_ZETA, "zeta"}, {PDT_IDENT_PAR_TD, "Td"},
+    {PDT_IDENT_PAR_Y0, "y0"}, {PDT_IDENT_PAR_TAU1, "tau1"}, {PDT_IDENT_PAR_TAU2, "tau2"},
+    {PDT_IDENT_PAR_A, "a"},   {PDT_IDENT_PAR_B, "b"},
+};
+#define N_PRINTED (sizeof printed_names / sizeof printed_names[0])
+
+/* Whether the JSON prints parameter k of the table for this model: a
+ * FOPDT's four; every SOPDT key (null where the form has none), Ki only
+ * for an integrator. */
+static int printed(const pdt_model_t *m, const pdt_ident_printed_t *p, size_t k)
 {
-    static const char *const fo[] = {"K", "tau", "Td", "y0"};
-    static const char *const so[] = {"k", "a", "b", "Td", "y0"};
-    const char *const *names = r->model.kind == PDT_MODEL_FOPDT ? fo : so;
-    const pdt_ident_data_t d = {u, y, n};
-    pdt_ident_std_t sd = r->std;
-    if (sd.count == 0u &&
-        pdt_ident_uncertainty(&r->model, &d, (pdt_real_t)Ts, r->y0, &sd) != PDT_OK) {
-        pdtcli_jb_raw(jb, ",\"std\":null");
+    const pdt_ident_par_t i = printed_names[k].par;
+    if (m->kind == PDT_MODEL_FOPDT) return (p->have >> i) & 1u;
+    if (i == PDT_IDENT_PAR_TAU) return 0;
+    return i != PDT_IDENT_PAR_KI || ((p->have >> i) & 1u);
+}
+
+void pdtcli_jb_std(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_std_t *sd)
+{
+    pdt_ident_printed_t p;
+    if (pdt_ident_std_printed(m, sd, &p) != PDT_OK) {
+        pdtcli_jb_raw(jb, ",\"std\":null,\"cov\":null");
         return;
     }
-    pdtcli_jb_raw(jb, ",\"std\":{");
-    for (uint32_t i = 0; i < sd.count; i++) {
-        pdtcli_jb_printf(jb, "%s\"%s\":", i ? "," : "", names[i]);
-        pdtcli_jb_num(jb, (double)sd.std[i]);
+    const char *sep = "{";
+    pdtcli_jb_raw(jb, ",\"std\":");
+    for (size_t k = 0; k < N_PRINTED; k++) {
+        if (!printed(m, &p, k)) continue;
+        pdtcli_jb_printf(jb, "%s\"%s\":", sep, printed_names[k].name);
+        pdtcli_jb_num(jb, (double)p.std[printed_names[k].par]);
+        sep = ",";
+    }
+    pdtcli_jb_raw(jb, "},\"cov\":");
+    sep = "{";
+    for (size_t k = 0; k < N_PRINTED; k++) {
+        if (!printed(m, &p, k)) continue;
+        const pdt_ident_par_t i = printed_names[k].par;
+        pdtcli_jb_printf(jb, "%s\"%s\":", sep, printed_names[k].name);
+        const char *sep2 = "{";
+        for (size_t l = 0; l < N_PRINTED; l++) {
+            if (!printed(m, &p, l)) continue;
+            const pdt_ident_par_t j = printed_names[l].par;
+            pdtcli_jb_printf(jb, "%s\"%s\":", sep2, printed_names[l].name);
+            const int both = ((p.have >> i) & 1u) && ((p.have >> j) & 1u);
+            pdtcli_jb_num(jb, both ? (double)p.cov[i][j] : (double)NAN);
+            sep2 = ",";
+        }
+        pdtcli_jb_raw(jb, "}");
+        sep = ",";
     }
     pdtcli_jb_raw(jb, "}");
 }
 
-int pdtcli_ident_json(const pdt_ident_result_t *r, const pdt_real_t *u, const pdt_real_t *y,
-                      double Ts, size_t n, char *buf, size_t len)
+/* "std", "cov" and "ci95" from a bootstrap b, under the keys printed()
+ * gives the model's Fisher uncertainty p. */
+static void boot_keys(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_printed_t *p,
+                      const pdtcli_boot_t *b)
+{
+    static const char *const part[3] = {",\"std\":", ",\"cov\":", ",\"ci95\":"};
+    for (int w = 0; w < 3; w++) {
+        const char *sep = "{";
+        pdtcli_jb_raw(jb, part[w]);
+        for (size_t k = 0; k < N_PRINTED; k++) {
+            if (!printed(m, p, k)) continue;
+            const pdt_ident_par_t i = printed_names[k].par;
+            const int has = (b->have >> i) & 1u;
+            pdtcli_jb_printf(jb, "%s\"%s\":", sep, printed_names[k].name);
+            sep = ",";
+            if (w == 0) {
+                pdtcli_jb_num(jb, has ? b->std[i] : (double)NAN);
+            } else if (w == 2) {
+                if (!has) {
+                    pdtcli_jb_raw(jb, "null");
+                    continue;
+                }
+                pdtcli_jb_raw(jb, "[");
+                pdtcli_jb_num(jb, b->lo[i]);
+                pdtcli_jb_raw(jb, ",");
+                pdtcli_jb_num(jb, b->hi[i]);
+                pdtcli_jb_raw(jb, "]");
+            } else {
+                const char *sep2 = "{";
+                for (size_t l = 0; l < N_PRINTED; l++) {
+                    if (!printed(m, p, l)) continue;
+                    pdtcli_jb_printf(jb, "%s\"%s\":", sep2, printed_names[l].name);
+                    pdtcli_jb_num(jb, b->cov[i][printed_names[l].par]);
+                    sep2 = ",";
+                }
+                pdtcli_jb_raw(jb, "}");
+            }
+        }
+        pdtcli_jb_raw(jb, "}");
+    }
+}
+
+/* "std" and "cov": the standard deviations and covariance of the printed
+ * parameters (pdt_ident_std_printed), from the identification's
+ * uncertainty (a result of pdt_ls has none: computed here the same way,
+ * pdt_ident_uncertainty); null where the record does not determine one or
+ * the form has none, both keys null when they cannot be computed. */
+static void std_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r, const pdt_real_t *u,
+                     const pdt_real_t *y, double Ts, size_t n, const pdtcli_boot_t *boot)
+{
+    const pdt_ident_data_t d = {u, y, n};
+    pdt_ident_std_t sd = r->std;
+    if (sd.count == 0u &&
+        pdt_ident_uncertainty(&r->model, &d, (pdt_real_t)Ts, r->y0, &sd) != PDT_OK) {
+        pdtcli_jb_raw(jb, ",\"std\":null,\"cov\":null,\"uncertainty\":null");
+        return;
+    }
+    pdt_ident_printed_t p;
+    if (boot && pdt_ident_std_printed(&r->model, &sd, &p) == PDT_OK) {
+        boot_keys(jb, &r->model, &p, boot);
+        pdtcli_jb_str(jb, "uncertainty", "bootstrap");
+        pdtcli_jb_uint(jb, "bootstrap_runs", (unsigned long)boot->ok);
+        return;
+    }
+    pdtcli_jb_std(jb, &r->model, &sd);
+    pdtcli_jb_str(jb, "uncertainty", "fisher");
+}
+
+int pdtcli_ident_json_boot(const pdt_ident_result_t *r, const pdt_real_t *u, const pdt_real_t *y,
+                           double Ts, size_t n, const pdtcli_boot_t *boot, char *buf, size_t len)
 {
     pdtcli_jbuf_t jb;
     if (!r || !buf) return -1;
     pdtcli_jb_init(&jb, buf, len);
     pdtcli_jb_model(&jb, &r->model, r);
-    if (u && y) std_keys(&jb, r, u, y, Ts, n);
+    if (u && y) std_keys(&jb, r, u, y, Ts, n, boot);
     pdtcli_jb_key(&jb, "Ts", Ts);
     pdtcli_jb_uint(&jb, "n", (unsigned long)n);
     pdtcli_jb_raw(&jb, "}");
     return pdtcli_jb_done(&jb);
+}
+
+int pdtcli_ident_json(const pdt_ident_result_t *r, const pdt_real_t *u, const pdt_real_t *y,
+                      double Ts, size_t n, char *buf, size_t len)
+{
+    return pdtcli_ident_json_boot(r, u, y, Ts, n, NULL, buf, len);
 }
 
 int pdtcli_model_json(const pdt_model_t *m, char *buf, size_t len)
@@ -296,5 +403,33 @@ void pdtcli_jb_tune(pdtcli_jbuf_t *jb, const char *rule, const char *form, int k
     if (knob_lambda) pdtcli_jb_key(jb, "lambda", (double)r->knob);
     if (isfinite(Ku)) pdtcli_jb_key(jb, "Ku", Ku);
     if (isfinite(Pu)) pdtcli_jb_key(jb, "Pu", Pu);
+    pdtcli_jb_raw(jb, "}");
+}
+
+/* The gain's std and the whole covariance finite: the first thing
+ * pdt_ident_select_order weighs. */
+static int determined(const pdt_validate_result_t *v)
+{
+    int ok = isfinite((double)v->std.std[0]);
+    for (uint32_t i = 0; i < v->std.count; i++)
+        for (uint32_t j = 0; j < v->std.count; j++) ok = ok && isfinite((double)v->std.cov[i][j]);
+    return ok;
+}
+
+void pdtcli_jb_order(pdtcli_jbuf_t *jb, pdt_model_kind_t kept, const pdt_ident_result_t r[2],
+                     const pdt_validate_result_t v[2])
+{
+    static const char *const names[2] = {"fopdt", "sopdt"};
+    pdtcli_jb_printf(jb, ",\"order\":{\"kept\":\"%s\"", names[kept == PDT_MODEL_SOPDT]);
+    for (int k = 0; k < 2; k++) {
+        pdtcli_jb_printf(jb, ",\"%s\":{\"determined\":%s,\"independent\":%s,\"bic\":", names[k],
+                         determined(&v[k]) ? "true" : "false", v[k].independent ? "true" : "false");
+        pdtcli_jb_num(jb, (double)v[k].bic);
+        pdtcli_jb_key(jb, "aic", (double)v[k].aic);
+        pdtcli_jb_raw(jb, v[k].white ? ",\"white\":true" : ",\"white\":false");
+        pdtcli_jb_key(jb, "sigma", (double)v[k].sigma);
+        pdtcli_jb_key(jb, "fit", (double)r[k].fit);
+        pdtcli_jb_raw(jb, "}");
+    }
     pdtcli_jb_raw(jb, "}");
 }

@@ -10,6 +10,7 @@
 #include <stddef.h>
 
 #include "pdt/pdt.h"
+#include "uncert.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -25,6 +26,13 @@ extern "C" {
  * small (buf then holds a truncated, NUL-terminated text). */
 int pdtcli_ident_json(const pdt_ident_result_t *r, const pdt_real_t *u, const pdt_real_t *y,
                       double Ts, size_t n, char *buf, size_t len);
+
+/* The same with the bootstrap's uncertainty (boot not NULL): "std", "cov"
+ * and "ci95" (the 2.5 % and 97.5 % points) from its spread,
+ * "uncertainty":"bootstrap" and "bootstrap_runs"; boot NULL: the Fisher
+ * information's, "uncertainty":"fisher". */
+int pdtcli_ident_json_boot(const pdt_ident_result_t *r, const pdt_real_t *u, const pdt_real_t *y,
+                           double Ts, size_t n, const pdtcli_boot_t *boot, char *buf, size_t len);
 
 /* A model alone ({"model",..} without operating point, cost, fit and
  * evaluations), as `pdtfit reduce` prints it. Returns as above. */
@@ -62,6 +70,17 @@ int pdtcli_jb_done(const pdtcli_jbuf_t *jb);
 void pdtcli_jb_tune(pdtcli_jbuf_t *jb, const char *rule, const char *form, int knob_tau_c,
                     int knob_lambda, const pdt_tune_result_t *r, const pdt_tune_figures_t *fig,
                     double span, double Ku, double Pu);
+
+/* ,"std":{...},"cov":{...}: the uncertainty sd of m's own parameters as
+ * the printed parameters' (pdt_ident_std_printed), under the JSON's names
+ * and in its order; null where one is absent or undetermined. */
+void pdtcli_jb_std(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_std_t *sd);
+
+/* ,"order":{"kept",...,"fopdt":{...},"sopdt":{...}} of --model auto: the
+ * evidence each model had (r, v: FOPDT then SOPDT), in the order
+ * pdt_ident_select_order weighs it. */
+void pdtcli_jb_order(pdtcli_jbuf_t *jb, pdt_model_kind_t kept, const pdt_ident_result_t r[2],
+                     const pdt_validate_result_t v[2]);
 
 #ifdef __cplusplus
 }

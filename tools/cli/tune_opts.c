@@ -90,39 +90,52 @@ const char *tune_hint(pdt_status_t st, int rule, const pdt_model_t *m)
     }
 }
 
-/* A POOR_FIT: from the Ms limit (say the Ms the gains would have had) or
- * from the fit. */
-static void fail_poor_fit(const char *cmd, const pdt_model_t *m, double fit,
-                          const pdt_tune_config_t *cfg)
+/* Why the gains of m were refused (st), into why: the figure that decided
+ * a limit's refusal, the fit (PDT_ERR_POOR_FIT) or the Ms the gains would
+ * have had (PDT_ERR_MS_LIMIT); else the status and its hint. */
+static void refusal(pdt_status_t st, const pdt_model_t *m, double fit, const pdt_tune_config_t *cfg,
+                    char *why, size_t len)
 {
     pdt_tune_config_t open = *cfg;
     open.ms_max = 0;
     pdt_tune_result_t r;
-    if (fit < (double)cfg->fit_min)
-        cli_fail(EXIT_REFUSED, "%s: gains refused: fit %.4g%% below %.4g%%", cmd, fit,
+    if (st == PDT_ERR_POOR_FIT)
+        snprintf(why, len, "gains refused: fit %.4g%% below %.4g%% (--fit-min)", fit,
                  (double)cfg->fit_min);
-    if (pdt_tune_compute(m, (pdt_real_t)fit, &open, &r) == PDT_OK)
-        cli_fail(EXIT_REFUSED,
-                 "%s: gains refused: Ms %.4g exceeds the limit %.4g (--ms-max 0 "
+    else if (st == PDT_ERR_MS_LIMIT && pdt_tune_compute(m, (pdt_real_t)fit, &open, &r) == PDT_OK)
+        snprintf(why, len,
+                 "gains refused: Ms %.4g exceeds the limit %.4g (--ms-max; --ms-max 0 "
                  "prints them)",
-                 cmd, (double)r.fig.Ms, (double)cfg->ms_max);
-    cli_fail(EXIT_REFUSED, "%s: gains refused: %s", cmd, pdt_status_str(PDT_ERR_POOR_FIT));
+                 (double)r.fig.Ms, (double)cfg->ms_max);
+    else if (st == PDT_ERR_POOR_FIT || st == PDT_ERR_MS_LIMIT)
+        snprintf(why, len, "gains refused: %s", pdt_status_str(st));
+    else
+        snprintf(why, len, "cannot tune: %s%s", pdt_status_str(st), tune_hint(st, cfg->rule, m));
+}
+
+pdt_status_t tune_model_try(const char *cmd, const pdt_model_t *m, double fit, const tune_opts_t *t,
+                            pdt_tune_result_t *r, char *why, size_t len)
+{
+    pdt_tune_config_t cfg;
+    pdt_tune_config_default(&cfg);
+    tune_opts_config(t, &cfg);
+    const pdt_status_t st = pdt_tune_compute(m, (pdt_real_t)fit, &cfg, r);
+    if (st != PDT_OK) {
+        refusal(st, m, fit, &cfg, why, len);
+        return st;
+    }
+    if (t->form == PDT_TUNE_PID && r->ideal.tauD == (pdt_real_t)0)
+        cli_warn("%s: %s gives this %s no derivative action (tauD = 0): the pid asked for is a pi",
+                 cmd, cli_rule_names[t->rule], cli_model_str(m->kind));
+    return PDT_OK;
 }
 
 void tune_model(const char *cmd, const pdt_model_t *m, double fit, const tune_opts_t *t,
                 pdt_tune_result_t *r)
 {
-    pdt_tune_config_t cfg;
-    pdt_tune_config_default(&cfg);
-    tune_opts_config(t, &cfg);
-    pdt_status_t st = pdt_tune_compute(m, (pdt_real_t)fit, &cfg, r);
-    if (st == PDT_ERR_POOR_FIT) fail_poor_fit(cmd, m, fit, &cfg);
-    if (st != PDT_OK)
-        cli_fail(EXIT_REFUSED, "%s: cannot tune: %s%s", cmd, pdt_status_str(st),
-                 tune_hint(st, t->rule, m));
-    if (t->form == PDT_TUNE_PID && r->ideal.tauD == (pdt_real_t)0)
-        cli_warn("%s: %s gives this %s no derivative action (tauD = 0): the pid asked for is a pi",
-                 cmd, cli_rule_names[t->rule], cli_model_str(m->kind));
+    char why[320];
+    if (tune_model_try(cmd, m, fit, t, r, why, sizeof why) != PDT_OK)
+        cli_fail(EXIT_REFUSED, "%s: %s", cmd, why);
 }
 
 void tune_json(pdtcli_jbuf_t *jb, const tune_opts_t *t, const pdt_tune_result_t *r,

@@ -30,6 +30,11 @@ void tune_opts_config(const tune_opts_t *t, pdt_tune_config_t *cfg);
  * out without derivative action is said on stderr. */
 void tune_model(const char *cmd, const pdt_model_t *m, double fit, const tune_opts_t *t,
                 pdt_tune_result_t *r);
+/* tune_model that returns the library's status instead of ending the
+ * program: on a refusal, the one-line reason (without the command's name)
+ * into why[len], *r untouched. */
+pdt_status_t tune_model_try(const char *cmd, const pdt_model_t *m, double fit, const tune_opts_t *t,
+                            pdt_tune_result_t *r, char *why, size_t len);
 /* Why the library refused (a hint after its status text). */
 const char *tune_hint(pdt_status_t st, int rule, const pdt_model_t *m);
 

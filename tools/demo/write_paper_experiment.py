@@ -4,6 +4,7 @@ output verbatim, with the explanation of how it compares with the paper.
 
 Usage: python3 tools/demo/write_paper_experiment.py
 """
+import argparse
 import pathlib
 import subprocess
 
@@ -90,4 +91,6 @@ def main():
 
 
 if __name__ == "__main__":
+    argparse.ArgumentParser(description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     main()

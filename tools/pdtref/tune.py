@@ -12,7 +12,7 @@ Gain sets are dicts {"Kc", "tauI", "tauD", "Tf"} in the ideal (parallel) form
 Kc (1 + 1/(tauI s) + tauD s/(Tf s + 1)) unless said otherwise.
 
 Statuses are the C codes, read from pdt_status.h: OK, ARG, NO_FORM,
-POOR_FIT, UNSTABLE.
+POOR_FIT, UNSTABLE, MS_LIMIT.
 """
 from __future__ import annotations
 
@@ -24,8 +24,8 @@ from pdtsupport.status import STATUS
 
 from .models import Fopdt, Sopdt
 
-OK, ARG, NO_FORM, POOR_FIT, UNSTABLE = (STATUS[name] for name in (
-    "OK", "ARG", "NO_FORM", "POOR_FIT", "UNSTABLE"))
+OK, ARG, NO_FORM, POOR_FIT, UNSTABLE, MS_LIMIT = (STATUS[name] for name in (
+    "OK", "ARG", "NO_FORM", "POOR_FIT", "UNSTABLE", "MS_LIMIT"))
 SIMC, IMC, AMIGO, ZN = 0, 1, 2, 3
 PI, PID = 0, 1
 
@@ -370,7 +370,7 @@ def compute(m, rule, form, knob=0.0, deriv_filter=10.0, fit=100.0, fit_min=0.0, 
             ideal, series = g, ideal_to_series(g)
         fig = robustness(m, ideal)
         if ms_max > 0 and fig["Ms"] > ms_max:
-            raise TuneError(POOR_FIT, "Ms")
+            raise TuneError(MS_LIMIT, "Ms")
     except TuneError as e:
         return e.status, None
     return OK, {"ideal": ideal, "series": series, "series_rule": series_rule, "knob": kn,

@@ -40,18 +40,23 @@ MISSING = None if BIN is not None and BIN.is_file() else (
 
 # The keys of identify's JSON: the model, then (GA only) how sure the search
 # is, then the record's Ts and n.
-LS_FOPDT_KEYS = ["model", "K", "tau", "Td", "y0", "u0", "cost", "fit", "evaluations", "std",
-                 "Ts", "n"]
+# The uncertainty: the Fisher information's (a FOPDT, and the scans), the
+# bootstrap's (a SOPDT of the GA, by default).
+FISHER_KEYS = ["std", "cov", "uncertainty"]
+BOOT_KEYS = ["std", "cov", "ci95", "uncertainty", "bootstrap_runs"]
+LS_FOPDT_KEYS = ["model", "K", "tau", "Td", "y0", "u0", "cost", "fit", "evaluations",
+                 *FISHER_KEYS, "Ts", "n"]
 LS_SOPDT_KEYS = ["model", "K", "wn", "zeta", "Td", "y0", "u0", "tau1", "tau2", "a", "b",
-                 "cost", "fit", "evaluations", "std", "Ts", "n"]
+                 "cost", "fit", "evaluations", *FISHER_KEYS, "Ts", "n"]
 CERTAINTY_KEYS = ["searches", "coarse", "runner_up", "flags", "evidence", "excluded"]
-FOPDT_KEYS = LS_FOPDT_KEYS[:-3] + CERTAINTY_KEYS + ["std", "Ts", "n"]
-SOPDT_KEYS = LS_SOPDT_KEYS[:-3] + CERTAINTY_KEYS + ["std", "Ts", "n"]
+TAIL = len(FISHER_KEYS) + 2
+FOPDT_KEYS = LS_FOPDT_KEYS[:-TAIL] + CERTAINTY_KEYS + LS_FOPDT_KEYS[-TAIL:]
+SOPDT_KEYS = LS_SOPDT_KEYS[:-TAIL] + CERTAINTY_KEYS + BOOT_KEYS + ["Ts", "n"]
 # The keys of `pdtfit tune`'s JSON.
 TUNE_KEYS = ["rule", "form", "Kc", "tauI", "tauD", "Tf", "Ms", "gain_margin",
              "phase_margin_deg", "w_ms", "w_pc", "w_gc", "series", "pid", "parallel", "stated_in"]
 # The keys of a model inside autotune-sim's JSON: no std, Ts, n.
-MODEL_KEYS = {"fopdt": FOPDT_KEYS[:-3], "sopdt": SOPDT_KEYS[:-3]}
+MODEL_KEYS = {"fopdt": FOPDT_KEYS[:-TAIL], "sopdt": SOPDT_KEYS[:-len(BOOT_KEYS) - 2]}
 
 
 def run(args, stdin=None):

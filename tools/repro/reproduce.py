@@ -10,6 +10,7 @@ folder, runs every method through `pdtfit identify` and `pdtfit reduce`,
 judges every model, the paper's and ours, against the true (17), and writes
 the document. Deterministic: the same checkout gives the same files.
 """
+import argparse
 import json
 import pathlib
 import subprocess
@@ -249,4 +250,6 @@ def main():
 
 
 if __name__ == "__main__":
+    argparse.ArgumentParser(description=__doc__,
+                            formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     main()

@@ -410,8 +410,9 @@ def test_weight_control_reports_band(at_rest_csv):
     """The band's edge is half the phase crossover of the model the time
     cost finds first: the truth's within 1 % on this record."""
     out = parse_output(identify_rest(at_rest_csv, "--weight", "control"))
-    assert list(out) == FOPDT_KEYS[:-9] + ["f_band", "searches", "coarse", "runner_up", "flags",
-                                           "evidence", "excluded", "std", "Ts", "n"]
+    assert list(out) == FOPDT_KEYS[:9] + ["f_band", "searches", "coarse", "runner_up", "flags",
+                                           "evidence", "excluded", "std", "cov", "uncertainty",
+                                           "Ts", "n"]
     assert out["f_band"] == pytest.approx(half_crossover_hz(5.0, 1.3), rel=0.01)
     assert out["f_band"] <= 0.5 / TS
     assert out["K"] == pytest.approx(2.0, rel=0.02)
@@ -568,6 +569,10 @@ def test_std_matches_the_spread(fopdt_csv):
     out = parse_output(run(["identify", "--model", "fopdt", fopdt_csv]))
     sd = out["std"]
     assert list(sd) == ["K", "tau", "Td", "y0"] and all(v > 0 for v in sd.values())
+    # The covariance in the same parameters, its diagonal the std squared.
+    assert list(out["cov"]) == list(sd) and all(list(out["cov"][k]) == list(sd) for k in sd)
+    for k in sd:
+        assert out["cov"][k][k] == pytest.approx(sd[k] ** 2, rel=1e-5)
     for key, true in (("K", 2.0), ("tau", 5.0), ("Td", 1.3)):
         assert abs(out[key] - true) < 4 * sd[key] + 1e-6, key
 

@@ -254,3 +254,110 @@ def test_check_fopdt_shape(tmp_path, rec):
     t, u, y = rec
     path = write(tmp_path / "plain.csv", "t,u,y", cells(t, u, y))
     check_fopdt(ok(run([*MODEL, path])), 2.0, 5.0, 1.3)
+
+
+# ------------------------------------------- names, units rows, date forms
+
+@pytest.mark.parametrize("header, args", [
+    ("t,CV [%],PV [degC]", ["--u", "CV [%]", "--y", "PV [degC]"]),
+    ("t,CV [%],PV [degC]", ["--u", "cv", "--y", "pv"]),
+    ("t,CV,PV", ["--u", "CV [%]", "--y", "PV (degC)"]),
+    ("t,CV / %,PV/degC", ["--u", "cv[%]", "--y", "PV"]),
+    ('t,"CV  (%)",PV {degC}', ["--u", "CV", "--y", "pv [degC]"]),
+])
+def test_names_with_or_without_units(tmp_path, rec, header, args):
+    t, u, y = rec
+    path = write(tmp_path / "names.csv", header, cells(t, u, y))
+    fopdt(ok(run([*MODEL, *args, path])))
+
+
+def test_unit_decides_between_two_columns(tmp_path, rec):
+    t, u, y = rec
+    path = write(tmp_path / "two.csv", "time,u,Temp [degC],Temp [K]",
+                 cells(t, u, y - 273.15, y))
+    out = ok(run([*MODEL, "--t", "time", "--y", "temp [K]", path]))
+    assert out["y0"] == pytest.approx(Y0, abs=0.1)
+    assert_usage_error(run([*MODEL, "--t", "time", "--y", "Temp", path]), "appears twice")
+
+
+def test_units_row(tmp_path, rec):
+    t, u, y = rec
+    rows = [["s", "%", "degC"]] + cells(t, u, y, decimal=",")
+    path = write(tmp_path / "units.tsv", "Time\tCV\tPV", rows, sep="\t")
+    fopdt(ok(run([*MODEL, "--t", "time", "--u", "cv", "--units-row", path])))
+    fopdt(ok(run([*MODEL, "--t", "time", "--u", "cv", path]),
+             warn="units.tsv:2: a row of units under the header, skipped"))
+    # Asked for, the row is skipped whatever it holds.
+    rows[0] = ["0", "0", "0"]
+    path = write(tmp_path / "units2.tsv", "Time\tCV\tPV", rows, sep="\t")
+    fopdt(ok(run([*MODEL, "--t", "time", "--u", "cv", "--units-row", path])))
+
+
+def clock(t, fmt, start=datetime.datetime(2024, 3, 1, 8, 0, 0)):
+    return [(start + datetime.timedelta(seconds=float(v))).strftime(fmt) for v in t]
+
+
+def test_plc_date_with_decimal_comma(tmp_path, rec):
+    t, u, y = rec
+    stamps = [s[:-3] for s in clock(t, "%d.%m.%Y %H:%M:%S,%f")]  # milliseconds
+    rows = [[st, *r] for st, r in zip(stamps, cells(u, y, decimal=","))]
+    path = write(tmp_path / "plc.csv", "Zeit;CV;PV", rows, sep=";")
+    fopdt(ok(run([*MODEL, "--t", "zeit", "--u", "cv", path])))
+
+
+def test_spreadsheet_date_am_pm(tmp_path, rec):
+    t, u, y = rec
+    t = t * 20  # 2 s steps across noon
+    stamps = [s.lstrip("0").replace("/0", "/") for s in
+              clock(t, "%m/%d/%Y %I:%M:%S %p", datetime.datetime(2024, 3, 1, 11, 50, 0))]
+    assert stamps[0] == "3/1/2024 11:50:00 AM" and "3/1/2024 12:00:00 PM" in stamps
+    path = write(tmp_path / "xl.csv", "Time,u,y", cells(stamps, u, y))
+    fopdt(ok(run([*MODEL, "--t", "time", path])), Ts=2.0, scale=20.0)
+
+
+def test_time_format(tmp_path, rec):
+    t, u, y = rec
+    stamps = [s[:-4] for s in clock(t, "%Y%m%d-%H%M%S.%f")]  # 1/100 s
+    path = write(tmp_path / "f.csv", "t,u,y", cells(stamps, u, y))
+    fopdt(ok(run([*MODEL, "--time-format", "%Y%m%d-%H%M%S.%f", path])))
+    assert_usage_error(run([*MODEL, "--time-format", "%d.%m.%Y %H:%M:%S", path]), "f.csv:2:",
+                       "does not match the time format")
+
+
+def test_slash_date_without_am_pm_asks_for_the_format(tmp_path, rec):
+    t, u, y = rec
+    stamps = clock(t * 10, "%d/%m/%Y %H:%M:%S", datetime.datetime(2024, 3, 13, 23, 59, 0))
+    path = write(tmp_path / "dm.csv", "t,u,y", cells(stamps, u, y))
+    assert_usage_error(run([*MODEL, path]), "dm.csv:2:", "--time-format")
+    fopdt(ok(run([*MODEL, "--time-format", "%d/%m/%Y %H:%M:%S", path])), Ts=1.0, scale=10.0)
+
+
+def test_header_unit_units_row_and_markers_together(tmp_path, rec):
+    """The header's time unit (after a slash too), a units row found, a
+    missing-value marker and names given without their units, in one
+    file: the model, the marker left out, the unit row reported."""
+    t, u, y = rec
+    rows = [["ms", "%", "degC"]] + cells(t * 1000.0, u, y, decimal=",")
+    rows[41][2] = "#N/A"
+    path = write(tmp_path / "all.csv", "Time / ms;CV [%];PV {degC}", rows, sep=";")
+    res = run([*MODEL, "--u", "cv", "--y", "PV [degC]", path])
+    assert res.returncode == 0, res.stderr
+    assert "all.csv:2: a row of units under the header, skipped" in res.stderr
+    out = json.loads(res.stdout)
+    assert out["Ts"] == pytest.approx(TS, rel=1e-6)
+    assert out["missing"] == {"count": 1, "first": [40], "u_held": 0}
+    assert out["K"] == pytest.approx(2.0, rel=0.02)
+    # A slash in a name is no unit unless it names one: "Date/Time" is a name.
+    path = write(tmp_path / "dt.csv", "Date/Time,u,y", cells(t, u, y))
+    fopdt(ok(run([*MODEL, "--t", "date/time", path])))
+
+
+def test_plc_dates_with_epoch_check_and_units_row(tmp_path, rec):
+    """Date-times are no counts: the epoch check leaves them alone, and a
+    units row under a PLC export's header is found."""
+    t, u, y = rec
+    stamps = [s[:-3] for s in clock(t, "%d.%m.%Y %H:%M:%S,%f")]
+    rows = [["", "%", "degC"]] + [[st, *r] for st, r in zip(stamps, cells(u, y, decimal=","))]
+    path = write(tmp_path / "plc.csv", "Zeit;CV;PV", rows, sep=";")
+    fopdt(ok(run([*MODEL, "--t", "zeit", "--u", "cv", path]),
+             warn="plc.csv:2: a row of units under the header, skipped"))

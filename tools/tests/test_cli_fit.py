@@ -77,6 +77,23 @@ def test_tune_from_file_and_identify_tune(tmp_path, rec_csv):
     assert same(tuning, tune_known(both))
 
 
+@pytest.mark.parametrize("args, status, frag", [
+    (["--tune", "zn:pid"], "PDT_ERR_MS_LIMIT", "exceeds the limit 2"),
+    (["--tune", "simc", "--fit-min", "100"], "PDT_ERR_POOR_FIT", "below 100%"),
+])
+def test_identify_tune_refused_keeps_the_model(rec_csv, args, status, frag):
+    res = run(["identify", "--model", "fopdt", *args, rec_csv])
+    assert res.returncode == 4, res.stderr
+    out = json.loads(res.stdout)
+    plain = parse_output(run(["identify", "--model", "fopdt", rec_csv]))
+    tuning = out.pop("tune")
+    assert out == plain
+    assert tuning["status"] == status and frag in tuning["reason"]
+    assert tuning["rule"] == args[1].split(":")[0] and "Kc" not in tuning
+    assert "tuning refused" in res.stderr and frag in res.stderr
+    assert "poorly" not in tuning["reason"]
+
+
 def test_identify_tune_sopdt_pid(sopdt_csv):
     out = parse_output(run(["identify", "--model", "sopdt", "--tune", "simc:pid", "--u-span",
                             "100", "--y-span", "50", sopdt_csv]))

@@ -305,3 +305,24 @@ def test_pipe_keeps_no_relation(tmp_path):
     res = run([*MODEL, "--tune", "simc", path])
     assert res.returncode == 3 and res.stdout == ""
     assert "no_relation" in res.stderr.splitlines()[-1]
+
+
+@pytest.mark.parametrize("extra", [[], ["--bad-value", "-9999"]])
+def test_bootstrap_of_a_record_with_missing_samples(tmp_path, rec, extra):
+    """The bootstrap's noise is the residual's over the samples the fit
+    kept: a record with missing samples and a gross error has the
+    bootstrap's std, close to the clean record's, not a failed bootstrap."""
+    t, u, y = rec
+    clean = write(tmp_path / "clean.csv", "t,u,y", rows(t, u, y))
+    body = rows(t, u, y)
+    body[150][2], body[151][2], body[400][2] = "#N/A", "", "-9999"
+    path = write(tmp_path / "holes.csv", "t,u,y", body)
+    args = ["identify", "--model", "fopdt", "--uncertainty", "bootstrap", "--bootstrap", "20"]
+    ref = json.loads(run([*args, clean]).stdout)
+    res = run([*args, *extra, path])
+    assert res.returncode == 0, res.stderr
+    assert "bootstrap failed" not in res.stderr
+    out = json.loads(res.stdout)
+    assert out["uncertainty"] == "bootstrap" and out["bootstrap_runs"] >= 18
+    for p in ("K", "tau", "Td"):
+        assert out["std"][p] == pytest.approx(ref["std"][p], rel=0.5)

@@ -270,7 +270,7 @@ def test_help_mentions_the_commands():
 # ---------------------------------------------------------- autotune-sim
 
 # pdt_status_t values (lib/include/pdt/pdt_status.h).
-PV_LIMIT, OUTPUT_LIMIT, POOR_FIT = "PDT_ERR_PV_LIMIT", "PDT_ERR_OUTPUT_LIMIT", "PDT_ERR_POOR_FIT"
+PV_LIMIT, OUTPUT_LIMIT, MS_LIMIT = "PDT_ERR_PV_LIMIT", "PDT_ERR_OUTPUT_LIMIT", "PDT_ERR_MS_LIMIT"
 AT_KEYS = ["status", "reason", "scan_period", "decimation", "capacity", "samples", "scans",
            "repeats", "shift", "drift", "response", "experiment", "phases", "ident", "order", "tune", "loop"]
 FOPDT_PLANT = ["--plant-gain", "2", "--plant-lags", "5", "--plant-delay", "1.3"]
@@ -416,8 +416,9 @@ def test_autotune_decides_by_evidence_not_fit():
 
 def test_autotune_refuses_ms_over_limit():
     out, line = autotune(*FOPDT_PLANT, "--rule", "zn", "--form", "pid", status=1)
-    assert out["status"] == POOR_FIT and out["ident"]["fit"] > 95
-    assert "Ms" in line
+    assert out["status"] == MS_LIMIT and out["ident"]["fit"] > 95
+    assert "Ms" in out["reason"] and "poorly" not in out["reason"]
+    assert "Ms" in line and "exceeds the limit 2" in line and "poorly" not in line
 
 
 def test_autotune_aborts_on_pv_limit():

@@ -16,4 +16,5 @@ def test_every_declared_status_is_read(pdt_status):
 
 def test_reference_uses_the_header_codes(pdt_status):
     assert tune.UNSTABLE == pdt_status["UNSTABLE"] and tune.POOR_FIT == pdt_status["POOR_FIT"]
+    assert tune.MS_LIMIT == pdt_status["MS_LIMIT"]
     assert excite.ERR_SETPOINT == pdt_status["SETPOINT"] and excite.RUNNING == pdt_status["RUNNING"]

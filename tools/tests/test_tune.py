@@ -174,7 +174,7 @@ def test_refusals():
     m = M.Fopdt(1.0, 2.5, 1.47)
     assert T.compute(m, T.SIMC, T.PI, fit=79.0)[0] == T.OK  # fit_min off by default
     assert T.compute(m, T.SIMC, T.PI, fit=79.0, fit_min=80.0)[0] == T.POOR_FIT
-    assert T.compute(m, T.ZN, T.PID, ms_max=2.0)[0] == T.POOR_FIT
+    assert T.compute(m, T.ZN, T.PID, ms_max=2.0)[0] == T.MS_LIMIT
     assert T.compute(M.Fopdt(1.0, 0.1, 10.0), T.ZN, T.PID)[0] == T.UNSTABLE
     # complex poles: the half rule of the pair split by its real part
     under = M.sopdt_from_natural(1.0, 1.0, 0.8, 0.5)

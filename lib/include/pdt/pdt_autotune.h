@@ -166,8 +166,8 @@ typedef struct pdt_autotune_result {
                                * (PDT_ERR_PV_LIMIT, ...), data that could
                                * not support a model, or refused gains
                                * (PDT_ERR_DISTURBED, PDT_ERR_MODEL_INVALID,
-                               * PDT_ERR_UNCERTAIN,
-                               * PDT_ERR_POOR_FIT, PDT_ERR_UNSTABLE) */
+                               * PDT_ERR_UNCERTAIN, PDT_ERR_POOR_FIT,
+                               * PDT_ERR_MS_LIMIT, PDT_ERR_UNSTABLE) */
     pdt_autotune_phase_t failed_in; /* the phase that failed (when it did) */
     bool has_model;                 /* the identification finished */
     pdt_ident_result_t ident;       /* the model, fit and operating point */

@@ -577,6 +577,48 @@ size_t pdt_ident_outlier(const pdt_ident_t *ctx);
  * For a caller that scores the model on the record without them. O(1). */
 bool pdt_ident_is_excluded(const pdt_ident_t *ctx, size_t k);
 
+/* The parameters a model is printed with (the command line's JSON keys,
+ * in its order): FOPDT K, tau, Td, y0; SOPDT K (Ki for an integrator),
+ * wn, zeta, Td, y0, tau1, tau2 (a real pair only; T of an integrator is
+ * tau2), a, b. */
+typedef enum pdt_ident_par {
+    PDT_IDENT_PAR_K = 0,
+    PDT_IDENT_PAR_KI = 1,
+    PDT_IDENT_PAR_TAU = 2,
+    PDT_IDENT_PAR_WN = 3,
+    PDT_IDENT_PAR_ZETA = 4,
+    PDT_IDENT_PAR_TD = 5,
+    PDT_IDENT_PAR_Y0 = 6,
+    PDT_IDENT_PAR_TAU1 = 7,
+    PDT_IDENT_PAR_TAU2 = 8,
+    PDT_IDENT_PAR_A = 9,
+    PDT_IDENT_PAR_B = 10,
+    PDT_IDENT_PAR_COUNT = 11
+} pdt_ident_par_t;
+
+/* The uncertainty of the printed parameters: bit i of have set where
+ * parameter i (pdt_ident_par_t) exists for the model; std (NaN where it
+ * does not) and the covariance in the printed parameters' units. */
+typedef struct pdt_ident_printed {
+    uint32_t have;
+    pdt_real_t std[PDT_IDENT_PAR_COUNT];
+    pdt_real_t cov[PDT_IDENT_PAR_COUNT][PDT_IDENT_PAR_COUNT];
+} pdt_ident_printed_t;
+
+/* The uncertainty s of the parameters of m (pdt_ident_result_t.std, in the
+ * model's own form, y0 the offset) carried to the printed parameters by
+ * the delta method: cov_p = J cov J^T with J the derivatives of the printed
+ * parameters by the model's (K = k / b, wn = sqrt b, zeta = a / (2 sqrt b),
+ * tau1, tau2 the roots' time constants; Ki = k / a, T = 1 / a). A printed
+ * parameter that depends on one the record does not determine (std
+ * +infinity) has std +infinity and covariance NaN; one whose derivative
+ * does not exist (tau1 = tau2, zeta = 1) std +infinity. A local, linear
+ * guide: docs/uncertainty.md says where it holds. Returns PDT_ERR_ARG (NULL,
+ * an invalid model, or s->count not the model's 4 or 5); *out untouched
+ * then. O(1), no memory beyond the stack frame. */
+pdt_status_t pdt_ident_std_printed(const pdt_model_t *m, const pdt_ident_std_t *s,
+                                   pdt_ident_printed_t *out);
+
 /* Blocking convenience: init, step until done, result. Same statuses. */
 pdt_status_t pdt_identify(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                           const pdt_ident_data_t *data, void *work, size_t work_len,

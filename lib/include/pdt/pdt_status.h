@@ -53,8 +53,8 @@ typedef enum pdt_status {
     /* The set-point lies on the wrong side of the process value for the
      * requested experiment (e.g. a relay test that cannot cross it). */
     PDT_ERR_SETPOINT = -13,
-    /* Gains refused: the model fits the data too poorly, or the loop the
-     * gains would make is not robustly stable. */
+    /* Gains refused: the model fits the data too poorly (its fit is below
+     * the tuning's fit_min). */
     PDT_ERR_POOR_FIT = -14,
     /* Gains refused: no rule gives a stable loop for this model. */
     PDT_ERR_UNSTABLE = -15,
@@ -81,7 +81,10 @@ typedef enum pdt_status {
      * the process while it was recorded (a load change, a drift, a relay
      * whose cycles do not repeat), so no model of the record is one of the
      * process. The autotune repeats such an experiment once, then refuses. */
-    PDT_ERR_DISTURBED = -21
+    PDT_ERR_DISTURBED = -21,
+    /* Gains refused: the loop they make with the model is not robust
+     * enough; its maximum sensitivity Ms exceeds the limit ms_max. */
+    PDT_ERR_MS_LIMIT = -22
 } pdt_status_t;
 
 /* A short, static, English name of a status ("bad argument", ...). Never

@@ -39,7 +39,7 @@
  *  - the rule has no form for this model (PDT_ERR_NO_FORM);
  *  - the identification's fit is below cfg.fit_min (PDT_ERR_POOR_FIT);
  *  - the loop the gains make with the model is unstable (PDT_ERR_UNSTABLE);
- *  - its maximum sensitivity Ms exceeds cfg.ms_max (PDT_ERR_POOR_FIT).
+ *  - its maximum sensitivity Ms exceeds cfg.ms_max (PDT_ERR_MS_LIMIT).
  * When the identification itself failed, e.g. PDT_ERR_NO_EXCITATION
  * because the input or the output did not move, there is no model: pass
  * that status on instead of calling this module.
@@ -152,7 +152,7 @@ void pdt_tune_config_default(pdt_tune_config_t *cfg);
  *                   time);
  *  PDT_ERR_POOR_FIT fit < fit_min;
  *  PDT_ERR_UNSTABLE the loop is unstable;
- *  PDT_ERR_POOR_FIT Ms > ms_max (ms_max != 0).
+ *  PDT_ERR_MS_LIMIT Ms > ms_max (ms_max != 0).
  * *out is written only on PDT_OK. To see the gains a limit refuses, call
  * again with ms_max = 0 (and fit_min below the fit).
  * Work: the rule is O(1) (ZN adds a 60-step bisection for the ultimate
