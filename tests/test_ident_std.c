@@ -35,7 +35,7 @@ static void printed_of(const double x[4], double v[PDT_IDENT_PAR_COUNT])
     pdt_model_sopdt_t s = {(pdt_real_t)x[0], (pdt_real_t)x[1], (pdt_real_t)x[2], (pdt_real_t)x[3]};
     pdt_model_natural_t nat;
     pdt_model_tc_t tc;
-    for (int i = 0; i < PDT_IDENT_PAR_COUNT; i++) v[i] = NAN;
+    for (int i = 0; i < PDT_IDENT_PAR_COUNT; i++) v[i] = (double)NAN;
     v[PDT_IDENT_PAR_TD] = x[3];
     v[PDT_IDENT_PAR_Y0] = 0.0; /* the offset's row is J's last column alone */
     v[PDT_IDENT_PAR_A] = x[1];

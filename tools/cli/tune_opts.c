@@ -110,7 +110,8 @@ static void refusal(pdt_status_t st, const pdt_model_t *m, double fit, const pdt
     else if (st == PDT_ERR_POOR_FIT || st == PDT_ERR_MS_LIMIT)
         snprintf(why, len, "gains refused: %s", pdt_status_str(st));
     else
-        snprintf(why, len, "cannot tune: %s%s", pdt_status_str(st), tune_hint(st, cfg->rule, m));
+        snprintf(why, len, "cannot tune: %s%s", pdt_status_str(st),
+                 tune_hint(st, (int)cfg->rule, m));
 }
 
 pdt_status_t tune_model_try(const char *cmd, const pdt_model_t *m, double fit, const tune_opts_t *t,
