@@ -86,9 +86,11 @@ static void at_config(pdt_autotune_config_t *c, double Ts, pdt_model_kind_t kind
     c->capacity = AT_CAPACITY;
     c->excite.kind = PDT_EXCITE_PRBS;
     c->excite.amplitude = (pdt_real_t)amp;
-    /* The small program's record holds 128 samples: a PRBS of 5 bits. */
+    /* The small program's record holds 112 samples: a PRBS of 5 bits held 3 scans. */
     c->excite.prbs_bits = PDT_TARGET_SMALL ? 5u : 7u;
     c->excite.prbs_hold = hold;
+    c->ident.no_screen = TARGET_LEAN != 0; /* target_config.h */
+    c->ident.refuse_missing = TARGET_LEAN != 0;
     c->u_min = (pdt_real_t)0.0;
     c->u_max = (pdt_real_t)100.0;
     c->pv_min = (pdt_real_t)-100.0;
@@ -152,7 +154,7 @@ static void at_gains(tline_t *l, const at_run_t *r)
 static int check_fopdt(void)
 {
     pdt_autotune_config_t *const c = &t_arena.autotune.cfg;
-    at_config(c, 0.5, PDT_MODEL_FOPDT, 4u, 3.0);
+    at_config(c, 0.5, PDT_MODEL_FOPDT, PDT_TARGET_SMALL ? 3u : 4u, 3.0);
     const pdt_model_t m = model_fopdt(2.0, 10.0, 3.0);
     at_run_t *const r = &t_arena.autotune.run;
     bool ok = sim_process_init(&g_process, &m, (double)c->Ts, 40.0, 20.0, 0.05, 23u) == 0 &&
@@ -186,7 +188,7 @@ static int check_fopdt(void)
 static int check_sopdt(void)
 {
     pdt_autotune_config_t *const c = &t_arena.autotune.cfg;
-    at_config(c, 0.5, PDT_MODEL_SOPDT, 4u, 3.0);
+    at_config(c, 0.5, PDT_MODEL_SOPDT, PDT_TARGET_SMALL ? 3u : 4u, 3.0);
     const pdt_model_t m = model_sopdt_tc(1.5, 8.0, 3.0, 2.0);
     at_run_t *const r = &t_arena.autotune.run;
     pdt_model_tc_t gtc;

@@ -103,6 +103,8 @@ static pdt_status_t identify(pdt_model_kind_t kind, const record_t *r, pdt_ident
     pdt_ident_config_default(&cfg);
     cfg.model = kind;
     cfg.Ts = (pdt_real_t)r->Ts;
+    cfg.no_screen = TARGET_LEAN != 0;
+    cfg.refuse_missing = TARGET_LEAN != 0;
     pdt_ident_data_t data = {t_arena.ident.u, t_arena.ident.y, r->n};
     size_t need = pdt_ident_workspace_size(&cfg, r->n);
     if (need == 0u || need > sizeof g_work) {

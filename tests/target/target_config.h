@@ -17,11 +17,18 @@
 #endif
 
 #if PDT_TARGET_SMALL
-#define TARGET_IDENT_N     200u /* samples of the identified records */
-#define TARGET_AT_CAPACITY 128u /* samples the autotune records */
+#define TARGET_IDENT_N         200u /* samples of the identified records */
+#define TARGET_AT_CAPACITY     112u /* samples the autotune records */
+/* The small program identifies without the screen for gross errors and
+ * refuses missing samples (no_screen, refuse_missing): the workspace then
+ * holds no copy of y, n + n / 16 reals that 16 KiB do not have. */
+#define TARGET_LEAN            1
+#define TARGET_SCREEN_BYTES(n) (((n) + (n) / 16u) * sizeof(pdt_real_t))
 #else
-#define TARGET_IDENT_N     1000u
-#define TARGET_AT_CAPACITY 600u
+#define TARGET_IDENT_N         1000u
+#define TARGET_AT_CAPACITY     600u
+#define TARGET_LEAN            0
+#define TARGET_SCREEN_BYTES(n) 0u
 #endif
 
 /* The identification checks' memory (check_ident.c). */
@@ -29,7 +36,8 @@ typedef struct target_ident_mem {
     pdt_ident_t ctx;
     pdt_real_t u[TARGET_IDENT_N];
     pdt_real_t y[TARGET_IDENT_N];
-    pdt_real_t work[PDT_IDENT_WORKSPACE_SIZE(TARGET_IDENT_N, PDT_IDENT_POPULATION_SOPDT) /
+    pdt_real_t work[(PDT_IDENT_WORKSPACE_SIZE(TARGET_IDENT_N, PDT_IDENT_POPULATION_SOPDT) -
+                     TARGET_SCREEN_BYTES(TARGET_IDENT_N)) /
                         sizeof(pdt_real_t) +
                     1u];
 } target_ident_mem_t;
@@ -54,7 +62,8 @@ typedef struct target_autotune_mem {
     pdt_autotune_config_t cfg;
     target_at_run_t run;
     sim_process_t process; /* the plant of the check running */
-    pdt_real_t work[PDT_AUTOTUNE_WORKSPACE_SIZE(TARGET_AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) /
+    pdt_real_t work[(PDT_AUTOTUNE_WORKSPACE_SIZE(TARGET_AT_CAPACITY, PDT_IDENT_POPULATION_SOPDT) -
+                     TARGET_SCREEN_BYTES(TARGET_AT_CAPACITY)) /
                         sizeof(pdt_real_t) +
                     1u];
 } target_autotune_mem_t;

@@ -69,6 +69,10 @@ void setup()
     cfg.pv_max = 150.0f;
     cfg.max_scans = 1000u;
     cfg.ident.model = PDT_MODEL_FOPDT;
+    // No screen for gross errors and missing samples refused: the
+    // workspace then holds no copy of the record, which 8 KiB cannot spare.
+    cfg.ident.no_screen = true;
+    cfg.ident.refuse_missing = true;
     cfg.order_auto = false;
     cfg.ms_robust = 0.0f;
     size_t need = pdt_autotune_workspace_size(&cfg);
