@@ -14,6 +14,10 @@ Usage (from the repository root):
     record instead of the nine-start fit and the grid search, which take
     most of the time; the reference is then the least of it and this run's
     polishes, so a verdict can only be stricter)
+    --answers FILE (only the driver's answers, no reference and no
+    document: minutes instead of hours), --compare OLD NEW (two --answers
+    files of two versions, record by record: when every answer is the same,
+    so is every verdict of the document)
     environment: PDT_CERTAINTY_DRIVER, a driver built elsewhere to use
     instead of building build/bench (to compare two versions of the library)
 
@@ -161,6 +165,9 @@ def describe(m):
 # --reference: a previous run's verdicts by (kind, case, seed). Set before
 # the worker processes fork, which inherit it.
 CACHE: dict = {}
+# --answers: the driver's answers only, no reference optimum and no verdict
+# (set before the workers fork, as CACHE).
+ANSWERS_ONLY = False
 
 
 def judge(u, y, Ts, kind, truth, line, key=None):
@@ -170,6 +177,8 @@ def judge(u, y, Ts, kind, truth, line, key=None):
     grid search (the records are the same, seed for seed): the reference
     is then the least of it and this run's polishes, never above what the
     full search would give."""
+    if ANSWERS_ONLY:
+        return {k: v for k, v in line.items() if k != "seconds"}
     out = {"seed": line["seed"], "status": line["status"],
            "evaluations": line.get("evaluations"), "seconds": line.get("seconds"),
            "coarse": line.get("coarse")}
@@ -500,7 +509,21 @@ def main():
                     help="write the document from the verdicts a run saved with --json "
                          "(repeatable: runs of parts of the battery on the same code, such "
                          "as a run limited by --cases)")
+    ap.add_argument("--answers", metavar="FILE",
+                    help="write only the driver's answers (status, flags, evaluations, "
+                         "model, cost), one line per record, without the reference optimum "
+                         "or the document: a fast run whose file --compare sets beside "
+                         "another version's")
+    ap.add_argument("--compare", nargs=2, metavar=("OLD", "NEW"),
+                    help="compare two --answers files record by record and list the "
+                         "records whose answer differs (exit 1 if any does)")
     a = ap.parse_args()
+    if a.compare:
+        sys.exit(compare_answers(*a.compare))
+    if a.answers:
+        global ANSWERS_ONLY
+        ANSWERS_ONLY = True
+        a.json = a.answers
     seeds = 20 if a.smoke else a.seeds
     set_seeds = seeds if a.set_seeds is None else a.set_seeds
     if a.smoke:
@@ -583,6 +606,9 @@ def main():
     if jf:
         jf.write(json.dumps({"kind": "meta", **run}) + "\n")
         jf.close()
+    if a.answers:
+        print(f"wrote {len(results)} answers to {a.answers} in {elapsed:.0f} s")
+        return
     write_doc(out, results, cases, bcs, run)
     print(f"wrote {out} in {elapsed:.0f} s")
 
