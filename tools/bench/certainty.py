@@ -486,6 +486,31 @@ def write_doc(out, results, cases, bcs, run):
     out.write_text("\n".join(doc) + "\n")
 
 
+def compare_answers(old_path, new_path):
+    """Record by record, the answers of two --answers runs (two versions of
+    the library on the same records): prints the count of equal answers,
+    the records only one run has (a run cut short), and each record whose
+    status, flags, evaluations, model or cost differ. Returns 1 if any
+    differs or is missing from one run."""
+    def load(path):
+        out = {}
+        for text in open(path):
+            j = json.loads(text)
+            if j.get("kind") != "meta":
+                out[(j.pop("kind"), j.pop("case"), j["seed"])] = j
+        return out
+    old, new = load(old_path), load(new_path)
+    both = sorted(set(old) & set(new), key=str)
+    alone = len(set(old) ^ set(new))
+    same = [k for k in both if old[k] == new[k]]
+    print(f"{len(same)} of {len(both)} records of both runs give the same answer; "
+          f"{alone} records are in one run only")
+    for k in both:
+        if old[k] != new[k]:
+            print(f"{k}: {old[k]} -> {new[k]}")
+    return 0 if len(same) == len(both) and alone == 0 else 1
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=1000)
