@@ -46,7 +46,7 @@ static double true_step[1501];
 static pdt_ident_t ident;
 static pdt_real_t work[PDT_IDENT_WORKSPACE_SIZE(NMAX, 64) / sizeof(pdt_real_t) + 1];
 
-/* The sensor noise: the shared generator (tests/support/sim_rng.h). */
+/* The sensor noise: the shared generator (tools/sim/sim_rng.h). */
 static sim_rng_t rng = 0x2545F491u;
 static double gauss(void)
 {
