@@ -25,7 +25,7 @@ reference optimum of the same criterion found independently of pdtfit:
 
 - the cases: relay (asymmetric, and symmetric around the rest point) and
   PI closed loops of FOPDT, SOPDT and integrating plants (certainty.c), the three hard cases of the reliability section of
-  docs/benchmarks.md, and every accuracy set of run_ident_bench.py, their
+  docs/reports/benchmarks.md, and every accuracy set of run_ident_bench.py, their
   records made by benchlib exactly as there (with the noise seed varying);
 - the reference optimum: the least cost of fastref.FastRef's nine-start
   output-error fit, its dense dead-time grid with polish, its polish from
@@ -356,7 +356,7 @@ set-point steps of 0.3 x 10 x K at 5 %, to -0.5 of that at 40 % and back to
 SOPDT (integrating allowed).
 
 **Benchmark sets**: the three hard cases of the reliability section of
-docs/benchmarks.md and every accuracy set of `run_ident_bench.py` (1500
+docs/reports/benchmarks.md and every accuracy set of `run_ident_bench.py` (1500
 samples), their records made by `benchlib.make_record` as there, with the
 noise seed varying.
 

@@ -119,7 +119,7 @@ def report(rows, quick, seconds):
         "before this option); `REST` always takes the window's level.",
         "",
         "**The batch.** The 27 plants of the Astrom-Hagglund batch "
-        "(docs/benchmarks.md, section 2), each recorded with a PRBS, a step "
+        "(docs/reports/benchmarks.md, section 2), each recorded with a PRBS, a step "
         "and a pulse that start from rest (a twentieth of the record), "
         "20 residence times in 1500 samples, 30 dB, three noise seeds: "
         f"{len(rows) // len(MODELS)} records per model. *Step IAE*: the "

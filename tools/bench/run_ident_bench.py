@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Identification benchmark of pdtfit: writes docs/benchmarks.md.
+"""Identification benchmark of pdtfit: writes docs/reports/benchmarks.md.
 
 Usage (from the repository root):
 
@@ -823,7 +823,7 @@ def main():
     a = ap.parse_args()
     quick = a.quick
     out = pathlib.Path(a.out) if a.out else (
-        BUILD / "benchmarks-quick.md" if quick else ROOT / "docs" / "benchmarks.md")
+        BUILD / "benchmarks-quick.md" if quick else ROOT / "docs" / "reports" / "benchmarks.md")
     if a.update_speed:
         build()
         text = out.read_text()
