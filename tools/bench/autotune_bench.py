@@ -21,7 +21,7 @@ build/autotune-bench, then for each plant of the batch:
    from a fine-step closed-loop simulation written here (numpy), and the
    true Ms and closed-loop stability from the true frequency response.
 
-Writes docs/autotune-benchmark.md and docs/img/autotune-*.png. Everything is
+Writes docs/reports/autotune-benchmark.md and docs/img/autotune-*.png. Everything is
 seeded; the same versions give the same document.
 """
 from __future__ import annotations
@@ -42,7 +42,7 @@ from pdtsupport.status import NAMES, STATUS as CODES
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 BUILD = ROOT / "build" / "autotune-bench"
 DRIVER = BUILD / "tools" / "bench" / "pdt_autotune_driver"
-OUT = ROOT / "docs" / "autotune-benchmark.md"
+OUT = ROOT / "docs" / "reports" / "autotune-benchmark.md"
 IMG = ROOT / "docs" / "img"
 
 # The experiment rule (a function of the plant's time scale only).
@@ -774,7 +774,7 @@ def report(res, ev_text):
                      idn_min=min(idn), idn_max=max(idn), idn_med=int(np.median(idn)),
                      idn_T_min=min(idn_T), idn_T_max=max(idn_T)))
     A("")
-    A("![PID: set-point IAE, load IAE and true Ms per plant](img/autotune-pid.png)")
+    A("![PID: set-point IAE, load IAE and true Ms per plant](../img/autotune-pid.png)")
     A("")
     return "\n".join(L)
 

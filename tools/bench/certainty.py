@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Certainty battery of pdtfit's identification: writes docs/certainty.md.
+"""Certainty battery of pdtfit's identification: writes docs/reports/certainty.md.
 
 Usage (from the repository root):
 
@@ -412,7 +412,7 @@ an answer too fast for its coarse record searched for again).
 
 
 def write_doc(out, results, cases, bcs, run):
-    """docs/certainty.md from the verdicts; run: seeds, set_seeds, smoke,
+    """docs/reports/certainty.md from the verdicts; run: seeds, set_seeds, smoke,
     jobs, elapsed (s)."""
     def rows_of(kind, i):
         return sorted((r for k, j, r in results if k == kind and j == i), key=lambda r: r["seed"])
@@ -506,7 +506,7 @@ def main():
     if a.smoke:
         set_seeds = min(set_seeds, 10)
     out = pathlib.Path(a.out) if a.out else (
-        BUILD / "certainty-smoke.md" if a.smoke else ROOT / "docs" / "certainty.md")
+        BUILD / "certainty-smoke.md" if a.smoke else ROOT / "docs" / "reports" / "certainty.md")
     t_start = time.time()
     for path in a.reference:
         for line in open(path):

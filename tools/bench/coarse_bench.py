@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The coarse record against the whole record: writes docs/coarse-benchmark.md.
+"""The coarse record against the whole record: writes docs/reports/coarse-benchmark.md.
 
 Usage (from the repository root):
 
@@ -164,7 +164,7 @@ def main():
     ap.add_argument("--seeds", type=int, default=40)
     ap.add_argument("--rare-seeds", type=int, default=1000)
     ap.add_argument("--jobs", type=int, default=os.cpu_count())
-    ap.add_argument("--out", default=str(ROOT / "docs" / "coarse-benchmark.md"))
+    ap.add_argument("--out", default=str(ROOT / "docs" / "reports" / "coarse-benchmark.md"))
     a = ap.parse_args()
     if not PDTFIT.exists():
         sys.exit(f"{PDTFIT} not found: run tools/bench/certainty.py or run_ident_bench.py first, "
@@ -204,7 +204,7 @@ def main():
            f"{a.seeds}` (tools/bench/); do not edit by hand.", "",
            "Each record is identified twice by `pdtfit identify` (float build): with the "
            "defaults, whose searches run on a coarse record where the record allows "
-           "([ident-engine.md](ident-engine.md#the-coarse-record)), and with `--coarse 1`, "
+           "([ident-engine.md](../ident-engine.md#the-coarse-record)), and with `--coarse 1`, "
            "the whole record throughout, the same seed. Both answers are scored by the "
            "identification's own criterion (the output error's mean square, the JSON's "
            "`cost`). **Default worse**: the default's answer has no flag and a cost more "

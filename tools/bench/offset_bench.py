@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The output offset on under-modelled plants: writes docs/offset-benchmark.md.
+"""The output offset on under-modelled plants: writes docs/reports/offset-benchmark.md.
 
 Usage (from the repository root):
 
@@ -170,7 +170,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--out", default=str(ROOT / "docs" / "offset-benchmark.md"))
+    ap.add_argument("--out", default=str(ROOT / "docs" / "reports" / "offset-benchmark.md"))
     args = ap.parse_args()
     rb.build()
     t0 = time.time()

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes docs/pid-accuracy.md: how closely the discrete PID (pdt_pid, as the
+"""Writes docs/reports/pid-accuracy.md: how closely the discrete PID (pdt_pid, as the
 numpy reference tools/pdtref/pid.py computes it; tests/test_pid.c checks the
 C against that reference) reproduces the continuous design in closed loop,
 and what the scan period costs in robustness.
@@ -113,7 +113,7 @@ def render():
         "The numbers are from the numpy reference of `pdt_pid` (`tools/pdtref/pid.py`);",
         "`tests/test_pid.c` runs the C controller in the same loops at 0.01 s and 0.1 s",
         "and finds it within 2e-6 (float build) of the reference, and within",
-        "0.3 Ts of the continuous loop. [pid.md](pid.md) explains the setup.",
+        "0.3 Ts of the continuous loop. [pid.md](../pid.md) explains the setup.",
         "",
         "Gains: SIMC (`pdtfit tune --rule simc`) on the paper's half-rule models, run by",
         "`pdt_pid` in series form with the rule's own numbers, b = 1, c = 0, no",
@@ -163,7 +163,7 @@ def main():
     if args.print:
         print(text)
     else:
-        (ROOT / "docs" / "pid-accuracy.md").write_text(text)
+        (ROOT / "docs" / "reports" / "pid-accuracy.md").write_text(text)
         print(text)
     return 0
 

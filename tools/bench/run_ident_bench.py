@@ -8,7 +8,7 @@ Usage (from the repository root):
     python3 tools/bench/run_ident_bench.py --quick    # a few cases, under a minute,
                                                       # into build/bench/benchmarks-quick.md
     python3 tools/bench/run_ident_bench.py --update-certainty
-                                                      # section 6 only, from docs/certainty.md
+                                                      # section 6 only, from docs/reports/certainty.md
     python3 tools/bench/run_ident_bench.py --update-speed
                                                       # sections 4 to 6 only (a few minutes)
     options: --jobs N (worker processes, default: all cores), --out FILE
@@ -23,7 +23,7 @@ the timing program tools/bench/ident_speed.c into build/bench (-O2), then:
 4. speed (in-process timing, callgrind instruction counts, the fast scipy
    reference of fastref.py timed on the same data);
 5. workspace memory;
-6. the certainty battery's counts, copied from docs/certainty.md (written by
+6. the certainty battery's counts, copied from docs/reports/certainty.md (written by
    tools/bench/certainty.py, which takes longer and is run on its own).
 
 Everything is seeded; the same machine and versions give the same document
@@ -617,22 +617,22 @@ def speed_section(quick, tmp):
 # ------------------------------------------------------------------ 6. certainty
 
 def certainty_section():
-    """The summary of docs/certainty.md (its run and its tables), headings
+    """The summary of docs/reports/certainty.md (its run and its tables), headings
     moved one level down; a pointer when it has not been generated."""
     doc = ["## 6. Certainty of the global search\n"]
-    path = ROOT / "docs" / "certainty.md"
+    path = ROOT / "docs" / "reports" / "certainty.md"
     if not path.exists():
         return doc + ["Not measured: run `python3 tools/bench/certainty.py` "
-                      "(docs/certainty.md).\n"]
+                      "(docs/reports/certainty.md).\n"]
     text = path.read_text()
-    doc.append("Copied from docs/certainty.md, which `python3 tools/bench/certainty.py` "
+    doc.append("Copied from docs/reports/certainty.md, which `python3 tools/bench/certainty.py` "
                "generates (a separate run: about 100 minutes on two cores with 1000 seeds "
                "per closed-loop, hard and noisy case and 100 per accuracy set, its Run "
                "section below). Every case is "
                "a known plant; each seed is one record (its noise) and one identification "
                "with the library's defaults (its search seed); an answer is *wrong* when "
                "its output-error cost exceeds the reference optimum, found independently "
-               "of pdtfit by tools/bench/fastref.py, by more than 1 %. docs/certainty.md "
+               "of pdtfit by tools/bench/fastref.py, by more than 1 %. docs/reports/certainty.md "
                "describes the records and the reference.\n")
     keep = False
     for line in text.splitlines():
@@ -818,7 +818,7 @@ def main():
                     help="only rerun sections 4 and 5 (speed, memory) and replace sections "
                          "4 to 6 of the document, keeping sections 1 to 3")
     ap.add_argument("--update-certainty", action="store_true",
-                    help="only replace section 6 of the document with docs/certainty.md's "
+                    help="only replace section 6 of the document with docs/reports/certainty.md's "
                          "summary (after a run of certainty.py)")
     a = ap.parse_args()
     quick = a.quick

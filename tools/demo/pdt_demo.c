@@ -256,6 +256,6 @@ int main(void)
     print_model("best SOPDT by IAE", &m, "(reference value)");
     printf("\nThe time constants are printed larger first (the paper's a1, a2 order varies).\n"
            "'uniform W': the paper's W = 1 on every bin instead of the control band;\n"
-           "see docs/paper-experiment.md.\n");
+           "see docs/reports/paper-experiment.md.\n");
     return 0;
 }

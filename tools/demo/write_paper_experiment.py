@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs the demo (float build) and writes docs/paper-experiment.md: its
+"""Runs the demo (float build) and writes docs/reports/paper-experiment.md: its
 output verbatim, with the explanation of how it compares with the paper.
 
 Usage: python3 tools/demo/write_paper_experiment.py
@@ -86,8 +86,8 @@ def main():
                    check=True, stdout=subprocess.DEVNULL)
     out = subprocess.run([str(ROOT / "build" / "release" / "tools" / "pdt_demo")], check=True,
                          capture_output=True, text=True).stdout
-    (ROOT / "docs" / "paper-experiment.md").write_text(TEXT.format(output=out))
-    print("wrote docs/paper-experiment.md")
+    (ROOT / "docs" / "reports" / "paper-experiment.md").write_text(TEXT.format(output=out))
+    print("wrote docs/reports/paper-experiment.md")
 
 
 if __name__ == "__main__":

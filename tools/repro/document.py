@@ -1,4 +1,4 @@
-"""The text of docs/paper-reproduction.md around the generated tables."""
+"""The text of docs/reports/paper-reproduction.md around the generated tables."""
 
 
 def _num(rows, name):
@@ -23,7 +23,7 @@ def render(t1, t2, t3, boot, figs, table, merit_table):
     b = boot
     lags = ", ".join(f"{v:.3g}" for v in b["lags"])
     zeros = ", ".join(f"{v:.3g}" for v in b["zeros"]) or "none"
-    img = "\n\n".join(f"![{cap}](img/{name})\n*{cap}*" for name, cap in figs)
+    img = "\n\n".join(f"![{cap}](../img/{name})\n*{cap}*" for name, cap in figs)
     ctx = dict(
         t1=table(t1, False), m1=merit_table(t1), t2=table(t2, True), m2=merit_table(t2),
         t3=table(t3, True),
@@ -55,7 +55,7 @@ and judges every model, the paper's and ours, against the true system (17).
 ## Data and settings
 
 The records are those of the demo (`tools/demo/pdt_demo.c`,
-docs/paper-experiment.md): system (17) sampled at 20 Hz behind a
+docs/reports/paper-experiment.md): system (17) sampled at 20 Hz behind a
 zero-order hold around u0 = 40, y0 = 55, white Gaussian sensor noise of
 std 0.02 from the demo's LCG (one stream, in the demo's order: a 100 s chirp
 0 -> 0.5 Hz for Table 1, a second chirp for Table 2, a 40 s record with one
@@ -73,7 +73,7 @@ relative error |G - G17| / |G17| over 200 frequencies up to the phase
 crossover of (17), 1.186 rad/s. "fit" is the command line's simulated fit
 of the record.
 
-![records](img/repro-records.png)
+![records](../img/repro-records.png)
 
 ## Table 1: FOPDT from the chirp
 
@@ -154,13 +154,13 @@ Its step-response IAE against (17) is {hi_iae:.3f}.
   for a FOPDT puts Cf on the band from 0 to half the phase crossover of the
   model the time cost finds first, and lands near it too; with the paper's
   W = 1 on every bin the FOPDT stays near the time-domain model
-  (docs/paper-experiment.md compares both). Our Cf is a mean square like
+  (docs/reports/paper-experiment.md compares both). Our Cf is a mean square like
   Ct (the paper's is n times larger), and our time part is the output
   error, not the prediction.
 - **SOPDT.** From the pulses our GA reaches about the best SOPDT any method
   can by step IAE (0.013-0.022 against the paper's 0.031-0.041); from the
   chirp it fits a lightly damped complex pair, which follows the chirp's
-  resonance region better than the step (docs/paper-experiment.md).
+  resonance region better than the step (docs/reports/paper-experiment.md).
 - **Table 3.** The paper's bootstrap models are far from (17) (their step
   IAE is 2-2.7), so its high-order estimate must have been poor; ours has
   IAE {hi_iae:.3f}, and its reductions land near the known-model ones

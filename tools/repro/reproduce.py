@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Reproduces Tables 1-3 of Yang and Seested (2013) with the pdtfit library
-and writes docs/paper-reproduction.md with its figures docs/img/repro-*.png.
+and writes docs/reports/paper-reproduction.md with its figures docs/img/repro-*.png.
 
 Usage: python3 tools/repro/reproduce.py
 
@@ -27,7 +27,7 @@ from pdtrepro.system17 import Model
 
 BUILD = ROOT / "build" / "release"
 BIN = BUILD / "tools" / "pdtfit"
-DOC = ROOT / "docs" / "paper-reproduction.md"
+DOC = ROOT / "docs" / "reports" / "paper-reproduction.md"
 IMG = ROOT / "docs" / "img"
 
 TD_MAX = 5.0  # dead-time bound of every search, s (as the demo)
