@@ -2,7 +2,8 @@
  * pdtfit demo: the experiment of Yang and Seested (2013) on their test
  * system (17), G(s) = (-0.3s+1)(0.08s+1) / ((2s+1)(s+1)(0.4s+1)(0.2s+1)(0.05s+1)^3).
  *
- * The true system is simulated finely and sampled at 20 Hz around an
+ * The true system is simulated exactly behind a zero-order hold (the shared
+ * simulator, tools/sim) and sampled at 20 Hz around an
  * operating point, with sensor noise, for three excitations: a chirp from 0
  * to 0.5 Hz, a single pulse and a train of pulses. pdtfit identifies FOPDT
  * and SOPDT models from each record with the time-domain criterion alone

@@ -24,7 +24,7 @@ def _cands(boot):
     return "\n".join(lines)
 
 
-def render(t1, t2, t3, boot, figs, table, merit_table):
+def render(t1, t2, t3, boot, figs, table, merit_table, provenance):
     b = boot
     lags = ", ".join(f"{v:.3g}" for v in b["lags"])
     zeros = ", ".join(f"{v:.3g}" for v in b["zeros"]) or "none"
@@ -37,14 +37,17 @@ def render(t1, t2, t3, boot, figs, table, merit_table):
         lags=lags, zeros=zeros, img=img,
     )
     ctx.update(EXPLAIN(t1, t2, t3, b))
+    ctx.update(provenance)
     return TEMPLATE.read_text().format(**ctx)
 
 
 def EXPLAIN(t1, t2, t3, b):
     g = {r.name: r for r in t1}
     el, ga = g["ELMS"], g["GA_t, simulation cost"]
+    pulses = [r.merit.iae for r in t2 if r.name.startswith("GA, pulse") and r.merit]
     return dict(elms_K=el.model.K if el.model else float("nan"),
                 sim_iae=ga.merit.iae, hi_iae=b["merit"].iae,
+                pulse_lo=min(pulses), pulse_hi=max(pulses),
                 cplx="none was complex here" if not any(
                     abs(complex(r).imag) > 1e-9 for r in list(b["model"].poles)
                     + list(b["model"].zeros)) else "this model has such a pair")
