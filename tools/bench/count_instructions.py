@@ -15,12 +15,13 @@ Usage: python3 tools/bench/count_instructions.py [--base REV] [--check]
 """
 import argparse
 import pathlib
-import platform
 import re
 import subprocess
 import string
 import sys
 import tempfile
+
+from pdtsupport import provenance
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PROGRAM = ROOT / "tools" / "bench" / "kernel_count.c"
@@ -121,26 +122,10 @@ def accuracy():
     return "\n".join(table)
 
 
-def machine():
-    """The host's CPU and system."""
-    cpu = platform.machine()
-    info = pathlib.Path("/proc/cpuinfo")
-    if info.exists():
-        names = [ln.split(":", 1)[1].strip() for ln in info.read_text().splitlines()
-                 if ln.startswith("model name")]
-        cpu = names[0] if names else cpu
-    return f"{cpu}, {platform.system()} {platform.release()}"
-
-
-def commit():
-    return subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                          capture_output=True, text=True).stdout.strip() or "unknown"
-
-
 def render(accuracy_table, counts_table, base):
     """The report from the template and the two tables."""
     return string.Template(TEMPLATE.read_text()).substitute(
-        commit=commit(), machine=machine(), accuracy=accuracy_table, counts=counts_table,
+        **provenance.fields(), accuracy=accuracy_table, counts=counts_table,
         base=base)
 
 

@@ -29,6 +29,7 @@ TEMPLATE = pathlib.Path(__file__).with_name("pid_report.md.in")
 from pdtref import models as M
 from pdtref import pid as P
 from pdtref import tune as T
+from pdtsupport import provenance
 
 T_END = 25.0
 GRID = 0.1
@@ -118,7 +119,7 @@ def render():
         zs = "" if msz is None else f"{msz:.3f}"
         rob.append(f"| {name} | {Ts:g} | {ms:.3f} | {gm:.3f} | {pm:.1f} | {zs} |")
     return string.Template(TEMPLATE.read_text()).substitute(
-        accuracy_rows="\n".join(acc), robustness_rows="\n".join(rob))
+        accuracy_rows="\n".join(acc), robustness_rows="\n".join(rob), **provenance.fields())
 
 
 def main():

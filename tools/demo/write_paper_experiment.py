@@ -9,9 +9,10 @@ Usage: python3 tools/demo/write_paper_experiment.py
 """
 import argparse
 import pathlib
-import platform
 import re
 import subprocess
+
+from pdtsupport import provenance
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 BUILD = ROOT / "build" / "release"
@@ -75,14 +76,6 @@ def figures(out):
     }
 
 
-def provenance():
-    """The commit and the machine the demo ran on."""
-    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip() or "unknown"
-    return {"commit": commit, "machine": f"{platform.machine()}, {platform.system()} "
-            f"{platform.release()}"}
-
-
 def main():
     subprocess.run(["cmake", "-S", str(ROOT), "-B", str(BUILD), "-G", "Ninja",
                     "-DCMAKE_BUILD_TYPE=Release", "-DPDT_BUILD_TESTS=OFF"], check=True,
@@ -91,7 +84,7 @@ def main():
                    check=True, stdout=subprocess.DEVNULL)
     out = subprocess.run([str(BUILD / "tools" / "pdt_demo")], check=True,
                          capture_output=True, text=True).stdout
-    OUT.write_text(TEMPLATE.read_text().format(output=out, **figures(out), **provenance()))
+    OUT.write_text(TEMPLATE.read_text().format(output=out, **figures(out), **provenance.fields()))
     print("wrote docs/reports/paper-experiment.md")
 
 

@@ -13,7 +13,6 @@ the document. Deterministic: the same checkout gives the same files.
 import argparse
 import json
 import pathlib
-import platform
 import subprocess
 import tempfile
 
@@ -23,6 +22,7 @@ HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 
 from pdtrepro import bootstrap
+from pdtsupport import provenance
 from pdtrepro import system17 as s17
 from pdtrepro.system17 import Model
 
@@ -33,14 +33,6 @@ IMG = ROOT / "docs" / "img"
 
 TD_MAX = 5.0  # dead-time bound of every search, s (as the demo)
 DECIMATE = 4  # bootstrap: 20 Hz -> 5 Hz
-
-
-def provenance():
-    """The commit and the machine the reproduction ran on."""
-    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip() or "unknown"
-    return {"commit": commit, "machine": f"{platform.machine()}, {platform.system()} "
-            f"{platform.release()}"}
 
 
 def build():
@@ -253,7 +245,7 @@ def main():
     IMG.mkdir(parents=True, exist_ok=True)
     figs = figures.make_all(IMG, recs, t1, t2, t3, boot)[1:]
     from pdtrepro import document
-    DOC.write_text(document.render(t1, t2, t3, boot, figs, table, merit_table, provenance()))
+    DOC.write_text(document.render(t1, t2, t3, boot, figs, table, merit_table, provenance.fields()))
     print(f"wrote {DOC.relative_to(ROOT)} and {len(figs)} figures in "
           f"{IMG.relative_to(ROOT)}/")
 
