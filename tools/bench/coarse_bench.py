@@ -30,6 +30,7 @@ import json
 import multiprocessing as mp
 import os
 import pathlib
+import string
 import subprocess
 import sys
 import tempfile
@@ -48,6 +49,7 @@ SNRS = (10, 20, 30)              # dB
 EXCITATIONS = ("steps", "prbs")
 MODELS = ("fopdt", "sopdt")
 WORSE = 1.01
+TEMPLATE = pathlib.Path(__file__).with_name("coarse_bench.md.in")
 # The rows run again with --rare-seeds: PRBS bits of 4 samples under 10 dB
 # of noise, where 40 seeds show the most flags.
 RARE = (("fopdt", 12.0, "prbs", 10), ("sopdt", 12.0, "prbs", 10))
@@ -127,19 +129,13 @@ def verdict(d, w):
     return "same"
 
 
-def rare_section(results, seeds):
-    """The RARE rows with many seeds: each failure listed, not only counted."""
+def rare_section(results):
+    """The RARE rows with many seeds: the table's rows, and each failure
+    listed, not only counted."""
     rows = {}
     for (m, t, k, s, seed), d, w in results:
         rows.setdefault((m, t, k, s), []).append((seed, d, w))
-    out = ["## Rare failures", "",
-           f"The rows with the most flags above, again with seeds 1 to {seeds} each "
-           "(`--rare-seeds`). *Whole worse*: the whole record's answer, unflagged, more "
-           f"than {WORSE} x the default's cost (the default's *better* above).", "",
-           "| model | tau (samples) | input | SNR | records | same | flagged: default / whole "
-           "| **default worse** | whole worse | refused |",
-           "|---|---|---|---|---|---|---|---|---|---|"]
-    worst = []
+    out, worst = [], []
     for (m, t, k, s), runs in rows.items():
         v = [verdict(d, w) for _, d, w in runs]
         flag_w = sum(1 for _, _, w in runs if "refused" not in w and w["flags"])
@@ -149,14 +145,46 @@ def rare_section(results, seeds):
                    f"{whole_worse} | {v.count('refused')} |")
         worst += [(m, t, k, s, seed, d["cost"] / w["cost"]) for seed, d, w in runs
                   if verdict(d, w) == "worse"]
-    out.append("")
+    listed = ""
     if worst:
-        out.append("Default worse, each (the default's cost over the whole record's):")
-        out.append("")
-        out += [f"- {m} tau {t:g}, {k}, {s} dB, seed {seed}: {r:.3f}"
-                for m, t, k, s, seed, r in worst]
-        out.append("")
-    return out
+        listed = ("\nDefault worse, each (the default's cost over the whole record's):\n\n"
+                  + "".join(f"- {m} tau {t:g}, {k}, {s} dB, seed {seed}: {r:.3f}\n"
+                            for m, t, k, s, seed, r in worst))
+    return {"rare_rows": "\n".join(out), "rare_worst": listed}
+
+
+def main_rows(results):
+    """The main table's rows and the count of worse answers in all records."""
+    rows = {}
+    for (m, t, k, s, _), d, w in results:
+        rows.setdefault((m, t, k, s), []).append((d, w))
+    total = {"worse": 0, "n": 0}
+    lines = []
+    for (m, t, k, s), pairs in rows.items():
+        v = [verdict(d, w) for d, w in pairs]
+        ok = [d for d, _ in pairs if "refused" not in d]
+        co = [d["coarse"] for d in ok]
+        ev_d = [d["evaluations"] for d in ok]
+        ev_w = [w["evaluations"] for _, w in pairs if "refused" not in w]
+        flag_w = sum(1 for _, w in pairs if "refused" not in w and w["flags"])
+        total["worse"] += v.count("worse")
+        total["n"] += len(v)
+        lines.append(f"| {m} | {t:g} | {k} | {s} dB | {len(v)} | "
+                     f"{int(np.median(co)) if co else '-'} | {sum(1 for c in co if c == 1)} | "
+                     f"{v.count('same')} | {v.count('better')} | **{v.count('worse')}** | "
+                     f"{v.count('flagged')} / {flag_w} | {v.count('refused')} | "
+                     f"{int(np.median(ev_d)) if ev_d else '-'} / "
+                     f"{int(np.median(ev_w)) if ev_w else '-'} |")
+    return "\n".join(lines), total
+
+
+def render(results, rare_results, seeds, rare_seeds):
+    """The report: the template coarse_bench.md.in with the tables."""
+    rows, total = main_rows(results)
+    return string.Template(TEMPLATE.read_text()).substitute(
+        seeds=str(seeds), rare_seeds=str(rare_seeds), worse_factor=f"{WORSE}", n=str(N),
+        worse=str(total["worse"]), records=str(total["n"]), rows=rows,
+        **rare_section(rare_results))
 
 
 def main():
@@ -175,55 +203,8 @@ def main():
     with mp.Pool(a.jobs) as pool:
         results = pool.map(task, tasks, chunksize=8)
         rare_results = pool.map(task, rare_tasks, chunksize=8)
-    rare = rare_section(rare_results, a.rare_seeds)
-    rows = {}
-    for (m, t, k, s, _), d, w in results:
-        rows.setdefault((m, t, k, s), []).append((d, w))
-    total = {"worse": 0, "n": 0}
-    lines = ["| model | tau (samples) | input | SNR | records | coarse D median | searched whole "
-             "| same | default better | **default worse** | flagged: default / whole | refused "
-             "| evaluations median: default / whole |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for (m, t, k, s), pairs in rows.items():
-        v = [verdict(d, w) for d, w in pairs]
-        ok = [d for d, _ in pairs if "refused" not in d]
-        co = [d["coarse"] for d in ok]
-        ev_d = [d["evaluations"] for d in ok]
-        ev_w = [w["evaluations"] for _, w in pairs if "refused" not in w]
-        flag_w = sum(1 for _, w in pairs if "refused" not in w and w["flags"])
-        total["worse"] += v.count("worse")
-        total["n"] += len(v)
-        lines.append(f"| {m} | {t:g} | {k} | {s} dB | {len(v)} | "
-                     f"{int(np.median(co)) if co else '-'} | {sum(1 for c in co if c == 1)} | "
-                     f"{v.count('same')} | {v.count('better')} | **{v.count('worse')}** | "
-                     f"{v.count('flagged')} / {flag_w} | {v.count('refused')} | "
-                     f"{int(np.median(ev_d)) if ev_d else '-'} / "
-                     f"{int(np.median(ev_w)) if ev_w else '-'} |")
-    doc = ["# The coarse record against the whole record", "",
-           "Generated by `python3 tools/bench/coarse_bench.py --seeds "
-           f"{a.seeds}` (tools/bench/); do not edit by hand.", "",
-           "Each record is identified twice by `pdtfit identify` (float build): with the "
-           "defaults, whose searches run on a coarse record where the record allows "
-           "([ident-engine.md](../ident-engine.md#the-coarse-record)), and with `--coarse 1`, "
-           "the whole record throughout, the same seed. Both answers are scored by the "
-           "identification's own criterion (the output error's mean square, the JSON's "
-           "`cost`). **Default worse**: the default's answer has no flag and a cost more "
-           f"than {WORSE} x the whole record's: a loss the coarse record caused. *Default "
-           "better*: the reverse (each search is a different random search, so either can "
-           "end short of the other). *Flagged*: the default's answer carries a flag (not "
-           "counted as worse or better), and how many of the whole record's answers do. "
-           "*Searched whole*: the default's searches ran on the whole record (the shape "
-           "check kept it whole, or the answer was too fast for its coarse record).", "",
-           f"Records: {N} samples at Ts = 1 s after 40 at rest; a FOPDT 1.5 / (tau s + 1) or "
-           "a SOPDT 1.5 / ((tau s + 1)(tau s / 3 + 1)), dead time tau / 2 + 2.3 samples "
-           "(fractional), around u0 = 40, y0 = 350; *steps*: levels held 2 to 6 tau (at "
-           "least 10 samples), *prbs*: a binary square wave whose level flips after every "
-           "bit of tau / 3 (at least 1 sample; periodic, not random); white Gaussian noise on y at the SNR given (the noise-free "
-           "output's deviation over 10^(SNR/20)). Seeds 1 to "
-           f"{a.seeds} per row.", "",
-           f"**{total['worse']} answers of the default worse than the whole record's, with "
-           f"no flag, in {total['n']} records.**", ""] + lines + [""] + rare
-    pathlib.Path(a.out).write_text("\n".join(doc))
+    pathlib.Path(a.out).write_text(render(results, rare_results, a.seeds, a.rare_seeds))
+    total = main_rows(results)[1]
     print(f"wrote {a.out}: {total['worse']} worse in {total['n']}")
 
 
