@@ -43,6 +43,7 @@ import os
 import pathlib
 import platform
 import re
+import string
 import subprocess
 import sys
 import tempfile
@@ -647,103 +648,74 @@ def certainty_section():
     return doc
 
 
-def speed_memory_doc(speed, mem, load_before, load_after):
-    """Sections 4 and 5 of the document."""
-    doc = []
-    doc.append("## 4. Speed\n")
-    doc.append("In-process: `tools/bench/ident_speed.c` calls `pdt_identify` with the default "
-               "configuration on a PRBS record (SNR 30 dB; FOPDT F2 and SOPDT S2 of section 1, "
-               "the record lengthened at the same Ts), one core, `clock_gettime` around each "
-               "call, median of the repeats. *Instructions*: one `pdt_identify` call counted "
-               "by `valgrind --tool=callgrind` (collection toggled on `pdt_identify` only), "
-               "in all and divided by the evaluations and N; they include the set-up, the "
-               "breeding and the result. **The reference of this section** is the fast "
-               "scipy fit of `tools/bench/fastref.py`, timed on the same record right after "
-               "pdtfit (median of at least three runs): output error, nine starts (dead "
-               "times spread over [0, T/3]; a time constant of T/20; a SOPDT's 1/zeta "
-               "cycling 2.5, 1, 0.5), each polished by a bounded Levenberg-Marquardt "
-               "iteration; one `scipy.signal.lfilter` of the exact ZOH model with its "
-               "fractional dead time per evaluation (the dead time as a shift), gain and "
-               "offset in closed form, so that the search is over (log tau, Td) or "
-               "(log a, 1/zeta, Td) only. *Ref. cost*: its cost over pdtfit's on the same "
-               "record (1 = the same optimum; above 1, the nine starts missed it). "
-               "*Ratio*: the reference's wall time over pdtfit's. Targets (one host core): "
-               "a FOPDT of N = 2000 in at most 1 ms, a SOPDT in at most 5 ms. The 1-minute "
-               "load average of "
-               f"the machine was {load_before:.2f} before and {load_after:.2f} after these "
-               "timings (above 1 means other processes shared the cores).\n")
-    doc.append("| model | N | evaluations | pdtfit median ms | instructions (M) | "
-               "instr./(sample x eval) | reference ms (evaluations) | ref. cost | ratio |")
-    doc.append("|---|---|---|---|---|---|---|---|---|")
+def speed_rows(speed):
+    """The speed table's rows and the targets met or missed."""
+    rows = []
     for r in speed:
         ir = r.get("ir_per_sample_eval")
         rc = r.get("ref_cost_ratio")
         tot = "-" if not r.get("Ir") else f"{r['Ir'] / 1e6:.1f}"
-        doc.append(f"| {r['model']} | {r['N']} | {r['evaluations']} | "
-                   f"{1e3 * r['median_s']:.2f} | "
-                   f"{tot} | "
-                   f"{'-' if ir is None else f'{ir:.1f}'} | "
-                   f"{1e3 * r['ref_s']:.1f} ({r['ref_nfev']}) | "
-                   f"{'-' if rc is None else f'{rc:.3g}'} | "
-                   f"{r['ref_s'] / r['median_s']:.1f} x |")
-    doc.append("")
+        rows.append(f"| {r['model']} | {r['N']} | {r['evaluations']} | "
+                    f"{1e3 * r['median_s']:.2f} | {tot} | "
+                    f"{'-' if ir is None else f'{ir:.1f}'} | "
+                    f"{1e3 * r['ref_s']:.1f} ({r['ref_nfev']}) | "
+                    f"{'-' if rc is None else f'{rc:.3g}'} | "
+                    f"{r['ref_s'] / r['median_s']:.1f} x |")
+    targets = []
     for model, lim in (("fopdt", 1.0), ("sopdt", 5.0)):
         r = [x for x in speed if x["model"] == model and x["N"] == 2000]
         if r:
             r = r[0]
             ms = 1e3 * r["median_s"]
             su = r["ref_s"] / r["median_s"]
-            doc.append(f"- {model.upper()} at N = 2000: {ms:.2f} ms against the {lim:g} ms "
-                       f"target: **{'met' if ms <= lim else 'missed'}**; {su:.1f} x faster "
-                       f"than the fast reference.")
+            targets.append(f"- {model.upper()} at N = 2000: {ms:.2f} ms against the {lim:g} ms "
+                           f"target: **{'met' if ms <= lim else 'missed'}**; {su:.1f} x faster "
+                           f"than the fast reference.")
+    return "\n".join(rows), targets
+
+
+def stage_block(speed):
+    """Where one identification's instructions go, by stage; empty without
+    stage counts."""
     staged = [r for r in speed if r.get("stages")]
-    if staged:
-        doc.append("")
-        doc.append("Where the instructions of one identification at N = 2000 go, by stage "
-                   "(the same callgrind runs; each stage with all it calls, the cost "
-                   "evaluations included):\n")
-        doc.append("| stage | " + " | ".join(f"{r['model'].upper()} (M)" for r in staged) +
-                   " | " + " | ".join(f"{r['model'].upper()} share" for r in staged) + " |")
-        doc.append("|---|" + "---|" * (2 * len(staged)))
-        for i, (label, _) in enumerate(staged[0]["stages"]):
-            vals = [r["stages"][i][1] for r in staged]
-            doc.append(f"| {label} | " + " | ".join(f"{v / 1e6:.2f}" for v in vals) + " | " +
-                       " | ".join(f"{100 * v / r['Ir']:.1f} %" for v, r in zip(vals, staged)) +
-                       " |")
-        doc.append("")
-    doc.append("- Read the ratio with care: it is only as steady as the reference's wall "
-               "time, which moves far more between machines of this type than pdtfit's "
-               "(a FOPDT of N = 2000: 16.6 ms in a run on 2026-11-24, 82 ms in one on "
-               "2026-11-25, while pdtfit took 6.6 ms and 5.6 ms). pdtfit's own wall time "
-               "moves with the machine as well: the same FOPDT of N = 2000, 10.7 M "
-               "instructions each time, took 1.42 ms in one run on 2026-11-27 (load average "
-               "1.4) and 2.84 ms in another that day (load average 0.2), and in a later "
-               "run the same day a FOPDT of 11.1 M instructions took 0.96 ms and the "
-               "fast reference half its earlier time. So a target shown met or missed "
-               "here says as much about the machine of the run as about pdtfit: the "
-               "instruction counts are the measure of pdtfit's work.")
-    doc.append("")
+    if not staged:
+        return ""
+    lines = ["", "Where the instructions of one identification at N = 2000 go, by stage "
+             "(the same callgrind runs; each stage with all it calls, the cost "
+             "evaluations included):\n",
+             "| stage | " + " | ".join(f"{r['model'].upper()} (M)" for r in staged) +
+             " | " + " | ".join(f"{r['model'].upper()} share" for r in staged) + " |",
+             "|---|" + "---|" * (2 * len(staged))]
+    for i, (label, _) in enumerate(staged[0]["stages"]):
+        vals = [r["stages"][i][1] for r in staged]
+        lines.append(f"| {label} | " + " | ".join(f"{v / 1e6:.2f}" for v in vals) + " | " +
+                     " | ".join(f"{100 * v / r['Ir']:.1f} %" for v, r in zip(vals, staged)) +
+                     " |")
+    return "\n".join(lines) + "\n\n"
 
-    doc.append("## 5. Memory\n")
-    doc.append(f"`pdt_ident_workspace_size` (float build, {mem[0]['real_bytes']}-byte reals) "
-               f"in bytes, default configuration (automatic population), plus the context "
-               f"`pdt_ident_t` of {mem[0]['ctx']} bytes. The double build doubles the "
-               f"real-valued parts.\n")
-    doc.append("| model | criterion | N = 500 | N = 2000 | N = 8000 |")
-    doc.append("|---|---|---|---|---|")
-    for model in ("fopdt", "sopdt"):
-        for c in ("prediction", "simulation", "frequency", "combined"):
-            doc.append(f"| {model} | {c} | " +
-                       " | ".join(str(m[f"{model}_{c}"]) for m in mem) + " |")
-    doc.append("")
 
-    return doc
+def speed_memory_doc(speed, mem, load_before, load_after):
+    """Sections 4 and 5 of the document: the template
+    run_ident_bench_speed.md.in with the tables (one entry of the
+    document's list)."""
+    rows, targets = speed_rows(speed)
+    memory = [f"| {model} | {c} | " + " | ".join(str(m[f"{model}_{c}"]) for m in mem) + " |"
+              for model in ("fopdt", "sopdt")
+              for c in ("prediction", "simulation", "frequency", "combined")]
+    text = string.Template(SPEED_TEMPLATE.read_text()).substitute(
+        load_before=f"{load_before:.2f}", load_after=f"{load_after:.2f}", speed_rows=rows,
+        targets_and_stages=("\n".join(targets) + "\n" if targets else "") + stage_block(speed),
+        real_bytes=str(mem[0]["real_bytes"]), ctx=str(mem[0]["ctx"]),
+        memory_rows="\n".join(memory))
+    return [text]
 
 
 # ------------------------------------------------------------------ document
 
 # The report's introduction (what is measured, and how), kept beside this file.
 INTRO = pathlib.Path(__file__).with_name("run_ident_bench.md.in")
+# Sections 4 and 5 (speed and memory).
+SPEED_TEMPLATE = pathlib.Path(__file__).with_name("run_ident_bench_speed.md.in")
 
 
 def main():
