@@ -696,8 +696,9 @@ def stage_block(speed):
 
 def speed_memory_doc(speed, mem, load_before, load_after):
     """Sections 4 and 5 of the document: the template
-    run_ident_bench_speed.md.in with the tables (one entry of the
-    document's list)."""
+    run_ident_bench_speed.md.in with the tables, as two entries of the
+    document's list (the heading, then the rest: --update-speed puts its
+    note between them)."""
     rows, targets = speed_rows(speed)
     memory = [f"| {model} | {c} | " + " | ".join(str(m[f"{model}_{c}"]) for m in mem) + " |"
               for model in ("fopdt", "sopdt")
@@ -707,7 +708,8 @@ def speed_memory_doc(speed, mem, load_before, load_after):
         targets_and_stages=("\n".join(targets) + "\n" if targets else "") + stage_block(speed),
         real_bytes=str(mem[0]["real_bytes"]), ctx=str(mem[0]["ctx"]),
         memory_rows="\n".join(memory))
-    return [text]
+    head, rest = text.split("\n\n", 1)
+    return [head + "\n", rest]
 
 
 # ------------------------------------------------------------------ document
