@@ -6,7 +6,7 @@
  * the model and the gains; every safety abort, the refusals, and every bad
  * input with the autotune left untouched.
  *
- * The plants: the test-support simulator (tests/support/sim_process.h),
+ * The plants: the shared simulator (tools/sim/sim_process.h),
  * exact at the scan period, independent of the library's discretisation,
  * read through a sensor with deterministic white noise. pv of scan k is
  * read before the output of scan k is applied, as the autotune's header

@@ -247,7 +247,7 @@ static void test_chirp_frequency(void **state)
 }
 
 /* The relay closes the loop around K e^{-L s} / (tau s + 1), simulated by
- * the test-support simulator. The ideal relay's limit cycle is known in
+ * the shared simulator. The ideal relay's limit cycle is known in
  * closed form: half period tau ln(2 e^{L/tau} - 1), amplitude
  * K d (1 - e^{-L/tau}). */
 static void relay_fopdt(pdt_real_t eps, double *Ku, double *Pu, double *a_out)

@@ -69,7 +69,7 @@ static void test_scenarios(void **state)
 }
 
 /* One closed loop: the plant sampled exactly (the reference's realisation
- * on the test-support simulator, in double: the plant is not under test),
+ * on the shared simulator, in double: the plant is not under test),
  * pdt_pid as the controller; y at the grid points into y. */
 static void run_loop(size_t i, double *y)
 {

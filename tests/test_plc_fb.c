@@ -1,7 +1,7 @@
 /*
  * Tests of examples/plc/pdt_fb_autotune.c, the PLC function block over the
  * autotune: the block is driven cycle by cycle, as a PLC task would, against
- * a FOPDT plant on the test-support simulator (exact at the scan period
+ * a FOPDT plant on the shared simulator (exact at the scan period
  * with a fractional dead time) with small deterministic measurement noise. Checked:
  * rising-edge start, Busy on every running cycle, Done with a model and
  * gains close to the plant's, the PLCopen end-flag handshake (held while

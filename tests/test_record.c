@@ -291,7 +291,7 @@ static void test_bad_inputs(void **state)
 }
 
 /* A whole experiment: the step generator at the scan rate, a FOPDT plant
- * (the test-support simulator) between them, the recorder decimating by 5. Then a rerun
+ * (the shared simulator) between them, the recorder decimating by 5. Then a rerun
  * whose pv limit the step breaks: the abort comes at the scan where pv
  * passes the limit, with the operating point as the output to apply. */
 static void step_experiment(pdt_real_t pv_max, pdt_record_result_t *res, pdt_real_t *u,

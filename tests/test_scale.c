@@ -29,7 +29,7 @@ static pdt_real_t g_y[SC_N];
 static pdt_real_t
     g_work[PDT_IDENT_WORKSPACE_SIZE(SC_N, PDT_IDENT_POPULATION_SOPDT) / sizeof(pdt_real_t)];
 
-/* The unscaled record: a FOPDT on the test-support simulator driven by
+/* The unscaled record: a FOPDT on the shared simulator driven by
  * steps of varying length around SC_U0, with 1 % of deterministic output
  * noise. */
 static void make_record(void)

@@ -1,5 +1,5 @@
 /*
- * Tests of the test-support simulator (tests/support/sim_plant.c) against
+ * Tests of the shared simulator (tools/sim/sim_plant.c) against
  * closed forms: the exact sampled FOPDT with a fractional dead time
  * (docs/equations.md), step responses of a lag with a zero on either side,
  * of a complex pair, of an integrator, and the refusals; a realisation

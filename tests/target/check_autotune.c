@@ -1,6 +1,6 @@
 /*
  * Autotune on the target: a FOPDT and a SOPDT plant simulated scan by scan
- * by the test-support simulator (tests/support/sim_process.h: exact at the
+ * by the shared simulator (tools/sim/sim_process.h: exact at the
  * scan period, deterministic sensor noise), each tuned by one complete
  * pdt_autotune run with a PRBS experiment and a record of 600 samples (the
  * configuration docs/autotune.md tabulates). Checks the model and the gains against the

@@ -27,7 +27,7 @@
  *   x[k+1] = Phi x[k] + Gb u[k-l] + Ga u[k-l-1],   y[k] = C x[k]
  * (Gb carries the last (1 - f) Ts of the interval, Ga the first f Ts;
  * the script computes them), n at most SIM_PLANT_MAX_STATES. It runs on
- * the test-support simulator (tests/support/sim_plant.h), loaded with that
+ * the shared simulator (tools/sim/sim_plant.h), loaded with that
  * realisation. The process value read at scan k is y[k] + noise[k].
  * NOISE: std seed max_scans. White Gaussian noise of that standard
  * deviation (sim_rng64: splitmix64 and Box-Muller, the stream of

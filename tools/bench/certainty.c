@@ -18,8 +18,8 @@
  *       N doubles of u then N of y; record j is identified with the seed
  *       SEED0 + j. Same output lines.
  *
- * The plants are simulated exactly by the test-support simulator
- * (tests/support/sim_plant.h: the truth's zero-order-hold sampling with its
+ * The plants are simulated exactly by the shared simulator
+ * (tools/sim/sim_plant.h: the truth's zero-order-hold sampling with its
  * fractional dead time, in double). The noise is white and Gaussian
  * (sim_rng64: splitmix64, Box-Muller), its deviation the noise-free loop's
  * output deviation over 10^(SNR/20).

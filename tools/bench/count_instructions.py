@@ -6,26 +6,27 @@ the Cortex-M4F (QEMU mps2-an386 with -icount shift=0: one port tick is 40
 instructions), for this tree and for a base commit (the same program built
 with -DKB_BASELINE against the base's library). Also builds the cost tests
 in both real types and takes the accuracy of the evaluation against the
-double numpy reference from test_cost_profile's output. Writes both tables
-into docs/kernel.md between their markers.
+double numpy reference from test_cost_profile's output. Writes the whole
+report docs/reports/kernel.md from the template kernel_report.md.in beside
+this file, naming the commit and the machine.
 
 Usage: python3 tools/bench/count_instructions.py [--base REV] [--check]
---check prints the tables without rewriting docs/kernel.md.
+--check prints the report without writing it.
 """
 import argparse
 import pathlib
 import re
 import subprocess
+import string
 import sys
 import tempfile
 
+from pdtsupport import provenance
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PROGRAM = ROOT / "tools" / "bench" / "kernel_count.c"
-DOC = ROOT / "docs" / "kernel.md"
-BEGIN = "<!-- count_instructions.py: begin -->"
-END = "<!-- count_instructions.py: end -->"
-ACC_BEGIN = "<!-- count_instructions.py accuracy: begin -->"
-ACC_END = "<!-- count_instructions.py accuracy: end -->"
+OUT = ROOT / "docs" / "reports" / "kernel.md"
+TEMPLATE = pathlib.Path(__file__).with_name("kernel_report.md.in")
 CASES = ["kb_fopdt_hint", "kb_fopdt_cold", "kb_sopdt_hint", "kb_sopdt_cold",
          "kb_fopdt_many4", "kb_sopdt_many4"]
 CM4 = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"]
@@ -40,7 +41,7 @@ def sources(tree):
 
 def includes(tree):
     return ["-I" + str(tree / "lib" / "include"), "-I" + str(tree / "lib" / "src"),
-            "-I" + str(ROOT / "port"), "-I" + str(ROOT / "tests" / "support")]
+            "-I" + str(ROOT / "port"), "-I" + str(ROOT / "tools" / "sim")]
 
 
 def parse_cases(text):
@@ -76,7 +77,7 @@ def cm4_counts(tree, defs, work):
     subprocess.run(["arm-none-eabi-gcc", *CM4, "-Os", "-std=c99", *defs, *includes(tree),
                     "-I" + str(port), *sources(tree), str(port / "startup_mps2_an386.c"),
                     str(port / "pdt_port_cm4.c"), str(PROGRAM), "-T" + str(port / "mps2_an386.ld"),
-                    "-nostartfiles", "--specs=nano.specs", "-Wl,--gc-sections", "-lm",
+                    "-L" + str(port), "-nostartfiles", "--specs=nano.specs", "-Wl,--gc-sections", "-lm",
                     "-o", str(elf)], check=True)
     run = subprocess.run([*QEMU, str(elf)], capture_output=True, text=True, timeout=600)
     text = run.stdout + run.stderr
@@ -101,8 +102,8 @@ def accuracy():
                         "-DCMAKE_BUILD_TYPE=Release",
                         f"-DPDT_REAL_DOUBLE={'ON' if real == 'double' else 'OFF'}"],
                        check=True, stdout=subprocess.DEVNULL)
-        subprocess.run(["cmake", "--build", str(build), "--target", "test_cost_profile"],
-                       check=True, stdout=subprocess.DEVNULL)
+        subprocess.run(["cmake", "--build", str(build), "-j", "2", "--target",
+                        "test_cost_profile"], check=True, stdout=subprocess.DEVNULL)
         run = subprocess.run([str(build / "tests" / "test_cost_profile")], check=True,
                              capture_output=True, text=True)
         out[real] = [ln for ln in (run.stdout + run.stderr).splitlines()
@@ -121,9 +122,11 @@ def accuracy():
     return "\n".join(table)
 
 
-def replace(text, begin, end, body):
-    a, b = text.index(begin) + len(begin), text.index(end)
-    return text[:a] + "\n" + body + "\n" + text[b:]
+def render(accuracy_table, counts_table, base):
+    """The report from the template and the two tables."""
+    return string.Template(TEMPLATE.read_text()).substitute(
+        **provenance.fields(), accuracy=accuracy_table, counts=counts_table,
+        base=base)
 
 
 def fmt(v):
@@ -133,7 +136,8 @@ def fmt(v):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--base", default="7ea2279",
-                    help="commit measured as 'before' (default: the last before the kernel)")
+                    help="the base commit measured beside this tree (default: the last "
+                    "before the kernel)")
     ap.add_argument("--check", action="store_true")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
@@ -159,7 +163,8 @@ def main():
         "kb_sopdt_many4": "SOPDT, four candidates in one pass (`pdt_cost_profile_many`)",
     }
     lines = [
-        "| evaluation, N = 2000 | x86 before | x86 now | M4F before | M4F now |",
+        f"| evaluation, N = 2000 | x86, `{args.base}` | x86, this commit | M4F, `{args.base}` "
+        "| M4F, this commit |",
         "|---|---:|---:|---:|---:|",
     ]
     for c in CASES:
@@ -170,19 +175,16 @@ def main():
     lines += [
         "",
         f"Instructions per sample per evaluation (each case: 20 evaluations of candidates "
-        f"within 2 % of the optimum's shape). 'before' is commit `{args.base}` (every "
-        f"case there calls `pdt_cost_profile`). x86: {gcc}, `-O3`, valgrind callgrind, "
+        f"within 2 % of the optimum's shape). x86: {gcc}, `-O3`, valgrind callgrind, "
         f"inclusive count of the case's function. M4F: {agcc}, `-Os`, {qemu}, "
         f"`-icount shift=0` (ticks x 40).",
     ]
-    table = "\n".join(lines)
-    acc = accuracy()
-    print(table)
-    print(acc)
+    text = render(accuracy(), "\n".join(lines), args.base)
     if args.check:
+        print(text)
         return 0
-    text = replace(DOC.read_text(), BEGIN, END, table)
-    DOC.write_text(replace(text, ACC_BEGIN, ACC_END, acc))
+    OUT.write_text(text)
+    print(f"wrote {OUT.relative_to(ROOT)}")
     return 0
 
 

@@ -3,7 +3,8 @@
  * (tools/bench/monitor_report.py): mc_scans runs pdt_monitor_scan over a
  * synthetic closed-loop-like record with a FOPDT model (every part of the
  * monitor active), mc_result computes the verdict once. The record is
- * deterministic (an LCG), its content does not change the work per scan.
+ * deterministic (the LCG of tools/sim/sim_rng.h), its content does not
+ * change the work per scan.
  * Argument: the decimation (default 1; Ts is 0.5 s over it).
  */
 #include <math.h>
@@ -11,21 +12,21 @@
 #include <stdlib.h>
 
 #include "pdt/pdt.h"
+#include "sim_rng.h"
 
 #define N 4000
 
 static pdt_monitor_t mon;
 
-static pdt_real_t noise(unsigned *s)
+static pdt_real_t noise(sim_rng_t *s)
 {
-    *s = *s * 1664525u + 1013904223u;
-    return (pdt_real_t)((double)(*s >> 8) / 16777216.0 - 0.5);
+    return (pdt_real_t)(sim_rng_uniform(s) - 0.5);
 }
 
 __attribute__((noinline)) void mc_scans(void);
 __attribute__((noinline)) void mc_scans(void)
 {
-    unsigned s = 1u;
+    sim_rng_t s = sim_rng_seed(1u);
     for (int k = 0; k < N; k++) {
         const pdt_real_t sp = (pdt_real_t)((k / 500) % 2);
         const pdt_real_t pv = sp + (pdt_real_t)(0.3 * sin(0.3 * k)) + (pdt_real_t)0.05 * noise(&s);

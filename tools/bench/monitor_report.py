@@ -141,6 +141,7 @@ def count_work():
     with tempfile.TemporaryDirectory() as tmp:
         exe = pathlib.Path(tmp) / "mc"
         subprocess.run(["cc", "-O2", "-std=c99", f"-I{ROOT}/lib/include", f"-I{ROOT}/lib/src",
+                        f"-I{ROOT}/tools/sim",
                         *src, str(pathlib.Path(__file__).with_name("monitor_count.c")), "-lm",
                         "-o", str(exe)], check=True)
         for dec in (1, 10):

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Identification benchmark of pdtfit: writes docs/benchmarks.md.
+"""Identification benchmark of pdtfit: writes docs/reports/benchmarks.md.
 
 Usage (from the repository root):
 
@@ -8,7 +8,7 @@ Usage (from the repository root):
     python3 tools/bench/run_ident_bench.py --quick    # a few cases, under a minute,
                                                       # into build/bench/benchmarks-quick.md
     python3 tools/bench/run_ident_bench.py --update-certainty
-                                                      # section 6 only, from docs/certainty.md
+                                                      # section 6 only, from docs/reports/certainty.md
     python3 tools/bench/run_ident_bench.py --update-speed
                                                       # sections 4 to 6 only (a few minutes)
     options: --jobs N (worker processes, default: all cores), --out FILE
@@ -23,7 +23,7 @@ the timing program tools/bench/ident_speed.c into build/bench (-O2), then:
 4. speed (in-process timing, callgrind instruction counts, the fast scipy
    reference of fastref.py timed on the same data);
 5. workspace memory;
-6. the certainty battery's counts, copied from docs/certainty.md (written by
+6. the certainty battery's counts, copied from docs/reports/certainty.md (written by
    tools/bench/certainty.py, which takes longer and is run on its own).
 
 Everything is seeded; the same machine and versions give the same document
@@ -43,6 +43,7 @@ import os
 import pathlib
 import platform
 import re
+import string
 import subprocess
 import sys
 import tempfile
@@ -617,22 +618,22 @@ def speed_section(quick, tmp):
 # ------------------------------------------------------------------ 6. certainty
 
 def certainty_section():
-    """The summary of docs/certainty.md (its run and its tables), headings
+    """The summary of docs/reports/certainty.md (its run and its tables), headings
     moved one level down; a pointer when it has not been generated."""
     doc = ["## 6. Certainty of the global search\n"]
-    path = ROOT / "docs" / "certainty.md"
+    path = ROOT / "docs" / "reports" / "certainty.md"
     if not path.exists():
         return doc + ["Not measured: run `python3 tools/bench/certainty.py` "
-                      "(docs/certainty.md).\n"]
+                      "(docs/reports/certainty.md).\n"]
     text = path.read_text()
-    doc.append("Copied from docs/certainty.md, which `python3 tools/bench/certainty.py` "
+    doc.append("Copied from docs/reports/certainty.md, which `python3 tools/bench/certainty.py` "
                "generates (a separate run: about 100 minutes on two cores with 1000 seeds "
                "per closed-loop, hard and noisy case and 100 per accuracy set, its Run "
                "section below). Every case is "
                "a known plant; each seed is one record (its noise) and one identification "
                "with the library's defaults (its search seed); an answer is *wrong* when "
                "its output-error cost exceeds the reference optimum, found independently "
-               "of pdtfit by tools/bench/fastref.py, by more than 1 %. docs/certainty.md "
+               "of pdtfit by tools/bench/fastref.py, by more than 1 %. docs/reports/certainty.md "
                "describes the records and the reference.\n")
     keep = False
     for line in text.splitlines():
@@ -647,166 +648,76 @@ def certainty_section():
     return doc
 
 
-def speed_memory_doc(speed, mem, load_before, load_after):
-    """Sections 4 and 5 of the document."""
-    doc = []
-    doc.append("## 4. Speed\n")
-    doc.append("In-process: `tools/bench/ident_speed.c` calls `pdt_identify` with the default "
-               "configuration on a PRBS record (SNR 30 dB; FOPDT F2 and SOPDT S2 of section 1, "
-               "the record lengthened at the same Ts), one core, `clock_gettime` around each "
-               "call, median of the repeats. *Instructions*: one `pdt_identify` call counted "
-               "by `valgrind --tool=callgrind` (collection toggled on `pdt_identify` only), "
-               "in all and divided by the evaluations and N; they include the set-up, the "
-               "breeding and the result. **The reference of this section** is the fast "
-               "scipy fit of `tools/bench/fastref.py`, timed on the same record right after "
-               "pdtfit (median of at least three runs): output error, nine starts (dead "
-               "times spread over [0, T/3]; a time constant of T/20; a SOPDT's 1/zeta "
-               "cycling 2.5, 1, 0.5), each polished by a bounded Levenberg-Marquardt "
-               "iteration; one `scipy.signal.lfilter` of the exact ZOH model with its "
-               "fractional dead time per evaluation (the dead time as a shift), gain and "
-               "offset in closed form, so that the search is over (log tau, Td) or "
-               "(log a, 1/zeta, Td) only. *Ref. cost*: its cost over pdtfit's on the same "
-               "record (1 = the same optimum; above 1, the nine starts missed it). "
-               "*Ratio*: the reference's wall time over pdtfit's. Targets (one host core): "
-               "a FOPDT of N = 2000 in at most 1 ms, a SOPDT in at most 5 ms. The 1-minute "
-               "load average of "
-               f"the machine was {load_before:.2f} before and {load_after:.2f} after these "
-               "timings (above 1 means other processes shared the cores).\n")
-    doc.append("| model | N | evaluations | pdtfit median ms | instructions (M) | "
-               "instr./(sample x eval) | reference ms (evaluations) | ref. cost | ratio |")
-    doc.append("|---|---|---|---|---|---|---|---|---|")
+def speed_rows(speed):
+    """The speed table's rows and the targets met or missed."""
+    rows = []
     for r in speed:
         ir = r.get("ir_per_sample_eval")
         rc = r.get("ref_cost_ratio")
         tot = "-" if not r.get("Ir") else f"{r['Ir'] / 1e6:.1f}"
-        doc.append(f"| {r['model']} | {r['N']} | {r['evaluations']} | "
-                   f"{1e3 * r['median_s']:.2f} | "
-                   f"{tot} | "
-                   f"{'-' if ir is None else f'{ir:.1f}'} | "
-                   f"{1e3 * r['ref_s']:.1f} ({r['ref_nfev']}) | "
-                   f"{'-' if rc is None else f'{rc:.3g}'} | "
-                   f"{r['ref_s'] / r['median_s']:.1f} x |")
-    doc.append("")
+        rows.append(f"| {r['model']} | {r['N']} | {r['evaluations']} | "
+                    f"{1e3 * r['median_s']:.2f} | {tot} | "
+                    f"{'-' if ir is None else f'{ir:.1f}'} | "
+                    f"{1e3 * r['ref_s']:.1f} ({r['ref_nfev']}) | "
+                    f"{'-' if rc is None else f'{rc:.3g}'} | "
+                    f"{r['ref_s'] / r['median_s']:.1f} x |")
+    targets = []
     for model, lim in (("fopdt", 1.0), ("sopdt", 5.0)):
         r = [x for x in speed if x["model"] == model and x["N"] == 2000]
         if r:
             r = r[0]
             ms = 1e3 * r["median_s"]
             su = r["ref_s"] / r["median_s"]
-            doc.append(f"- {model.upper()} at N = 2000: {ms:.2f} ms against the {lim:g} ms "
-                       f"target: **{'met' if ms <= lim else 'missed'}**; {su:.1f} x faster "
-                       f"than the fast reference.")
+            targets.append(f"- {model.upper()} at N = 2000: {ms:.2f} ms against the {lim:g} ms "
+                           f"target: **{'met' if ms <= lim else 'missed'}**; {su:.1f} x faster "
+                           f"than the fast reference.")
+    return "\n".join(rows), targets
+
+
+def stage_block(speed):
+    """Where one identification's instructions go, by stage; empty without
+    stage counts."""
     staged = [r for r in speed if r.get("stages")]
-    if staged:
-        doc.append("")
-        doc.append("Where the instructions of one identification at N = 2000 go, by stage "
-                   "(the same callgrind runs; each stage with all it calls, the cost "
-                   "evaluations included):\n")
-        doc.append("| stage | " + " | ".join(f"{r['model'].upper()} (M)" for r in staged) +
-                   " | " + " | ".join(f"{r['model'].upper()} share" for r in staged) + " |")
-        doc.append("|---|" + "---|" * (2 * len(staged)))
-        for i, (label, _) in enumerate(staged[0]["stages"]):
-            vals = [r["stages"][i][1] for r in staged]
-            doc.append(f"| {label} | " + " | ".join(f"{v / 1e6:.2f}" for v in vals) + " | " +
-                       " | ".join(f"{100 * v / r['Ir']:.1f} %" for v, r in zip(vals, staged)) +
-                       " |")
-        doc.append("")
-    doc.append("- Read the ratio with care: it is only as steady as the reference's wall "
-               "time, which moves far more between machines of this type than pdtfit's "
-               "(a FOPDT of N = 2000: 16.6 ms in a run on 2026-11-24, 82 ms in one on "
-               "2026-11-25, while pdtfit took 6.6 ms and 5.6 ms). pdtfit's own wall time "
-               "moves with the machine as well: the same FOPDT of N = 2000, 10.7 M "
-               "instructions each time, took 1.42 ms in one run on 2026-11-27 (load average "
-               "1.4) and 2.84 ms in another that day (load average 0.2), and in a later "
-               "run the same day a FOPDT of 11.1 M instructions took 0.96 ms and the "
-               "fast reference half its earlier time. So a target shown met or missed "
-               "here says as much about the machine of the run as about pdtfit: the "
-               "instruction counts are the measure of pdtfit's work.")
-    doc.append("")
+    if not staged:
+        return ""
+    lines = ["", "Where the instructions of one identification at N = 2000 go, by stage "
+             "(the same callgrind runs; each stage with all it calls, the cost "
+             "evaluations included):\n",
+             "| stage | " + " | ".join(f"{r['model'].upper()} (M)" for r in staged) +
+             " | " + " | ".join(f"{r['model'].upper()} share" for r in staged) + " |",
+             "|---|" + "---|" * (2 * len(staged))]
+    for i, (label, _) in enumerate(staged[0]["stages"]):
+        vals = [r["stages"][i][1] for r in staged]
+        lines.append(f"| {label} | " + " | ".join(f"{v / 1e6:.2f}" for v in vals) + " | " +
+                     " | ".join(f"{100 * v / r['Ir']:.1f} %" for v, r in zip(vals, staged)) +
+                     " |")
+    return "\n".join(lines) + "\n\n"
 
-    doc.append("## 5. Memory\n")
-    doc.append(f"`pdt_ident_workspace_size` (float build, {mem[0]['real_bytes']}-byte reals) "
-               f"in bytes, default configuration (automatic population), plus the context "
-               f"`pdt_ident_t` of {mem[0]['ctx']} bytes. The double build doubles the "
-               f"real-valued parts.\n")
-    doc.append("| model | criterion | N = 500 | N = 2000 | N = 8000 |")
-    doc.append("|---|---|---|---|---|")
-    for model in ("fopdt", "sopdt"):
-        for c in ("prediction", "simulation", "frequency", "combined"):
-            doc.append(f"| {model} | {c} | " +
-                       " | ".join(str(m[f"{model}_{c}"]) for m in mem) + " |")
-    doc.append("")
 
-    return doc
+def speed_memory_doc(speed, mem, load_before, load_after):
+    """Sections 4 and 5 of the document: the template
+    run_ident_bench_speed.md.in with the tables, as two entries of the
+    document's list (the heading, then the rest: --update-speed puts its
+    note between them)."""
+    rows, targets = speed_rows(speed)
+    memory = [f"| {model} | {c} | " + " | ".join(str(m[f"{model}_{c}"]) for m in mem) + " |"
+              for model in ("fopdt", "sopdt")
+              for c in ("prediction", "simulation", "frequency", "combined")]
+    text = string.Template(SPEED_TEMPLATE.read_text()).substitute(
+        load_before=f"{load_before:.2f}", load_after=f"{load_after:.2f}", speed_rows=rows,
+        targets_and_stages=("\n".join(targets) + "\n" if targets else "") + stage_block(speed),
+        real_bytes=str(mem[0]["real_bytes"]), ctx=str(mem[0]["ctx"]),
+        memory_rows="\n".join(memory))
+    head, rest = text.split("\n\n", 1)
+    return [head + "\n", rest]
 
 
 # ------------------------------------------------------------------ document
 
-INTRO = """# Identification benchmarks
-
-Generated by `python3 tools/bench/run_ident_bench.py` (tools/bench/); do not
-edit by hand: rerun the script. Every record and every search is seeded, so
-the figures other than the timings come out the same on every run with the
-same versions.
-
-## What is measured, and how
-
-**pdtfit** is the `pdtfit identify` command line (float build, `-O2`), with
-its defaults (simulation cost, 3000 evaluations, seed = the record's seed)
-unless a row says otherwise. **The reference** is the maximum-likelihood
-fit as well as two independent multi-start output-error fits, written with
-scipy for this benchmark and independent of the C code, find it: of the
-two, the one with the lower output-error cost on the record. Both minimise
-the residual between y and the simulated output of the exact ZOH model
-with its fractional dead time, with a free output offset, over the whole
-record, in pdtfit's search space: time constants in `[Ts/4, 2T]`, dead
-time in `[0, T/3]` (T the record length), SOPDT damping down to 0.2 or
-integrating, in the parameters log(tau) (FOPDT), or log(a), 1/zeta, Td
-(SOPDT, form `k / (s^2 + a s + b)` with `b = (a/(2 zeta))^2`).
-The first (`benchlib.Reference`) is `scipy.optimize.least_squares`
-(trust-region reflective, with bounds) over these and the gain and offset
-(`pdtref.discrete.zoh` run by `scipy.signal.lfilter`), from nine dead times
-spread evenly over `[0, T/3]`, the shape from a time constant of T/20
-(SOPDT: critically damped), the gain and offset from a linear fit at that
-start. The second is the fast fit of `tools/bench/fastref.py` (section 4):
-gain and offset in closed form, a bounded Levenberg-Marquardt iteration
-from nine dead times, a SOPDT's 1/zeta cycling through 2.5, 1 and 0.5. A
-single fit from critically damped starts stopped, on a few records, in
-long valleys of the SOPDT's cost (damping against natural frequency) above
-the optimum the other found, so the one fit alone was not the maximum
-likelihood it is compared as.
-
-**Records.** Plants around an operating point (u0 = 40 %, y0 = 350 degC;
-input steps of 10 %), sampled exactly behind a zero-order hold, with dead
-times that are not whole samples. White Gaussian noise on y (a splitmix64
-generator, not numpy's, so records do not change with numpy), its variance
-`var(y_clean) / 10^(SNR/10)` from the noise-free output deviation. Records
-are 4 settling times long (1500 samples) and start with 5 % at rest.
-Excitations: *step* (one step after the rest), *pulse* (up for 40 % of the
-record, then back), *PRBS* (random +-1 levels held 1 to 4 switching times of
-half the plant's time scale, then at rest for the last 30 %), *chirp* (a
-sine sweeping 0 to 3/(2 pi time scale) Hz), *relay* (closed loop: a relay
-with hysteresis of 3 noise deviations drives the plant between u0 + 10 % and
-u0 - 5 % to hold y at a set-point above y0; u and the measured y are
-recorded). *Quantised*: y rounded to a step of 0.5 % of its range.
-`pdtfit combined` rows use `--cost combined` on the records that return to
-rest (pulse, PRBS; not for the integrating plant, whose output does not),
-with the default weighting: the control band for a FOPDT, uniform for a
-SOPDT. On a process that *is* a FOPDT the band's few, heavily weighted bins
-make the parameters noisier than the output error's; the combined
-criterion is meant for low-order approximations of higher-order processes
-(section 2), the output error (the default) for estimating a FOPDT/SOPDT.
-
-**Figures.** Parameter errors are relative (`|p/p_true - 1|`); the dead
-time's error is `|Td - Td_true|` divided by the plant's time constant (tau,
-1/wn, or the integrator's lag T). The SOPDT is compared as K, wn, zeta; the
-integrating one as Ki, T. *Step IAE* is the integral of the absolute
-difference between the model's and the true unit-step responses over
-`[0, t_end]`, divided by `t_end * max|h_true|` (a mean absolute error as a
-fraction of the step's size; `t_end` = 1.5 settling times). *fail* means no
-model (an error exit) or a model of the wrong kind (an integrator where the
-truth has a DC gain).
-"""
+# The report's introduction (what is measured, and how), kept beside this file.
+INTRO = pathlib.Path(__file__).with_name("run_ident_bench.md.in")
+# Sections 4 and 5 (speed and memory).
+SPEED_TEMPLATE = pathlib.Path(__file__).with_name("run_ident_bench_speed.md.in")
 
 
 def main():
@@ -818,12 +729,12 @@ def main():
                     help="only rerun sections 4 and 5 (speed, memory) and replace sections "
                          "4 to 6 of the document, keeping sections 1 to 3")
     ap.add_argument("--update-certainty", action="store_true",
-                    help="only replace section 6 of the document with docs/certainty.md's "
+                    help="only replace section 6 of the document with docs/reports/certainty.md's "
                          "summary (after a run of certainty.py)")
     a = ap.parse_args()
     quick = a.quick
     out = pathlib.Path(a.out) if a.out else (
-        BUILD / "benchmarks-quick.md" if quick else ROOT / "docs" / "benchmarks.md")
+        BUILD / "benchmarks-quick.md" if quick else ROOT / "docs" / "reports" / "benchmarks.md")
     if a.update_speed:
         build()
         text = out.read_text()
@@ -878,7 +789,7 @@ def main():
     elapsed = time.time() - t_start
     print(f"all done {elapsed:.0f} s", flush=True)
 
-    doc = [INTRO]
+    doc = [INTRO.read_text()]
     doc.append("## Machine\n")
     doc.append(f"- CPU: {mach['cpu']} ({mach['cores']} cores visible)")
     doc.append(f"- Compiler: {mach['compiler']}, `-O2`, float build")

@@ -1,5 +1,5 @@
 /* pdtfit autotune-sim: the on-device autotune run scan by scan against a
- * simulated plant (tests/support/sim_plant.h). */
+ * simulated plant (tools/sim/sim_plant.h). */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>

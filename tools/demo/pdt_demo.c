@@ -2,7 +2,8 @@
  * pdtfit demo: the experiment of Yang and Seested (2013) on their test
  * system (17), G(s) = (-0.3s+1)(0.08s+1) / ((2s+1)(s+1)(0.4s+1)(0.2s+1)(0.05s+1)^3).
  *
- * The true system is simulated finely and sampled at 20 Hz around an
+ * The true system is simulated exactly behind a zero-order hold (the shared
+ * simulator, tools/sim) and sampled at 20 Hz around an
  * operating point, with sensor noise, for three excitations: a chirp from 0
  * to 0.5 Hz, a single pulse and a train of pulses. pdtfit identifies FOPDT
  * and SOPDT models from each record with the time-domain criterion alone
@@ -46,7 +47,7 @@ static double true_step[1501];
 static pdt_ident_t ident;
 static pdt_real_t work[PDT_IDENT_WORKSPACE_SIZE(NMAX, 64) / sizeof(pdt_real_t) + 1];
 
-/* The sensor noise: the shared generator (tests/support/sim_rng.h). */
+/* The sensor noise: the shared generator (tools/sim/sim_rng.h). */
 static sim_rng_t rng = 0x2545F491u;
 static double gauss(void)
 {
@@ -256,6 +257,6 @@ int main(void)
     print_model("best SOPDT by IAE", &m, "(reference value)");
     printf("\nThe time constants are printed larger first (the paper's a1, a2 order varies).\n"
            "'uniform W': the paper's W = 1 on every bin instead of the control band;\n"
-           "see docs/paper-experiment.md.\n");
+           "see docs/reports/paper-experiment.md.\n");
     return 0;
 }

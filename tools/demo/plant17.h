@@ -1,7 +1,7 @@
 /*
  * The paper's test system (17) for the host demo and benchmarks,
  * G(s) = (-0.3s+1)(0.08s+1) / ((2s+1)(s+1)(0.4s+1)(0.2s+1)(0.05s+1)^3),
- * simulated exactly by the shared simulator (tests/support/sim_plant.h).
+ * simulated exactly by the shared simulator (tools/sim/sim_plant.h).
  */
 #ifndef PLANT17_H
 #define PLANT17_H

@@ -2,10 +2,12 @@
 Python integers so that a stream never depends on the numpy version (the
 generated vectors and benchmark records must not change with it).
 
-- Lcg32: 32-bit LCG, Numerical Recipes constants (the vector generators);
-- Lcg64: 64-bit LCG, Knuth's MMIX constants (the demo's noise, the
-  command-line tests' records);
-- SplitMix64 (the identification benchmark).
+- Lcg32: 32-bit LCG, Numerical Recipes constants (the vector generators,
+  and the demo's noise as the paper reproduction regenerates it); the
+  stream of sim_rng_* in tools/sim/sim_rng.h;
+- Lcg64: 64-bit LCG, Knuth's MMIX constants (the command-line tests'
+  records, the monitor report's loops);
+- SplitMix64 (the identification benchmark): the stream of sim_rng64_*.
 """
 import math
 
@@ -29,6 +31,18 @@ class Lcg32:
     def uniform(self):
         """In [0, 1): the state over 2^32."""
         return self.next() / 4294967296.0
+
+    def uniform24(self):
+        """In [0, 1): the top 24 bits (sim_rng_uniform)."""
+        return (self.next() >> 8) / 16777216.0
+
+    def normal12(self):
+        """Approximately standard normal: twelve uniform24 draws, centred
+        (sim_rng_normal)."""
+        total = 0.0
+        for _ in range(12):
+            total += self.uniform24()
+        return total - 6.0
 
     def ints(self, count, shift, offset=0):
         """`count` integers (state >> shift) - offset: the top bits."""

@@ -1,4 +1,4 @@
-"""The figures of docs/paper-reproduction.md, in the manner of the paper's
+"""The figures of docs/reports/paper-reproduction.md, in the manner of the paper's
 Figures 1-9: Bode magnitude and phase within the bandwidth, step-response
 deviations from (17), Nyquist curves; plus the records themselves."""
 import matplotlib

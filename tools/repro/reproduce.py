@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Reproduces Tables 1-3 of Yang and Seested (2013) with the pdtfit library
-and writes docs/paper-reproduction.md with its figures docs/img/repro-*.png.
+and writes docs/reports/paper-reproduction.md with its figures docs/img/repro-*.png.
 
 Usage: python3 tools/repro/reproduce.py
 
@@ -22,12 +22,13 @@ HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 
 from pdtrepro import bootstrap
+from pdtsupport import provenance
 from pdtrepro import system17 as s17
 from pdtrepro.system17 import Model
 
 BUILD = ROOT / "build" / "release"
 BIN = BUILD / "tools" / "pdtfit"
-DOC = ROOT / "docs" / "paper-reproduction.md"
+DOC = ROOT / "docs" / "reports" / "paper-reproduction.md"
 IMG = ROOT / "docs" / "img"
 
 TD_MAX = 5.0  # dead-time bound of every search, s (as the demo)
@@ -244,7 +245,7 @@ def main():
     IMG.mkdir(parents=True, exist_ok=True)
     figs = figures.make_all(IMG, recs, t1, t2, t3, boot)[1:]
     from pdtrepro import document
-    DOC.write_text(document.render(t1, t2, t3, boot, figs, table, merit_table))
+    DOC.write_text(document.render(t1, t2, t3, boot, figs, table, merit_table, provenance.fields()))
     print(f"wrote {DOC.relative_to(ROOT)} and {len(figs)} figures in "
           f"{IMG.relative_to(ROOT)}/")
 

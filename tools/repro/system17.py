@@ -5,20 +5,23 @@ merit every model is judged by.
 
 The records are those of tools/demo/pdt_demo.c: sampled at 20 Hz behind a
 zero-order hold around u0 = 40, y0 = 55, with white Gaussian sensor noise of
-std 0.02 drawn from the demo's 64-bit LCG and Box-Muller transform, one
-stream shared by the records in the order the demo makes them (chirp for
-Table 1, chirp again for Table 2, pulse-1, pulse-2). The demo integrates
-(17) by Runge-Kutta; here the sampled response is exact (scipy's ZOH
-matrix exponential), which agrees with it far below the noise.
+std 0.02 drawn as the demo draws it (the shared generator's 32-bit LCG from
+the demo's seed, twelve uniforms a normal: pdtsupport.rng.Lcg32.normal12,
+sim_rng_normal in tools/sim/sim_rng.h), one stream shared by the records in
+the order the demo makes them (chirp for Table 1, chirp again for Table 2,
+pulse-1, pulse-2). The sampled response is exact here as in the demo (the
+matrix exponential of a zero-order hold: scipy's here, the shared
+simulator's there), so the two agree to rounding.
 """
 import numpy as np
 import scipy.signal as ss
 
-from pdtsupport.rng import Lcg64
+from pdtsupport.rng import Lcg32
 
 FS = 20.0
 TS = 1.0 / FS
 NOISE_STD = 0.02
+DEMO_SEED = 0x2545F491  # the demo's generator state (tools/demo/pdt_demo.c)
 U0, Y0 = 40.0, 55.0
 
 LAGS17 = [2.0, 1.0, 0.4, 0.2, 0.05, 0.05, 0.05]
@@ -89,7 +92,7 @@ def simulate17(ud):
 def records():
     """The demo's four records, in its order: {key: (t, u, y)} with keys
     'chirp' (Table 1), 'chirp-2' (Table 2), 'pulse-1', 'pulse-2'."""
-    rng = Lcg64()  # the demo's noise: its seed, MMIX constants, Box-Muller
+    rng = Lcg32(DEMO_SEED)  # the demo's noise: its seed, twelve uniforms a normal
     out = {}
     for key, exc in (("chirp", "chirp"), ("chirp-2", "chirp"), ("pulse-1", "pulse-1"),
                      ("pulse-2", "pulse-2")):
@@ -97,7 +100,7 @@ def records():
         t = np.arange(n) * TS
         ud = excitation(exc, t)
         yd = simulate17(ud)
-        noise = np.array([rng.gauss() for _ in range(n)])
+        noise = np.array([rng.normal12() for _ in range(n)])
         out[key] = (t, U0 + ud, Y0 + yd + NOISE_STD * noise)
     return out
 

@@ -1,4 +1,4 @@
-"""autotune-sim's faults (tools/cli/loop_sim.c), each against its closed form.
+"""autotune-sim's faults (tools/sim/loop_sim.c), each against its closed form.
 
 Every run writes a trace with the faults' columns (t,u,pv,u_valve,load,y):
 the quantiser's output is the nearest multiple of Q, the drift a ramp of

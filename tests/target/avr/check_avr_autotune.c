@@ -1,7 +1,7 @@
 /*
  * Autotune on the AVR: a FOPDT plant (K = 2, tau = 10 s, Td = 3 s, the
- * Cortex-M4F check's) simulated scan by scan by the test-support simulator
- * (tests/support/sim_plant.h) with sensor noise, tuned by one complete
+ * Cortex-M4F check's) simulated scan by scan by the shared simulator
+ * (tools/sim/sim_plant.h) with sensor noise, tuned by one complete
  * pdt_autotune run: 10 scans of settling, a PRBS of 15 chips held 2
  * scans, a record of AVR_AT_CAPACITY samples at Ts = 1 s, the order fixed
  * to a FOPDT and no validation. What 8 KiB hold beside the 3 KiB autotune

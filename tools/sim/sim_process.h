@@ -1,5 +1,5 @@
 /*
- * pdtfit's models on the test-support simulator: the models the tests
+ * pdtfit's models on the shared simulator: the models the tests
  * write by their parameters, the simulator's description of any of them,
  * and a process as a controller meets it (the simulator around an
  * operating point, read through a sensor with white noise), for the host
