@@ -124,7 +124,7 @@ typedef struct pdt_excite_config {
                               * symmetric about the set-point; it alone is
                               * then the measurement. In [0, 1); 0: always
                               * relay_skip + relay_cycles cycles. Default
-                              * 0.1 (docs/autotune-benchmark.md: median
+                              * 0.1 (docs/reports/autotune-benchmark.md: median
                               * 2.8 T against 7.3 T for 1 + 3 cycles, the
                               * same median accuracy) */
 } pdt_excite_config_t;

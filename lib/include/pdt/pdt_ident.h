@@ -53,7 +53,7 @@ extern "C" {
 
 /* Frequency weighting of FREQUENCY and COMBINED in the identification: the
  * cost's own three (pdt_weight_kind_t), and two the identification
- * resolves itself. docs/equations.md and docs/benchmarks.md give the why. */
+ * resolves itself. docs/equations.md and docs/reports/benchmarks.md give the why. */
 typedef enum pdt_ident_weight {
     PDT_IDENT_WEIGHT_UNIFORM = 0, /* every bin alike (the paper's W = 1) */
     PDT_IDENT_WEIGHT_BAND = 1,    /* the bins in [f_lo, f_hi], Hz */
