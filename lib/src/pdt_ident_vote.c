@@ -338,23 +338,31 @@ static pdt_real_t mean_of(const pdt_real_t *x, size_t n)
 static void autocorr4(const pdt_real_t *x, size_t n, pdt_real_t m, pdt_real_t v, size_t l,
                       pdt_real_t r[4])
 {
-    pdt_real_t s[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
-    /* The products before the four lags share a sample: k < l + 3. */
-    for (size_t i = 0u; i < 3u; i++) {
-        for (size_t k = l + i; k < l + 3u && k < n; k++) {
-            s[i] += (x[k] - m) * (x[k - l - i] - m);
+    /* Four sums in registers (no array indexed at run time). */
+    pdt_real_t s0 = PDT_R(0.0), s1 = PDT_R(0.0), s2 = PDT_R(0.0), s3 = PDT_R(0.0);
+    /* The samples before all four lags have begun: lag l + i from
+     * k = l + i on. */
+    for (size_t k = l; k < l + 3u && k < n; k++) {
+        const pdt_real_t xk = x[k] - m;
+        s0 += xk * (x[k - l] - m);
+        if (k >= l + 1u) {
+            s1 += xk * (x[k - l - 1u] - m);
+        }
+        if (k >= l + 2u) {
+            s2 += xk * (x[k - l - 2u] - m);
         }
     }
     for (size_t k = l + 3u; k < n; k++) {
         const pdt_real_t xk = x[k] - m;
-        s[0] += xk * (x[k - l] - m);
-        s[1] += xk * (x[k - l - 1u] - m);
-        s[2] += xk * (x[k - l - 2u] - m);
-        s[3] += xk * (x[k - l - 3u] - m);
+        s0 += xk * (x[k - l] - m);
+        s1 += xk * (x[k - l - 1u] - m);
+        s2 += xk * (x[k - l - 2u] - m);
+        s3 += xk * (x[k - l - 3u] - m);
     }
-    for (size_t i = 0u; i < 4u; i++) {
-        r[i] = v > PDT_R(0.0) ? s[i] / v : PDT_R(0.0);
-    }
+    r[0] = v > PDT_R(0.0) ? s0 / v : PDT_R(0.0);
+    r[1] = v > PDT_R(0.0) ? s1 / v : PDT_R(0.0);
+    r[2] = v > PDT_R(0.0) ? s2 / v : PDT_R(0.0);
+    r[3] = v > PDT_R(0.0) ? s3 / v : PDT_R(0.0);
 }
 
 static pdt_real_t sum_sq(const pdt_real_t *x, size_t n, pdt_real_t m)
