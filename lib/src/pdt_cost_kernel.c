@@ -74,7 +74,21 @@ static void generic(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t
     }
 }
 
-/* First order, two input taps (every FOPDT): s += b0 u1 + b1 p1 - d0 s. */
+/* First order, two input taps (every FOPDT): s += b0 u1 + b1 p1 - d0 s.
+ * BODY1_STEP is one sample with input ua, tap pa = u(k-2-l) and output
+ * yk; single samples up to a multiple of four, then four a turn, as in
+ * body2: the same operations in the same order, the loop's control
+ * shared. */
+#define BODY1_STEP(ua, pa, yk)                                                                     \
+    do {                                                                                           \
+        ys += (b0 * (ua) + b1 * (pa)) - d0 * ys;                                                   \
+        e = ((yk)-c0) - K0 * ys;                                                                   \
+        s += ys;                                                                                   \
+        ss += ys * ys;                                                                             \
+        ee += e * e;                                                                               \
+        es += e * ys;                                                                              \
+    } while (0)
+
 static void body1(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t jend,
                   const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0, kstate_t *st,
                   pdt_cost_sums_t *t)
@@ -86,17 +100,23 @@ static void body1(const pdt_real_t *ud, const pdt_real_t *yd, size_t j, size_t j
         const pdt_real_t *up = ud + j, *yp = yd + j;
         const pdt_real_t *const uend = ud + stop;
         pdt_real_t s = PDT_R(0.0), ss = PDT_R(0.0), ee = PDT_R(0.0), es = PDT_R(0.0);
-        /* A block is never empty: the pointer test alone ends the loop. */
-        do {
-            pdt_real_t u1 = *up++;
-            ys += (b0 * u1 + b1 * p1) - d0 * ys;
-            p1 = u1;
-            pdt_real_t e = (*yp++ - c0) - K0 * ys;
-            s += ys;
-            ss += ys * ys;
-            ee += e * e;
-            es += e * ys;
-        } while (up != uend);
+        pdt_real_t e;
+        for (size_t r = (stop - j) & 3u; r > 0u; r--) {
+            pdt_real_t ua = *up++;
+            BODY1_STEP(ua, p1, *yp);
+            yp++;
+            p1 = ua;
+        }
+        while (up != uend) {
+            pdt_real_t ua = up[0], ub = up[1], uc = up[2], uq = up[3];
+            up += 4;
+            BODY1_STEP(ua, p1, yp[0]);
+            BODY1_STEP(ub, ua, yp[1]);
+            BODY1_STEP(uc, ub, yp[2]);
+            BODY1_STEP(uq, uc, yp[3]);
+            yp += 4;
+            p1 = uq;
+        }
         add_sums(t, s, ss, ee, es);
         j = stop;
     }

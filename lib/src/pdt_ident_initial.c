@@ -24,8 +24,13 @@
 #define MID_OTHERS   PDT_R(5.0)
 /* Bisection steps of the median: the real type's precision. */
 #define MEDIAN_STEPS ((sizeof(pdt_real_t) > 4u) ? 56u : 28u)
+/* The changes of the median's last bisection steps kept aside. */
+#define MEDIAN_NEAR  32u
 
-/* The median of |e[k+1] - e[k]| over the record, by bisection. */
+/* The median of |e[k+1] - e[k]| over the record, by bisection. Once at
+ * most MEDIAN_NEAR changes lie in the interval (lo, hi], they are copied
+ * aside and the bisection goes on over them, the count at or below lo
+ * added: the same steps, the same answer. */
 static pdt_real_t median_step(const pdt_real_t *e, size_t n)
 {
     pdt_real_t hi = PDT_R(0.0), lo = PDT_R(0.0);
@@ -33,16 +38,44 @@ static pdt_real_t median_step(const pdt_real_t *e, size_t n)
         const pdt_real_t d = pdt_fabs(e[k] - e[k - 1u]);
         hi = d > hi ? d : hi;
     }
+    size_t at_lo = 0u, at_hi = 0u;
+    for (size_t k = 1u; k < n; k++) {
+        const pdt_real_t d = pdt_fabs(e[k] - e[k - 1u]);
+        at_lo += (d <= lo) ? 1u : 0u;
+        at_hi += (d <= hi) ? 1u : 0u;
+    }
+    pdt_real_t near[MEDIAN_NEAR];
+    size_t n_near = 0u, base = 0u; /* base: the count at or below lo then */
+    bool aside = false;
     for (uint32_t i = 0u; i < MEDIAN_STEPS; i++) {
+        if (!aside && at_hi - at_lo <= MEDIAN_NEAR) {
+            for (size_t k = 1u; k < n; k++) {
+                const pdt_real_t d = pdt_fabs(e[k] - e[k - 1u]);
+                if (d > lo && d <= hi && n_near < MEDIAN_NEAR) {
+                    near[n_near] = d;
+                    n_near++;
+                }
+            }
+            base = at_lo;
+            aside = true;
+        }
         const pdt_real_t mid = PDT_R(0.5) * (lo + hi);
-        size_t below = 0u;
-        for (size_t k = 1u; k < n; k++) {
-            below += (pdt_fabs(e[k] - e[k - 1u]) <= mid) ? 1u : 0u;
+        size_t below = base;
+        if (aside) {
+            for (size_t k = 0u; k < n_near; k++) {
+                below += (near[k] <= mid) ? 1u : 0u;
+            }
+        } else {
+            for (size_t k = 1u; k < n; k++) {
+                below += (pdt_fabs(e[k] - e[k - 1u]) <= mid) ? 1u : 0u;
+            }
         }
         if (2u * below >= n - 1u) {
             hi = mid;
+            at_hi = below;
         } else {
             lo = mid;
+            at_lo = below;
         }
     }
     return hi;

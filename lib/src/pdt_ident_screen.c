@@ -41,6 +41,8 @@
 #define MAD_TO_SIGMA  PDT_R(1.4826)
 /* Bisection steps of the median: the real type's precision. */
 #define MEDIAN_STEPS  ((sizeof(pdt_real_t) > 4u) ? 56u : 28u)
+/* The samples of the median's last bisection steps kept aside. */
+#define MEDIAN_NEAR   32u
 
 #define SCREEN_WINDOW (2u * PDT_IDENT_SCREEN_HALF + 1u)
 
@@ -190,36 +192,180 @@ static pdt_real_t window_median(const pdt_real_t *e, const pdt_real_t *ring, con
     return (kept % 2u) != 0u ? w[kept / 2u] : PDT_R(0.5) * (w[kept / 2u - 1u] + w[kept / 2u]);
 }
 
+/* The window of kept samples sorted as window_median sorts it: by
+ * value, equal values in the order of their index. */
+typedef struct {
+    pdt_real_t v[SCREEN_WINDOW];
+    size_t at[SCREEN_WINDOW];
+    size_t kept;
+} sorted_window_t;
+
+static void window_add(sorted_window_t *w, pdt_real_t v, size_t j)
+{
+    size_t p = w->kept;
+    while (p > 0u && w->v[p - 1u] > v) {
+        w->v[p] = w->v[p - 1u];
+        w->at[p] = w->at[p - 1u];
+        p--;
+    }
+    w->v[p] = v;
+    w->at[p] = j;
+    w->kept++;
+}
+
+/* The place of sample j of value v in the window: a bisection in the
+ * order of (value, index). */
+static size_t window_find(const sorted_window_t *w, pdt_real_t v, size_t j)
+{
+    size_t lo = 0u, hi = w->kept;
+    while (lo < hi) {
+        const size_t m = lo + (hi - lo) / 2u;
+        if (w->v[m] < v || (!(v < w->v[m]) && w->at[m] < j)) {
+            lo = m + 1u;
+        } else {
+            hi = m;
+        }
+    }
+    return lo;
+}
+
+static void window_drop(sorted_window_t *w, pdt_real_t v, size_t j)
+{
+    for (size_t p = window_find(w, v, j); p + 1u < w->kept; p++) {
+        w->v[p] = w->v[p + 1u];
+        w->at[p] = w->at[p + 1u];
+    }
+    w->kept--;
+}
+
+/* Sample j of value v in place of the one at p: it has the largest
+ * index, so it goes after the values equal to it. */
+static void window_swap(sorted_window_t *w, size_t at, pdt_real_t v, size_t j)
+{
+    size_t p = at;
+    while (p > 0u && w->v[p - 1u] > v) {
+        w->v[p] = w->v[p - 1u];
+        w->at[p] = w->at[p - 1u];
+        p--;
+    }
+    while (p + 1u < w->kept && !(w->v[p + 1u] > v)) {
+        w->v[p] = w->v[p + 1u];
+        w->at[p] = w->at[p + 1u];
+        p++;
+    }
+    w->v[p] = v;
+    w->at[p] = j;
+}
+
+static pdt_real_t window_mid(const sorted_window_t *w)
+{
+    const size_t m = w->kept;
+    if (m == 0u) {
+        return PDT_R(0.0);
+    }
+    return (m % 2u) != 0u ? w->v[m / 2u] : PDT_R(0.5) * (w->v[m / 2u - 1u] + w->v[m / 2u]);
+}
+
 /* e high-passed in place: e - its running median over the kept samples.
- * O(n W^2 / 4). */
+ * The window slides by one sample at a time, so its sorted values are
+ * kept from one sample to the next: O(n W). Where e is not finite (a
+ * NaN has no place in the order) the median is sorted afresh at each
+ * sample: O(n W^2 / 4). Both give the same medians bit for bit. */
 static void high_pass(pdt_real_t *e, const uint8_t *mask, size_t n)
 {
     pdt_real_t ring[SCREEN_WINDOW];
+    bool finite = true;
     for (size_t k = 0u; k < n; k++) {
-        const pdt_real_t med = window_median(e, ring, mask, n, k);
+        finite = finite && pdt_finite(e[k]);
+    }
+    if (!finite) {
+        for (size_t k = 0u; k < n; k++) {
+            const pdt_real_t med = window_median(e, ring, mask, n, k);
+            ring[k % SCREEN_WINDOW] = e[k];
+            e[k] -= med;
+        }
+        return;
+    }
+    const size_t len = n < SCREEN_WINDOW ? n : SCREEN_WINDOW;
+    sorted_window_t w;
+    w.kept = 0u;
+    for (size_t j = 0u; j < len; j++) {
+        if (!is_out(mask, j)) {
+            window_add(&w, e[j], j);
+        }
+    }
+    size_t s = 0u; /* the window's first sample */
+    for (size_t k = 0u; k < n; k++) {
+        size_t want = k > PDT_IDENT_SCREEN_HALF ? k - PDT_IDENT_SCREEN_HALF : 0u;
+        want = (want + len > n) ? n - len : want;
+        if (want != s) {
+            /* want == s + 1: the first sample leaves (its value is in
+             * ring: e[s] was overwritten), the one after the last
+             * enters. */
+            const pdt_real_t gone = ring[s % SCREEN_WINDOW];
+            const bool drop = !is_out(mask, s), add = !is_out(mask, s + len);
+            if (drop && add) {
+                window_swap(&w, window_find(&w, gone, s), e[s + len], s + len);
+            } else if (drop) {
+                window_drop(&w, gone, s);
+            } else if (add) {
+                window_add(&w, e[s + len], s + len);
+            } else {
+                /* neither is kept: the window's values stay */
+            }
+            s = want;
+        }
         ring[k % SCREEN_WINDOW] = e[k];
-        e[k] -= med;
+        e[k] -= window_mid(&w);
     }
 }
 
-/* The median of |h| over the kept samples, by bisection of [0, top]. */
+/* The median of |h| over the kept samples, by bisection of [0, top].
+ * Once at most MEDIAN_NEAR samples lie in the interval (lo, hi], they
+ * are copied aside and the bisection goes on over them, the count at or
+ * below lo added: the same steps, the same answer. */
 static pdt_real_t median_abs(const pdt_real_t *h, const uint8_t *m, size_t n, pdt_real_t top)
 {
-    size_t kept = 0u;
+    size_t kept = 0u, at_lo = 0u, at_hi = 0u;
     for (size_t k = 0u; k < n; k++) {
-        kept += is_out(m, k) ? 0u : 1u;
+        const bool in = !is_out(m, k);
+        kept += in ? 1u : 0u;
+        at_lo += (in && pdt_fabs(h[k]) <= PDT_R(0.0)) ? 1u : 0u;
+        at_hi += (in && pdt_fabs(h[k]) <= top) ? 1u : 0u;
     }
+    pdt_real_t near[MEDIAN_NEAR];
+    size_t n_near = 0u, base = 0u; /* base: the count at or below lo then */
+    bool aside = false;
     pdt_real_t lo = PDT_R(0.0), hi = top;
     for (uint32_t i = 0u; i < MEDIAN_STEPS; i++) {
+        if (!aside && at_hi - at_lo <= MEDIAN_NEAR) {
+            for (size_t k = 0u; k < n; k++) {
+                const pdt_real_t a = pdt_fabs(h[k]);
+                if (!is_out(m, k) && a > lo && a <= hi && n_near < MEDIAN_NEAR) {
+                    near[n_near] = a;
+                    n_near++;
+                }
+            }
+            base = at_lo;
+            aside = true;
+        }
         const pdt_real_t mid = PDT_R(0.5) * (lo + hi);
-        size_t below = 0u;
-        for (size_t k = 0u; k < n; k++) {
-            below += (!is_out(m, k) && pdt_fabs(h[k]) <= mid) ? 1u : 0u;
+        size_t below = base;
+        if (aside) {
+            for (size_t k = 0u; k < n_near; k++) {
+                below += (near[k] <= mid) ? 1u : 0u;
+            }
+        } else {
+            for (size_t k = 0u; k < n; k++) {
+                below += (!is_out(m, k) && pdt_fabs(h[k]) <= mid) ? 1u : 0u;
+            }
         }
         if (2u * below >= kept) {
             hi = mid;
+            at_hi = below;
         } else {
             lo = mid;
+            at_lo = below;
         }
     }
     return hi;

@@ -332,14 +332,37 @@ static pdt_real_t mean_of(const pdt_real_t *x, size_t n)
     return s / (pdt_real_t)n + x[0];
 }
 
-/* The autocorrelation of x (mean m) at lag l, over its variance v. */
-static pdt_real_t autocorr(const pdt_real_t *x, size_t n, pdt_real_t m, pdt_real_t v, size_t l)
+/* The autocorrelations of x (mean m) at lags l .. l + 3, over its
+ * variance v, into r (0 where v is not positive). One pass serves the
+ * four lags; each lag's products are still summed in the order of k. */
+static void autocorr4(const pdt_real_t *x, size_t n, pdt_real_t m, pdt_real_t v, size_t l,
+                      pdt_real_t r[4])
 {
-    pdt_real_t s = PDT_R(0.0);
-    for (size_t k = l; k < n; k++) {
-        s += (x[k] - m) * (x[k - l] - m);
+    /* Four sums in registers (no array indexed at run time). */
+    pdt_real_t s0 = PDT_R(0.0), s1 = PDT_R(0.0), s2 = PDT_R(0.0), s3 = PDT_R(0.0);
+    /* The samples before all four lags have begun: lag l + i from
+     * k = l + i on. */
+    for (size_t k = l; k < l + 3u && k < n; k++) {
+        const pdt_real_t xk = x[k] - m;
+        s0 += xk * (x[k - l] - m);
+        if (k >= l + 1u) {
+            s1 += xk * (x[k - l - 1u] - m);
+        }
+        if (k >= l + 2u) {
+            s2 += xk * (x[k - l - 2u] - m);
+        }
     }
-    return v > PDT_R(0.0) ? s / v : PDT_R(0.0);
+    for (size_t k = l + 3u; k < n; k++) {
+        const pdt_real_t xk = x[k] - m;
+        s0 += xk * (x[k - l] - m);
+        s1 += xk * (x[k - l - 1u] - m);
+        s2 += xk * (x[k - l - 2u] - m);
+        s3 += xk * (x[k - l - 3u] - m);
+    }
+    r[0] = v > PDT_R(0.0) ? s0 / v : PDT_R(0.0);
+    r[1] = v > PDT_R(0.0) ? s1 / v : PDT_R(0.0);
+    r[2] = v > PDT_R(0.0) ? s2 / v : PDT_R(0.0);
+    r[3] = v > PDT_R(0.0) ? s3 / v : PDT_R(0.0);
 }
 
 static pdt_real_t sum_sq(const pdt_real_t *x, size_t n, pdt_real_t m)
@@ -372,8 +395,13 @@ static pdt_real_t evidence_of(const pdt_real_t *x, const pdt_real_t *y, size_t n
         return PDT_REAL_MAX;
     }
     pdt_real_t c = PDT_R(1.0);
-    for (size_t l = 1u; l <= EVIDENCE_LAGS && l < n; l++) {
-        c += PDT_R(2.0) * autocorr(x, n, mx, vx, l) * autocorr(y, n, my, ss0, l);
+    for (size_t l = 1u; l <= EVIDENCE_LAGS && l < n; l += 4u) {
+        pdt_real_t rx[4], ry[4];
+        autocorr4(x, n, mx, vx, l, rx);
+        autocorr4(y, n, my, ss0, l, ry);
+        for (size_t i = 0u; i < 4u && l + i <= EVIDENCE_LAGS && l + i < n; i++) {
+            c += PDT_R(2.0) * rx[i] * ry[i];
+        }
     }
     c = c > PDT_R(1.0) ? c : PDT_R(1.0);
     return (pdt_real_t)n / c * (pdt_log(ss0) - pdt_log(sse));

@@ -77,8 +77,8 @@ def cm4_counts(tree, defs, work):
     subprocess.run(["arm-none-eabi-gcc", *CM4, "-Os", "-std=c99", *defs, *includes(tree),
                     "-I" + str(port), *sources(tree), str(port / "startup_mps2_an386.c"),
                     str(port / "pdt_port_cm4.c"), str(PROGRAM), "-T" + str(port / "mps2_an386.ld"),
-                    "-L" + str(port), "-nostartfiles", "--specs=nano.specs", "-Wl,--gc-sections", "-lm",
-                    "-o", str(elf)], check=True)
+                    "-L" + str(port), "-nostartfiles", "--specs=nano.specs", "-Wl,--gc-sections",
+                    "-lm", "-o", str(elf)], check=True)
     run = subprocess.run([*QEMU, str(elf)], capture_output=True, text=True, timeout=600)
     text = run.stdout + run.stderr
     return {name: ticks * 40 / (n * reps) for name, (n, reps, ticks) in parse_cases(text).items()}
