@@ -20,7 +20,7 @@ static const char *const uncertainty_names[] = {"auto", "fisher", "bootstrap", N
 /* --offset: in pdt_ident_offset_t's order. */
 static const char *const offset_names[] = {"auto", "estimate", "rest", NULL};
 /* --initial: in pdt_ident_initial_t's order. */
-static const char *const initial_names[] = {"auto", "rest", NULL};
+static const char *const initial_names[] = {"auto", "rest", "estimate", NULL};
 
 #define GA CLI_GA_ONLY
 
@@ -58,6 +58,7 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--fs", OPT_REAL, &a->fs, &a->have_fs, CHK_GT0, 0, 0, NULL, "a sampling frequency > 0 Hz",
          0},
         {"--integer-delay", OPT_FLAG, &a->integer_delay, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--drift", OPT_FLAG, &a->drift, NULL, 0, 0, 0, NULL, NULL, GA},
         {"--t", OPT_TEXT, &a->t_col, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--u", OPT_TEXT, &a->u_col, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--y", OPT_TEXT, &a->y_col, NULL, 0, 0, 0, NULL, NULL, 0},
@@ -121,6 +122,9 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
     if (!a->have_model) cli_fail(EXIT_USAGE, "identify: --model fopdt|sopdt|auto is required");
     if (a->model == MODEL_AUTO && a->have_u_before)
         cli_fail(EXIT_USAGE, "identify: --u-before goes with --model fopdt or sopdt");
+    if ((a->drift || a->initial == PDT_IDENT_INITIAL_ESTIMATE) &&
+        (pdt_cost_kind_t)a->cost != PDT_COST_SIMULATION)
+        cli_fail(EXIT_USAGE, "identify: --initial estimate and --drift need --cost simulation");
     if (a->model == MODEL_AUTO && a->method != METHOD_GA)
         cli_fail(EXIT_USAGE, "identify: --model auto needs --method ga");
     const int band = a->have_weight && weight_kinds[a->weight] == PDT_IDENT_WEIGHT_BAND;
@@ -321,6 +325,7 @@ static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
     if (a->have_phi_t) cfg->phi_t = (pdt_real_t)a->phi_t;
     if (a->have_phi_f) cfg->phi_f = (pdt_real_t)a->phi_f;
     cfg->initial = (pdt_ident_initial_t)a->initial;
+    cfg->drift = a->drift != 0;
     cfg->u_before_given = a->have_u_before != 0;
     cfg->u_before = (pdt_real_t)a->u_before;
 }

@@ -13,7 +13,7 @@ enum { UNC_AUTO, UNC_FISHER, UNC_BOOTSTRAP };
 
 typedef struct ident_args {
     int model, method, cost, weight, offset, initial, integer_delay, time_unit, resample;
-    int bad_rows, force;
+    int bad_rows, force, drift;
     cli_list_t bad_values;
     int units_row;      /* --units-row */
     int uncertainty;    /* --uncertainty: UNC_AUTO, UNC_FISHER, UNC_BOOTSTRAP */
