@@ -1274,10 +1274,6 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     sim_fit_t f;
     size_t k0 = 0u;
 
-    if (pdt_cost_extra_on(c)) {
-        extra_profile(c, d, gain_min, gain_max, scratch, out);
-        return;
-    }
     if (need_time) {
         if (pred) {
             pred_summary(c, d, scratch, &smean, &emean, &at, &kt);
@@ -1407,6 +1403,10 @@ pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape
     if (st != PDT_OK) {
         return st;
     }
+    if (pdt_cost_extra_on(c)) {
+        extra_profile(c, &d, gain_min, gain_max, scratch, out);
+        return PDT_OK;
+    }
     if (sim_time(c)) {
         sim_reference(c, d.order, hint, &K0, &c0);
     }
@@ -1448,7 +1448,11 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
     }
     for (i = 0; i < count; i++) {
         pdt_real_t k0i = K0, c0i = c0;
-        if (sim_time(c) && !shared && !pdt_cost_extra_on(c)) {
+        if (pdt_cost_extra_on(c)) {
+            extra_profile(c, &d[i], gain_min[i], gain_max[i], scratch, &out[i]);
+            continue;
+        }
+        if (sim_time(c) && !shared) {
             sim_reference(c, d[i].order, hint, &k0i, &c0i);
         }
         profile_run(c, &shapes[i], &d[i], gain_min[i], gain_max[i], k0i, c0i, hint_ncost(hint),

@@ -91,18 +91,22 @@ static void basis_next(const pdt_discrete_t *d, basis_t *b)
 /* The columns c fits for order, as logical indices; returns the count. */
 static uint32_t columns_of(const pdt_cost_t *c, uint8_t order, uint32_t *col)
 {
-    uint32_t p = 0u;
-    col[p++] = COL_GAIN;
+    uint32_t p = 1u;
+    col[0] = COL_GAIN;
     if (c->cfg.estimate_offset) {
-        col[p++] = COL_OFFSET;
+        col[p] = COL_OFFSET;
+        p++;
     }
     if (c->cfg.drift) {
-        col[p++] = COL_DRIFT;
+        col[p] = COL_DRIFT;
+        p++;
     }
     if (c->cfg.estimate_state) {
-        col[p++] = COL_STATE;
+        col[p] = COL_STATE;
+        p++;
         if (order == 2u) {
-            col[p++] = COL_STATE + 1u;
+            col[p] = COL_STATE + 1u;
+            p++;
         }
     }
     return p;
@@ -130,38 +134,43 @@ static void regressors(const uint32_t *col, uint32_t p, pdt_real_t s, pdt_real_t
     }
 }
 
+/* Packed lower triangles: element (i, j), j <= i, at TRI(i) + j. */
+#define TRI(i)  (((i) * ((i) + 1u)) / 2u)
+#define TRI_LEN TRI(COLS)
+
 /* The normal equations (lower triangle) and the right-hand side. */
 typedef struct normal {
-    pdt_real_t g[COLS][COLS];
+    pdt_real_t g[TRI_LEN];
     pdt_real_t h[COLS];
 } normal_t;
 
 static void normal_zero(normal_t *e)
 {
+    for (uint32_t i = 0u; i < TRI_LEN; i++) {
+        e->g[i] = PDT_R(0.0);
+    }
     for (uint32_t i = 0u; i < COLS; i++) {
         e->h[i] = PDT_R(0.0);
-        for (uint32_t j = 0u; j < COLS; j++) {
-            e->g[i][j] = PDT_R(0.0);
-        }
     }
 }
 
 static void normal_add(normal_t *tot, normal_t *blk, uint32_t p)
 {
+    for (uint32_t i = 0u; i < TRI(p); i++) {
+        tot->g[i] += blk->g[i];
+        blk->g[i] = PDT_R(0.0);
+    }
     for (uint32_t i = 0u; i < p; i++) {
         tot->h[i] += blk->h[i];
         blk->h[i] = PDT_R(0.0);
-        for (uint32_t j = 0u; j <= i; j++) {
-            tot->g[i][j] += blk->g[i][j];
-            blk->g[i][j] = PDT_R(0.0);
-        }
     }
 }
 
 /* The time regressor of sample k. */
 static pdt_real_t time_of(size_t k, size_t n)
 {
-    return ((pdt_real_t)k - PDT_R(0.5) * (pdt_real_t)(n - 1u)) / (pdt_real_t)n;
+    const pdt_real_t nr = (pdt_real_t)n;
+    return ((pdt_real_t)k - PDT_R(0.5) * (nr - PDT_R(1.0))) / nr;
 }
 
 static size_t first_of(const pdt_cost_t *c, uint8_t order)
@@ -190,7 +199,7 @@ static void accumulate(const pdt_cost_t *c, const pdt_discrete_t *d, const uint3
             for (uint32_t i = 0u; i < p; i++) {
                 blk.h[i] += x[i] * c->y[k];
                 for (uint32_t j = 0u; j <= i; j++) {
-                    blk.g[i][j] += x[i] * x[j];
+                    blk.g[TRI(i) + j] += x[i] * x[j];
                 }
             }
             if (++fill == BLOCK) {
@@ -209,10 +218,10 @@ static void accumulate(const pdt_cost_t *c, const pdt_discrete_t *d, const uint3
 static uint32_t solve(const normal_t *e, uint32_t p, const pdt_real_t *fixed, uint32_t held,
                       pdt_real_t *th)
 {
-    pdt_real_t sc[COLS], L[COLS][COLS], z[COLS];
+    pdt_real_t sc[COLS], L[TRI_LEN], z[COLS];
     uint32_t out = held;
     for (uint32_t i = 0u; i < p; i++) {
-        const pdt_real_t gi = e->g[i][i];
+        const pdt_real_t gi = e->g[TRI(i) + i];
         sc[i] = (gi > PDT_R(0.0) && pdt_finite(gi)) ? PDT_R(1.0) / pdt_sqrt(gi) : PDT_R(0.0);
         out |= (sc[i] > PDT_R(0.0)) ? 0u : (1u << i);
         th[i] = PDT_R(0.0);
@@ -225,21 +234,21 @@ static uint32_t solve(const normal_t *e, uint32_t p, const pdt_real_t *fixed, ui
         if ((out & (1u << j)) != 0u) {
             continue;
         }
-        pdt_real_t piv = e->g[j][j] * sc[j] * sc[j];
+        pdt_real_t piv = e->g[TRI(j) + j] * sc[j] * sc[j];
         for (uint32_t k = 0u; k < j; k++) {
-            piv -= ((out & (1u << k)) != 0u) ? PDT_R(0.0) : L[j][k] * L[j][k];
+            piv -= ((out & (1u << k)) != 0u) ? PDT_R(0.0) : L[TRI(j) + k] * L[TRI(j) + k];
         }
         if (!(piv > PIVOT_MIN)) {
             out |= 1u << j;
             continue;
         }
-        L[j][j] = pdt_sqrt(piv);
+        L[TRI(j) + j] = pdt_sqrt(piv);
         for (uint32_t i = j + 1u; i < p; i++) {
-            pdt_real_t v = e->g[i][j] * sc[i] * sc[j];
+            pdt_real_t v = e->g[TRI(i) + j] * sc[i] * sc[j];
             for (uint32_t k = 0u; k < j; k++) {
-                v -= ((out & (1u << k)) != 0u) ? PDT_R(0.0) : L[i][k] * L[j][k];
+                v -= ((out & (1u << k)) != 0u) ? PDT_R(0.0) : L[TRI(i) + k] * L[TRI(j) + k];
             }
-            L[i][j] = v / L[j][j];
+            L[TRI(i) + j] = v / L[TRI(j) + j];
         }
     }
     for (uint32_t j = 0u; j < p; j++) {
@@ -250,14 +259,14 @@ static uint32_t solve(const normal_t *e, uint32_t p, const pdt_real_t *fixed, ui
         /* The right-hand side less the held columns' part. */
         pdt_real_t v = e->h[j];
         for (uint32_t k = 0u; k < p; k++) {
-            const pdt_real_t gjk = (k <= j) ? e->g[j][k] : e->g[k][j];
+            const pdt_real_t gjk = (k <= j) ? e->g[TRI(j) + k] : e->g[TRI(k) + j];
             v -= ((out & (1u << k)) != 0u) ? gjk * th[k] : PDT_R(0.0);
         }
         v *= sc[j];
         for (uint32_t k = 0u; k < j; k++) {
-            v -= ((out & (1u << k)) != 0u) ? PDT_R(0.0) : L[j][k] * z[k];
+            v -= ((out & (1u << k)) != 0u) ? PDT_R(0.0) : L[TRI(j) + k] * z[k];
         }
-        z[j] = v / L[j][j];
+        z[j] = v / L[TRI(j) + j];
     }
     for (uint32_t jj = p; jj > 0u; jj--) {
         const uint32_t j = jj - 1u;
@@ -266,9 +275,9 @@ static uint32_t solve(const normal_t *e, uint32_t p, const pdt_real_t *fixed, ui
         }
         pdt_real_t v = z[j];
         for (uint32_t i = j + 1u; i < p; i++) {
-            v -= ((out & (1u << i)) != 0u) ? PDT_R(0.0) : L[i][j] * z[i];
+            v -= ((out & (1u << i)) != 0u) ? PDT_R(0.0) : L[TRI(i) + j] * z[i];
         }
-        z[j] = v / L[j][j];
+        z[j] = v / L[TRI(j) + j];
         th[j] = z[j] * sc[j];
     }
     if (fixed != NULL) {

@@ -191,4 +191,3 @@ bool pdt_ident_state_refit(pdt_ident_t *c)
     }
     return true;
 }
-

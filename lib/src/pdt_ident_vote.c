@@ -279,15 +279,14 @@ void pdt_ident_finish(pdt_ident_t *c)
 typedef char std_fits_fisher[(PDT_IDENT_MAX_PARAMS == PDT_FISHER_MAX) ? 1 : -1];
 
 /* pdt_ident_uncertainty, with the residual's sum of squares and its
- * autocorrelation's inflation (pdt_fisher_inflation) into *fs_out.
- * nuisance: parameters fitted beside the model's (the free response, the
- * drift; docs/field-data.md): the covariance is conditional on them at
- * their estimates, the residual's variance is sse_extra (the residual
- * with them) over n less them too. */
+ * autocorrelation's inflation (pdt_fisher_inflation) into *fs_out. With
+ * the answer of ctx (not NULL) and parameters fitted beside the model's
+ * (the free response, the drift; docs/field-data.md), the covariance is
+ * conditional on them at their estimates, and the residual's variance is
+ * that of the residual with them over n less them too. */
 static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
-                                pdt_real_t y0, const pdt_real_t *u0, uint32_t nuisance,
-                                pdt_real_t sse_extra, pdt_ident_std_t *out,
-                                pdt_fisher_sums_t *fs_out)
+                                pdt_real_t y0, const pdt_real_t *u0, const pdt_ident_t *ctx,
+                                pdt_ident_std_t *out, pdt_fisher_sums_t *fs_out)
 {
     if (m == NULL || data == NULL || data->u == NULL || data->y == NULL || out == NULL ||
         pdt_model_check(m) != PDT_OK || !pdt_finite(Ts) || !(Ts > PDT_R(0.0)) || !pdt_finite(y0)) {
@@ -315,9 +314,10 @@ static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *da
     pdt_ident_std_t r = {0};
     r.count = fs_out->np;
     size_t dof_n = data->n;
-    if (nuisance > 0u && data->n > (size_t)nuisance + (size_t)fs_out->np) {
-        fs_out->sse = sse_extra;
-        dof_n -= nuisance;
+    const uint32_t nu = (ctx != NULL) ? pdt_ident_nuisance(ctx) : 0u;
+    if (nu > 0u && data->n > (size_t)nu + (size_t)fs_out->np) {
+        fs_out->sse = ctx->extra[3];
+        dof_n -= nu;
     }
     pdt_fisher_covariance(F, fs_out->np, dof_n, fs_out->sse, pdt_fisher_inflation(fs_out), r.std,
                           r.cov);
@@ -329,7 +329,7 @@ pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t 
                                    pdt_real_t Ts, pdt_real_t y0, pdt_ident_std_t *out)
 {
     pdt_fisher_sums_t fs;
-    return uncertainty(m, data, Ts, y0, NULL, 0u, PDT_R(0.0), out, &fs);
+    return uncertainty(m, data, Ts, y0, NULL, NULL, out, &fs);
 }
 
 /* The mean of x[0..n-1] (about x[0], so that a large level does not
@@ -425,8 +425,8 @@ void pdt_ident_std(pdt_ident_t *c)
 {
     pdt_fisher_sums_t fs;
     c->std = (pdt_ident_std_t){0};
-    if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, pdt_ident_nuisance(c),
-                    c->extra[3], &c->std, &fs) == PDT_OK) {
+    if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, c, &c->std, &fs) ==
+        PDT_OK) {
         evidence(c, &fs);
     } else {
         c->evidence = PDT_R(0.0);
