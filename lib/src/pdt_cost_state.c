@@ -75,63 +75,43 @@ static void basis_start(basis_t *b)
 }
 
 /* From sample k to k + 1, by A(q)'s recursion without input. */
-static void basis_next(const pdt_discrete_t *d, basis_t *b)
+static inline void basis_next(const pdt_discrete_t *d, basis_t *b)
 {
+    if (d->order == 1u) {
+        b->y[0] -= d->d[0] * b->y[0];
+        return;
+    }
     for (uint32_t j = 0u; j < 2u; j++) {
-        if (d->order == 1u) {
-            b->y[j] -= d->d[0] * b->y[j];
-        } else {
-            const pdt_real_t y2 = b->y[j] - b->dy[j];
-            b->dy[j] += -d->d[0] * b->dy[j] - d->d[1] * y2;
-            b->y[j] += b->dy[j];
-        }
+        const pdt_real_t y2 = b->y[j] - b->dy[j];
+        b->dy[j] += -d->d[0] * b->dy[j] - d->d[1] * y2;
+        b->y[j] += b->dy[j];
     }
 }
 
-/* The columns c fits for order, as logical indices; returns the count. */
-static uint32_t columns_of(const pdt_cost_t *c, uint8_t order, uint32_t *col)
+/* Which columns c fits, as multipliers of their regressors (1 or 0): a
+ * column not fitted is all zeros, which the solve holds at 0. */
+typedef struct on {
+    pdt_real_t offset, drift, state[2];
+} on_t;
+
+static on_t columns_of(const pdt_cost_t *c, uint8_t order)
 {
-    uint32_t p = 1u;
-    col[0] = COL_GAIN;
-    if (c->cfg.estimate_offset) {
-        col[p] = COL_OFFSET;
-        p++;
-    }
-    if (c->cfg.drift) {
-        col[p] = COL_DRIFT;
-        p++;
-    }
-    if (c->cfg.estimate_state) {
-        col[p] = COL_STATE;
-        p++;
-        if (order == 2u) {
-            col[p] = COL_STATE + 1u;
-            p++;
-        }
-    }
-    return p;
+    const pdt_real_t st = c->cfg.estimate_state ? PDT_R(1.0) : PDT_R(0.0);
+    const on_t r = {c->cfg.estimate_offset ? PDT_R(1.0) : PDT_R(0.0),
+                    c->cfg.drift ? PDT_R(1.0) : PDT_R(0.0),
+                    {st, (order == 2u) ? st : PDT_R(0.0)}};
+    return r;
 }
 
-/* The regressors of sample k in the order of col. */
-static void regressors(const uint32_t *col, uint32_t p, pdt_real_t s, pdt_real_t t,
-                       const basis_t *b, pdt_real_t *x)
+/* The regressors of one sample: gain, offset, drift, the two states. */
+static inline void regressors(const on_t *on, pdt_real_t s, pdt_real_t t, const basis_t *b,
+                              pdt_real_t *x)
 {
-    for (uint32_t i = 0u; i < p; i++) {
-        switch (col[i]) {
-        case COL_GAIN:
-            x[i] = s;
-            break;
-        case COL_OFFSET:
-            x[i] = PDT_R(1.0);
-            break;
-        case COL_DRIFT:
-            x[i] = t;
-            break;
-        default:
-            x[i] = b->y[col[i] - COL_STATE];
-            break;
-        }
-    }
+    x[COL_GAIN] = s;
+    x[COL_OFFSET] = on->offset;
+    x[COL_DRIFT] = on->drift * t;
+    x[COL_STATE] = on->state[0] * b->y[0];
+    x[COL_STATE + 1u] = on->state[1] * b->y[1];
 }
 
 /* Packed lower triangles: element (i, j), j <= i, at TRI(i) + j. */
@@ -154,13 +134,13 @@ static void normal_zero(normal_t *e)
     }
 }
 
-static void normal_add(normal_t *tot, normal_t *blk, uint32_t p)
+static void normal_add(normal_t *tot, normal_t *blk)
 {
-    for (uint32_t i = 0u; i < TRI(p); i++) {
+    for (uint32_t i = 0u; i < TRI_LEN; i++) {
         tot->g[i] += blk->g[i];
         blk->g[i] = PDT_R(0.0);
     }
-    for (uint32_t i = 0u; i < p; i++) {
+    for (uint32_t i = 0u; i < COLS; i++) {
         tot->h[i] += blk->h[i];
         blk->h[i] = PDT_R(0.0);
     }
@@ -178,11 +158,40 @@ static size_t first_of(const pdt_cost_t *c, uint8_t order)
     return c->cfg.whole_record ? 0u : c->cfg.delay_max + order;
 }
 
+/* One sample's part of the normal equations, written out (COLS = 5). */
+static inline void add_outer(normal_t *e, const pdt_real_t *x, pdt_real_t y)
+{
+    pdt_real_t *g = e->g;
+    g[0] += x[0] * x[0];
+    g[1] += x[1] * x[0];
+    g[2] += x[1] * x[1];
+    g[3] += x[2] * x[0];
+    g[4] += x[2] * x[1];
+    g[5] += x[2] * x[2];
+    g[6] += x[3] * x[0];
+    g[7] += x[3] * x[1];
+    g[8] += x[3] * x[2];
+    g[9] += x[3] * x[3];
+    g[10] += x[4] * x[0];
+    g[11] += x[4] * x[1];
+    g[12] += x[4] * x[2];
+    g[13] += x[4] * x[3];
+    g[14] += x[4] * x[4];
+    e->h[0] += x[0] * y;
+    e->h[1] += x[1] * y;
+    e->h[2] += x[2] * y;
+    e->h[3] += x[3] * y;
+    e->h[4] += x[4] * y;
+}
+
 /* Pass 1: the simulation into scratch and the normal equations. */
-static void accumulate(const pdt_cost_t *c, const pdt_discrete_t *d, const uint32_t *col,
-                       uint32_t p, pdt_real_t *scratch, normal_t *tot)
+static void accumulate(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *scratch,
+                       normal_t *tot)
 {
     const size_t n = c->n, k0 = first_of(c, d->order);
+    const on_t on = columns_of(c, d->order);
+    const pdt_real_t half = PDT_R(0.5) * ((pdt_real_t)n - PDT_R(1.0));
+    const pdt_real_t inv_n = PDT_R(1.0) / (pdt_real_t)n;
     pdt_discrete_state_t st = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     normal_t blk;
     basis_t b;
@@ -195,21 +204,16 @@ static void accumulate(const pdt_cost_t *c, const pdt_discrete_t *d, const uint3
         const pdt_real_t s = pdt_discrete_step(d, &st, c->u, PDT_R(0.0), k);
         scratch[k] = s;
         if (k >= k0) {
-            regressors(col, p, s, time_of(k, n), &b, x);
-            for (uint32_t i = 0u; i < p; i++) {
-                blk.h[i] += x[i] * c->y[k];
-                for (uint32_t j = 0u; j <= i; j++) {
-                    blk.g[TRI(i) + j] += x[i] * x[j];
-                }
-            }
+            regressors(&on, s, ((pdt_real_t)k - half) * inv_n, &b, x);
+            add_outer(&blk, x, c->y[k]);
             if (++fill == BLOCK) {
-                normal_add(tot, &blk, p);
+                normal_add(tot, &blk);
                 fill = 0u;
             }
         }
         basis_next(d, &b);
     }
-    normal_add(tot, &blk, p);
+    normal_add(tot, &blk);
 }
 
 /* Solves the normal equations for th[0..p-1], column 0 held at *fixed
@@ -287,21 +291,22 @@ static uint32_t solve(const normal_t *e, uint32_t p, const pdt_real_t *fixed, ui
 }
 
 /* Pass 2: the residual's sum of squares at th. */
-static pdt_real_t residual_ss(const pdt_cost_t *c, const pdt_discrete_t *d, const uint32_t *col,
-                              uint32_t p, const pdt_real_t *scratch, const pdt_real_t *th)
+static pdt_real_t residual_ss(const pdt_cost_t *c, const pdt_discrete_t *d,
+                              const pdt_real_t *scratch, const pdt_real_t *th)
 {
     const size_t n = c->n, k0 = first_of(c, d->order);
+    const on_t on = columns_of(c, d->order);
+    const pdt_real_t half = PDT_R(0.5) * ((pdt_real_t)n - PDT_R(1.0));
+    const pdt_real_t inv_n = PDT_R(1.0) / (pdt_real_t)n;
     pdt_real_t x[COLS], tot = PDT_R(0.0), blk = PDT_R(0.0);
     uint32_t fill = 0u;
     basis_t b;
     basis_start(&b);
     for (size_t k = 0u; k < n; k++) {
         if (k >= k0) {
-            regressors(col, p, scratch[k], time_of(k, n), &b, x);
-            pdt_real_t e = c->y[k];
-            for (uint32_t i = 0u; i < p; i++) {
-                e -= th[i] * x[i];
-            }
+            regressors(&on, scratch[k], ((pdt_real_t)k - half) * inv_n, &b, x);
+            const pdt_real_t e = c->y[k] - (th[0] * x[0] + th[1] * x[1] + th[2] * x[2] +
+                                            th[3] * x[3] + th[4] * x[4]);
             blk += e * e;
             if (++fill == BLOCK) {
                 tot += blk;
@@ -317,32 +322,19 @@ static pdt_real_t residual_ss(const pdt_cost_t *c, const pdt_discrete_t *d, cons
 void pdt_cost_extra_solve(const pdt_cost_t *c, const pdt_discrete_t *d, bool bounded, pdt_real_t lo,
                           pdt_real_t hi, pdt_real_t *scratch, pdt_cost_extra_t *out)
 {
-    uint32_t col[COLS];
     pdt_real_t th[COLS];
     normal_t e;
-    const uint32_t p = columns_of(c, d->order, col);
-    accumulate(c, d, col, p, scratch, &e);
-    uint32_t held = solve(&e, p, NULL, 0u, th);
-    if (bounded && !(th[0] >= lo && th[0] <= hi)) {
-        const pdt_real_t K = (th[0] < lo || th[0] != th[0]) ? lo : hi;
-        held = solve(&e, p, &K, 0u, th);
+    accumulate(c, d, scratch, &e);
+    uint32_t held = solve(&e, COLS, NULL, 0u, th);
+    if (bounded && !(th[COL_GAIN] >= lo && th[COL_GAIN] <= hi)) {
+        const pdt_real_t K = (th[COL_GAIN] < lo || th[COL_GAIN] != th[COL_GAIN]) ? lo : hi;
+        held = solve(&e, COLS, &K, 0u, th);
     }
     const size_t m = c->n - first_of(c, d->order);
-    pdt_cost_extra_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), {PDT_R(0.0), PDT_R(0.0)},
-                          PDT_R(0.0), 0u};
-    for (uint32_t i = 0u; i < p; i++) {
-        r.dropped |= ((held & (1u << i)) != 0u) ? (1u << col[i]) : 0u;
-        if (col[i] == COL_GAIN) {
-            r.gain = th[i];
-        } else if (col[i] == COL_OFFSET) {
-            r.offset = th[i];
-        } else if (col[i] == COL_DRIFT) {
-            r.drift = th[i];
-        } else {
-            r.state[col[i] - COL_STATE] = th[i];
-        }
-    }
-    r.ncost = residual_ss(c, d, col, p, scratch, th) / (pdt_real_t)m;
+    pdt_cost_extra_t r = {PDT_R(0.0),     th[COL_GAIN],
+                          th[COL_OFFSET], {th[COL_STATE], th[COL_STATE + 1u]},
+                          th[COL_DRIFT],  held};
+    r.ncost = residual_ss(c, d, scratch, th) / (pdt_real_t)m;
     bool ok = pdt_finite(r.ncost) && pdt_finite(r.gain) && pdt_finite(r.offset) &&
               pdt_finite(r.drift) && pdt_finite(r.state[0]) && pdt_finite(r.state[1]);
     if (!ok) {
