@@ -683,9 +683,12 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         c->hi[j] = ghi[j];
     }
     c->td_offset = td_offset(&cfg_in, &b);
-    /* With the state estimated the record's start is no rest window. */
-    c->rest =
-        (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE) ? 0u : rest_usable(&cfg_in, &c->data, quiet);
+    /* With the state estimated the record's start is no rest window; with
+     * a drift the offset is the level at the record's middle, not the rest
+     * window's. */
+    c->rest = (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift)
+                  ? 0u
+                  : rest_usable(&cfg_in, &c->data, quiet);
     begin_search(c, &cc);
     return PDT_OK;
 }

@@ -388,6 +388,7 @@ static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind
         double *ysim = malloc(n * sizeof *ysim);
         if (!ysim) cli_fail(EXIT_REFUSED, "out of memory");
         ident_simulate(&res->model, d->s.Ts, d, res->u0, res->y0, ysim);
+        ident_add_state(res, d->s.Ts, n, ysim);
         for (size_t k = 0; k < n; k++)
             yfit[k] = pdt_ident_is_excluded(ctx, k) ? (pdt_real_t)ysim[k] : d->y[k];
         free(ysim);
@@ -565,6 +566,12 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
                  "model is still): the model bent to explain it; cut the record where the "
                  "process is settled, or give --u-before if it begins at a step");
         warned = 1;
+    } else if (r->initial == PDT_IDENT_INITIAL_ESTIMATE && a->initial == PDT_IDENT_INITIAL_AUTO) {
+        /* A note, not a warning: the answer stands. */
+        fprintf(stderr,
+                "pdtfit: note: the record does not start at rest: its state at the first row "
+                "was estimated (free response %.4g at the first row; --initial estimate)\n",
+                (double)r->x0);
     }
     if (r->flags & PDT_IDENT_FLAG_AMBIGUOUS) {
         cli_warn("identify: another structure (the other gain sign, or an integrator for a lag) "

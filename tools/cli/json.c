@@ -154,15 +154,17 @@ static void excluded_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
     pdtcli_jb_raw(jb, "]}");
 }
 
-/* ,"initial":"rest"|"estimate", with the estimate its free response at
- * the first sample "x0" (and a SOPDT's slope "dx0", per second); ,"drift"
- * (output units per second) where one was fitted. */
+/* ,"initial":"estimate" with the free response at the first sample "x0"
+ * (and a SOPDT's slope "dx0", per second) where the state was estimated
+ * (no key: the model starts at rest); ,"drift" (output units per second)
+ * where one was fitted. The JSON of a record from rest keeps its keys. */
 static void initial_keys(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r)
 {
-    const int est = r->initial == PDT_IDENT_INITIAL_ESTIMATE;
-    pdtcli_jb_printf(jb, ",\"initial\":\"%s\"", est ? "estimate" : "rest");
-    if (est) pdtcli_jb_key(jb, "x0", (double)r->x0);
-    if (est && m->kind == PDT_MODEL_SOPDT) pdtcli_jb_key(jb, "dx0", (double)r->dx0);
+    if (r->initial == PDT_IDENT_INITIAL_ESTIMATE) {
+        pdtcli_jb_raw(jb, ",\"initial\":\"estimate\"");
+        pdtcli_jb_key(jb, "x0", (double)r->x0);
+        if (m->kind == PDT_MODEL_SOPDT) pdtcli_jb_key(jb, "dx0", (double)r->dx0);
+    }
     if (r->drift != (pdt_real_t)0) pdtcli_jb_key(jb, "drift", (double)r->drift);
 }
 
