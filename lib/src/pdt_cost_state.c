@@ -22,12 +22,12 @@
  * is then summed directly, in a second pass, rather than from the normal
  * equations, which cancel when the fit is good.
  *
- * Work per evaluation, p columns (p = 3 for a FOPDT with its offset and
- * state, 4 for a SOPDT, one more with drift): the simulation once (its
- * output kept in scratch), the basis recursion (2 or 6 operations a
- * sample), p (p + 3) / 2 multiply-adds a sample for the normal
- * equations, and p + 2 for the residual pass; tools/bench and
- * docs/equations.md give the measured instructions.
+ * Work per evaluation, bounded and without branches on the data: the
+ * simulation once (its output kept in scratch), the basis recursion (2 or
+ * 6 operations a sample), the five regressors (a column not fitted is
+ * zeros, which the solve holds at 0), 20 multiply-adds a sample for the
+ * normal equations and 5 for the residual pass, and one 5 x 5 solve (two
+ * where a gain bound is active).
  */
 #include "pdt_cost_state.h"
 

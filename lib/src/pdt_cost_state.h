@@ -27,8 +27,8 @@ typedef struct pdt_cost_extra {
                           * (order 2) its change over the first sample */
     pdt_real_t drift;    /* the output's drift */
     uint32_t dropped;    /* bit j: column j (0 gain, 1 offset, 2 drift,
-                          * 3 and 4 the states) not determined by the
-                          * record, held at 0 */
+                          * 3 and 4 the states) not fitted or not
+                          * determined by the record, held at 0 */
 } pdt_cost_extra_t;
 
 /* Whether c fits columns beyond the gain and the offset. */

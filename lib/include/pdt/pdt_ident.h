@@ -25,9 +25,11 @@
  * result's flags say what could not be settled (docs/ident-engine.md).
  *
  * Data as it comes from plants: u and y in engineering units around an
- * operating point. The record must start at steady state; the input
- * operating point is u[0], the output operating point is estimated with the
- * model (never from a few noisy samples).
+ * operating point. The record should start at steady state (initial AUTO
+ * tests it and, where it does not, estimates the state at the first
+ * sample); the input operating point is u[0] (or u_before), the output
+ * operating point is estimated with the model (never from a few noisy
+ * samples).
  */
 #ifndef PDT_IDENT_H
 #define PDT_IDENT_H
