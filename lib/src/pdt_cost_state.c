@@ -389,3 +389,34 @@ void pdt_cost_extra_add(const pdt_cost_t *c, const pdt_discrete_t *d, const pdt_
         basis_next(d, &b);
     }
 }
+
+bool pdt_cost_extra_state_gain(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *scratch,
+                               pdt_real_t *rest, pdt_real_t *state)
+{
+    pdt_discrete_t d;
+    pdt_model_t shape;
+    pdt_real_t th[COLS];
+    normal_t ne;
+    if (c == NULL || m == NULL || scratch == NULL || c->cfg.kind != PDT_COST_SIMULATION ||
+        pdt_model_check(m) != PDT_OK) {
+        return false;
+    }
+    shape = *m;
+    if (m->kind == PDT_MODEL_FOPDT) {
+        shape.p.fopdt.K = PDT_R(1.0);
+    } else {
+        shape.p.sopdt.k = PDT_R(1.0);
+    }
+    if (pdt_discrete_init(&shape, c->cfg.Ts, &d) != PDT_OK) {
+        return false;
+    }
+    pdt_cost_t e = *c;
+    e.cfg.estimate_state = true;
+    accumulate(&e, &d, scratch, &ne);
+    const uint32_t states = (1u << COL_STATE) | (1u << (COL_STATE + 1u));
+    (void)solve(&ne, COLS, NULL, states, th);
+    *rest = residual_ss(&e, &d, scratch, th);
+    (void)solve(&ne, COLS, NULL, 0u, th);
+    *state = residual_ss(&e, &d, scratch, th);
+    return pdt_finite(*rest) && pdt_finite(*state);
+}

@@ -52,4 +52,11 @@ pdt_status_t pdt_cost_extra_terms(const pdt_cost_t *c, const pdt_model_t *m, pdt
 void pdt_cost_extra_add(const pdt_cost_t *c, const pdt_discrete_t *d, const pdt_cost_extra_t *ex,
                         pdt_real_t *ysim);
 
+/* The residual sums of squares of model m's shape (its gain free) from
+ * rest (*rest) and with its state at the first sample estimated (*state),
+ * normalised units, on a SIMULATION cost whatever its estimate_state.
+ * False where they cannot be computed. scratch: n reals. */
+bool pdt_cost_extra_state_gain(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *scratch,
+                               pdt_real_t *rest, pdt_real_t *state);
+
 #endif /* PDT_COST_STATE_H */

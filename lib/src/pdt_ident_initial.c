@@ -121,7 +121,9 @@ void pdt_ident_extra_finish(pdt_ident_t *c, const pdt_model_t *m)
     for (uint32_t i = 0u; i < 4u; i++) {
         c->extra[i] = PDT_R(0.0);
     }
-    if (!pdt_cost_extra_on(&c->cost) ||
+    /* On the searches' coarse record the answer is not yet the record's:
+     * its whole-record polish comes back here. */
+    if (!pdt_cost_extra_on(&c->cost) || c->cost.n != c->data.n ||
         pdt_cost_extra_terms(&c->cost, m, c->scratch, &x) != PDT_OK ||
         pdt_discrete_init(m, c->cfg.Ts, &d) != PDT_OK) {
         return;
@@ -190,4 +192,27 @@ bool pdt_ident_state_refit(pdt_ident_t *c)
         c->phase = PH_DONE;
     }
     return true;
+}
+
+/* AUTO's second test: the answer's shape fitted with its state at the
+ * first sample estimated lowers the residual's sum of squares by more
+ * than chance explains (n ln(SS_rest / SS_state) above STATE_LR, about
+ * the 99.9 % quantile of chi-square with 2 degrees of freedom) and by more
+ * than STATE_SHARE of it: a model that bent to explain a start
+ * mid-transient keeps a residual there that a free response takes up,
+ * where on a record from rest it takes up noise (shares below 2 % on the
+ * test records). */
+#define STATE_LR    PDT_R(16.0)
+#define STATE_SHARE PDT_R(0.1)
+
+bool pdt_ident_state_matters(pdt_ident_t *c)
+{
+    pdt_real_t rest = PDT_R(0.0), state = PDT_R(0.0);
+    if (c->cost.n != c->data.n ||
+        !pdt_cost_extra_state_gain(&c->cost, &c->model, c->scratch, &rest, &state) ||
+        !(state > PDT_R(0.0)) || !(rest > state)) {
+        return false;
+    }
+    const pdt_real_t n = (pdt_real_t)c->cost.n;
+    return (n * pdt_log(rest / state) > STATE_LR) && (rest - state > STATE_SHARE * rest);
 }

@@ -283,6 +283,10 @@ uint32_t pdt_ident_nuisance(const pdt_ident_t *c);
 /* Whether a failed at-rest test is to be answered by a refit with the
  * state estimated (AUTO, SIMULATION, not yet done). */
 bool pdt_ident_want_state(const pdt_ident_t *c);
+/* Whether the answer's own free response from the first sample takes up
+ * a tenth of its residual and more than chance explains (scratch
+ * overwritten). */
+bool pdt_ident_state_matters(pdt_ident_t *c);
 /* PH_SCREEN's first duty: where AUTO's test asked for it (auto_state set
  * with initial still AUTO), the identification begun again with the
  * state estimated; true when it was. */

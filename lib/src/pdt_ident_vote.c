@@ -407,7 +407,9 @@ static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
         for (size_t k = 0; k < n; k++) {
             c->scratch[k] = c->data.y[k] - c->scratch[k];
         }
-        if (pdt_ident_mid_transient(c->scratch, c->data.y, n)) {
+        bool mid = pdt_ident_mid_transient(c->scratch, c->data.y, n);
+        mid = mid || (pdt_ident_want_state(c) && pdt_ident_state_matters(c));
+        if (mid) {
             /* AUTO answers it with the state estimated (PH_SCREEN begins
              * that identification); the flag stays where it cannot. */
             if (pdt_ident_want_state(c)) {
