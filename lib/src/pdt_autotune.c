@@ -57,6 +57,12 @@ static pdt_ident_config_t ident_config(const pdt_autotune_config_t *cfg)
 {
     pdt_ident_config_t ic = cfg->ident;
     ic.Ts = cfg->Ts * (pdt_real_t)cfg->decimation;
+    /* The experiment begins once the settle phase found the plant at
+     * rest: AUTO's test (and its refit with the state estimated) is not
+     * for it, and the autotune never read its flag. */
+    if (ic.initial == PDT_IDENT_INITIAL_AUTO) {
+        ic.initial = PDT_IDENT_INITIAL_REST;
+    }
     return ic;
 }
 

@@ -5,6 +5,7 @@
 #include "pdt/pdt_cost.h"
 
 #include "pdt_cost_kernel.h"
+#include "pdt_cost_state.h"
 #include "pdt_discrete_priv.h"
 #include "pdt_internal.h"
 #include "pdt_model_priv.h"
@@ -37,6 +38,8 @@ void pdt_cost_config_default(pdt_cost_config_t *cfg)
     cfg->delay_mode = PDT_DELAY_FRACTIONAL;
     cfg->whole_record = false;
     cfg->estimate_offset = true;
+    cfg->estimate_state = false;
+    cfg->drift = false;
     cfg->use_frequency = true;
     cfg->phi_t = PDT_R(1.0);
     cfg->phi_f = PDT_R(1.0);
@@ -150,7 +153,8 @@ static bool config_ok(const pdt_cost_config_t *cfg)
     if (cfg->weight == PDT_WEIGHT_CUSTOM && cfg->weights == NULL) {
         return false;
     }
-    return true;
+    /* The extra columns are the simulation's (pdt_cost_state.c). */
+    return !(cfg->estimate_state || cfg->drift) || cfg->kind == PDT_COST_SIMULATION;
 }
 
 /* FFT of the zero-padded deviations x - x0 in buf (nf reals), then
@@ -1226,6 +1230,26 @@ static bool sim_time(const pdt_cost_t *c)
     return kind == PDT_COST_SIMULATION;
 }
 
+/* The profile with the extra columns (a SIMULATION cost, config_ok). */
+static void extra_profile(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t gain_min,
+                          pdt_real_t gain_max, pdt_real_t *scratch, pdt_cost_profile_t *out)
+{
+    const bool bounded = !(gain_min == PDT_R(0.0) && gain_max == PDT_R(0.0));
+    pdt_cost_extra_t x;
+    pdt_cost_extra_solve(c, d, bounded, gain_to_norm(c, gain_min), gain_to_norm(c, gain_max),
+                         scratch, &x);
+    pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    r.ncost = x.ncost;
+    r.cost = cost_units(c, x.ncost);
+    r.ct = r.cost;
+    r.gain = by_pow2(x.gain, c->pow2[POW2_TO_GAIN], c->y_exp - c->u_exp);
+    if (bounded) {
+        r.gain = r.gain < gain_min ? gain_min : (r.gain > gain_max ? gain_max : r.gain);
+    }
+    r.offset = by_pow2(x.offset, c->pow2[POW2_TO_OUT], c->y_exp);
+    *out = r;
+}
+
 /* The profile of a checked shape with discrete model d. pre: the kernel's
  * sums around the reference (K0, c0) when a caller already ran them, else
  * NULL. */
@@ -1379,6 +1403,10 @@ pdt_status_t pdt_cost_profile_hint(const pdt_cost_t *c, const pdt_model_t *shape
     if (st != PDT_OK) {
         return st;
     }
+    if (pdt_cost_extra_on(c)) {
+        extra_profile(c, &d, gain_min, gain_max, scratch, out);
+        return PDT_OK;
+    }
     if (sim_time(c)) {
         sim_reference(c, d.order, hint, &K0, &c0);
     }
@@ -1406,7 +1434,7 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
             return st;
         }
     }
-    if (sim_time(c)) {
+    if (sim_time(c) && !pdt_cost_extra_on(c)) {
         /* One pass for all when they share an order, hence a reference. */
         shared = true;
         for (i = 1; i < count; i++) {
@@ -1420,6 +1448,10 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
     }
     for (i = 0; i < count; i++) {
         pdt_real_t k0i = K0, c0i = c0;
+        if (pdt_cost_extra_on(c)) {
+            extra_profile(c, &d[i], gain_min[i], gain_max[i], scratch, &out[i]);
+            continue;
+        }
         if (sim_time(c) && !shared) {
             sim_reference(c, d[i].order, hint, &k0i, &c0i);
         }

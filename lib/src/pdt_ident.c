@@ -95,6 +95,8 @@ static void cost_config(const pdt_ident_config_t *cfg, pdt_real_t u0, pdt_real_t
     /* The output offset: the level of the rest window, or fitted with the
      * model (see rest_offset). */
     cc->estimate_offset = !rest;
+    cc->estimate_state = (cfg->initial == PDT_IDENT_INITIAL_ESTIMATE);
+    cc->drift = cfg->drift;
     /* The paper's window would drop the first Td_max / Ts samples: where a
      * step test shows its dead time. */
     cc->whole_record = true;
@@ -280,7 +282,14 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     if (cfg->delay_mode != PDT_DELAY_FRACTIONAL && cfg->delay_mode != PDT_DELAY_INTEGER) {
         return PDT_ERR_ARG;
     }
-    if (cfg->initial != PDT_IDENT_INITIAL_AUTO && cfg->initial != PDT_IDENT_INITIAL_REST) {
+    if (cfg->initial != PDT_IDENT_INITIAL_AUTO && cfg->initial != PDT_IDENT_INITIAL_REST &&
+        cfg->initial != PDT_IDENT_INITIAL_ESTIMATE) {
+        return PDT_ERR_ARG;
+    }
+    /* The free response and the drift are columns of the output error's
+     * least squares. */
+    if ((cfg->initial == PDT_IDENT_INITIAL_ESTIMATE || cfg->drift) &&
+        cfg->cost != PDT_COST_SIMULATION) {
         return PDT_ERR_ARG;
     }
     const pdt_status_t wst = check_weight(cfg);
@@ -674,7 +683,12 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         c->hi[j] = ghi[j];
     }
     c->td_offset = td_offset(&cfg_in, &b);
-    c->rest = rest_usable(&cfg_in, &c->data, quiet);
+    /* With the state estimated the record's start is no rest window; with
+     * a drift the offset is the level at the record's middle, not the rest
+     * window's. */
+    c->rest = (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift)
+                  ? 0u
+                  : rest_usable(&cfg_in, &c->data, quiet);
     begin_search(c, &cc);
     return PDT_OK;
 }
@@ -927,6 +941,11 @@ pdt_status_t pdt_ident_result(const pdt_ident_t *ctx, pdt_ident_result_t *out)
     r.std = ctx->std;
     r.evidence = ctx->evidence;
     r.coarse = ctx->coarse.factor;
+    r.initial = (ctx->cfg.initial == PDT_IDENT_INITIAL_ESTIMATE) ? PDT_IDENT_INITIAL_ESTIMATE
+                                                                 : PDT_IDENT_INITIAL_REST;
+    r.x0 = ctx->extra[0];
+    r.dx0 = ctx->extra[1];
+    r.drift = ctx->extra[2];
     pdt_ident_screen_report(&ctx->screen, ctx->data.n, &r);
     *out = r;
     return PDT_OK;

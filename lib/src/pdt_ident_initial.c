@@ -15,6 +15,7 @@
  * output was moving at the start where the model says it was still:
  * PDT_IDENT_FLAG_MID_TRANSIENT.
  */
+#include "pdt_cost_state.h"
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
 
@@ -142,4 +143,109 @@ bool pdt_ident_mid_transient(const pdt_real_t *e, const pdt_real_t *y, size_t n)
     const pdt_real_t change = pdt_fabs(trend(e, w));
     return change > MID_SIGMAS * se && change > MID_SHARE * (ymax - ymin) &&
            change > MID_OTHERS * median_others(e, n, w);
+}
+
+/* The answer's free response and drift (initial ESTIMATE, drift), and
+ * its fit with them: the residual's sum of squares in extra[3]. */
+void pdt_ident_extra_finish(pdt_ident_t *c, const pdt_model_t *m)
+{
+    pdt_cost_extra_t x;
+    pdt_discrete_t d;
+    for (uint32_t i = 0u; i < 4u; i++) {
+        c->extra[i] = PDT_R(0.0);
+    }
+    /* On the searches' coarse record the answer is not yet the record's:
+     * its whole-record polish comes back here. */
+    if (!pdt_cost_extra_on(&c->cost) || c->cost.n != c->data.n ||
+        pdt_cost_extra_terms(&c->cost, m, c->scratch, &x) != PDT_OK ||
+        pdt_discrete_init(m, c->cfg.Ts, &d) != PDT_OK) {
+        return;
+    }
+    c->extra[0] = x.state[0];
+    c->extra[1] = x.state[1];
+    c->extra[2] = x.drift;
+    if (pdt_ident_simulate(c, &d, c->scratch)) {
+        const size_t n = c->data.n;
+        const pdt_real_t off = c->y0 - c->cost.cfg.y0;
+        pdt_real_t mean = PDT_R(0.0), e2 = PDT_R(0.0), v2 = PDT_R(0.0);
+        for (size_t k = 0u; k < n; k++) {
+            mean += c->data.y[k] - c->data.y[0];
+        }
+        mean = c->data.y[0] + mean / (pdt_real_t)n;
+        for (size_t k = 0u; k < n; k++) {
+            const pdt_real_t e = c->data.y[k] - (c->scratch[k] + off);
+            const pdt_real_t v = c->data.y[k] - mean;
+            e2 += e * e;
+            v2 += v * v;
+        }
+        c->extra[3] = e2;
+        c->fit = (v2 > PDT_R(0.0)) ? PDT_R(100.0) * (PDT_R(1.0) - pdt_sqrt(e2 / v2)) : PDT_R(0.0);
+        c->fit = pdt_finite(c->fit) ? c->fit : PDT_R(0.0);
+    }
+}
+
+bool pdt_ident_simulate(const pdt_ident_t *c, const pdt_discrete_t *d, pdt_real_t *out)
+{
+    if (pdt_cost_simulate(&c->cost, d, out) != PDT_OK) {
+        return false;
+    }
+    if (pdt_cost_extra_on(&c->cost)) {
+        const pdt_cost_extra_t x = {PDT_R(0.0),  PDT_R(0.0), PDT_R(0.0), {c->extra[0], c->extra[1]},
+                                    c->extra[2], 0u};
+        pdt_cost_extra_add(&c->cost, d, &x, out);
+    }
+    return true;
+}
+
+uint32_t pdt_ident_nuisance(const pdt_ident_t *c)
+{
+    uint32_t k = 0u;
+    if (c->cost.cfg.estimate_state) {
+        k += (c->cfg.model == PDT_MODEL_SOPDT) ? 2u : 1u;
+    }
+    return k + (c->cost.cfg.drift ? 1u : 0u);
+}
+
+bool pdt_ident_want_state(const pdt_ident_t *c)
+{
+    return c->cfg.initial == PDT_IDENT_INITIAL_AUTO && !c->auto_state &&
+           c->cfg.cost == PDT_COST_SIMULATION;
+}
+
+bool pdt_ident_state_refit(pdt_ident_t *c)
+{
+    if (!c->auto_state || c->cfg.initial != PDT_IDENT_INITIAL_AUTO) {
+        return false;
+    }
+    c->cfg.initial = PDT_IDENT_INITIAL_ESTIMATE;
+    const pdt_status_t st = pdt_ident_restart(c);
+    c->auto_state = true;
+    if (st != PDT_OK) {
+        c->screen.status = st;
+        c->phase = PH_DONE;
+    }
+    return true;
+}
+
+/* AUTO's second test: the answer's shape fitted with its state at the
+ * first sample estimated lowers the residual's sum of squares by more
+ * than chance explains (n ln(SS_rest / SS_state) above STATE_LR, about
+ * the 99.9 % quantile of chi-square with 2 degrees of freedom) and by more
+ * than STATE_SHARE of it: a model that bent to explain a start
+ * mid-transient keeps a residual there that a free response takes up,
+ * where on a record from rest it takes up noise (shares below 2 % on the
+ * test records). */
+#define STATE_LR    PDT_R(16.0)
+#define STATE_SHARE PDT_R(0.1)
+
+bool pdt_ident_state_matters(pdt_ident_t *c)
+{
+    pdt_real_t rest = PDT_R(0.0), state = PDT_R(0.0);
+    if (c->cost.n != c->data.n ||
+        !pdt_cost_extra_state_gain(&c->cost, &c->model, c->scratch, &rest, &state) ||
+        !(state > PDT_R(0.0)) || !(rest > state)) {
+        return false;
+    }
+    const pdt_real_t n = (pdt_real_t)c->cost.n;
+    return (n * pdt_log(rest / state) > STATE_LR) && (rest - state > STATE_SHARE * rest);
 }

@@ -270,6 +270,27 @@ void pdt_ident_screen_report(const pdt_ident_screen_t *s, size_t n, pdt_ident_re
  * samples more than the noise and a share of y's range: the output was
  * moving at the start where the model says it was still. */
 bool pdt_ident_mid_transient(const pdt_real_t *e, const pdt_real_t *y, size_t n);
+/* At the answer (pdt_ident_finish): with extra columns in the cost, its
+ * free response and drift into c->extra and its fit with them. */
+void pdt_ident_extra_finish(pdt_ident_t *c, const pdt_model_t *m);
+/* The answer's output for its discrete model d into out (n reals), less
+ * its offset: simulated from rest (pdt_cost_simulate), plus the free
+ * response and the drift where the cost fits them. False where the cost refuses d. */
+bool pdt_ident_simulate(const pdt_ident_t *c, const pdt_discrete_t *d, pdt_real_t *out);
+/* The nuisance parameters fitted beside the model's: the states and the
+ * drift. */
+uint32_t pdt_ident_nuisance(const pdt_ident_t *c);
+/* Whether a failed at-rest test is to be answered by a refit with the
+ * state estimated (AUTO, SIMULATION, not yet done). */
+bool pdt_ident_want_state(const pdt_ident_t *c);
+/* Whether the answer's own free response from the first sample takes up
+ * a tenth of its residual and more than chance explains (scratch
+ * overwritten). */
+bool pdt_ident_state_matters(pdt_ident_t *c);
+/* PH_SCREEN's first duty: where AUTO's test asked for it (auto_state set
+ * with initial still AUTO), the identification begun again with the
+ * state estimated; true when it was. */
+bool pdt_ident_state_refit(pdt_ident_t *c);
 
 /* ---- pdt_ident.c */
 

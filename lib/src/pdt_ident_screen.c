@@ -376,8 +376,7 @@ static pdt_real_t median_abs(const pdt_real_t *h, const uint8_t *m, size_t n, pd
 static bool residual(const pdt_ident_t *c, pdt_real_t *e, pdt_real_t *range)
 {
     pdt_discrete_t d;
-    if (pdt_discrete_init(&c->model, c->cfg.Ts, &d) != PDT_OK ||
-        pdt_cost_simulate(&c->cost, &d, e) != PDT_OK) {
+    if (pdt_discrete_init(&c->model, c->cfg.Ts, &d) != PDT_OK || !pdt_ident_simulate(c, &d, e)) {
         return false;
     }
     const pdt_real_t off = c->y0 - c->cost.cfg.y0;
@@ -493,6 +492,9 @@ void pdt_ident_screen_step(pdt_ident_t *c)
     const size_t n = c->data.n;
     pdt_real_t *h = c->scratch;
     pdt_real_t range;
+    if (pdt_ident_state_refit(c)) {
+        return;
+    }
     c->phase = PH_DONE;
     /* Where no candidate scored (every gain the bounds allow costs beyond
      * the real type) there is no answer to screen with: the result refuses

@@ -256,6 +256,7 @@ void pdt_ident_finish(pdt_ident_t *c)
     if (pdt_cost_fit(&c->cost, &m, c->best.offset, c->scratch, &c->fit) != PDT_OK) {
         c->fit = PDT_R(0.0);
     }
+    pdt_ident_extra_finish(c, &m);
     if (c->coarse.stage == 2u) {
         /* The coarse searches' answer polished on the whole record: the
          * searches' verdict stands, its bounds are the polish's. */
@@ -278,10 +279,14 @@ void pdt_ident_finish(pdt_ident_t *c)
 typedef char std_fits_fisher[(PDT_IDENT_MAX_PARAMS == PDT_FISHER_MAX) ? 1 : -1];
 
 /* pdt_ident_uncertainty, with the residual's sum of squares and its
- * autocorrelation's inflation (pdt_fisher_inflation) into *fs_out. */
+ * autocorrelation's inflation (pdt_fisher_inflation) into *fs_out. With
+ * the answer of ctx (not NULL) and parameters fitted beside the model's
+ * (the free response, the drift; docs/field-data.md), the covariance is
+ * conditional on them at their estimates, and the residual's variance is
+ * that of the residual with them over n less them too. */
 static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
-                                pdt_real_t y0, const pdt_real_t *u0, pdt_ident_std_t *out,
-                                pdt_fisher_sums_t *fs_out)
+                                pdt_real_t y0, const pdt_real_t *u0, const pdt_ident_t *ctx,
+                                pdt_ident_std_t *out, pdt_fisher_sums_t *fs_out)
 {
     if (m == NULL || data == NULL || data->u == NULL || data->y == NULL || out == NULL ||
         pdt_model_check(m) != PDT_OK || !pdt_finite(Ts) || !(Ts > PDT_R(0.0)) || !pdt_finite(y0)) {
@@ -308,7 +313,13 @@ static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *da
     }
     pdt_ident_std_t r = {0};
     r.count = fs_out->np;
-    pdt_fisher_covariance(F, fs_out->np, data->n, fs_out->sse, pdt_fisher_inflation(fs_out), r.std,
+    size_t dof_n = data->n;
+    const uint32_t nu = (ctx != NULL) ? pdt_ident_nuisance(ctx) : 0u;
+    if (nu > 0u && data->n > (size_t)nu + (size_t)fs_out->np) {
+        fs_out->sse = ctx->extra[3];
+        dof_n -= nu;
+    }
+    pdt_fisher_covariance(F, fs_out->np, dof_n, fs_out->sse, pdt_fisher_inflation(fs_out), r.std,
                           r.cov);
     *out = r;
     return PDT_OK;
@@ -318,7 +329,7 @@ pdt_status_t pdt_ident_uncertainty(const pdt_model_t *m, const pdt_ident_data_t 
                                    pdt_real_t Ts, pdt_real_t y0, pdt_ident_std_t *out)
 {
     pdt_fisher_sums_t fs;
-    return uncertainty(m, data, Ts, y0, NULL, out, &fs);
+    return uncertainty(m, data, Ts, y0, NULL, NULL, out, &fs);
 }
 
 /* The mean of x[0..n-1] (about x[0], so that a large level does not
@@ -412,20 +423,28 @@ static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
     pdt_discrete_t d;
     c->evidence = PDT_R(0.0);
     if (pdt_discrete_init(&c->model, c->cfg.Ts, &d) == PDT_OK &&
-        pdt_cost_simulate(&c->cost, &d, c->scratch) == PDT_OK) {
+        pdt_ident_simulate(c, &d, c->scratch)) {
         c->evidence = evidence_of(c->scratch, c->data.y, c->data.n, fs->sse);
     }
     if (!(c->evidence >= EVIDENCE_MIN) || !(c->fit >= FIT_FLOOR)) {
         c->flags |= PDT_IDENT_FLAG_NO_RELATION;
     }
-    if (c->cfg.initial == PDT_IDENT_INITIAL_AUTO && c->evidence > PDT_R(0.0)) {
+    if ((c->cfg.initial == PDT_IDENT_INITIAL_AUTO || c->auto_state) && c->evidence > PDT_R(0.0)) {
         /* The residual in place of the simulated output. */
         const size_t n = c->data.n;
         for (size_t k = 0; k < n; k++) {
             c->scratch[k] = c->data.y[k] - c->scratch[k];
         }
-        if (pdt_ident_mid_transient(c->scratch, c->data.y, n)) {
-            c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
+        bool mid = pdt_ident_mid_transient(c->scratch, c->data.y, n);
+        mid = mid || (pdt_ident_want_state(c) && pdt_ident_state_matters(c));
+        if (mid) {
+            /* AUTO answers it with the state estimated (PH_SCREEN begins
+             * that identification); the flag stays where it cannot. */
+            if (pdt_ident_want_state(c)) {
+                c->auto_state = true;
+            } else {
+                c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
+            }
         }
     }
 }
@@ -436,7 +455,7 @@ void pdt_ident_std(pdt_ident_t *c)
 {
     pdt_fisher_sums_t fs;
     c->std = (pdt_ident_std_t){0};
-    if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, &c->std, &fs) ==
+    if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, c, &c->std, &fs) ==
         PDT_OK) {
         evidence(c, &fs);
     } else {

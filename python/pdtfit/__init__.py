@@ -244,12 +244,12 @@ def _opt(v):
 
 
 _GA_ONLY = ("cost", "seed", "evaluations", "population", "weight", "band", "phi_t", "phi_f",
-            "integer_delay", "coarse", "offset", "u_before", "initial")
+            "integer_delay", "coarse", "offset", "u_before", "initial", "drift")
 _TUNE_KEYS = ("tau_c", "lambda_", "ms_max", "deriv_filter", "u_span", "y_span", "fit_min")
 
 
 def _ident_opts(model, method, cost, seed, evaluations, population, td_max, weight, band,
-                phi_t, phi_f, integer_delay, coarse, offset, u_before, initial):
+                phi_t, phi_f, integer_delay, coarse, offset, u_before, initial, drift):
     """The checked options of identify as a pdtpy_ident_opts_t."""
     o = _lib.IdentOpts()
     o.method = _choice(_lib.METHODS, method, "method")
@@ -257,7 +257,8 @@ def _ident_opts(model, method, cost, seed, evaluations, population, td_max, weig
         given = dict(cost=cost != "simulation", seed=seed != 1, evaluations=evaluations,
                      population=population, weight=weight, band=band, phi_t=phi_t,
                      phi_f=phi_f, integer_delay=integer_delay, coarse=coarse,
-                     offset=offset != "auto", u_before=u_before, initial=initial != "auto")
+                     offset=offset != "auto", u_before=u_before, initial=initial != "auto",
+                     drift=drift)
         extra = [k for k in _GA_ONLY if given[k] not in (None, False)]
         if extra:
             raise ValueError(f"{', '.join(extra)}: options of method='ga' only")
@@ -291,7 +292,10 @@ def _ident_opts(model, method, cost, seed, evaluations, population, td_max, weig
     if phi_t is not None and phi_f is not None and o.phi_t == 0 and o.phi_f == 0:
         raise ValueError("phi_t and phi_f cannot both be 0")
     o.u_before = _real("u_before", u_before)
-    o.initial = _choice({"auto": 0, "rest": 1}, initial, "initial")
+    o.initial = _choice({"auto": 0, "rest": 1, "estimate": 2}, initial, "initial")
+    o.drift = int(bool(drift))
+    if (o.initial == 2 or o.drift) and o.cost != _lib.COSTS["simulation"]:
+        raise ValueError("initial='estimate' and drift=True need cost='simulation'")
     return o
 
 
@@ -313,7 +317,7 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
              band=None, phi_t=None, phi_f=None, integer_delay=False, coarse=None,
              offset="auto", uncertainty="auto", bootstrap=None, tune=None, tau_c=None,
              lambda_=None, ms_max=None, deriv_filter=None, u_span=None, y_span=None,
-             fit_min=None, u_before=None, missing="exclude", initial="auto"):
+             fit_min=None, u_before=None, missing="exclude", initial="auto", drift=False):
     """Identifies a FOPDT or SOPDT model from one record, as
     `pdtfit identify` does with the same options (docs/cli.md).
 
@@ -347,7 +351,15 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
                 it out of the fit and counts it (the result's "excluded"),
                 "refuse" refuses the record (PDT_ERR_NONFINITE).
     initial     "auto" (default) tests whether the record starts at rest
-                (flag mid_transient), "rest" does not.
+                and, where it does not, identifies it again with its state
+                estimated (flag mid_transient where that does not explain
+                its start); "rest" does not test; "estimate" fits the
+                model's free response from the first sample with the gain
+                and offset (the result's "initial" and "x0", a SOPDT's
+                "dx0"). With cost="simulation".
+    drift       also fit a linear drift of the output (the result's
+                "drift", units of y per second; y0 is then the level at the
+                record's middle). With cost="simulation".
     uncertainty how "std", "cov" and "ci95" are found: "auto" (default:
                 the Fisher information for a FOPDT, the bootstrap for a
                 SOPDT), "fisher", or "bootstrap" (a parametric bootstrap:
@@ -384,7 +396,7 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     if str(method).lower() != "ga" and (uncertainty != "auto" or bootstrap is not None):
         raise ValueError("uncertainty, bootstrap: options of method='ga' only")
     o = _ident_opts(model, method, cost, seed, evaluations, population, td_max, weight, band,
-                    phi_t, phi_f, integer_delay, coarse, offset, u_before, initial)
+                    phi_t, phi_f, integer_delay, coarse, offset, u_before, initial, drift)
     o.refuse_missing = _choice({"exclude": 0, "refuse": 1}, missing, "missing")
     o.uncertainty = _choice({"auto": 0, "fisher": 1, "bootstrap": 2}, uncertainty,
                             "uncertainty")

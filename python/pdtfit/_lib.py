@@ -34,7 +34,7 @@ class IdentOpts(ctypes.Structure):
                 ("u_before", ctypes.c_double), ("refuse_missing", ctypes.c_int),
                 ("initial", ctypes.c_int),
                 ("offset", ctypes.c_int), ("uncertainty", ctypes.c_int),
-                ("boot_runs", ctypes.c_uint32)]
+                ("boot_runs", ctypes.c_uint32), ("drift", ctypes.c_int)]
 
 
 class TuneOpts(ctypes.Structure):

@@ -181,6 +181,7 @@ static void ga_config(const pdtpy_ident_opts_t *o, double Ts, pdt_ident_config_t
     cfg->u_before = cfg->u_before_given ? (pdt_real_t)o->u_before : (pdt_real_t)0;
     cfg->refuse_missing = o->refuse_missing != 0;
     cfg->initial = (pdt_ident_initial_t)o->initial;
+    cfg->drift = o->drift != 0;
 }
 
 /* pdt_identify of one model kind, as `pdtfit identify` runs it. */

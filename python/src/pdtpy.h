@@ -51,6 +51,7 @@ typedef struct pdtpy_ident_opts {
     int offset;         /* pdt_ident_offset_t */
     int uncertainty;    /* 0 auto (the bootstrap for a SOPDT), 1 fisher, 2 bootstrap */
     uint32_t boot_runs; /* 0: PDTCLI_BOOT_RUNS */
+    int drift;          /* a linear drift fitted too */
 } pdtpy_ident_opts_t;
 
 typedef struct pdtpy_tune_opts {

@@ -296,3 +296,27 @@ def test_missing_samples_and_u_before():
     assert e.value.status == "PDT_ERR_NO_EXCITATION"
     r = pdtfit.identify(step, y, Ts=Ts, u_before=50.0)
     assert r.u0 == 50.0 and r.K == pytest.approx(2.0, rel=0.01)
+
+
+def test_initial_estimate_and_drift():
+    """A record cut mid-transient: initial="estimate" finds the whole
+    record's gain; a ramp on the output: drift=True finds the ramp-free model and
+    the slope. Both need the output error."""
+    rng = np.random.default_rng(7)
+    n, Ts, cut = 900, 0.1, 150
+    u = np.where(np.repeat(rng.random(n // 25 + 1) < 0.5, 25)[:n], 55.0, 45.0)
+    u[:30] = 50.0
+    y = _fopdt_response(u, Ts, 50.0)
+    whole = pdtfit.identify(u, y, Ts=Ts)
+    r = pdtfit.identify(u[cut:], y[cut:], Ts=Ts, initial="estimate")
+    assert r.K == pytest.approx(whole.K, rel=0.02)
+    assert r.tau == pytest.approx(whole.tau, rel=0.05)
+    assert r.initial == "estimate" and math.isfinite(r.x0)
+    slope = 0.02
+    r = pdtfit.identify(u, y + slope * Ts * np.arange(n), Ts=Ts, drift=True)
+    assert r.K == pytest.approx(whole.K, rel=0.01)
+    assert r.drift == pytest.approx(slope, rel=0.05)
+    with pytest.raises(ValueError):
+        pdtfit.identify(u, y, Ts=Ts, drift=True, cost="prediction")
+    with pytest.raises(ValueError):
+        pdtfit.identify(u, y, Ts=Ts, initial="estimate", method="elms")

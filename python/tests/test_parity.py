@@ -40,7 +40,7 @@ WHERE = {
         "--units-row": ("read_csv", "units_row"),
         "--time-format": ("read_csv", "time_format"),
         "--bad-value": ("read_csv", "bad_value"), "--bad-rows": ("read_csv", "bad_rows"),
-        "--u-before": "u_before", "--initial": "initial",
+        "--u-before": "u_before", "--initial": "initial", "--drift": "drift",
         # Python tunes a flagged model: the flags are in the result it is given
         "--force": None,
         # outputs beside the JSON: result.simulate(), result.plot()

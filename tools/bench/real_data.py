@@ -429,6 +429,68 @@ def fault_task(args):
             "flags": j.get("flags", []) if j else [], "clean_flags": list(clean_flags)}
 
 
+# ------------------------------------------------------------ cut records
+
+CUT_SHARE = 3  # the record cut a third of the way in
+
+
+def cut_record(rec):
+    """rec without its first third of rows (the header kept), and without
+    --u-before: the input before the cut record is its own first row's."""
+    lines = rec.text.split("\n")
+    rows = [line for line in lines[1:] if line.strip()]
+    text = "\n".join([lines[0]] + rows[len(rows) // CUT_SHARE:]) + "\n"
+    opts = list(rec.options)
+    if "--u-before" in opts:
+        i = opts.index("--u-before")
+        del opts[i:i + 2]
+    return Record(rec.name + "_cut", text, opts, None, rec.what)
+
+
+def fmt_main(j):
+    """K, the time scale (tau or wn) and Td of an answer, or why none."""
+    if j is None:
+        return "refused"
+    m = model_of(j)
+    K, s = main_param(m)
+    scale = f"tau {s:.4g} s" if isinstance(m, models.Fopdt) else f"wn {s:.4g} rad/s"
+    return f"K {K:.4g}, {scale}, Td {m.Td:.4g} s"
+
+
+def cut_rows(binary):
+    """The whole record's answer against the cut record's, with --initial
+    auto (the default) and estimate."""
+    rows = []
+    for entry in REAL:
+        rec = load_real(entry)
+        cut = cut_record(rec)
+        for model in MODELS:
+            _, whole, _ = run_pdtfit(binary, rec, model)
+            st_a, auto, err_a = run_pdtfit(binary, cut, model)
+            est_rec = Record(cut.name, cut.text, cut.options + ["--initial", "estimate"], None,
+                             cut.what)
+            st_e, est, err_e = run_pdtfit(binary, est_rec, model)
+            rows.append({"record": rec.name, "model": model, "whole": whole, "auto": auto,
+                         "est": est, "err_a": err_a, "err_e": err_e})
+    return rows
+
+
+def cut_table(rows):
+    out = ["| record | model | whole record | cut, `--initial auto` | initial | flags "
+           "| cut, `--initial estimate` | K cut / K whole (estimate) |",
+           "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        a, e, w = r["auto"], r["est"], r["whole"]
+        why = "" if a is not None else ": " + (r["err_a"].splitlines()[-1] if r["err_a"] else "")
+        ratio = "-"
+        if e is not None and w is not None:
+            ratio = f"{main_param(model_of(e))[0] / main_param(model_of(w))[0]:.4f}"
+        out.append(f"| {r['record']} | {r['model']} | {fmt_main(w)} | {fmt_main(a)}{why} "
+                   f"| {initial_of(a) if a else '-'} | {', '.join(a['flags']) if a else '-'} "
+                   f"| {fmt_main(e)} | {ratio} |")
+    return "\n".join(out)
+
+
 # ------------------------------------------------------------ report
 
 def machine():
@@ -552,6 +614,7 @@ def main(argv=None):
     fill = {"commit": commit(), "machine": machine(), "real_table": real_table(rows),
             "fault_table": fault_tables(results), "wrong_list": fault_list(results, "wrong"),
             "caught_list": fault_list(results, "caught"),
+            "cut_table": cut_table(cut_rows(binary)),
             "records": "\n".join(f"- `{r.name}`: {r.what}; options `{' '.join(r.options)}`"
                                  for r in recs)}
     fill.update(summary(rows, results))

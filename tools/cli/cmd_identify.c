@@ -20,7 +20,7 @@ static const char *const uncertainty_names[] = {"auto", "fisher", "bootstrap", N
 /* --offset: in pdt_ident_offset_t's order. */
 static const char *const offset_names[] = {"auto", "estimate", "rest", NULL};
 /* --initial: in pdt_ident_initial_t's order. */
-static const char *const initial_names[] = {"auto", "rest", NULL};
+static const char *const initial_names[] = {"auto", "rest", "estimate", NULL};
 
 #define GA CLI_GA_ONLY
 
@@ -58,6 +58,7 @@ static size_t ident_table(ident_args_t *a, cli_opt_t *tab)
         {"--fs", OPT_REAL, &a->fs, &a->have_fs, CHK_GT0, 0, 0, NULL, "a sampling frequency > 0 Hz",
          0},
         {"--integer-delay", OPT_FLAG, &a->integer_delay, NULL, 0, 0, 0, NULL, NULL, 0},
+        {"--drift", OPT_FLAG, &a->drift, NULL, 0, 0, 0, NULL, NULL, GA},
         {"--t", OPT_TEXT, &a->t_col, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--u", OPT_TEXT, &a->u_col, NULL, 0, 0, 0, NULL, NULL, 0},
         {"--y", OPT_TEXT, &a->y_col, NULL, 0, 0, 0, NULL, NULL, 0},
@@ -121,6 +122,9 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
     if (!a->have_model) cli_fail(EXIT_USAGE, "identify: --model fopdt|sopdt|auto is required");
     if (a->model == MODEL_AUTO && a->have_u_before)
         cli_fail(EXIT_USAGE, "identify: --u-before goes with --model fopdt or sopdt");
+    if ((a->drift || a->initial == PDT_IDENT_INITIAL_ESTIMATE) &&
+        (pdt_cost_kind_t)a->cost != PDT_COST_SIMULATION)
+        cli_fail(EXIT_USAGE, "identify: --initial estimate and --drift need --cost simulation");
     if (a->model == MODEL_AUTO && a->method != METHOD_GA)
         cli_fail(EXIT_USAGE, "identify: --model auto needs --method ga");
     const int band = a->have_weight && weight_kinds[a->weight] == PDT_IDENT_WEIGHT_BAND;
@@ -321,6 +325,7 @@ static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
     if (a->have_phi_t) cfg->phi_t = (pdt_real_t)a->phi_t;
     if (a->have_phi_f) cfg->phi_f = (pdt_real_t)a->phi_f;
     cfg->initial = (pdt_ident_initial_t)a->initial;
+    cfg->drift = a->drift != 0;
     cfg->u_before_given = a->have_u_before != 0;
     cfg->u_before = (pdt_real_t)a->u_before;
 }
@@ -383,6 +388,7 @@ static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind
         double *ysim = malloc(n * sizeof *ysim);
         if (!ysim) cli_fail(EXIT_REFUSED, "out of memory");
         ident_simulate(&res->model, d->s.Ts, d, res->u0, res->y0, ysim);
+        ident_add_state(res, d->s.Ts, n, ysim);
         for (size_t k = 0; k < n; k++)
             yfit[k] = pdt_ident_is_excluded(ctx, k) ? (pdt_real_t)ysim[k] : d->y[k];
         free(ysim);
@@ -560,6 +566,12 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
                  "model is still): the model bent to explain it; cut the record where the "
                  "process is settled, or give --u-before if it begins at a step");
         warned = 1;
+    } else if (r->initial == PDT_IDENT_INITIAL_ESTIMATE && a->initial == PDT_IDENT_INITIAL_AUTO) {
+        /* A note, not a warning: the answer stands. */
+        fprintf(stderr,
+                "pdtfit: note: the record does not start at rest: its state at the first row "
+                "was estimated (free response %.4g at the first row; --initial estimate)\n",
+                (double)r->x0);
     }
     if (r->flags & PDT_IDENT_FLAG_AMBIGUOUS) {
         cli_warn("identify: another structure (the other gain sign, or an integrator for a lag) "

@@ -21,12 +21,33 @@ double ident_simulate(const pdt_model_t *m, double Ts, const ident_data_t *d, pd
     return st == PDT_OK ? (double)fit : (double)NAN;
 }
 
+void ident_add_state(const pdt_ident_result_t *r, double Ts, size_t n, double *ysim)
+{
+    pdt_discrete_t dm;
+    if (r->initial != PDT_IDENT_INITIAL_ESTIMATE && r->drift == (pdt_real_t)0) return;
+    if (pdt_discrete_init(&r->model, (pdt_real_t)Ts, &dm) != PDT_OK) return;
+    /* The free response by A(q)'s direct form from y(0) = x0 and, for a
+     * SOPDT, y(-1) = x0 - dx0 Ts; the drift about the record's middle. */
+    double f1 = (double)r->x0, f2 = (double)r->x0 - (double)r->dx0 * Ts;
+    for (size_t k = 0; k < n; k++) {
+        double f = f1;
+        if (k > 0) {
+            f = -(double)dm.a[0] * f1 - (dm.order == 2u ? (double)dm.a[1] * f2 : 0.0);
+            f2 = f1;
+            f1 = f;
+        }
+        if (r->initial != PDT_IDENT_INITIAL_ESTIMATE) f = 0.0;
+        ysim[k] += f + (double)r->drift * ((double)k - 0.5 * (double)(n - 1)) * Ts;
+    }
+}
+
 void ident_write_sim(const char *path, const ident_data_t *d, const pdt_ident_result_t *r)
 {
     const size_t n = d->s.n;
     double *ysim = malloc(n * sizeof *ysim);
     if (!ysim) cli_fail(EXIT_REFUSED, "out of memory");
     ident_simulate(&r->model, d->s.Ts, d, r->u0, r->y0, ysim);
+    ident_add_state(r, d->s.Ts, n, ysim);
     FILE *f = fopen(path, "w");
     if (!f) cli_fail(EXIT_USAGE, "cannot open %s for writing", path);
     fputs("t,u,y,ysim,residual\n", f);

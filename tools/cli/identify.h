@@ -13,7 +13,7 @@ enum { UNC_AUTO, UNC_FISHER, UNC_BOOTSTRAP };
 
 typedef struct ident_args {
     int model, method, cost, weight, offset, initial, integer_delay, time_unit, resample;
-    int bad_rows, force;
+    int bad_rows, force, drift;
     cli_list_t bad_values;
     int units_row;      /* --units-row */
     int uncertainty;    /* --uncertainty: UNC_AUTO, UNC_FISHER, UNC_BOOTSTRAP */
@@ -38,6 +38,9 @@ typedef struct ident_data {
 /* The fit of a model as pdt_ident reports it, with its simulated output
  * into ysim (n values; may be NULL): the model discretised exactly and run
  * from rest on u - u0, plus y0. NaN when it cannot be simulated. */
+/* Adds to ysim (n values) the result's estimated free response from the
+ * first sample and its drift, where it has them. */
+void ident_add_state(const pdt_ident_result_t *r, double Ts, size_t n, double *ysim);
 double ident_simulate(const pdt_model_t *m, double Ts, const ident_data_t *d, pdt_real_t u0,
                       pdt_real_t y0, double *ysim);
 

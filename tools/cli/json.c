@@ -154,6 +154,20 @@ static void excluded_keys(pdtcli_jbuf_t *jb, const pdt_ident_result_t *r)
     pdtcli_jb_raw(jb, "]}");
 }
 
+/* ,"initial":"estimate" with the free response at the first sample "x0"
+ * (and a SOPDT's slope "dx0", per second) where the state was estimated
+ * (no key: the model starts at rest); ,"drift" (output units per second)
+ * where one was fitted. The JSON of a record from rest keeps its keys. */
+static void initial_keys(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r)
+{
+    if (r->initial == PDT_IDENT_INITIAL_ESTIMATE) {
+        pdtcli_jb_raw(jb, ",\"initial\":\"estimate\"");
+        pdtcli_jb_key(jb, "x0", (double)r->x0);
+        if (m->kind == PDT_MODEL_SOPDT) pdtcli_jb_key(jb, "dx0", (double)r->dx0);
+    }
+    if (r->drift != (pdt_real_t)0) pdtcli_jb_key(jb, "drift", (double)r->drift);
+}
+
 void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r)
 {
     if (m->kind == PDT_MODEL_FOPDT)
@@ -168,6 +182,7 @@ void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_re
         if (r->searches > 0u) certainty_keys(jb, r);
         if (r->searches > 0u) pdtcli_jb_key(jb, "evidence", (double)r->evidence);
         if (r->searches > 0u) excluded_keys(jb, r);
+        if (r->searches > 0u) initial_keys(jb, m, r);
     }
 }
 

@@ -36,7 +36,7 @@ __all__ = [
     "simulation_output", "simulation_residuals", "time_cost", "prediction_cost",
     "simulation_cost", "gain_magnitude", "spectra", "bin_weights",
     "frequency_cost", "combined_cost", "scaled", "static_gain", "profile",
-    "simulate",
+    "simulate", "free_response", "profile_state",
 ]
 
 
@@ -341,3 +341,57 @@ def profile(u, y, shape, dm, Ts, kind, u0=0.0, y0=0.0, delay_max=None,
 def simulate(u, dm, u0=0.0, y0=0.0):
     """y0 + the response of dm, from rest, to u - u0 (engineering units)."""
     return float(y0) + simulation_output(u, dm, u0)
+
+
+def free_response(dm, n):
+    """The free response of dm's A(q) from sample 0, as columns: order 1
+    the sequence with y(0) = 1; order 2 those with (y(0), y(0) - y(-1)) =
+    (1, 0) and (0, 1). Direct-form recursion y(k) = -a0 y(k-1) - a1 y(k-2)."""
+    order, _, a, _ = _coefs(dm)
+    starts = [(1.0, 1.0)] if order == 1 else [(1.0, 1.0), (0.0, -1.0)]
+    cols = []
+    for y0, ym1 in starts:
+        f = np.empty(n)
+        prev, prev2 = y0, ym1
+        f[0] = y0
+        for k in range(1, n):
+            v = -a[0] * prev - (a[1] * prev2 if order == 2 else 0.0)
+            f[k] = v
+            prev2, prev = prev, v
+        cols.append(f)
+    return cols
+
+
+def profile_state(u, y, dm, Ts, u0=0.0, y0=0.0, delay_max=None, estimate_offset=True,
+                  estimate_state=True, drift=False, whole_record=True):
+    """The simulation cost of the unit-gain discrete shape dm minimised over
+    its gain, the offset (estimate_offset), the free response of its state
+    at the first sample (estimate_state) and a drift d (k - (n-1)/2) / n
+    (drift), by numpy's least squares on the explicit columns.
+
+    Returns a dict: cost (mean square residual over the scored samples),
+    gain, offset, x0 (free response at sample 0), x1 (a second-order
+    model's free change over the first sample, per second), drift (output
+    units per second)."""
+    yd = _deviation(y, y0)
+    n = len(yd)
+    k = time_range(n, delay_max, int(dm.order), whole_record, simulation=True)
+    cols, names = [simulation_output(u, dm, u0)], ["gain"]
+    if estimate_offset:
+        cols.append(np.ones(n))
+        names.append("offset")
+    if drift:
+        cols.append((np.arange(n) - 0.5 * (n - 1)) / n)
+        names.append("drift")
+    if estimate_state:
+        for i, f in enumerate(free_response(dm, n)):
+            cols.append(f)
+            names.append("x%d" % i)
+    A = np.column_stack(cols)[k]
+    coef = np.linalg.lstsq(A, yd[k], rcond=None)[0]
+    r = yd[k] - A @ coef
+    got = dict(zip(names, coef))
+    return dict(cost=float(np.mean(r * r)), gain=float(got["gain"]),
+                offset=float(got.get("offset", 0.0)), x0=float(got.get("x0", 0.0)),
+                x1=float(got.get("x1", 0.0)) / Ts,
+                drift=float(got.get("drift", 0.0)) / (n * Ts))

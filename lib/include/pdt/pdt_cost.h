@@ -105,6 +105,15 @@ typedef struct pdt_cost_config {
                              * identification uses the whole record.
                              * Default false (the paper) */
     bool estimate_offset;        /* time costs fit a constant output offset. Default true */
+    bool estimate_state;         /* SIMULATION only: the profile
+                                  * (pdt_cost_profile and its kin) fits the
+                                  * model's free response from the first
+                                  * sample too, one sequence for order 1,
+                                  * two for order 2 (docs/equations.md).
+                                  * pdt_cost_eval ignores it. Default false */
+    bool drift;                  /* SIMULATION only: the profile fits a
+                                  * linear drift of the output about the
+                                  * record's middle. Default false */
     bool use_frequency;          /* prepare spectra (needed for FREQUENCY and
                              * COMBINED; needs a workspace, see
                              * pdt_cost_workspace_size). Default true */

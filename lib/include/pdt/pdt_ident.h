@@ -25,9 +25,11 @@
  * result's flags say what could not be settled (docs/ident-engine.md).
  *
  * Data as it comes from plants: u and y in engineering units around an
- * operating point. The record must start at steady state; the input
- * operating point is u[0], the output operating point is estimated with the
- * model (never from a few noisy samples).
+ * operating point. The record should start at steady state (initial AUTO
+ * tests it and, where it does not, estimates the state at the first
+ * sample); the input operating point is u[0] (or u_before), the output
+ * operating point is estimated with the model (never from a few noisy
+ * samples).
  */
 #ifndef PDT_IDENT_H
 #define PDT_IDENT_H
@@ -81,10 +83,21 @@ typedef enum pdt_ident_offset {
 
 /* The plant's state at the record's start. */
 typedef enum pdt_ident_initial {
-    PDT_IDENT_INITIAL_AUTO = 0, /* at rest, tested: an answer whose residual
-                                 * keeps a decay from the first sample gets
-                                 * PDT_IDENT_FLAG_MID_TRANSIENT */
-    PDT_IDENT_INITIAL_REST = 1  /* at rest, not tested */
+    PDT_IDENT_INITIAL_AUTO = 0,    /* at rest, tested: an answer whose
+                                    * residual keeps a decay from the first
+                                    * sample is identified again with
+                                    * ESTIMATE (SIMULATION criterion; other
+                                    * criteria keep the flag), and gets
+                                    * PDT_IDENT_FLAG_MID_TRANSIENT only where
+                                    * that answer's residual still keeps
+                                    * one */
+    PDT_IDENT_INITIAL_REST = 1,    /* at rest, not tested */
+    PDT_IDENT_INITIAL_ESTIMATE = 2 /* the model's state at the first sample
+                                    * estimated: its free response fitted in
+                                    * closed form with the gain and the
+                                    * offset, one sequence for a FOPDT, two
+                                    * for a SOPDT (docs/field-data.md).
+                                    * SIMULATION criterion only */
 } pdt_ident_initial_t;
 
 typedef struct pdt_ident_config {
@@ -189,6 +202,12 @@ typedef struct pdt_ident_config {
     bool u_before_given;         /* Default false */
     pdt_ident_initial_t initial; /* Default AUTO */
     pdt_real_t u_before;         /* input units; finite when given */
+    /* A linear drift of the output, d (t - t_mid) with t_mid the record's
+     * middle, fitted in closed form with the gain and the offset, for
+     * records whose output wanders slowly (docs/field-data.md). y0 is
+     * then the operating point at the record's middle. SIMULATION
+     * criterion only. Default false */
+    bool drift;
 } pdt_ident_config_t;
 
 /* One record: n samples of input u and output y, every Ts seconds, in the
@@ -266,6 +285,18 @@ typedef struct pdt_ident_result {
     uint32_t excluded_first[PDT_IDENT_EXCLUDED_LIST]; /* the first
                            * min(excluded, PDT_IDENT_EXCLUDED_LIST)
                            * of them, 0-based, ascending; the rest 0 */
+    pdt_ident_initial_t initial;                      /* REST: the model starts at rest;
+                           * ESTIMATE: its state at the first sample was
+                           * estimated (asked for, or AUTO's test failed) */
+    pdt_real_t x0;                                    /* ESTIMATE: the free response at the first
+                           * sample, output units: the output's deviation
+                           * there from the model driven from rest plus
+                           * y0. 0 otherwise */
+    pdt_real_t dx0;                                   /* ESTIMATE, SOPDT: the free response's slope
+                           * over the first sample, output units per
+                           * second. 0 otherwise */
+    pdt_real_t drift;                                 /* with drift: output units per second. 0
+                           * otherwise */
 } pdt_ident_result_t;
 
 /* pdt_ident_result_t.flags. An answer with any flag set is the best the
@@ -485,6 +516,9 @@ typedef struct pdt_ident {
     pdt_real_t runner_up;
     pdt_ident_std_t std;
     pdt_real_t evidence;
+    pdt_real_t extra[4]; /* the answer's x0, dx0, drift (result units) and
+                          * the residual's sum of squares with them */
+    bool auto_state;     /* AUTO's refit with the state estimated ran */
 } pdt_ident_t;
 
 /* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */
