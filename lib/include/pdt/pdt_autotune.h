@@ -221,8 +221,10 @@ typedef struct pdt_autotune {
     size_t tail_end;          /* samples recorded when the tail is complete */
     bool excite_over;         /* the excitation has ended */
     bool ident_started;       /* pdt_ident_init has run */
+    bool valid_started;       /* pdt_validate_begin has run */
     uint32_t stage;           /* identify: models done and validated */
     uint32_t tune_try;        /* tune: knob factors tried */
+    uint32_t tune_stage;      /* tune: where the factor's tuning is */
     pdt_ident_result_t first; /* order_auto: the FOPDT */
     pdt_validate_result_t first_valid;
     pdt_status_t tune_why; /* why the last knob factor was refused */
@@ -256,9 +258,9 @@ size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
  * automatic populations), any configuration: for static arrays. */
 #define PDT_AUTOTUNE_WORKSPACE_SIZE(capacity, pop)                                                 \
     (2u * (size_t)(capacity) * sizeof(pdt_real_t) +                                                \
-     (PDT_IDENT_WORKSPACE_SIZE(capacity, pop) > PDT_VALIDATE_WORKSPACE_SIZE(capacity)              \
+     (PDT_IDENT_WORKSPACE_SIZE(capacity, pop) > PDT_VALIDATE_RUN_WORKSPACE_SIZE(capacity)          \
           ? PDT_IDENT_WORKSPACE_SIZE(capacity, pop)                                                \
-          : PDT_VALIDATE_WORKSPACE_SIZE(capacity)))
+          : PDT_VALIDATE_RUN_WORKSPACE_SIZE(capacity)))
 
 /* Prepares at for an autotune starting from the output u_now, which is
  * taken as the operating point: the process must be at rest there. work is
