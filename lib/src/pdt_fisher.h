@@ -22,6 +22,8 @@
 #define PDT_FISHER_LAGS 20u
 
 typedef pdt_real_t pdt_fisher_matrix_t[PDT_FISHER_MAX][PDT_FISHER_MAX];
+/* One row of it. */
+typedef pdt_real_t pdt_fisher_row_t[PDT_FISHER_MAX];
 
 /* Where the host has vector lanes the ring of recent residuals is written
  * twice, LAGS apart, so that the lags are one contiguous run: four a turn
@@ -65,7 +67,7 @@ typedef struct pdt_fisher_pass {
 typedef struct pdt_fisher_run {
     pdt_fisher_pass_t P;
     pdt_fisher_lags_t L;
-    pdt_real_t (*F)[PDT_FISHER_MAX]; /* the caller's matrix, summed into */
+    pdt_fisher_row_t *F; /* the caller's matrix, summed into */
     const pdt_real_t *u;
     const pdt_real_t *y;
     size_t n;
