@@ -180,7 +180,7 @@ static void val_residual(val_sums_t *S)
 /* The FIR's normal equations, rows k0 .. k1 - 1 (k0 >= fir_lag). */
 static void val_fir_rows(val_sums_t *S, size_t k0, size_t k1)
 {
-    const size_t L0 = S->r.fir_lag;
+    const size_t L0 = (size_t)S->r.fir_lag;
     const pdt_real_t *const du = S->c.du;
     const pdt_real_t *const e = S->c.e;
     for (size_t k = k0; k < k1; k++) {
@@ -274,7 +274,7 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
         return st;
     }
     val_residual(&S);
-    val_fir_rows(&S, S.r.fir_lag, S.c.n);
+    val_fir_rows(&S, (size_t)S.r.fir_lag, S.c.n);
     val_finish(&S);
     *out = S.r;
     return PDT_OK;
@@ -366,7 +366,7 @@ static void val_run_step(val_run_t *V)
         break;
     case VS_RESIDUAL:
         val_residual(&V->S);
-        V->k = V->S.r.fir_lag;
+        V->k = (size_t)V->S.r.fir_lag;
         V->stage = VS_FIR;
         break;
     case VS_FIR: {
