@@ -706,7 +706,7 @@ static void test_steps(void **state)
         c.ms_max = i < TUNE_VEC_COUNT ? TR(0.0) : TR(1.6);
         pdt_tune_result_t one, st_r;
         const pdt_status_t want = pdt_tune_compute(&m, TR(100.0), &c, &one);
-        canary_fill((pdt_real_t *)((unsigned char *)work + len), CANARY_COUNT);
+        canary_fill((pdt_real_t *)(void *)((unsigned char *)work + len), CANARY_COUNT);
         pdt_status_t st = pdt_tune_begin(&m, TR(100.0), &c, work, len);
         unsigned steps = 0u;
         while (st == PDT_OK || st == PDT_RUNNING) {
@@ -716,7 +716,7 @@ static void test_steps(void **state)
                 break;
             }
         }
-        canary_check((pdt_real_t *)((unsigned char *)work + len), CANARY_COUNT);
+        canary_check((pdt_real_t *)(void *)((unsigned char *)work + len), CANARY_COUNT);
         most = steps > most ? steps : most;
         if (st != want) {
             fail_msg("case %zu: steps give status %d, pdt_tune_compute %d", i, (int)st, (int)want);
