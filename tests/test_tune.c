@@ -673,6 +673,88 @@ static void test_bad_inputs(void **state)
     assert_int_equal(pdt_tune_to_ideal(&g, NULL), PDT_ERR_ARG);
 }
 
+/* The same real, bit for bit. */
+static bool same_bits(pdt_real_t a, pdt_real_t b)
+{
+    return memcmp(&a, &b, sizeof a) == 0;
+}
+
+static bool same_gains(const pdt_tune_gains_t *a, const pdt_tune_gains_t *b)
+{
+    return same_bits(a->Kc, b->Kc) && same_bits(a->tauI, b->tauI) && same_bits(a->tauD, b->tauD) &&
+           same_bits(a->Tf, b->Tf);
+}
+
+/* pdt_tune_begin / pdt_tune_step give pdt_tune_compute's status and result
+ * bit for bit on every vector case, with and without an Ms limit, in a
+ * bounded number of steps; nothing is written past the state. */
+static void test_steps(void **state)
+{
+    (void)state;
+    static pdt_real_t work[PDT_TUNE_RUN_WORKSPACE_SIZE / sizeof(pdt_real_t) + 1u + CANARY_COUNT];
+    const size_t len = PDT_TUNE_RUN_WORKSPACE_SIZE;
+    assert_int_equal(pdt_tune_run_workspace_size(), len);
+    unsigned most = 0u;
+    for (size_t i = 0; i < 2u * TUNE_VEC_COUNT; i++) {
+        const size_t v = i % TUNE_VEC_COUNT;
+        pdt_model_t m = model_of(tune_vec_kind[v], &tune_vec_par[4u * v]);
+        pdt_tune_config_t c =
+            config((pdt_tune_rule_t)tune_vec_rule[v], (pdt_tune_form_t)tune_vec_form[v]);
+        c.tau_c = (pdt_real_t)tune_vec_cfg[2u * v];
+        c.lambda = (pdt_real_t)tune_vec_cfg[2u * v];
+        c.deriv_filter = (pdt_real_t)tune_vec_cfg[2u * v + 1u];
+        c.ms_max = i < TUNE_VEC_COUNT ? TR(0.0) : TR(1.6);
+        pdt_tune_result_t one, st_r;
+        const pdt_status_t want = pdt_tune_compute(&m, TR(100.0), &c, &one);
+        canary_fill((pdt_real_t *)(void *)((unsigned char *)work + len), CANARY_COUNT);
+        pdt_status_t st = pdt_tune_begin(&m, TR(100.0), &c, work, len);
+        unsigned steps = 0u;
+        while (st == PDT_OK || st == PDT_RUNNING) {
+            st = pdt_tune_step(work, &st_r);
+            steps++;
+            if (st != PDT_RUNNING) {
+                break;
+            }
+        }
+        canary_check((pdt_real_t *)(void *)((unsigned char *)work + len), CANARY_COUNT);
+        most = steps > most ? steps : most;
+        if (st != want) {
+            fail_msg("case %zu: steps give status %d, pdt_tune_compute %d", i, (int)st, (int)want);
+        }
+        if (st != PDT_OK) {
+            continue;
+        }
+        assert_true(same_gains(&st_r.ideal, &one.ideal));
+        assert_true(same_gains(&st_r.series, &one.series));
+        assert_true(st_r.series_exists == one.series_exists);
+        assert_true(st_r.series_rule == one.series_rule);
+        assert_true(same_bits(st_r.knob, one.knob));
+        assert_true(same_bits(st_r.fig.Ms, one.fig.Ms) && same_bits(st_r.fig.w_ms, one.fig.w_ms));
+        assert_true(same_bits(st_r.fig.gain_margin, one.fig.gain_margin) &&
+                    same_bits(st_r.fig.w_pc, one.fig.w_pc));
+        assert_true(same_bits(st_r.fig.phase_margin_deg, one.fig.phase_margin_deg) &&
+                    same_bits(st_r.fig.w_gc, one.fig.w_gc));
+        /* Done: the next call gives the same again. */
+        pdt_tune_result_t again;
+        assert_int_equal(pdt_tune_step(work, &again), PDT_OK);
+        assert_true(same_bits(again.fig.Ms, one.fig.Ms));
+    }
+    print_message("tuning in steps: %u cases as pdt_tune_compute, at most %u steps\n",
+                  (unsigned)(2u * TUNE_VEC_COUNT), most);
+    /* Misuse. */
+    pdt_model_t m = model_of(tune_vec_kind[0], &tune_vec_par[0]);
+    pdt_tune_config_t c =
+        config((pdt_tune_rule_t)tune_vec_rule[0], (pdt_tune_form_t)tune_vec_form[0]);
+    pdt_tune_result_t r;
+    assert_int_equal(pdt_tune_begin(&m, TR(100.0), &c, NULL, len), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_tune_begin(&m, TR(100.0), &c, work, len - 1u), PDT_ERR_NOMEM);
+    assert_int_equal(pdt_tune_begin(NULL, TR(100.0), &c, work, len), PDT_ERR_ARG);
+    assert_int_equal(pdt_tune_step(work, &r), PDT_ERR_STATE);
+    assert_int_equal(pdt_tune_step(NULL, &r), PDT_ERR_ARG);
+    assert_int_equal(pdt_tune_begin(&m, TR(100.0), &c, work, len), PDT_OK);
+    assert_int_equal(pdt_tune_step(work, NULL), PDT_ERR_ARG);
+}
+
 static void test_config_default(void **state)
 {
     (void)state;
@@ -714,6 +796,7 @@ int main(void)
         cmocka_unit_test(test_unfiltered_derivative_limit),
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_steps),
         cmocka_unit_test(test_config_default),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

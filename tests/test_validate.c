@@ -294,6 +294,103 @@ static void test_bad_inputs(void **state)
                      PDT_ERR_NO_EXCITATION);
 }
 
+/* The same real, bit for bit. */
+static bool same_bits(pdt_real_t a, pdt_real_t b)
+{
+    return memcmp(&a, &b, sizeof a) == 0;
+}
+
+static void assert_same_result(const pdt_validate_result_t *a, const pdt_validate_result_t *b)
+{
+    assert_true(same_bits(a->sigma, b->sigma) && same_bits(a->aic, b->aic) &&
+                same_bits(a->bic, b->bic));
+    assert_true(same_bits(a->white_stat, b->white_stat) &&
+                same_bits(a->white_limit, b->white_limit) && a->white == b->white);
+    assert_true(same_bits(a->cross_stat, b->cross_stat) &&
+                same_bits(a->cross_limit, b->cross_limit) && a->independent == b->independent);
+    assert_true(same_bits(a->inflation, b->inflation) && same_bits(a->Ts, b->Ts) && a->n == b->n &&
+                a->fir_lag == b->fir_lag);
+    assert_int_equal(a->std.count, b->std.count);
+    for (uint32_t i = 0; i < a->std.count; i++) {
+        assert_true(same_bits(a->std.std[i], b->std.std[i]));
+        for (uint32_t j = 0; j < a->std.count; j++) {
+            assert_true(same_bits(a->std.cov[i][j], b->std.cov[i][j]));
+        }
+    }
+    for (uint32_t i = 0; i < PDT_VALIDATE_FIR; i++) {
+        assert_true(same_bits(a->fir[i], b->fir[i]));
+    }
+}
+
+/* pdt_validate_begin / pdt_validate_step give pdt_validate_model's result
+ * bit for bit (a FOPDT, a SOPDT and an integrator, right and wrong models,
+ * several records), in ceil(n / 256) + ceil(n / 128) + 2 steps at most,
+ * nothing written past the size asked for; and the misuses. */
+static void test_steps(void **state)
+{
+    (void)state;
+    const size_t len = pdt_validate_run_workspace_size(N);
+    assert_int_equal(len, PDT_VALIDATE_RUN_WORKSPACE_SIZE(N));
+    assert_true(len + CANARY_COUNT * sizeof(pdt_real_t) <= sizeof g_work);
+    pdt_real_t *const tail = (pdt_real_t *)(void *)((unsigned char *)g_work + len);
+    const pdt_model_t plants[3] = {model_fopdt(2.0, 5.0, 1.5), model_sopdt_tc(1.5, 6.0, 2.0, 1.0),
+                                   model_integ(0.2, 3.0, 1.0)};
+    const pdt_model_t tried[3] = {model_fopdt(1.8, 6.0, 1.0), model_sopdt_tc(1.5, 6.0, 2.0, 1.0),
+                                  model_fopdt(2.0, 5.0, 1.5)};
+    const unsigned most = (N + 255u) / 256u + (N + 127u) / 128u + 2u;
+    for (uint64_t seed = 1u; seed <= 3u; seed++) {
+        for (size_t p = 0; p < 3u; p++) {
+            make_input(seed);
+            make_output(&plants[p], 0.05, seed + 50u);
+            pdt_ident_data_t data = {g_u, g_y, N};
+            const pdt_model_t *mods[2] = {&plants[p], &tried[p]};
+            for (size_t k = 0; k < 2u; k++) {
+                pdt_validate_result_t one, st_r;
+                assert_int_equal(pdt_validate_model(mods[k], &data, (pdt_real_t)TS, (pdt_real_t)5.0,
+                                                    g_work, pdt_validate_workspace_size(N), &one),
+                                 PDT_OK);
+                canary_fill(tail, CANARY_COUNT);
+                assert_int_equal(pdt_validate_begin(mods[k], &data, (pdt_real_t)TS, (pdt_real_t)5.0,
+                                                    g_work, len),
+                                 PDT_OK);
+                pdt_status_t st;
+                unsigned steps = 0u;
+                do {
+                    st = pdt_validate_step(g_work, &st_r);
+                    steps++;
+                } while (st == PDT_RUNNING && steps <= most);
+                canary_check(tail, CANARY_COUNT);
+                assert_int_equal(st, PDT_OK);
+                assert_true(steps <= most);
+                assert_same_result(&st_r, &one);
+                pdt_validate_result_t again;
+                assert_int_equal(pdt_validate_step(g_work, &again), PDT_OK);
+                assert_same_result(&again, &one);
+            }
+        }
+    }
+    /* Misuse: the begin's statuses are pdt_validate_model's; a failed begin
+     * leaves nothing to step. */
+    pdt_ident_data_t data = {g_u, g_y, N};
+    pdt_validate_result_t v;
+    pdt_model_t bad = plants[0];
+    bad.p.fopdt.tau = (pdt_real_t)-1.0;
+    assert_int_equal(pdt_validate_begin(&plants[0], NULL, (pdt_real_t)TS, 5, g_work, len),
+                     PDT_ERR_ARG);
+    assert_int_equal(pdt_validate_begin(&plants[0], &data, (pdt_real_t)TS, 5, NULL, len),
+                     PDT_ERR_NOMEM);
+    assert_int_equal(pdt_validate_begin(&plants[0], &data, (pdt_real_t)TS, 5, g_work, len - 1u),
+                     PDT_ERR_NOMEM);
+    assert_int_equal(
+        pdt_validate_begin(&plants[0], &data, (pdt_real_t)TS, 5, (char *)g_work + 1, len),
+        PDT_ERR_ARG);
+    assert_int_equal(pdt_validate_begin(&bad, &data, (pdt_real_t)TS, 5, g_work, len), PDT_ERR_ARG);
+    assert_int_equal(pdt_validate_step(g_work, &v), PDT_ERR_STATE);
+    assert_int_equal(pdt_validate_step(NULL, &v), PDT_ERR_ARG);
+    assert_int_equal(pdt_validate_begin(&plants[0], &data, (pdt_real_t)TS, 5, g_work, len), PDT_OK);
+    assert_int_equal(pdt_validate_step(g_work, NULL), PDT_ERR_ARG);
+}
+
 /* The statuses this module's callers add have their own names. */
 static void test_status_names(void **state)
 {
@@ -370,6 +467,7 @@ int main(void)
         cmocka_unit_test(test_select_order),
         cmocka_unit_test(test_margin),
         cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_steps),
         cmocka_unit_test(test_status_names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -119,7 +119,7 @@ static size_t ident_bytes(const pdt_autotune_config_t *cfg)
         }
         b = b2 > b ? b2 : b;
     }
-    size_t v = validates(cfg) ? pdt_validate_workspace_size(cfg->capacity) : 0u;
+    size_t v = validates(cfg) ? pdt_validate_run_workspace_size(cfg->capacity) : 0u;
     /* The disturbance check simulates the model beside its input. */
     const size_t c = cfg->shift_max > PDT_R(0.0) ? 2u * cfg->capacity * sizeof(pdt_real_t) : 0u;
     v = c > v ? c : v;
@@ -240,8 +240,10 @@ static pdt_status_t start(pdt_autotune_t *at, const pdt_autotune_config_t *cfg, 
     at->tail_end = 0u;
     at->excite_over = false;
     at->ident_started = false;
+    at->valid_started = false;
     at->stage = 0u;
     at->tune_try = 0u;
+    at->tune_stage = 0u;
     at->tune_why = PDT_OK;
     at->res = (pdt_autotune_result_t){0};
     at->res.detune = PDT_R(1.0);
@@ -470,6 +472,7 @@ static pdt_status_t repeat_experiment(pdt_autotune_t *at, pdt_real_t *u)
     at->tail_end = 0u;
     at->excite_over = false;
     at->ident_started = false;
+    at->valid_started = false;
     at->stage = 0u;
     at->res.repeats++;
     at->pv_n = 0u;
@@ -496,6 +499,7 @@ static pdt_status_t refit_drift(pdt_autotune_t *at, pdt_real_t slope)
     at->res.drift += slope / id_period(&at->cfg);
     at->res.drift_passes++;
     at->ident_started = false;
+    at->valid_started = false;
     at->stage = 0u;
     at->res.has_model = false;
     at->res.has_valid = false;
@@ -587,17 +591,29 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
         at->stage++;
         return PDT_RUNNING;
     }
-    /* Validation, one model per scan, in the identification's workspace
-     * (free now). */
+    /* Validation, one model after the other, in bounded steps (one per
+     * scan) in the identification's workspace (free now). */
     const uint32_t v = at->stage - models;
     if (v < models && validates(&at->cfg)) {
         const pdt_ident_result_t *ir = v == 0u ? &at->first : &at->res.ident;
         pdt_validate_result_t *vr = v == 0u ? &at->first_valid : &at->res.valid;
-        st = pdt_validate_model(&ir->model, &data, id_period(&at->cfg), ir->y0, at->ident_work,
-                                at->ident_work_len, vr);
+        if (!at->valid_started) {
+            st = pdt_validate_begin(&ir->model, &data, id_period(&at->cfg), ir->y0, at->ident_work,
+                                    at->ident_work_len);
+            if (st != PDT_OK) {
+                return fail(at, st, u);
+            }
+            at->valid_started = true;
+            return PDT_RUNNING;
+        }
+        st = pdt_validate_step(at->ident_work, vr);
+        if (st == PDT_RUNNING) {
+            return PDT_RUNNING;
+        }
         if (st != PDT_OK) {
             return fail(at, st, u);
         }
+        at->valid_started = false;
         at->stage++;
         return PDT_RUNNING;
     }
@@ -662,46 +678,100 @@ static bool relay_agrees(const pdt_autotune_t *at)
     return r <= f && r >= PDT_R(1.0) / f && pdt_fabs(dph) <= ph_tol;
 }
 
-/* One knob factor per scan: the rule's gains with the knob scaled, checked
- * on the model (Ms <= ms_max, stable) and against the evidence (robust
- * bound <= ms_robust). */
-static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
+/* The evidence a knob factor's tuning must meet before it is taken. */
+static pdt_status_t tune_checks(pdt_autotune_t *at, pdt_real_t *u)
 {
-    *u = at->u_hold;
     const pdt_tune_config_t *tc = &at->cfg.tune;
-    if (at->tune_try == 0u) {
-        if (!pdt_finite(at->res.ident.fit) || at->res.ident.fit < tc->fit_min) {
-            return fail(at, pdt_finite(tc->fit_min) ? PDT_ERR_POOR_FIT : PDT_ERR_ARG, u);
-        }
-        if (!relay_agrees(at)) {
-            return fail(at, PDT_ERR_MODEL_INVALID, u);
-        }
-        /* The search itself was not sure (searches that disagree, another
-         * structure as good, a parameter on its bound): gains from such a
-         * model could have the wrong sign or scale. */
-        if ((at->res.ident.flags & (PDT_IDENT_FLAG_UNCONFIRMED | PDT_IDENT_FLAG_AMBIGUOUS |
-                                    PDT_IDENT_FLAG_AT_BOUND)) != 0u) {
-            return fail(at, PDT_ERR_UNCERTAIN, u);
-        }
+    if (!pdt_finite(at->res.ident.fit) || at->res.ident.fit < tc->fit_min) {
+        return fail(at, pdt_finite(tc->fit_min) ? PDT_ERR_POOR_FIT : PDT_ERR_ARG, u);
     }
-    const bool knob = tc->rule == PDT_TUNE_SIMC || tc->rule == PDT_TUNE_IMC;
+    if (!relay_agrees(at)) {
+        return fail(at, PDT_ERR_MODEL_INVALID, u);
+    }
+    /* The search itself was not sure (searches that disagree, another
+     * structure as good, a parameter on its bound): gains from such a
+     * model could have the wrong sign or scale. */
+    if ((at->res.ident.flags &
+         (PDT_IDENT_FLAG_UNCONFIRMED | PDT_IDENT_FLAG_AMBIGUOUS | PDT_IDENT_FLAG_AT_BOUND)) != 0u) {
+        return fail(at, PDT_ERR_UNCERTAIN, u);
+    }
+    return PDT_OK;
+}
+
+/* The tuning's config for the knob factor being tried: the caller's limits
+ * left to the checks here. */
+static pdt_tune_config_t tune_config(const pdt_autotune_t *at)
+{
+    const pdt_tune_config_t *tc = &at->cfg.tune;
     pdt_tune_config_t c = *tc;
     c.ms_max = PDT_R(0.0);
     c.fit_min = PDT_R(0.0);
     const pdt_real_t base = tc->detune > PDT_R(0.0) ? tc->detune : PDT_R(1.0);
-    pdt_real_t f = detune_steps[at->tune_try];
-    c.detune = base * f;
+    c.detune = base * detune_steps[at->tune_try];
+    return c;
+}
+
+/* Where a knob factor's tuning is (pdt_autotune_t.tune_stage). */
+#define TUNE_BEGIN  0u /* the rule's gains: pdt_tune_begin */
+#define TUNE_FIGURE 1u /* their robustness figures: pdt_tune_step */
+#define TUNE_MARGIN 2u /* the robust bound: pdt_validate_margin */
+
+/* The tuning of the knob factor being tried, one bounded step per scan:
+ * PDT_RUNNING while it goes on, else its outcome with *r (PDT_OK, or
+ * PDT_ERR_UNSTABLE, which the next factor may cure). The figures' state
+ * lives in the identification's workspace, free by now. */
+static pdt_status_t tune_step(pdt_autotune_t *at, const pdt_tune_config_t *c, pdt_tune_result_t *r)
+{
+    if (at->tune_stage == TUNE_BEGIN) {
+        const pdt_status_t sb = pdt_tune_begin(&at->res.ident.model, at->res.ident.fit, c,
+                                               at->ident_work, at->ident_work_len);
+        if (sb != PDT_OK) {
+            return sb;
+        }
+        at->tune_stage = TUNE_FIGURE;
+        return PDT_RUNNING;
+    }
+    pdt_status_t st = pdt_tune_step(at->ident_work, r);
+    const pdt_tune_config_t *tc = &at->cfg.tune;
+    if (st == PDT_OK && tc->ms_max > PDT_R(0.0) && r->fig.Ms > tc->ms_max) {
+        return PDT_ERR_MS_LIMIT;
+    }
+    if (st == PDT_OK && at->cfg.ms_robust > PDT_R(0.0) && at->tune_stage == TUNE_FIGURE) {
+        /* The robust bound in a scan of its own. */
+        at->tune_stage = TUNE_MARGIN;
+        return PDT_RUNNING;
+    }
+    return st;
+}
+
+/* One knob factor at a time, in bounded steps (one per scan): the rule's
+ * gains with the knob scaled, checked on the model (Ms <= ms_max, stable)
+ * and against the evidence (robust bound <= ms_robust). */
+static pdt_status_t scan_tune(pdt_autotune_t *at, pdt_real_t *u)
+{
+    *u = at->u_hold;
+    const pdt_tune_config_t *tc = &at->cfg.tune;
+    if (at->tune_try == 0u && at->tune_stage == TUNE_BEGIN) {
+        const pdt_status_t sc = tune_checks(at, u);
+        if (sc != PDT_OK) {
+            return sc;
+        }
+    }
+    const bool knob = tc->rule == PDT_TUNE_SIMC || tc->rule == PDT_TUNE_IMC;
+    const pdt_tune_config_t c = tune_config(at);
     pdt_tune_result_t r;
-    pdt_status_t st = pdt_tune_compute(&at->res.ident.model, at->res.ident.fit, &c, &r);
-    if (st != PDT_OK && st != PDT_ERR_UNSTABLE) {
+    pdt_status_t st = tune_step(at, &c, &r);
+    if (st == PDT_RUNNING) {
+        return PDT_RUNNING;
+    }
+    const bool margin = at->tune_stage == TUNE_MARGIN;
+    at->tune_stage = TUNE_BEGIN;
+    if (st != PDT_OK && st != PDT_ERR_UNSTABLE && st != PDT_ERR_MS_LIMIT) {
         return fail(at, st, u);
     }
     pdt_real_t ms = PDT_R(0.0);
     bool fir = false;
-    if (st == PDT_OK && tc->ms_max > PDT_R(0.0) && r.fig.Ms > tc->ms_max) {
-        st = PDT_ERR_MS_LIMIT;
-    }
-    if (st == PDT_OK && at->cfg.ms_robust > PDT_R(0.0)) {
+    if (st == PDT_OK && margin) {
         if (pdt_validate_margin(&at->res.valid, dead_time_shift(at), &r.ideal, &ms, &fir) !=
             PDT_OK) {
             ms = (pdt_real_t)INFINITY;

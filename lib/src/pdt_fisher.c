@@ -11,7 +11,7 @@
 
 /* Partial sums over this many samples before they join the total, so that
  * float sums over long records keep their accuracy. */
-#define FISHER_BLOCK 256u
+#define FISHER_BLOCK PDT_FISHER_BLOCK
 
 /* The parameter vector of m, in the documented order (y0 excluded). */
 static uint32_t params_of(const pdt_model_t *m, pdt_real_t *p)
@@ -119,42 +119,16 @@ static bool invert(pdt_fisher_matrix_t F, pdt_fisher_matrix_t Inv, uint32_t n, b
     return true;
 }
 
-/* Where the host has vector lanes the ring of recent residuals is written
- * twice, LAGS apart, so that the lags are one contiguous run: four a turn
- * in a vector, no wrap. A Cortex-M has no lanes and keeps its stack: one
- * ring, two runs. */
-#if PDT_VECTOR_LANES == 4
-#define RING_TWICE 1
-#define RING_LEN   (2u * PDT_FISHER_LAGS)
-#else
-#define RING_TWICE 0
-#define RING_LEN   PDT_FISHER_LAGS
-#endif
-
-/* The residual's lagged products: the running state of one pass. */
-typedef struct lag_sums {
-    /* e(k - 1 - i) at recent[at + i] (modulo LAGS in the one ring) for
-     * i = 0 .. LAGS - 1 before sample k is added: the ring is written
-     * backwards. Before the record's LAGS-th sample it holds zeros, whose
-     * products add +-0 to the sums, which leaves them as they were, so
-     * every lag is summed from the first sample on. */
-    pdt_real_t recent[RING_LEN];
-    pdt_real_t first[PDT_FISHER_LAGS + 1u]; /* sums of the first i residuals */
-    pdt_real_t prod[PDT_FISHER_LAGS];       /* sum of e(k) e(k - l) */
-    pdt_real_t sum, part_sum;               /* sum of e, its block part */
-    size_t at;
-} lag_sums_t;
-
 /* e(k - 1 - i) before sample k is added. */
-static pdt_real_t lag_back(const lag_sums_t *L, size_t i)
+static pdt_real_t lag_back(const pdt_fisher_lags_t *L, size_t i)
 {
     const size_t j = L->at + i;
-    return L->recent[(RING_TWICE != 0 || j < PDT_FISHER_LAGS) ? j : j - PDT_FISHER_LAGS];
+    return L->recent[(PDT_FISHER_RING_TWICE != 0 || j < PDT_FISHER_LAGS) ? j : j - PDT_FISHER_LAGS];
 }
 
-PDT_FORCE_INLINE void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
+PDT_FORCE_INLINE void lags_add(pdt_fisher_lags_t *L, pdt_real_t e, size_t k)
 {
-#if RING_TWICE
+#if PDT_FISHER_RING_TWICE
     const pdt_real_t *back = &L->recent[L->at];
     PDT_UNROLL
     for (size_t l = 0; l < PDT_FISHER_LAGS; l += 4u) {
@@ -176,7 +150,7 @@ PDT_FORCE_INLINE void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
 #endif
     L->at = (L->at == 0u) ? PDT_FISHER_LAGS - 1u : L->at - 1u;
     L->recent[L->at] = e;
-#if RING_TWICE
+#if PDT_FISHER_RING_TWICE
     L->recent[L->at + PDT_FISHER_LAGS] = e;
 #endif
     L->part_sum += e;
@@ -185,7 +159,7 @@ PDT_FORCE_INLINE void lags_add(lag_sums_t *L, pdt_real_t e, size_t k)
     }
 }
 
-static void lags_flush(lag_sums_t *L)
+static void lags_flush(pdt_fisher_lags_t *L)
 {
     L->sum += L->part_sum;
     L->part_sum = PDT_R(0.0);
@@ -194,7 +168,7 @@ static void lags_flush(lag_sums_t *L)
 /* The autocorrelations of e - mean e from the raw sums: lag l's products
  * of the mean-free residual are prod - m (sum of the later n - l + sum of
  * the earlier n - l) + (n - l) m^2. */
-static void lags_rho(const lag_sums_t *L, size_t n, pdt_real_t sse, pdt_real_t *rho)
+static void lags_rho(const pdt_fisher_lags_t *L, size_t n, pdt_real_t sse, pdt_real_t *rho)
 {
     const pdt_real_t m = L->sum / (pdt_real_t)n;
     const pdt_real_t r0 = sse - (pdt_real_t)n * m * m;
@@ -212,16 +186,6 @@ static void lags_rho(const lag_sums_t *L, size_t n, pdt_real_t sse, pdt_real_t *
     }
 }
 
-/* The running state of the pass: the nominal model and one perturbed
- * model per shape parameter simulated side by side. */
-typedef struct fisher_pass {
-    pdt_discrete_t d[4];
-    pdt_discrete_state_t s[4];
-    pdt_real_t h[4]; /* the shape parameters' steps */
-    pdt_real_t gain; /* the nominal gain: the gain's column is ys / K */
-    pdt_real_t u0;   /* the input before the record */
-} fisher_pass_t;
-
 /* The input term of model d at sample k once every input tap has
  * arrived (k >= delay + 3): pdt_discrete_input's sum without its tests,
  * the same operations in the same order. */
@@ -236,8 +200,8 @@ PDT_FORCE_INLINE pdt_real_t input_full(const pdt_discrete_t *d, const pdt_real_t
 
 /* Model i of the pass advanced to sample k, its output. full: every
  * input tap has arrived. */
-PDT_FORCE_INLINE pdt_real_t model_at(fisher_pass_t *P, uint32_t i, const pdt_real_t *u, size_t k,
-                                     bool full)
+PDT_FORCE_INLINE pdt_real_t model_at(pdt_fisher_pass_t *P, uint32_t i, const pdt_real_t *u,
+                                     size_t k, bool full)
 {
     const pdt_discrete_t *d = &P->d[i];
     pdt_discrete_state_t *s = &P->s[i];
@@ -259,10 +223,10 @@ PDT_FORCE_INLINE pdt_real_t model_at(fisher_pass_t *P, uint32_t i, const pdt_rea
  * output is finite into *finite. nm, the model's
  * parameters, is a constant at each fast call, so that the loops over
  * them unroll. */
-PDT_FORCE_INLINE void fisher_sample(fisher_pass_t *P, pdt_fisher_matrix_t part, lag_sums_t *L,
-                                    pdt_real_t *sp, bool *finite, const pdt_real_t *u,
-                                    const pdt_real_t *y, pdt_real_t y0, size_t k, bool full,
-                                    uint32_t nm)
+PDT_FORCE_INLINE void fisher_sample(pdt_fisher_pass_t *P, pdt_fisher_matrix_t part,
+                                    pdt_fisher_lags_t *L, pdt_real_t *sp, bool *finite,
+                                    const pdt_real_t *u, const pdt_real_t *y, pdt_real_t y0,
+                                    size_t k, bool full, uint32_t nm)
 {
     pdt_real_t jr[PDT_FISHER_MAX];
     const pdt_real_t ys = model_at(P, 0u, u, k, full);
@@ -285,92 +249,137 @@ PDT_FORCE_INLINE void fisher_sample(fisher_pass_t *P, pdt_fisher_matrix_t part, 
     lags_add(L, e, k);
 }
 
-pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_t *u,
-                            const pdt_real_t *y, size_t n, pdt_real_t y0, pdt_real_t u0,
-                            pdt_fisher_matrix_t F, pdt_fisher_sums_t *out)
+pdt_status_t pdt_fisher_begin(pdt_fisher_run_t *R, const pdt_model_t *m, pdt_real_t Ts,
+                              const pdt_real_t *u, const pdt_real_t *y, size_t n, pdt_real_t y0,
+                              pdt_real_t u0, pdt_fisher_matrix_t F)
 {
     pdt_real_t p[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     const uint32_t nm = params_of(m, p);
     const uint32_t nj = nm + 1u;
     /* The nominal model, then one per shape parameter: the gain enters
      * linearly (ys / K), the offset as a constant. */
-    fisher_pass_t P = {.gain = p[0], .u0 = u0};
-    if (P.gain == PDT_R(0.0) || pdt_discrete_init(m, Ts, &P.d[0]) != PDT_OK) {
+    pdt_fisher_pass_t *const P = &R->P;
+    *P = (pdt_fisher_pass_t){.gain = p[0], .u0 = u0};
+    if (P->gain == PDT_R(0.0) || pdt_discrete_init(m, Ts, &P->d[0]) != PDT_OK) {
         return PDT_ERR_ARG;
     }
     /* From this sample on every model's input taps have arrived. */
-    size_t full = P.d[0].delay;
+    size_t full = P->d[0].delay;
     for (uint32_t i = 1; i < nm; i++) {
         pdt_real_t pp[4] = {p[0], p[1], p[2], p[3]};
         pp[i] += fd_step(m, i, p, Ts);
-        P.h[i] = pp[i] - p[i];
+        P->h[i] = pp[i] - p[i];
         pdt_model_t mp = *m;
         params_set(&mp, pp);
-        if (!(P.h[i] > PDT_R(0.0)) || pdt_discrete_init(&mp, Ts, &P.d[i]) != PDT_OK) {
+        if (!(P->h[i] > PDT_R(0.0)) || pdt_discrete_init(&mp, Ts, &P->d[i]) != PDT_OK) {
             return PDT_ERR_ARG;
         }
-        full = P.d[i].delay > full ? P.d[i].delay : full;
+        full = P->d[i].delay > full ? P->d[i].delay : full;
     }
-    full = (n > 3u && full < n - 3u) ? full + 3u : n;
-    /* Declared after the perturbed models' set-up, whose scratch can
-     * share their stack. */
-    pdt_fisher_matrix_t part = {{PDT_R(0.0)}};
-    lag_sums_t L = {{PDT_R(0.0)}, {PDT_R(0.0)}, {PDT_R(0.0)}, PDT_R(0.0), PDT_R(0.0), 0u};
-    pdt_real_t se = PDT_R(0.0);
-    pdt_real_t sp = PDT_R(0.0); /* a block's residual sum of squares */
-    bool finite = true;
+    R->full = (n > 3u && full < n - 3u) ? full + 3u : n;
+    R->L =
+        (pdt_fisher_lags_t){{PDT_R(0.0)}, {PDT_R(0.0)}, {PDT_R(0.0)}, PDT_R(0.0), PDT_R(0.0), 0u};
+    R->F = F;
+    R->u = u;
+    R->y = y;
+    R->n = n;
+    R->next = 0u;
+    R->y0 = y0;
+    R->se = PDT_R(0.0);
+    R->nm = nm;
+    R->finite = true;
     for (uint32_t i = 0; i < nj; i++) {
         for (uint32_t j = 0; j < nj; j++) {
             F[i][j] = PDT_R(0.0);
         }
     }
-    /* Blocks of FISHER_BLOCK samples: a block's sums join the totals at
-     * its end. For speed, the samples from `full` on take the straight
-     * input, with the parameters' count a constant in each loop; for size,
-     * one loop takes the tested input throughout (the same numbers). */
-    for (size_t first = 0; first < n; first += FISHER_BLOCK) {
-        const size_t stop = (n - first > FISHER_BLOCK) ? first + FISHER_BLOCK : n;
-        size_t k = first;
-#if PDT_SPEED_OVER_SIZE
-        for (; k < stop && k < full; k++) {
-            fisher_sample(&P, part, &L, &sp, &finite, u, y, y0, k, false, nm);
-        }
-        if (nm == 3u) {
-            for (; k < stop; k++) {
-                fisher_sample(&P, part, &L, &sp, &finite, u, y, y0, k, true, 3u);
-            }
-        } else {
-            for (; k < stop; k++) {
-                fisher_sample(&P, part, &L, &sp, &finite, u, y, y0, k, true, 4u);
-            }
-        }
-#else
-        for (; k < stop; k++) {
-            fisher_sample(&P, part, &L, &sp, &finite, u, y, y0, k, false, nm);
-        }
-#endif
-        for (uint32_t i = 0; i < nj; i++) {
-            for (uint32_t j = i; j < nj; j++) {
-                F[i][j] += part[i][j];
-                part[i][j] = PDT_R(0.0);
-            }
-        }
-        se += sp;
-        sp = PDT_R(0.0);
-        lags_flush(&L);
+    return PDT_OK;
+}
+
+/* Blocks of FISHER_BLOCK samples: a block's sums join the totals at its
+ * end. For speed, the samples from `full` on take the straight input, with
+ * the parameters' count a constant in each loop; for size, one loop takes
+ * the tested input throughout (the same numbers). */
+bool pdt_fisher_block(pdt_fisher_run_t *R)
+{
+    const size_t n = R->n;
+    const size_t first = R->next;
+    if (first >= n) {
+        return true;
     }
-    if (!finite) {
+    const uint32_t nm = R->nm;
+    const uint32_t nj = nm + 1u;
+    const pdt_real_t *const u = R->u;
+    const pdt_real_t *const y = R->y;
+    const pdt_real_t y0 = R->y0;
+    const size_t full = R->full;
+    pdt_fisher_pass_t *const P = &R->P;
+    pdt_fisher_lags_t *const L = &R->L;
+    pdt_fisher_matrix_t part = {{PDT_R(0.0)}};
+    pdt_real_t sp = PDT_R(0.0); /* the block's residual sum of squares */
+    bool finite = R->finite;
+    const size_t stop = (n - first > FISHER_BLOCK) ? first + FISHER_BLOCK : n;
+    size_t k = first;
+#if PDT_SPEED_OVER_SIZE
+    for (; k < stop && k < full; k++) {
+        fisher_sample(P, part, L, &sp, &finite, u, y, y0, k, false, nm);
+    }
+    if (nm == 3u) {
+        for (; k < stop; k++) {
+            fisher_sample(P, part, L, &sp, &finite, u, y, y0, k, true, 3u);
+        }
+    } else {
+        for (; k < stop; k++) {
+            fisher_sample(P, part, L, &sp, &finite, u, y, y0, k, true, 4u);
+        }
+    }
+#else
+    (void)full;
+    for (; k < stop; k++) {
+        fisher_sample(P, part, L, &sp, &finite, u, y, y0, k, false, nm);
+    }
+#endif
+    for (uint32_t i = 0; i < nj; i++) {
+        for (uint32_t j = i; j < nj; j++) {
+            R->F[i][j] += part[i][j];
+        }
+    }
+    R->se += sp;
+    lags_flush(L);
+    R->finite = finite;
+    R->next = stop;
+    return stop >= n;
+}
+
+pdt_status_t pdt_fisher_end(pdt_fisher_run_t *R, pdt_fisher_sums_t *out)
+{
+    if (!R->finite) {
         return PDT_ERR_NONFINITE;
     }
+    const uint32_t nj = R->nm + 1u;
     for (uint32_t i = 0; i < nj; i++) {
         for (uint32_t j = 0; j < i; j++) {
-            F[i][j] = F[j][i];
+            R->F[i][j] = R->F[j][i];
         }
     }
-    out->sse = se;
+    out->sse = R->se;
     out->np = nj;
-    lags_rho(&L, n, se, out->rho);
+    lags_rho(&R->L, R->n, R->se, out->rho);
     return PDT_OK;
+}
+
+pdt_status_t pdt_fisher_sum(const pdt_model_t *m, pdt_real_t Ts, const pdt_real_t *u,
+                            const pdt_real_t *y, size_t n, pdt_real_t y0, pdt_real_t u0,
+                            pdt_fisher_matrix_t F, pdt_fisher_sums_t *out)
+{
+    pdt_fisher_run_t R;
+    pdt_status_t st = pdt_fisher_begin(&R, m, Ts, u, y, n, y0, u0, F);
+    if (st != PDT_OK) {
+        return st;
+    }
+    while (!pdt_fisher_block(&R)) {
+    }
+    return pdt_fisher_end(&R, out);
 }
 
 pdt_real_t pdt_fisher_inflation(const pdt_fisher_sums_t *s)

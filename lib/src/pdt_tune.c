@@ -174,6 +174,7 @@ typedef struct tune_scan {
     /* the last two points, for the local minima of |1 + L| */
     pdt_real_t w1, d1, w2, d2;
     int seen;
+    uint32_t evals; /* evaluations of L so far */
 } tune_scan_t;
 
 static void peak_keep(tune_scan_t *s, pdt_real_t d2, pdt_real_t lo, pdt_real_t hi)
@@ -208,6 +209,7 @@ static void refine_gc(const tune_loop_t *lp, tune_scan_t *s, pdt_real_t wa, pdt_
             break;
         }
         bool above = abs2(loop_eval(lp, wm)) > PDT_R(1.0);
+        s->evals++;
         if (above == a_above) {
             wa = wm;
         } else {
@@ -216,6 +218,7 @@ static void refine_gc(const tune_loop_t *lp, tune_scan_t *s, pdt_real_t wa, pdt_
     }
     pdt_real_t w = pdt_sqrt(wa * wb);
     tune_cplx_t L = loop_eval(lp, w);
+    s->evals++;
     pdt_real_t pm = PDT_R(180.0) + arg_of(L) * (PDT_R(180.0) / PDT_PI);
     if (pm < s->pm) {
         s->pm = pm;
@@ -233,6 +236,7 @@ static void refine_pc(const tune_loop_t *lp, tune_scan_t *s, pdt_real_t wa, pdt_
             break;
         }
         bool pos = loop_eval(lp, wm).im > PDT_R(0.0);
+        s->evals++;
         if (pos == a_pos) {
             wa = wm;
         } else {
@@ -241,6 +245,7 @@ static void refine_pc(const tune_loop_t *lp, tune_scan_t *s, pdt_real_t wa, pdt_
     }
     pdt_real_t w = pdt_sqrt(wa * wb);
     tune_cplx_t L = loop_eval(lp, w);
+    s->evals++;
     if (L.re < PDT_R(0.0) && -L.re > s->re_pc) {
         s->re_pc = -L.re;
         s->w_pc = w;
@@ -310,6 +315,7 @@ static void refine_peak(const tune_loop_t *lp, tune_scan_t *s, pdt_real_t lo, pd
             f2 = dist2(loop_eval(lp, pdt_exp(x2)));
         }
     }
+    s->evals += 2u + (uint32_t)TUNE_GOLDEN_STEPS;
     if (f1 < s->best_d2) {
         s->best_d2 = f1;
         s->best_w = pdt_exp(x1);
@@ -320,10 +326,29 @@ static void refine_peak(const tune_loop_t *lp, tune_scan_t *s, pdt_real_t lo, pd
     }
 }
 
-pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g,
-                                 pdt_tune_figures_t *fig)
+/* The robustness figures' computation as a state: pdt_tune_robustness
+ * runs it whole, the tuning in steps a budget of evaluations at a time. */
+typedef struct tune_rob {
+    tune_loop_t lp;
+    tune_scan_t s;
+    pdt_real_t r; /* |L(j inf)| */
+    pdt_real_t top_big;
+    pdt_real_t w_lo;
+    pdt_real_t llo;
+    pdt_real_t dl;
+    pdt_real_t wa; /* the grid's last point and L there */
+    tune_cplx_t La;
+    int n0;       /* poles of L at s = 0 */
+    unsigned i;   /* the grid's points left */
+    int peak;     /* the next peak to refine */
+    bool nyquist; /* the grid is done and the encirclement checked */
+} tune_rob_t;
+
+/* Everything before the grid's scan: the loop, the frequency range and the
+ * scan's first point. */
+static pdt_status_t rob_begin(const pdt_model_t *m, const pdt_tune_gains_t *g, tune_rob_t *R)
 {
-    if (m == NULL || g == NULL || fig == NULL || pdt_model_check(m) != PDT_OK || !gains_valid(g)) {
+    if (m == NULL || g == NULL || pdt_model_check(m) != PDT_OK || !gains_valid(g)) {
         return PDT_ERR_ARG;
     }
     tune_loop_t lp;
@@ -403,6 +428,7 @@ pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g
     s.re_pc = PDT_R(0.0);
     s.w_pc = PDT_R(0.0);
     s.seen = 0;
+    s.evals = 0u;
     s.w1 = s.w2 = s.d1 = s.d2 = PDT_R(0.0);
 
     /* From the top down, where |L| < 1 makes the principal arg(1 + L)
@@ -417,16 +443,49 @@ pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g
     s.w1 = wa;
     s.d1 = s.best_d2;
     s.seen = 1;
-    for (unsigned i = PDT_TUNE_GRID - 1u; i-- > 0u;) {
+    R->lp = lp;
+    R->s = s;
+    R->r = r;
+    R->top_big = top_big;
+    R->w_lo = w_lo;
+    R->llo = llo;
+    R->dl = dl;
+    R->wa = wa;
+    R->La = La;
+    R->n0 = n0;
+    R->i = PDT_TUNE_GRID - 1u;
+    R->peak = 0;
+    R->nyquist = false;
+    return PDT_OK;
+}
+
+/* The grid's intervals from the top down until the scan has made budget
+ * evaluations of L (an interval is never cut): PDT_OK once the grid is
+ * done, PDT_RUNNING before, PDT_ERR_UNSTABLE. */
+static pdt_status_t rob_grid(tune_rob_t *R, uint32_t budget)
+{
+    const tune_loop_t *const lp = &R->lp;
+    tune_scan_t *const s = &R->s;
+    const pdt_real_t w_lo = R->w_lo;
+    const pdt_real_t llo = R->llo;
+    const pdt_real_t dl = R->dl;
+    const pdt_real_t top_big = R->top_big;
+    pdt_real_t wa = R->wa;
+    tune_cplx_t La = R->La;
+    const uint32_t start = s->evals;
+    while (R->i > 0u) {
+        R->i--;
+        const unsigned i = R->i;
         pdt_real_t wb = i == 0u ? w_lo : pdt_exp(llo + (pdt_real_t)i * dl);
-        tune_cplx_t Lb = loop_eval(&lp, wb);
+        tune_cplx_t Lb = loop_eval(lp, wb);
+        s->evals++;
         int nsub = 1;
         pdt_real_t mag2 = rmax(abs2(La), abs2(Lb));
         if (mag2 >= TUNE_QUIET * TUNE_QUIET) {
             /* The dead time turns L by (wa - wb) Td over the interval,
              * which the principal arguments below cannot see past 2 pi. */
             const pdt_real_t eighth = PDT_R(0.25) * PDT_PI;
-            pdt_real_t turn_d = (wa - wb) * lp.Td;
+            pdt_real_t turn_d = (wa - wb) * lp->Td;
             pdt_real_t turn_l = pdt_fabs(wrap_pi(arg_of(Lb) - arg_of(La)));
             pdt_real_t turn_s = pdt_fabs(wrap_pi(arg_1p(Lb) - arg_1p(La)));
             if (!(turn_d <= (pdt_real_t)TUNE_SPLIT_MAX * eighth)) {
@@ -450,37 +509,66 @@ pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g
             tune_cplx_t Lp = La;
             for (int k = 1; k < nsub; k++) {
                 pdt_real_t wq = pdt_exp(lwa + (pdt_real_t)k * step);
-                tune_cplx_t Lq = loop_eval(&lp, wq);
-                scan_step(&lp, &s, wp, Lp, wq, Lq);
+                tune_cplx_t Lq = loop_eval(lp, wq);
+                s->evals++;
+                scan_step(lp, s, wp, Lp, wq, Lq);
                 wp = wq;
                 Lp = Lq;
             }
-            scan_step(&lp, &s, wp, Lp, wb, Lb);
+            scan_step(lp, s, wp, Lp, wb, Lb);
         } else {
-            scan_step(&lp, &s, wa, La, wb, Lb);
+            scan_step(lp, s, wa, La, wb, Lb);
         }
         wa = wb;
         La = Lb;
+        wa = wb;
+        La = Lb;
+        if (s->evals - start >= budget) {
+            break;
+        }
     }
+    R->wa = wa;
+    R->La = La;
+    return R->i == 0u ? PDT_OK : PDT_RUNNING;
+}
 
-    /* Nyquist: arg(1 + L) at w -> 0+ must be -n0 pi / 2 (no RHP pole). */
-    pdt_real_t want = -(pdt_real_t)n0 * PDT_R(0.5) * PDT_PI;
-    if (pdt_fabs(s.phase - want) >= PDT_R(0.5) * PDT_PI) {
-        return PDT_ERR_UNSTABLE;
+/* One bounded part of the figures: the grid (budget evaluations of L, as
+ * rob_grid), then the peaks, each refined whole, while the budget lasts.
+ * PDT_OK with *fig written once complete, PDT_RUNNING before,
+ * PDT_ERR_UNSTABLE. */
+static pdt_status_t rob_step(tune_rob_t *R, uint32_t budget, pdt_tune_figures_t *fig)
+{
+    const uint32_t start = R->s.evals;
+    if (!R->nyquist) {
+        const pdt_status_t st = rob_grid(R, budget);
+        if (st != PDT_OK) {
+            return st;
+        }
+        /* Nyquist: arg(1 + L) at w -> 0+ must be -n0 pi / 2 (no RHP pole). */
+        pdt_real_t want = -(pdt_real_t)R->n0 * PDT_R(0.5) * PDT_PI;
+        if (pdt_fabs(R->s.phase - want) >= PDT_R(0.5) * PDT_PI) {
+            return PDT_ERR_UNSTABLE;
+        }
+        R->nyquist = true;
     }
-
-    for (int i = 0; i < s.npeaks; i++) {
-        refine_peak(&lp, &s, s.peak_hi[i], s.peak_lo[i]);
+    tune_scan_t *const sp = &R->s;
+    while (R->peak < sp->npeaks) {
+        if (sp->evals - start >= budget) {
+            return PDT_RUNNING;
+        }
+        refine_peak(&R->lp, sp, sp->peak_hi[R->peak], sp->peak_lo[R->peak]);
+        R->peak++;
     }
-
+    const tune_scan_t *const s = sp;
+    const pdt_real_t r = R->r;
     pdt_tune_figures_t f;
-    f.Ms = PDT_R(1.0) / pdt_sqrt(s.best_d2);
-    f.w_ms = s.best_w;
-    f.phase_margin_deg = s.pm;
-    f.w_gc = s.w_gc;
-    if (s.re_pc > PDT_R(0.0)) {
-        f.gain_margin = PDT_R(1.0) / s.re_pc;
-        f.w_pc = s.w_pc;
+    f.Ms = PDT_R(1.0) / pdt_sqrt(s->best_d2);
+    f.w_ms = s->best_w;
+    f.phase_margin_deg = s->pm;
+    f.w_gc = s->w_gc;
+    if (s->re_pc > PDT_R(0.0)) {
+        f.gain_margin = PDT_R(1.0) / s->re_pc;
+        f.w_pc = s->w_pc;
     } else {
         f.gain_margin = (pdt_real_t)INFINITY;
         f.w_pc = PDT_R(0.0);
@@ -504,6 +592,20 @@ pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g
     }
     *fig = f;
     return PDT_OK;
+}
+
+pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g,
+                                 pdt_tune_figures_t *fig)
+{
+    if (fig == NULL) {
+        return PDT_ERR_ARG;
+    }
+    tune_rob_t R;
+    pdt_status_t st = rob_begin(m, g, &R);
+    if (st != PDT_OK) {
+        return st;
+    }
+    return rob_step(&R, UINT32_MAX, fig);
 }
 
 /* ---- form conversions --------------------------------------------------- */
@@ -843,11 +945,13 @@ static bool config_valid(const pdt_tune_config_t *cfg)
            (cfg->ms_max == PDT_R(0.0) || cfg->ms_max > PDT_R(1.0));
 }
 
-pdt_status_t pdt_tune_compute(const pdt_model_t *m, pdt_real_t fit, const pdt_tune_config_t *cfg,
-                              pdt_tune_result_t *out)
+/* The rule's gains in both forms into *out (its figures not yet): what
+ * pdt_tune_compute does before the robustness. */
+static pdt_status_t tune_gains(const pdt_model_t *m, pdt_real_t fit, const pdt_tune_config_t *cfg,
+                               pdt_tune_result_t *out)
 {
-    if (m == NULL || cfg == NULL || out == NULL || pdt_model_check(m) != PDT_OK ||
-        !config_valid(cfg) || !pdt_finite(fit)) {
+    if (m == NULL || cfg == NULL || pdt_model_check(m) != PDT_OK || !config_valid(cfg) ||
+        !pdt_finite(fit)) {
         return PDT_ERR_ARG;
     }
     tune_view_t v;
@@ -885,22 +989,35 @@ pdt_status_t pdt_tune_compute(const pdt_model_t *m, pdt_real_t fit, const pdt_tu
         return PDT_ERR_ARG;
     }
 
-    pdt_tune_result_t r;
-    r.knob = o.knob;
-    r.series_rule = o.series_rule;
+    out->knob = o.knob;
+    out->series_rule = o.series_rule;
     if (o.series_rule) {
-        r.series = o.g;
-        r.series_exists = true;
-        st = pdt_tune_to_ideal(&o.g, &r.ideal);
+        out->series = o.g;
+        out->series_exists = true;
+        st = pdt_tune_to_ideal(&o.g, &out->ideal);
         if (st != PDT_OK) {
             return st;
         }
     } else {
-        r.ideal = o.g;
-        r.series_exists = pdt_tune_to_series(&o.g, &r.series) == PDT_OK;
-        if (!r.series_exists) {
-            r.series.Kc = r.series.tauI = r.series.tauD = r.series.Tf = PDT_R(0.0);
+        out->ideal = o.g;
+        out->series_exists = pdt_tune_to_series(&o.g, &out->series) == PDT_OK;
+        if (!out->series_exists) {
+            out->series.Kc = out->series.tauI = out->series.tauD = out->series.Tf = PDT_R(0.0);
         }
+    }
+    return PDT_OK;
+}
+
+pdt_status_t pdt_tune_compute(const pdt_model_t *m, pdt_real_t fit, const pdt_tune_config_t *cfg,
+                              pdt_tune_result_t *out)
+{
+    if (out == NULL) {
+        return PDT_ERR_ARG;
+    }
+    pdt_tune_result_t r;
+    pdt_status_t st = tune_gains(m, fit, cfg, &r);
+    if (st != PDT_OK) {
+        return st;
     }
     st = pdt_tune_robustness(m, &r.ideal, &r.fig);
     if (st != PDT_OK) {
@@ -911,4 +1028,79 @@ pdt_status_t pdt_tune_compute(const pdt_model_t *m, pdt_real_t fit, const pdt_tu
     }
     *out = r;
     return PDT_OK;
+}
+
+/* ---- the tuning in steps ------------------------------------------------ */
+
+#define TUNE_RUN_MAGIC PDT_MAGIC('P', 'D', 'T', 'S')
+
+/* The state of a tuning in steps, in its workspace. */
+typedef struct tune_run {
+    tune_rob_t R;
+    pdt_tune_result_t r;
+    pdt_real_t ms_max;
+    pdt_status_t status; /* PDT_RUNNING, then the outcome */
+    uint32_t magic;
+} tune_run_t;
+
+/* The public bound covers the state and the padding that aligns it
+ * (pdt_tune.h). */
+typedef char
+    tune_run_fits[(sizeof(tune_run_t) + sizeof(uintmax_t) <= PDT_TUNE_RUN_WORKSPACE_SIZE) ? 1 : -1];
+
+/* The state in the workspace: its first address aligned for it. */
+static tune_run_t *tune_run_of(void *work)
+{
+    const uintptr_t a = (uintptr_t)sizeof(uintmax_t);
+    const uintptr_t w = (uintptr_t)work;
+    const uintptr_t pad = (a - (w % a)) % a;
+    return (tune_run_t *)(void *)((unsigned char *)work + pad);
+}
+
+size_t pdt_tune_run_workspace_size(void)
+{
+    return PDT_TUNE_RUN_WORKSPACE_SIZE;
+}
+
+pdt_status_t pdt_tune_begin(const pdt_model_t *m, pdt_real_t fit, const pdt_tune_config_t *cfg,
+                            void *work, size_t work_len)
+{
+    if (work == NULL || work_len < PDT_TUNE_RUN_WORKSPACE_SIZE) {
+        return PDT_ERR_NOMEM;
+    }
+    tune_run_t *const T = tune_run_of(work);
+    T->magic = 0u;
+    pdt_status_t st = tune_gains(m, fit, cfg, &T->r);
+    if (st == PDT_OK) {
+        st = rob_begin(m, &T->r.ideal, &T->R);
+    }
+    if (st != PDT_OK) {
+        return st;
+    }
+    T->ms_max = cfg->ms_max;
+    T->status = PDT_RUNNING;
+    T->magic = TUNE_RUN_MAGIC;
+    return PDT_OK;
+}
+
+pdt_status_t pdt_tune_step(void *work, pdt_tune_result_t *out)
+{
+    if (work == NULL || out == NULL) {
+        return PDT_ERR_ARG;
+    }
+    tune_run_t *const T = tune_run_of(work);
+    if (T->magic != TUNE_RUN_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    if (T->status == PDT_RUNNING) {
+        pdt_status_t st = rob_step(&T->R, PDT_TUNE_STEP_EVALS, &T->r.fig);
+        if (st == PDT_OK && T->ms_max > PDT_R(0.0) && T->r.fig.Ms > T->ms_max) {
+            st = PDT_ERR_MS_LIMIT;
+        }
+        T->status = st;
+    }
+    if (T->status == PDT_OK) {
+        *out = T->r;
+    }
+    return T->status;
 }

@@ -44,7 +44,7 @@ typedef struct val_ctx {
 } val_ctx_t;
 
 static pdt_status_t prepare(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
-                            pdt_real_t y0, void *work, size_t work_len, val_ctx_t *c)
+                            pdt_real_t y0, void *work, size_t work_len, size_t need, val_ctx_t *c)
 {
     if (m == NULL || data == NULL || data->u == NULL || data->y == NULL ||
         pdt_model_check(m) != PDT_OK || !pdt_finite(Ts) || !(Ts > PDT_R(0.0)) || !pdt_finite(y0)) {
@@ -54,7 +54,7 @@ static pdt_status_t prepare(const pdt_model_t *m, const pdt_ident_data_t *data, 
     if (n < PDT_MIN_SAMPLES || n <= 2u * (PDT_VALIDATE_LAGS + PDT_VALIDATE_FIR)) {
         return PDT_ERR_TOO_SHORT;
     }
-    if (work == NULL || work_len < pdt_validate_workspace_size(n)) {
+    if (work == NULL || work_len < need) {
         return PDT_ERR_NOMEM;
     }
     if (!pdt_aligned(work)) {
@@ -98,43 +98,33 @@ static pdt_real_t gain_of(const pdt_model_t *m)
     return m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
 }
 
-pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
-                                pdt_real_t y0, void *work, size_t work_len,
-                                pdt_validate_result_t *out)
-{
-    if (out == NULL) {
-        return PDT_ERR_ARG;
-    }
-    /* Zeroed: prepare fills it on success only, and avr-gcc 5 took a
-     * field for unset on the success path. */
-    val_ctx_t c = {0};
-    pdt_status_t st = prepare(m, data, Ts, y0, work, work_len, &c);
-    if (st != PDT_OK) {
-        return st;
-    }
-    pdt_real_t gain = gain_of(m);
-    if (gain == PDT_R(0.0)) {
-        return PDT_ERR_ARG;
-    }
-    const size_t n = c.n;
-    pdt_validate_result_t r = {0};
-    r.model = *m;
-    r.Ts = Ts;
-    r.n = n;
-
+/* What the stages after the preparation carry: the result as it is
+ * built, the Fisher pass's matrix and sums, the FIR's normal equations. */
+typedef struct val_sums {
+    pdt_validate_result_t r;
+    val_ctx_t c;
     pdt_fisher_matrix_t F;
     pdt_fisher_sums_t fs;
-    st = pdt_fisher_sum(m, Ts, data->u, data->y, n, y0, data->u[0], F, &fs);
-    if (st != PDT_OK) {
-        return st;
-    }
-    const pdt_real_t sse = fs.sse;
-    const uint32_t np = fs.np;
+    pdt_real_t A[PDT_VALIDATE_FIR][PDT_VALIDATE_FIR];
+    pdt_real_t bv[PDT_VALIDATE_FIR];
+    pdt_real_t r0; /* the mean-free residual's sum of squares */
+} val_sums_t;
 
-    pdt_real_t *e = c.e;
+/* After the Fisher pass: the mean-free residual, the whiteness test, the
+ * information criteria, the covariance and the FIR's first lag; A and bv
+ * zeroed for the FIR's rows. */
+static void val_residual(val_sums_t *S)
+{
+    pdt_validate_result_t *const r = &S->r;
+    const val_ctx_t *const c = &S->c;
+    const size_t n = c->n;
+    const pdt_real_t sse = S->fs.sse;
+    const uint32_t np = S->fs.np;
+
+    pdt_real_t *e = c->e;
     pdt_real_t mean = PDT_R(0.0);
     for (size_t k = 0; k < n; k++) {
-        e[k] = c.y[k] - c.y0 - c.ys[k];
+        e[k] = c->y[k] - c->y0 - c->ys[k];
         mean += e[k];
     }
     mean /= (pdt_real_t)n;
@@ -146,30 +136,31 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
     for (size_t k = 0; k < n; k++) {
         r0 += e[k] * e[k];
     }
+    S->r0 = r0;
     /* Whiteness: the residual's autocorrelations at lags 1..LAGS, summed
      * with the Fisher information. */
     pdt_real_t q = PDT_R(0.0);
     for (size_t lag = 0; lag < PDT_VALIDATE_LAGS; lag++) {
-        q += fs.rho[lag] * fs.rho[lag];
+        q += S->fs.rho[lag] * S->fs.rho[lag];
     }
-    r.white_stat = (pdt_real_t)n * q;
-    r.white_limit = chi2_99((pdt_real_t)PDT_VALIDATE_LAGS);
-    r.white = r.white_stat <= r.white_limit;
-    r.inflation = pdt_fisher_inflation(&fs);
+    r->white_stat = (pdt_real_t)n * q;
+    r->white_limit = chi2_99((pdt_real_t)PDT_VALIDATE_LAGS);
+    r->white = r->white_stat <= r->white_limit;
+    r->inflation = pdt_fisher_inflation(&S->fs);
 
     pdt_real_t ml = sse / (pdt_real_t)n;
     if (!(ml > PDT_R(0.0))) {
         ml = PDT_REAL_EPS * PDT_REAL_EPS;
     }
-    r.sigma = pdt_sqrt(sse / (pdt_real_t)(n - np));
-    r.aic = (pdt_real_t)n * pdt_log(ml) + PDT_R(2.0) * (pdt_real_t)np;
-    r.bic = (pdt_real_t)n * pdt_log(ml) + (pdt_real_t)np * pdt_log((pdt_real_t)n);
-    r.std.count = np;
-    pdt_fisher_covariance(F, np, n, sse, r.inflation, r.std.std, r.std.cov);
+    r->sigma = pdt_sqrt(sse / (pdt_real_t)(n - np));
+    r->aic = (pdt_real_t)n * pdt_log(ml) + PDT_R(2.0) * (pdt_real_t)np;
+    r->bic = (pdt_real_t)n * pdt_log(ml) + (pdt_real_t)np * pdt_log((pdt_real_t)n);
+    r->std.count = np;
+    pdt_fisher_covariance(S->F, np, n, sse, r->inflation, r->std.std, r->std.cov);
 
     /* The model-error FIR from a few samples before the model's dead time
      * on: e(k) ~ sum_j h_j du(k - L0 - j). */
-    size_t l = (size_t)(pdt_model_dead_time(m) / Ts);
+    size_t l = (size_t)(pdt_model_dead_time(&r->model) / r->Ts);
     size_t L0 = l + 1u > PDT_VALIDATE_FIR / 4u ? l + 1u - PDT_VALIDATE_FIR / 4u : 1u;
     if (L0 < 1u) {
         L0 = 1u;
@@ -177,21 +168,40 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
     if (L0 + PDT_VALIDATE_FIR >= n / 2u) {
         L0 = 1u;
     }
-    r.fir_lag = (uint32_t)L0;
-    pdt_real_t A[PDT_VALIDATE_FIR][PDT_VALIDATE_FIR] = {{PDT_R(0.0)}};
-    pdt_real_t bv[PDT_VALIDATE_FIR] = {PDT_R(0.0)};
-    for (size_t k = L0; k < n; k++) {
+    r->fir_lag = (uint32_t)L0;
+    for (uint32_t i = 0; i < PDT_VALIDATE_FIR; i++) {
+        S->bv[i] = PDT_R(0.0);
+        for (uint32_t j = 0; j < PDT_VALIDATE_FIR; j++) {
+            S->A[i][j] = PDT_R(0.0);
+        }
+    }
+}
+
+/* The FIR's normal equations, rows k0 .. k1 - 1 (k0 >= fir_lag). */
+static void val_fir_rows(val_sums_t *S, size_t k0, size_t k1)
+{
+    const size_t L0 = (size_t)S->r.fir_lag;
+    const pdt_real_t *const du = S->c.du;
+    const pdt_real_t *const e = S->c.e;
+    for (size_t k = k0; k < k1; k++) {
         pdt_real_t x[PDT_VALIDATE_FIR];
         for (uint32_t j = 0; j < PDT_VALIDATE_FIR; j++) {
-            x[j] = k >= L0 + j ? c.du[k - L0 - j] : PDT_R(0.0);
+            x[j] = k >= L0 + j ? du[k - L0 - j] : PDT_R(0.0);
         }
         for (uint32_t i = 0; i < PDT_VALIDATE_FIR; i++) {
-            bv[i] += x[i] * e[k];
+            S->bv[i] += x[i] * e[k];
             for (uint32_t j = 0; j <= i; j++) {
-                A[i][j] += x[i] * x[j];
+                S->A[i][j] += x[i] * x[j];
             }
         }
     }
+}
+
+/* The FIR solved and the independence test: the result complete. */
+static void val_finish(val_sums_t *S)
+{
+    pdt_validate_result_t *const r = &S->r;
+    pdt_real_t(*const A)[PDT_VALIDATE_FIR] = S->A;
     pdt_real_t tr = PDT_R(0.0);
     for (uint32_t i = 0; i < PDT_VALIDATE_FIR; i++) {
         tr += A[i][i];
@@ -206,21 +216,193 @@ pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *da
     }
     pdt_real_t h[PDT_VALIDATE_FIR];
     for (uint32_t i = 0; i < PDT_VALIDATE_FIR; i++) {
-        h[i] = bv[i];
+        h[i] = S->bv[i];
     }
     pdt_real_t ess = PDT_R(0.0);
     if (pdt_chol_solve(&A[0][0], PDT_VALIDATE_FIR, PDT_VALIDATE_FIR, PDT_R(0.0), h)) {
         for (uint32_t i = 0; i < PDT_VALIDATE_FIR; i++) {
-            ess += h[i] * bv[i];
-            r.fir[i] = h[i];
+            ess += h[i] * S->bv[i];
+            r->fir[i] = h[i];
         }
     }
-    pdt_real_t dof = (pdt_real_t)(n - np - PDT_VALIDATE_FIR);
-    pdt_real_t s2 = (r0 - ess) / dof;
-    r.cross_stat = s2 > PDT_R(0.0) ? ess / s2 : PDT_REAL_MAX;
-    r.cross_limit = chi2_99((pdt_real_t)PDT_VALIDATE_FIR);
-    r.independent = r.cross_stat <= r.cross_limit;
-    *out = r;
+    pdt_real_t dof = (pdt_real_t)(S->c.n - S->fs.np - PDT_VALIDATE_FIR);
+    pdt_real_t s2 = (S->r0 - ess) / dof;
+    r->cross_stat = s2 > PDT_R(0.0) ? ess / s2 : PDT_REAL_MAX;
+    r->cross_limit = chi2_99((pdt_real_t)PDT_VALIDATE_FIR);
+    r->independent = r->cross_stat <= r->cross_limit;
+}
+
+/* The checks, the preparation and the result's head, shared by the two
+ * forms. */
+static pdt_status_t val_start(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
+                              pdt_real_t y0, void *work, size_t work_len, size_t need,
+                              val_sums_t *S)
+{
+    /* Zeroed: prepare fills it on success only, and avr-gcc 5 took a
+     * field for unset on the success path. */
+    val_ctx_t c = {0};
+    pdt_status_t st = prepare(m, data, Ts, y0, work, work_len, need, &c);
+    if (st != PDT_OK) {
+        return st;
+    }
+    if (gain_of(m) == PDT_R(0.0)) {
+        return PDT_ERR_ARG;
+    }
+    S->c = c;
+    S->r = (pdt_validate_result_t){0};
+    S->r.model = *m;
+    S->r.Ts = Ts;
+    S->r.n = c.n;
+    return PDT_OK;
+}
+
+pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
+                                pdt_real_t y0, void *work, size_t work_len,
+                                pdt_validate_result_t *out)
+{
+    if (out == NULL) {
+        return PDT_ERR_ARG;
+    }
+    val_sums_t S;
+    const size_t need = data != NULL ? pdt_validate_workspace_size(data->n) : 0u;
+    pdt_status_t st = val_start(m, data, Ts, y0, work, work_len, need, &S);
+    if (st != PDT_OK) {
+        return st;
+    }
+    st = pdt_fisher_sum(m, Ts, data->u, data->y, S.c.n, y0, data->u[0], S.F, &S.fs);
+    if (st != PDT_OK) {
+        return st;
+    }
+    val_residual(&S);
+    val_fir_rows(&S, (size_t)S.r.fir_lag, S.c.n);
+    val_finish(&S);
+    *out = S.r;
+    return PDT_OK;
+}
+
+/* ---- the validation in steps ------------------------------------------ */
+
+#define VAL_RUN_MAGIC PDT_MAGIC('P', 'D', 'V', 'S')
+
+/* Where a validation in steps is (val_run_t.stage). */
+#define VS_FISHER   1u
+#define VS_RESIDUAL 2u
+#define VS_FIR      3u
+#define VS_FINISH   4u
+#define VS_DONE     5u
+#define VS_FAILED   6u
+
+/* The state of a validation in steps, at the head of its workspace; the
+ * three records of prepare follow it. */
+typedef struct val_run {
+    val_sums_t S;
+    pdt_fisher_run_t R;
+    pdt_status_t status; /* the step's error once VS_FAILED */
+    uint32_t magic;
+    uint32_t stage;
+    size_t k; /* VS_FIR: the next row */
+} val_run_t;
+
+/* The public bound covers the state and the padding that aligns it
+ * (pdt_validate.h). */
+typedef char
+    val_run_fits[(sizeof(val_run_t) + sizeof(uintmax_t) <= PDT_VALIDATE_RUN_STATE_SIZE) ? 1 : -1];
+
+/* The state in the workspace: its first address aligned for it. */
+static val_run_t *val_run_of(void *work)
+{
+    const uintptr_t a = (uintptr_t)sizeof(uintmax_t);
+    const uintptr_t w = (uintptr_t)work;
+    const uintptr_t pad = (a - (w % a)) % a;
+    return (val_run_t *)(void *)((unsigned char *)work + pad);
+}
+
+size_t pdt_validate_run_workspace_size(size_t n)
+{
+    return PDT_VALIDATE_RUN_WORKSPACE_SIZE(n);
+}
+
+pdt_status_t pdt_validate_begin(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
+                                pdt_real_t y0, void *work, size_t work_len)
+{
+    if (data == NULL) {
+        return PDT_ERR_ARG;
+    }
+    if (work == NULL || work_len < pdt_validate_run_workspace_size(data->n)) {
+        return PDT_ERR_NOMEM;
+    }
+    if (!pdt_aligned(work)) {
+        return PDT_ERR_ARG;
+    }
+    /* The state first, the records of prepare after the state's bound. */
+    val_run_t *const V = val_run_of(work);
+    unsigned char *const recs = (unsigned char *)work + PDT_VALIDATE_RUN_STATE_SIZE;
+    const size_t need = 3u * data->n * sizeof(pdt_real_t);
+    V->magic = 0u;
+    pdt_status_t st =
+        val_start(m, data, Ts, y0, recs, work_len - PDT_VALIDATE_RUN_STATE_SIZE, need, &V->S);
+    if (st == PDT_OK) {
+        st = pdt_fisher_begin(&V->R, m, Ts, data->u, data->y, V->S.c.n, y0, data->u[0], V->S.F);
+    }
+    if (st != PDT_OK) {
+        return st;
+    }
+    V->status = PDT_OK;
+    V->stage = VS_FISHER;
+    V->k = 0u;
+    V->magic = VAL_RUN_MAGIC;
+    return PDT_OK;
+}
+
+/* One bounded piece of the validation. */
+static void val_run_step(val_run_t *V)
+{
+    switch (V->stage) {
+    case VS_FISHER:
+        if (pdt_fisher_block(&V->R)) {
+            V->status = pdt_fisher_end(&V->R, &V->S.fs);
+            V->stage = V->status == PDT_OK ? VS_RESIDUAL : VS_FAILED;
+        }
+        break;
+    case VS_RESIDUAL:
+        val_residual(&V->S);
+        V->k = (size_t)V->S.r.fir_lag;
+        V->stage = VS_FIR;
+        break;
+    case VS_FIR: {
+        const size_t n = V->S.c.n;
+        const size_t stop = n - V->k > PDT_VALIDATE_FIR_ROWS ? V->k + PDT_VALIDATE_FIR_ROWS : n;
+        val_fir_rows(&V->S, V->k, stop);
+        V->k = stop;
+        V->stage = stop >= n ? VS_FINISH : VS_FIR;
+        break;
+    }
+    case VS_FINISH:
+        val_finish(&V->S);
+        V->stage = VS_DONE;
+        break;
+    default:
+        break;
+    }
+}
+
+pdt_status_t pdt_validate_step(void *work, pdt_validate_result_t *out)
+{
+    if (work == NULL || out == NULL || !pdt_aligned(work)) {
+        return PDT_ERR_ARG;
+    }
+    val_run_t *const V = val_run_of(work);
+    if (V->magic != VAL_RUN_MAGIC) {
+        return PDT_ERR_STATE;
+    }
+    val_run_step(V);
+    if (V->stage == VS_FAILED) {
+        return V->status;
+    }
+    if (V->stage != VS_DONE) {
+        return PDT_RUNNING;
+    }
+    *out = V->S.r;
     return PDT_OK;
 }
 

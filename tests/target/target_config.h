@@ -53,6 +53,9 @@ typedef struct target_at_run {
     uint64_t worst_search; /* ticks of the slowest identify call that
                             * evaluated (the search's, not a preparation or
                             * a validation) */
+    uint64_t worst_valid;  /* ticks of the slowest identify call after the
+                            * searches: the validation in steps, the order's
+                            * choice and the disturbance check */
     size_t stack;          /* bytes below the run's frame */
 } target_at_run_t;
 

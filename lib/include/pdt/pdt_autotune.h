@@ -34,11 +34,16 @@
  * where that is larger (O(n) each, O(N_f) for the frequency part; on the
  * identification's coarse record D evaluations take the time of one,
  * pdt_ident_step) plus one GA breeding
- * step (O(P^2)); one identify call per model
- * validated (pdt_validate_model: O(n) per parameter, O(20 n) and
- * O(78 n) for the residual tests); each tune call, one pdt_tune_compute
- * (a few thousand loop evaluations, see pdt_tune.h) and one
- * pdt_validate_margin (200 frequencies), at most 9 tune calls. The
+ * step (O(P^2)); the identification's stages that are not evaluations
+ * (its screen for gross errors, the parameters' uncertainty) one call
+ * each, O(n). Each model's validation in steps, one pdt_validate_step a
+ * call (pdt_validate.h: the preparation, O(n); PDT_FISHER_BLOCK samples of
+ * the sensitivities' pass; the residual's statistics, O(n);
+ * PDT_VALIDATE_FIR_ROWS rows of the FIR). Each knob factor's tuning in
+ * steps, one pdt_tune_step a call (pdt_tune.h: the rule's gains, then about
+ * PDT_TUNE_STEP_EVALS evaluations of the loop's response a call), then one
+ * call for pdt_validate_margin (200 frequencies); at most 9 knob factors.
+ * The state of both steps lives in the workspace. The
  * disturbance check: O(n) in the identify call that chooses the order; a
  * drift found repeats the identification (at most drift_passes times), a
  * disturbed record the experiment (at most repeats times). With the loop
@@ -221,8 +226,10 @@ typedef struct pdt_autotune {
     size_t tail_end;          /* samples recorded when the tail is complete */
     bool excite_over;         /* the excitation has ended */
     bool ident_started;       /* pdt_ident_init has run */
+    bool valid_started;       /* pdt_validate_begin has run */
     uint32_t stage;           /* identify: models done and validated */
     uint32_t tune_try;        /* tune: knob factors tried */
+    uint32_t tune_stage;      /* tune: where the factor's tuning is */
     pdt_ident_result_t first; /* order_auto: the FOPDT */
     pdt_validate_result_t first_valid;
     pdt_status_t tune_why; /* why the last knob factor was refused */
@@ -246,8 +253,10 @@ void pdt_autotune_config_default(pdt_autotune_config_t *cfg);
 
 /* Workspace bytes for cfg: 2 capacity reals for the record plus the
  * larger of the identification's workspace for capacity samples (either
- * model with order_auto) and the validation's (pdt_validate.h: 5 capacity
- * reals; asked for only with order_auto or ms_robust > 0). 0 when cfg is NULL or
+ * model with order_auto) and the validation's in steps
+ * (pdt_validate_run_workspace_size: 5 capacity reals, or 3 and the steps'
+ * state when that is more; asked for only with order_auto or
+ * ms_robust > 0). 0 when cfg is NULL or
  * not valid (init then says why). */
 size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
 
@@ -256,9 +265,9 @@ size_t pdt_autotune_workspace_size(const pdt_autotune_config_t *cfg);
  * automatic populations), any configuration: for static arrays. */
 #define PDT_AUTOTUNE_WORKSPACE_SIZE(capacity, pop)                                                 \
     (2u * (size_t)(capacity) * sizeof(pdt_real_t) +                                                \
-     (PDT_IDENT_WORKSPACE_SIZE(capacity, pop) > PDT_VALIDATE_WORKSPACE_SIZE(capacity)              \
+     (PDT_IDENT_WORKSPACE_SIZE(capacity, pop) > PDT_VALIDATE_RUN_WORKSPACE_SIZE(capacity)          \
           ? PDT_IDENT_WORKSPACE_SIZE(capacity, pop)                                                \
-          : PDT_VALIDATE_WORKSPACE_SIZE(capacity)))
+          : PDT_VALIDATE_RUN_WORKSPACE_SIZE(capacity)))
 
 /* Prepares at for an autotune starting from the output u_now, which is
  * taken as the operating point: the process must be at rest there. work is

@@ -176,6 +176,33 @@ pdt_status_t pdt_tune_compute(const pdt_model_t *m, pdt_real_t fit, const pdt_tu
 pdt_status_t pdt_tune_robustness(const pdt_model_t *m, const pdt_tune_gains_t *g,
                                  pdt_tune_figures_t *fig);
 
+/* pdt_tune_compute in bounded steps, for a caller with a time budget per
+ * call (the autotune runs one step per scan). pdt_tune_begin checks the
+ * arguments and computes the rule's gains (O(1), ZN's bisection aside)
+ * and the robustness scan's frequency range; each pdt_tune_step then
+ * continues pdt_tune_robustness's scan by about PDT_TUNE_STEP_EVALS
+ * evaluations of L: grid intervals until the step has made that many (an
+ * interval is never cut: the last can add its sub-steps, at most 64, and a
+ * crossing's bisection, 61), then the peaks' refinements (42 each) while
+ * the budget lasts. The state lives in work (caller memory of
+ * pdt_tune_run_workspace_size() bytes, PDT_TUNE_RUN_WORKSPACE_SIZE), which
+ * must stay untouched until the last step; no other memory is kept. The
+ * result is pdt_tune_compute's, bit for bit (the same operations in the
+ * same order).
+ * pdt_tune_begin returns PDT_ERR_NOMEM (work NULL or too small) or what
+ * pdt_tune_compute returns before its robustness (PDT_ERR_ARG,
+ * PDT_ERR_NO_FORM, PDT_ERR_POOR_FIT, ...), PDT_OK when the steps can
+ * start. pdt_tune_step returns PDT_ERR_ARG (NULL), PDT_ERR_STATE (work not
+ * begun), PDT_RUNNING (more steps), PDT_ERR_UNSTABLE, PDT_ERR_ARG,
+ * PDT_ERR_MS_LIMIT, or PDT_OK with *out written; once finished, every
+ * later call returns the same status (and writes *out again on PDT_OK). */
+#define PDT_TUNE_STEP_EVALS         128u
+#define PDT_TUNE_RUN_WORKSPACE_SIZE (128u * sizeof(pdt_real_t) + 16u * sizeof(void *) + 64u)
+size_t pdt_tune_run_workspace_size(void);
+pdt_status_t pdt_tune_begin(const pdt_model_t *m, pdt_real_t fit, const pdt_tune_config_t *cfg,
+                            void *work, size_t work_len);
+pdt_status_t pdt_tune_step(void *work, pdt_tune_result_t *out);
+
 /* Classic Ziegler-Nichols (1942) gains from the ultimate gain Ku (input
  * units per output unit; negative for a reverse-acting loop) and the
  * ultimate period Pu (s), e.g. from a relay test, into *out, ideal form

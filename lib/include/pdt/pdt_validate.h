@@ -49,6 +49,20 @@ extern "C" {
 /* Workspace bytes for n samples: five records of reals. */
 #define PDT_VALIDATE_WORKSPACE_SIZE(n) (5u * (size_t)(n) * sizeof(pdt_real_t))
 
+/* The validation in steps (pdt_validate_begin, pdt_validate_step): its
+ * state's bytes at the head of the workspace (an upper bound, checked when
+ * the library is built), the FIR's rows of one step, and the workspace:
+ * the state and three records of reals, at least
+ * PDT_VALIDATE_WORKSPACE_SIZE(n) (so that one workspace serves both
+ * forms). */
+#define PDT_VALIDATE_RUN_STATE_SIZE (430u * sizeof(pdt_real_t) + 24u * sizeof(void *) + 64u)
+#define PDT_VALIDATE_FIR_ROWS       128u
+#define PDT_VALIDATE_RUN_WORKSPACE_SIZE(n)                                                         \
+    (PDT_VALIDATE_RUN_STATE_SIZE + 3u * (size_t)(n) * sizeof(pdt_real_t) >                         \
+             PDT_VALIDATE_WORKSPACE_SIZE(n)                                                        \
+         ? PDT_VALIDATE_RUN_STATE_SIZE + 3u * (size_t)(n) * sizeof(pdt_real_t)                     \
+         : PDT_VALIDATE_WORKSPACE_SIZE(n))
+
 typedef struct pdt_validate_result {
     pdt_model_t model;                /* the model validated */
     pdt_real_t Ts;                    /* its sampling period, s */
@@ -90,6 +104,32 @@ size_t pdt_validate_workspace_size(size_t n);
 pdt_status_t pdt_validate_model(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
                                 pdt_real_t y0, void *work, size_t work_len,
                                 pdt_validate_result_t *out);
+
+/* pdt_validate_model in bounded steps, for a caller with a time budget per
+ * call (the autotune runs one step per scan): pdt_validate_begin checks
+ * the arguments and prepares (the model simulated on the record: O(n));
+ * then each pdt_validate_step does one bounded piece, in order:
+ * PDT_FISHER_BLOCK (256) samples of the sensitivities' pass (O(256) per
+ * parameter plus O(256 PDT_VALIDATE_LAGS)), the residual's statistics
+ * (O(n)), PDT_VALIDATE_FIR_ROWS (128) rows of the FIR's normal equations
+ * (O(128 PDT_VALIDATE_FIR^2)), or the FIR's solution (O(PDT_VALIDATE_FIR^3)).
+ * A record of n samples takes ceil(n / 256) + ceil(n / 128) + 2 steps at
+ * most. The state lives in work (caller memory of
+ * pdt_validate_run_workspace_size(n) bytes, aligned for pdt_real_t), which
+ * must stay untouched, with m's copy and the record data, until the last
+ * step; no other memory is kept. The result is pdt_validate_model's, bit
+ * for bit (the same operations in the same order).
+ * pdt_validate_begin returns what pdt_validate_model returns for the same
+ * arguments (PDT_ERR_NOMEM against the size above), PDT_OK when the steps
+ * can start. pdt_validate_step returns PDT_ERR_ARG (NULL), PDT_ERR_STATE
+ * (work not begun, or begun and failed), PDT_RUNNING (more steps), an
+ * error of the pass (PDT_ERR_NONFINITE: the simulation overflowed, and on
+ * every later call), or PDT_OK with *out written (once done, every later
+ * call writes it again). *out is written only with PDT_OK. */
+size_t pdt_validate_run_workspace_size(size_t n);
+pdt_status_t pdt_validate_begin(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
+                                pdt_real_t y0, void *work, size_t work_len);
+pdt_status_t pdt_validate_step(void *work, pdt_validate_result_t *out);
 
 /* The model order the data support, from the validations of a FOPDT (fo)
  * and a SOPDT (so) identified on the same record: a model whose gain the
