@@ -307,7 +307,10 @@ bool pdt_fisher_block(pdt_fisher_run_t *R)
     if (first >= n) {
         return true;
     }
-    const uint32_t nm = R->nm;
+    /* nm is 3 or 4 (pdt_fisher_begin); the bound says so to the
+     * compiler, which otherwise sees model_at index past the pass's four
+     * models. */
+    const uint32_t nm = (R->nm < 4u) ? R->nm : 4u;
     const uint32_t nj = nm + 1u;
     const pdt_real_t *const u = R->u;
     const pdt_real_t *const y = R->y;

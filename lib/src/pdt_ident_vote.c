@@ -435,9 +435,7 @@ static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
         for (size_t k = 0; k < n; k++) {
             c->scratch[k] = c->data.y[k] - c->scratch[k];
         }
-        bool mid = pdt_ident_mid_transient(c->scratch, c->data.y, n);
-        mid = mid || (pdt_ident_want_state(c) && pdt_ident_state_matters(c));
-        if (mid) {
+        if (pdt_ident_mid_transient(c->scratch, c->data.y, n)) {
             /* AUTO answers it with the state estimated (PH_SCREEN begins
              * that identification); the flag stays where it cannot. */
             if (pdt_ident_want_state(c)) {
@@ -445,6 +443,13 @@ static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
             } else {
                 c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
             }
+        } else if (pdt_ident_want_state(c) && pdt_ident_state_matters(c)) {
+            /* Only the answer's own free response takes up its residual:
+             * a start mid-transient, or a structure that does not fit the
+             * plant (a lag fitted to an integrator's record from rest)
+             * leaves the same. A refit would invent a state and hide the
+             * misfit, so the answer is flagged and not refitted. */
+            c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
         }
     }
 }

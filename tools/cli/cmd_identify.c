@@ -562,9 +562,10 @@ static int suspect(const ident_args_t *a, const ident_data_t *d, const pdt_ident
         warned = 1;
     }
     if (r->flags & PDT_IDENT_FLAG_MID_TRANSIENT) {
-        cli_warn("identify: the record does not start at rest (y moves at the start where the "
-                 "model is still): the model bent to explain it; cut the record where the "
-                 "process is settled, or give --u-before if it begins at a step");
+        cli_warn("identify: the record does not start at rest, or the model's structure does "
+                 "not fit it (a free response from the first row explains its residual): cut the "
+                 "record where the process is settled, give --u-before if it begins at a step, "
+                 "try --initial estimate, or another --model");
         warned = 1;
     } else if (r->initial == PDT_IDENT_INITIAL_ESTIMATE && a->initial == PDT_IDENT_INITIAL_AUTO) {
         /* A note, not a warning: the answer stands. */
