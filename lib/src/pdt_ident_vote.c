@@ -435,20 +435,21 @@ static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
         for (size_t k = 0; k < n; k++) {
             c->scratch[k] = c->data.y[k] - c->scratch[k];
         }
-        if (pdt_ident_mid_transient(c->scratch, c->data.y, n)) {
-            /* AUTO answers it with the state estimated (PH_SCREEN begins
-             * that identification); the flag stays where it cannot. */
-            if (pdt_ident_want_state(c)) {
-                c->auto_state = true;
-            } else {
-                c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
-            }
-        } else if (pdt_ident_want_state(c) && pdt_ident_state_matters(c)) {
-            /* Only the answer's own free response takes up its residual:
-             * a start mid-transient, or a structure that does not fit the
-             * plant (a lag fitted to an integrator's record from rest)
-             * leaves the same. A refit would invent a state and hide the
-             * misfit, so the answer is flagged and not refitted. */
+        /* Where the trend test fails, AUTO answers it with the state
+         * estimated (PH_SCREEN begins that identification); the flag
+         * stays where it cannot. Only the answer's own free response
+         * taking up its residual (the second test) is what a start
+         * mid-transient and a structure that does not fit the plant (a
+         * lag fitted to an integrator's record from rest) leave alike: a
+         * refit would invent a state and hide the misfit, so that answer
+         * is flagged and not refitted. */
+        const bool want = pdt_ident_want_state(c);
+        const bool trend = pdt_ident_mid_transient(c->scratch, c->data.y, n);
+        const bool shape = !trend && want && pdt_ident_state_matters(c);
+        if (trend && want) {
+            c->auto_state = true;
+        }
+        if ((trend && !want) || shape) {
             c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
         }
     }
