@@ -338,6 +338,8 @@ def examples(groups, limit=12):
 # The report's introduction: what is measured and how (string.Template, ${n}
 # the closed-loop records' length).
 INTRO = pathlib.Path(__file__).with_name("certainty.md.in")
+# The report of --compare (string.Template).
+COMPARE = pathlib.Path(__file__).with_name("certainty_compare.md.in")
 
 
 def write_doc(out, results, cases, bcs, run):
@@ -406,28 +408,43 @@ def write_doc(out, results, cases, bcs, run):
     out.write_text("\n".join(doc) + "\n")
 
 
-def compare_answers(old_path, new_path):
+def compare_answers(old_path, new_path, out=None, names=None):
     """Record by record, the answers of two --answers runs (two versions of
     the library on the same records): prints the count of equal answers,
     the records only one run has (a run cut short), and each record whose
-    status, flags, evaluations, model or cost differ. Returns 1 if any
-    differs or is missing from one run."""
+    status, flags, evaluations, model or cost differ; with out, writes the
+    report (certainty_compare.md.in), names saying what each run was.
+    Returns 1 if any differs or is missing from one run."""
     def load(path):
-        out = {}
+        recs = {}
         for text in open(path):
             j = json.loads(text)
             if j.get("kind") != "meta":
-                out[(j.pop("kind"), j.pop("case"), j["seed"])] = j
-        return out
+                recs[(j.pop("kind"), j.pop("case"), j["seed"])] = j
+        return recs
     old, new = load(old_path), load(new_path)
     both = sorted(set(old) & set(new), key=str)
     alone = len(set(old) ^ set(new))
     same = [k for k in both if old[k] == new[k]]
+    differ = [f"{k}: {old[k]} -> {new[k]}" for k in both if old[k] != new[k]]
     print(f"{len(same)} of {len(both)} records of both runs give the same answer; "
           f"{alone} records are in one run only")
-    for k in both:
-        if old[k] != new[k]:
-            print(f"{k}: {old[k]} -> {new[k]}")
+    print("\n".join(differ))
+    if out:
+        from pdtsupport import provenance  # the report only
+        kinds = sorted({k[0] for k in both})
+        label = {"closed": "closed-loop cases", "noisy": "noisy records under a fast square wave",
+                 "bench": "the benchmark's hard cases and accuracy sets"}
+        rows = [f"| {label.get(kind, kind)} | {sum(k[0] == kind for k in both)} | "
+                f"{sum(k[0] == kind for k in same)} |" for kind in kinds]
+        names = names or [old_path, new_path]
+        text = string.Template(COMPARE.read_text()).substitute(
+            machine=provenance.machine(), old=names[0], new=names[1], same=len(same),
+            both=len(both), alone=alone, rows="\n".join(rows),
+            differ=("\nRecords whose answer differs:\n\n" +
+                    "\n".join(f"- {d}" for d in differ) + "\n") if differ else "")
+        pathlib.Path(out).write_text(text)
+        print(f"wrote {out}")
     return 0 if len(same) == len(both) and alone == 0 else 1
 
 
@@ -461,10 +478,13 @@ def main():
                          "another version's")
     ap.add_argument("--compare", nargs=2, metavar=("OLD", "NEW"),
                     help="compare two --answers files record by record and list the "
-                         "records whose answer differs (exit 1 if any does)")
+                         "records whose answer differs (exit 1 if any does); with --out, "
+                         "write the report (docs/reports/certainty-compare.md)")
+    ap.add_argument("--names", nargs=2, metavar=("OLD", "NEW"),
+                    help="with --compare: what each run was (commit, build), for the report")
     a = ap.parse_args()
     if a.compare:
-        sys.exit(compare_answers(*a.compare))
+        sys.exit(compare_answers(*a.compare, out=a.out, names=a.names))
     if a.answers:
         global ANSWERS_ONLY
         ANSWERS_ONLY = True

@@ -179,3 +179,25 @@ def test_reference_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("PDT_REFERENCE_CACHE", "off")
     off = bl.Reference(u, y, Ts, "fopdt")
     assert off.fit() == fitted and off.nfev == first.nfev
+
+
+def test_compare_answers(tmp_path, capsys):
+    """--compare: equal answers pass, a changed flag or a missing record
+    fails and is listed; the report counts each kind of record."""
+    rec = {"kind": "closed", "case": 0, "seed": 1, "status": 0, "flags": 0,
+           "evaluations": 2100, "model": "fopdt", "K": 1.5, "tau": 3.0, "Td": 0.5}
+    other = dict(rec, seed=2)
+    old, new, out = tmp_path / "old.json", tmp_path / "new.json", tmp_path / "cmp.md"
+    old.write_text(json.dumps(rec) + "\n" + json.dumps(other) + "\n")
+    new.write_text(json.dumps(rec) + "\n" + json.dumps(other) + "\n"
+                   + json.dumps({"kind": "meta", "seeds": 2}) + "\n")
+    assert certainty.compare_answers(str(old), str(new), out=str(out), names=["a", "b"]) == 0
+    text = out.read_text()
+    assert "**2 of 2 records give the same answer bit for bit**" in text
+    assert "| closed-loop cases | 2 | 2 |" in text
+    new.write_text(json.dumps(dict(rec, flags=16)) + "\n")
+    assert certainty.compare_answers(str(old), str(new)) == 1
+    printed = capsys.readouterr().out
+    assert "0 of 1 records of both runs give the same answer; 1 records are in one run only" \
+        in printed
+    assert "'flags': 16" in printed
