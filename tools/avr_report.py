@@ -93,6 +93,7 @@ def figures(lines, elf):
     model, errs = grab(lines, r"identify FOPDT K=2.*30 dB: (K \S+ tau \S+ Td \S+) .*errors (K .*) tau \(")
     f["ident_model"], f["ident_errors"] = model, errs.replace("K ", "").replace(" tau ", ", ").replace(" Td ", ", ")
     f["ident_n"] = grab(lines, r"identify FOPDT n=(\d+):")[0]
+    f["at_capacity"] = grab(lines, r"PRBS, capacity (\d+),")[0]
     ev, cyc, work, ctx, st = grab(lines, r"n=\d+: (\d+) evaluations, (\d+) cycles .*workspace (\d+) \+ context (\d+) bytes, stack (\d+)")
     f.update(ident_evals=ev, ident_cycles=num(cyc), ident_seconds="%.1f" % (int(cyc) / HZ),
              ident_work=work, ident_ctx=ctx, ident_stack=st)
@@ -124,8 +125,8 @@ def port_table(f):
         "| its workspace + context, stack | %s + %s B, %s B |" % (
             f["ident_work"], f["ident_ctx"], f["ident_stack"]),
         "| one `pdt_pid_update` | %s cycles (%s µs) |" % (f["pid_cycles"], f["pid_us"]),
-        "| autotune (capacity 50, FOPDT, no validation): worst scan, the tuning's | %s |" % (
-            f["at_phases"].splitlines()[-1].split("|")[2].strip() + " cycles"),
+        "| autotune (capacity %s, FOPDT, no validation): worst scan, the tuning's | %s |" % (
+            f["at_capacity"], f["at_phases"].splitlines()[-1].split("|")[2].strip() + " cycles"),
         "| its worst IDENTIFY scan | %s cycles |" % f["at_phases"].splitlines()[2].split("|")[2].strip(),
         "| its workspace + object, stack | %s + %s B, %s B |" % (
             f["at_work"], f["at_obj"], f["at_stack"]),

@@ -317,7 +317,7 @@ static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *da
     const uint32_t nu = (ctx != NULL) ? pdt_ident_nuisance(ctx) : 0u;
     if (nu > 0u && data->n > (size_t)nu + (size_t)fs_out->np) {
         fs_out->sse = ctx->extra[3];
-        dof_n -= nu;
+        dof_n -= (size_t)nu;
     }
     pdt_fisher_covariance(F, fs_out->np, dof_n, fs_out->sse, pdt_fisher_inflation(fs_out), r.std,
                           r.cov);

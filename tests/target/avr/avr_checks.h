@@ -27,7 +27,7 @@ void tl_str_flash(tline_t *l, const char *flash_str);
  * the record's 2 n reals, n more, and 2 P (genes + 3) + P for the
  * population of P = 24 and 2 genes; one real more, as the check starts the
  * workspace a byte in. */
-#define AVR_IDENT_N          150u
+#define AVR_IDENT_N          140u
 #define AVR_IDENT_WORK_REALS (3u * AVR_IDENT_N + 11u * PDT_IDENT_POPULATION_FOPDT + 1u)
 /* The screen for gross errors (pdt_ident_screen.c) keeps a filled copy of
  * y and two bit masks: n + 2 ceil(n / 32) reals more. */
@@ -36,7 +36,7 @@ void tl_str_flash(tline_t *l, const char *flash_str);
 /* The autotune: a FOPDT order fixed and no validation (what else fits is
  * in docs/port.md), a record of AVR_AT_CAPACITY samples. Workspace: the
  * record's 2 capacity reals and the identification's as above. */
-#define AVR_AT_CAPACITY   50u
+#define AVR_AT_CAPACITY   46u
 #define AVR_AT_WORK_REALS (5u * AVR_AT_CAPACITY + 11u * PDT_IDENT_POPULATION_FOPDT)
 /* Input history of the simulated plant: its dead time in scans + 2. */
 #define AVR_AT_HIST       8u

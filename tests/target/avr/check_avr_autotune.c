@@ -155,7 +155,9 @@ static __attribute__((noinline)) int at_verdict(const at_run_t *r, bool ran)
     bool ok = ran && r->st == PDT_OK && res->has_gains && res->ident.model.kind == PDT_MODEL_FOPDT;
     tline_t l;
     tl_init(&l);
-    TL_STR(&l, "autotune FOPDT K=2 tau=10 Td=3, PRBS, capacity 50, Ts=1: ");
+    TL_STR(&l, "autotune FOPDT K=2 tau=10 Td=3, PRBS, capacity ");
+    tl_uint(&l, AVR_AT_CAPACITY);
+    TL_STR(&l, ", Ts=1: ");
     if (!ok) {
         TL_STR(&l, "status ");
         tl_int(&l, r->st);

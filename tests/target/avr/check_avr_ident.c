@@ -91,7 +91,9 @@ int avr_check_ident(void)
     }
     tline_t l;
     tl_init(&l);
-    TL_STR(&l, "identify FOPDT K=2 tau=12 Td=4.37, n=150, Ts=0.5, 30 dB: ");
+    TL_STR(&l, "identify FOPDT K=2 tau=12 Td=4.37, n=");
+    tl_uint(&l, AVR_IDENT_N);
+    TL_STR(&l, ", Ts=0.5, 30 dB: ");
     if (st != PDT_OK || res.model.kind != PDT_MODEL_FOPDT) {
         TL_STR(&l, "status ");
         tl_int(&l, st);
@@ -118,7 +120,9 @@ int avr_check_ident(void)
     TL_STR(&l, " tau (max 0.015, 0.02, 0.02)");
     const int failed = t_verdict(ok, &l);
     tl_init(&l);
-    TL_STR(&l, "identify FOPDT n=150: ");
+    TL_STR(&l, "identify FOPDT n=");
+    tl_uint(&l, AVR_IDENT_N);
+    TL_STR(&l, ": ");
     tl_uint(&l, res.evaluations);
     TL_STR(&l, " evaluations, ");
     tl_uint(&l, cycles);
