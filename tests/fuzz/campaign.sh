@@ -4,8 +4,12 @@
 # (tests/fuzz/fuzz_<target>.dict), one target at a time, one process, until
 # it has made its quota of executions or run SECONDS, whichever ends first.
 # A run that finds something is restarted on the corpus so far; the finding's
-# input stays in WORK_DIR/<target>/artifacts/. fuzz_ident runs in its quick
-# mode (FZ_IDENT_SMALL=1: records of at most 64 samples, smaller budgets).
+# input stays in WORK_DIR/<target>/artifacts/. fuzz_ident and fuzz_autotune
+# run in their quick modes (FZ_IDENT_SMALL=1: records of at most 64 samples,
+# smaller budgets; FZ_AUTOTUNE_SMALL=1: capacities of at most 47 samples,
+# smaller budgets) and without libFuzzer's entropic schedule (-entropic=0):
+# a whole search touches so many features that the schedule's bookkeeping
+# per feature took most of each run (docs/fuzzing.md).
 # The runs of an earlier call in WORK_DIR count (run*.log), so a campaign
 # can be resumed (a target given 0 s only prints its line of the table). Prints a Markdown table (also WORK_DIR/campaign.md):
 # executions, run time, rate, coverage and findings per target.
@@ -28,7 +32,7 @@ plan=("$@")
 ((${#plan[@]} > 0)) || plan=(ident autotune tune cost reduce csv options)
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$here/ubsan.supp"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
-export FZ_IDENT_SMALL=1
+export FZ_IDENT_SMALL=1 FZ_AUTOTUNE_SMALL=1
 
 # sum_logs DIR PATTERN: the total over DIR/run*.log of a figure's last value
 # in each log.
@@ -79,6 +83,7 @@ for item in "${plan[@]}"; do
         k=$((k + 1))
         opts=()
         [ "$target" = options ] && opts+=(-close_fd_mask=3)
+        [ "$target" = ident ] || [ "$target" = autotune ] && opts+=(-entropic=0)
         nice -n 10 "$build/tests/fuzz/$name" -runs=$((want - $(executed "$dir"))) \
             -max_total_time=$((cap - (SECONDS - start))) -timeout=10 -rss_limit_mb=2048 \
             -dict="$here/$name.dict" -print_final_stats=1 -artifact_prefix="$dir/artifacts/" \

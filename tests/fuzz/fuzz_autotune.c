@@ -18,7 +18,29 @@
 
 static _Alignas(16) uint8_t g_work[WORK_BYTES + FZ_CANARY_LEN];
 
+/* The long campaign's quick mode (FZ_AUTOTUNE_SMALL=1 in the environment,
+ * tests/fuzz/campaign.sh): capacities of at most SMALL_CAP + 7 samples and
+ * identification budgets of at most 60 + 255 / 4 evaluations, a whole
+ * autotune being this target's cost; the bytes mean the same otherwise, so
+ * the corpora serve both modes. */
+#define SMALL_CAP 40u
+static uint32_t g_cap_max = CAP_MAX;
+static uint32_t g_budget_div = 1u;
+
+int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerInitialize(int *argc, char ***argv)
+{
+    (void)argc;
+    (void)argv;
+    const char *small = getenv("FZ_AUTOTUNE_SMALL");
+    if (small != NULL && strcmp(small, "1") == 0) {
+        g_cap_max = SMALL_CAP;
+        g_budget_div = 4u;
+    }
+    return 0;
+}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -29,7 +51,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     pdt_excite_config_default(&c.excite, (pdt_excite_kind_t)kind);
     c.Ts = fz_pos(&f);
     c.decimation = 1u + (uint32_t)(fz_u8(&f) % 4u);
-    c.capacity = (size_t)(fz_u8(&f) % (CAP_MAX + 8u));
+    c.capacity = (size_t)(fz_u8(&f) % (g_cap_max + 8u));
     c.settle = 1u + (uint32_t)(fz_u8(&f) % 24u);
     c.tail = fz_u8(&f) % 4u == 0u ? 0u : fz_u8(&f);
     c.evals_per_scan = (uint32_t)(fz_u8(&f) % 9u);
@@ -62,7 +84,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     c.excite.relay_cycles = 1u + (uint32_t)(fz_u8(&f) % 3u);
     c.ident.model = fz_bool(&f) ? PDT_MODEL_SOPDT : PDT_MODEL_FOPDT;
     c.ident.cost = (pdt_cost_kind_t)fz_enum(&f, 4);
-    c.ident.max_evaluations = 60u + fz_u8(&f);
+    c.ident.max_evaluations = 60u + fz_u8(&f) / g_budget_div;
     c.ident.refine_evaluations = fz_u8(&f) % 30u;
     c.ident.population = (uint32_t)(fz_u8(&f) % 14u);
     c.tune.rule = (pdt_tune_rule_t)fz_enum(&f, 4);
