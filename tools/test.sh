@@ -104,6 +104,9 @@ py=$venv/bin/python
 step "documents: every path and symbol they name exists"
 "$py" tools/check_docs.py
 
+step "the identification engine's structure: no figure above its limit"
+python3 tools/check_engine_structure.py
+
 step "C layout (.clang-format) and function length in tools/"
 # Every C file but the generated vectors.
 mapfile -t formatted < <(git ls-files '*.c' '*.h' | grep -v '^tests/vectors/')

@@ -1,0 +1,180 @@
+#!/usr/bin/env python3
+"""Measures the identification engine's structure against the rules of
+docs/ident-engine.md, and fails when a figure grows past its limit in
+tools/engine_structure_limits.txt.
+
+    python3 tools/check_engine_structure.py [--cc CC] [--write-limits]
+
+The figures:
+  cycles       cycles of lib/src's file-level dependency graph: file A
+               depends on file B when A's object uses a symbol B's object
+               defines (nm on objects compiled here, so it needs no build)
+  phase_writes assignments of an identification phase (`phase = PH_...`)
+               in lib/src files other than the sequencer, pdt_ident.c
+  kind_tests   binary tests `== PDT_MODEL_...` / `!= PDT_MODEL_...` outside
+               the model-kind layer (lib/src/pdt_model*.c)
+  stage_state  structs of the engine's stage state in the public header
+               lib/include/pdt/pdt_ident.h (those between its "private"
+               mark and the context, pdt_ident_t)
+
+Each limit is the figure the code has; the engine's rules ask for 0. A
+change that lowers a figure lowers its limit with --write-limits, so the
+figures only go down.
+"""
+import argparse
+import pathlib
+import re
+import subprocess
+import sys
+import tempfile
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+SRC = ROOT / "lib" / "src"
+LIMITS = ROOT / "tools" / "engine_structure_limits.txt"
+SEQUENCER = "pdt_ident.c"
+PHASE_WRITE = re.compile(r"\bphase\s*=\s*PH_\w+")
+KIND_TEST = re.compile(r"[!=]=\s*PDT_MODEL_\w+|PDT_MODEL_\w+\s*[!=]=")
+PRIVATE_MARK = "Everything in them is private"
+
+
+def symbols(cc, tmp):
+    """{file: (defined, used)} for every lib/src/*.c, from nm."""
+    out = {}
+    for src in sorted(SRC.glob("*.c")):
+        obj = pathlib.Path(tmp) / (src.stem + ".o")
+        subprocess.run([cc, "-std=c99", "-O1", "-c", "-I", str(ROOT / "lib" / "include"),
+                        "-I", str(SRC), str(src), "-o", str(obj)], check=True)
+        nm = subprocess.run(["nm", "-P", str(obj)], check=True, capture_output=True,
+                            text=True).stdout
+        defined, used = set(), set()
+        for line in nm.splitlines():
+            parts = line.split()
+            if len(parts) < 2:
+                continue
+            (used if parts[1] == "U" else defined).add(parts[0])
+        out[src.name] = (defined, used)
+    return out
+
+
+def graph(syms):
+    """File A -> file B when A uses a symbol B defines."""
+    owner = {}
+    for name, (defined, _) in syms.items():
+        for s in defined:
+            owner.setdefault(s, name)
+    return {name: sorted({owner[s] for s in used if s in owner and owner[s] != name})
+            for name, (_, used) in syms.items()}
+
+
+def cycles(g):
+    """The strongly connected components of more than one file (Tarjan's
+    algorithm, iterative)."""
+    index, low, on, stack, comps, counter = {}, {}, set(), [], [], [0]
+    for root in g:
+        if root in index:
+            continue
+        work = [(root, 0)]
+        while work:
+            v, i = work.pop()
+            if i == 0:
+                index[v] = low[v] = counter[0]
+                counter[0] += 1
+                stack.append(v)
+                on.add(v)
+            for j in range(i, len(g[v])):
+                w = g[v][j]
+                if w not in index:
+                    work.append((v, j + 1))
+                    work.append((w, 0))
+                    break
+                if w in on:
+                    low[v] = min(low[v], index[w])
+            else:
+                if low[v] == index[v]:
+                    comp = []
+                    while True:
+                        w = stack.pop()
+                        on.discard(w)
+                        comp.append(w)
+                        if w == v:
+                            break
+                    if len(comp) > 1:
+                        comps.append(sorted(comp))
+                if work:
+                    parent = work[-1][0]
+                    low[parent] = min(low[parent], low[v])
+    return comps
+
+
+def grep_counts(pattern, files):
+    """{file name: matches} over files, comments stripped."""
+    out = {}
+    for f in files:
+        text = re.sub(r"/\*.*?\*/", "", f.read_text(), flags=re.S)
+        n = len(pattern.findall(text))
+        if n:
+            out[f.name] = n
+    return out
+
+
+def stage_structs():
+    """Names of the stage-state structs in the public header."""
+    text = (ROOT / "lib" / "include" / "pdt" / "pdt_ident.h").read_text()
+    if PRIVATE_MARK not in text:
+        return []
+    tail = text.split(PRIVATE_MARK, 1)[1].split("typedef struct pdt_ident {", 1)[0]
+    return re.findall(r"typedef struct (pdt_ident_\w+)", tail)
+
+
+def measure(cc):
+    with tempfile.TemporaryDirectory() as tmp:
+        comps = cycles(graph(symbols(cc, tmp)))
+    files = sorted(SRC.glob("*.c"))
+    phase = grep_counts(PHASE_WRITE, [f for f in files if f.name != SEQUENCER])
+    kind = grep_counts(KIND_TEST, [f for f in files if not f.name.startswith("pdt_model")])
+    structs = stage_structs()
+    figures = {"cycles": len(comps), "phase_writes": sum(phase.values()),
+               "kind_tests": sum(kind.values()), "stage_state": len(structs)}
+    detail = {"cycles": [" <-> ".join(c) for c in comps],
+              "phase_writes": ["%s: %d" % kv for kv in sorted(phase.items())],
+              "kind_tests": ["%s: %d" % kv for kv in sorted(kind.items())],
+              "stage_state": structs}
+    return figures, detail
+
+
+def read_limits():
+    limits = {}
+    for line in LIMITS.read_text().splitlines():
+        line = line.split("#", 1)[0].split()
+        if len(line) == 2:
+            limits[line[0]] = int(line[1])
+    return limits
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cc", default="cc", help="C compiler for the objects (default cc)")
+    ap.add_argument("--write-limits", action="store_true",
+                    help="set every limit to the measured figure")
+    args = ap.parse_args(argv)
+    figures, detail = measure(args.cc)
+    limits = read_limits()
+    bad = []
+    for key, value in figures.items():
+        limit = limits.get(key, 0)
+        print("%-13s %3d (limit %d)" % (key, value, limit))
+        for line in detail[key]:
+            print("    " + line)
+        if value > limit:
+            bad.append("%s grew to %d, above its limit %d" % (key, value, limit))
+    if args.write_limits:
+        head = [l for l in LIMITS.read_text().splitlines() if l.startswith("#")]
+        LIMITS.write_text("\n".join(head + ["%s %d" % kv for kv in figures.items()]) + "\n")
+        return 0
+    for line in bad:
+        print("check_engine_structure: " + line, file=sys.stderr)
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
