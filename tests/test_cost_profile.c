@@ -9,6 +9,7 @@
  * pdt_discrete_simulate plus y0, whole_record moves the TOO_SHORT threshold;
  * and every bad-input status with outputs left untouched.
  */
+#include "pdt_cost_engine.h"
 #include "test_util.h"
 #include "sim_rng.h"
 

@@ -4,6 +4,7 @@
  */
 #include "pdt/pdt_cost.h"
 
+#include "pdt_cost_engine.h"
 #include "pdt_cost_kernel.h"
 #include "pdt_cost_state.h"
 #include "pdt_discrete_priv.h"

@@ -24,6 +24,7 @@
 #define PDT_IDENT_PRIV_H
 
 #include "pdt/pdt_ident.h"
+#include "pdt_cost_engine.h"
 
 /* The sequencer's stages (pdt_ident_t.phase). */
 enum {

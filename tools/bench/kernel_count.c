@@ -17,6 +17,7 @@
 #include <stdint.h>
 
 #include "pdt/pdt.h"
+#include "pdt_cost_engine.h"
 #include "pdt_port.h"
 #include "sim_rng.h"
 
