@@ -45,8 +45,10 @@ def make(out_dir):
     for f in sorted((ROOT / "lib/src").iterdir()):
         if f.suffix in (".c", ".h"):
             shutil.copy2(f, src / f.name)
-    for f in sorted((ROOT / "lib/include/pdt").glob("*.h")):
-        shutil.copy2(f, src / "pdt" / f.name)
+    for f in sorted((ROOT / "lib/include/pdt").rglob("*.h")):
+        dest = src / "pdt" / f.relative_to(ROOT / "lib/include/pdt")
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(f, dest)
     shutil.copy2(PKG / "pdtfit.h", src / "pdtfit.h")
     shutil.copytree(PKG / "examples", lib / "examples")
     shutil.copy2(ROOT / "LICENSE", lib / "LICENSE")
