@@ -61,6 +61,7 @@ from pdtbench import coarse_bench as cb
 from pdtbench import fastref
 from pdtbench import run_ident_bench as rb
 from pdtbench.benchlib import ROOT, models
+from pdtsupport import provenance
 
 BUILD = ROOT / "build" / "bench"
 # PDT_CERTAINTY_DRIVER: a driver built elsewhere (another build of the
@@ -391,7 +392,8 @@ def write_doc(out, results, cases, bcs, run):
     closed, hard, noisy, sets = ([g for g in gs if g[1]] for gs in (closed, hard, noisy, sets))
 
     parts = bl.template_parts(RUN)
-    doc = [string.Template(INTRO.read_text()).substitute(n=str(cases[0]["n"])),
+    doc = [string.Template(INTRO.read_text()).substitute(n=str(cases[0]["n"]),
+                                                         **provenance.fields()),
            run_doc(parts, run, rb.machine()),
            summary_doc(parts, {"closed": closed, "hard": hard, "noisy": noisy, "sets": sets})]
     ex = examples(closed + hard + noisy + sets)
@@ -424,7 +426,6 @@ def compare_answers(old_path, new_path, out=None, names=None):
           f"{alone} records are in one run only")
     print("\n".join(differ))
     if out:
-        from pdtsupport import provenance  # the report only
         kinds = sorted({k[0] for k in both})
         label = {"closed": "closed-loop cases", "noisy": "noisy records under a fast square wave",
                  "bench": "the benchmark's hard cases and accuracy sets"}

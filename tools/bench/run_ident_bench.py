@@ -55,6 +55,7 @@ import scipy
 from pdtbench import benchlib as bl
 from pdtbench.benchlib import ROOT
 from pdtbench import fastref
+from pdtsupport import provenance
 
 BUILD = ROOT / "build" / "bench"
 PDTFIT = BUILD / "tools" / "pdtfit"
@@ -806,7 +807,7 @@ def main():
             speed, mem = speed_section(False, tmp)
         load_after = os.getloadavg()[0]
         note = [bl.template_parts(PARTS)["update_speed_note"].substitute(
-            date=time.strftime('%Y-%m-%d'))]
+            date=time.strftime('%Y-%m-%d'), commit=provenance.commit())]
         sm = speed_memory_doc(speed, mem, load_before, load_after)
         doc = [head, ""] + sm[:1] + note + sm[1:] + certainty_section()
         out.write_text("\n".join(doc) + "\n")
@@ -852,7 +853,8 @@ def main():
 
     run = {"mach": mach, "quick": quick, "elapsed": elapsed, "jobs": a.jobs, "seeds": seeds,
            "rel_seeds": rel_seeds}
-    doc = [INTRO.read_text(), results_doc(run, acc, ah, wres, rel)]
+    doc = [string.Template(INTRO.read_text()).substitute(provenance.fields()),
+           results_doc(run, acc, ah, wres, rel)]
     doc += speed_memory_doc(speed, mem, load_before, load_after)
 
     # ---- 6
