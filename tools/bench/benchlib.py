@@ -19,8 +19,6 @@ import json
 import math
 import os
 import pathlib
-import re
-import string
 import subprocess
 import tempfile
 
@@ -39,18 +37,6 @@ AMP = 10.0             # input excursion, % (the relay's upper level)
 
 
 # Random numbers: Rng is pdtsupport.rng.SplitMix64 (imported above).
-
-
-# ------------------------------------------------------------ report templates
-
-def template_parts(path):
-    """{name: string.Template} of a report's template file whose parts begin
-    with a line "@@ name". A part's text runs to the next such line, less the
-    newline that ends its last line: a part that ends in an empty line ends
-    in a newline."""
-    parts = re.split(r"^@@ (\w+)\n", pathlib.Path(path).read_text(), flags=re.M)
-    return {name: string.Template(text[:-1] if text.endswith("\n") else text)
-            for name, text in zip(parts[1::2], parts[2::2])}
 
 
 # ------------------------------------------------------------ plants

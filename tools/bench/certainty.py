@@ -61,7 +61,7 @@ from pdtbench import coarse_bench as cb
 from pdtbench import fastref
 from pdtbench import run_ident_bench as rb
 from pdtbench.benchlib import ROOT, models
-from pdtsupport import provenance
+from pdtsupport import provenance, template
 
 BUILD = ROOT / "build" / "bench"
 # PDT_CERTAINTY_DRIVER: a driver built elsewhere (another build of the
@@ -339,7 +339,7 @@ def examples(groups, limit=12):
 # The report's introduction: what is measured and how (string.Template, ${n}
 # the closed-loop records' length).
 INTRO = pathlib.Path(__file__).with_name("certainty.md.in")
-# The Run and Summary sections of the report (parts of benchlib.template_parts).
+# The Run and Summary sections of the report (parts of pdtsupport.template.parts).
 RUN = pathlib.Path(__file__).with_name("certainty_run.md.in")
 # The report of --compare (string.Template).
 COMPARE = pathlib.Path(__file__).with_name("certainty_compare.md.in")
@@ -391,7 +391,7 @@ def write_doc(out, results, cases, bcs, run):
     # A run limited by --cases leaves out the groups it did not run.
     closed, hard, noisy, sets = ([g for g in gs if g[1]] for gs in (closed, hard, noisy, sets))
 
-    parts = bl.template_parts(RUN)
+    parts = template.parts(RUN)
     doc = [string.Template(INTRO.read_text()).substitute(n=str(cases[0]["n"]),
                                                          **provenance.fields()),
            run_doc(parts, run, rb.machine()),

@@ -55,7 +55,7 @@ import scipy
 from pdtbench import benchlib as bl
 from pdtbench.benchlib import ROOT
 from pdtbench import fastref
-from pdtsupport import provenance
+from pdtsupport import provenance, template
 
 BUILD = ROOT / "build" / "bench"
 PDTFIT = BUILD / "tools" / "pdtfit"
@@ -622,7 +622,7 @@ def certainty_section():
     """The summary of docs/reports/certainty.md (its run and its tables), headings
     moved one level down, after the section's introduction (the template's
     certainty part); a pointer when it has not been generated."""
-    parts = bl.template_parts(PARTS)
+    parts = template.parts(PARTS)
     path = ROOT / "docs" / "reports" / "certainty.md"
     if not path.exists():
         return [parts["certainty_missing"].substitute()]
@@ -711,7 +711,8 @@ INTRO = pathlib.Path(__file__).with_name("run_ident_bench.md.in")
 # Sections 4 and 5 (speed and memory).
 SPEED_TEMPLATE = pathlib.Path(__file__).with_name("run_ident_bench_speed.md.in")
 # The prose of the machine and sections 1 to 3 (part results), of section 6
-# (certainty, certainty_missing) and of --update-speed's note (bl.template_parts).
+# (certainty, certainty_missing) and of --update-speed's note, read by
+# pdtsupport.template.parts.
 PARTS = pathlib.Path(__file__).with_name("run_ident_bench_parts.md.in")
 
 
@@ -768,7 +769,7 @@ def results_doc(run, acc, ah, wres, rel):
     tables, summary = accuracy_report(acc, seeds)
     rows, worse = batch_rows(ah)
     n_integ = sum(1 for r in wres if r["integ"]) // len(WEIGHT_EXCITATIONS)
-    return bl.template_parts(PARTS)["results"].substitute(
+    return template.parts(PARTS)["results"].substitute(
         **run["mach"], mode="quick" if quick else "full", minutes=f"{run['elapsed'] / 60:.1f}",
         jobs=str(run["jobs"]), seeds=str(seeds), target_snr=str(TARGET_SNR),
         floor=f"{FLOOR:g}", n_lm=str(sum(1 for r in acc if r["ref"]["source"] == "lm")),
@@ -806,7 +807,7 @@ def main():
         with tempfile.TemporaryDirectory() as tmp:
             speed, mem = speed_section(False, tmp)
         load_after = os.getloadavg()[0]
-        note = [bl.template_parts(PARTS)["update_speed_note"].substitute(
+        note = [template.parts(PARTS)["update_speed_note"].substitute(
             date=time.strftime('%Y-%m-%d'), commit=provenance.commit())]
         sm = speed_memory_doc(speed, mem, load_before, load_after)
         doc = [head, ""] + sm[:1] + note + sm[1:] + certainty_section()
