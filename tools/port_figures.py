@@ -3,32 +3,30 @@ toolchain file in cmake/ (float, and double where given), runs it under its
 emulator through ctest (label target) and collects what the program reports:
 the library's flash, its RAM (context, workspace, the program's stack
 high-water mark) and the instructions of a FOPDT and a SOPDT identification
-and of the worst pdt_autotune_scan. Writes the table between the markers of
-docs/port.md and the whole report docs/reports/port-figures.md (its prose in
-tools/port_figures.md.in).
+and of the worst pdt_autotune_scan. Writes the whole report
+docs/reports/port-figures.md (its prose in tools/port_figures.md.in), which
+docs/port.md links.
 
     python3 tools/port_figures.py [--only NAME ...] [--check]
 
 --check runs the float builds and only checks that every line parses;
 --only measures the named toolchains and prints their rows, writing nothing;
---no-run writes the table from the builds' last runs (ctest's logs).
+--no-run writes the report from the builds' last runs (ctest's logs).
 A target is a row of TARGETS: a name, its toolchain file, the real types
 measured and the size tool of its compiler.
 """
 import argparse
 import datetime
 import pathlib
-import platform
 import re
 import subprocess
 import sys
 
+from pdtsupport import provenance as run_provenance
+
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-PORT_MD = ROOT / "docs" / "port.md"
 REPORT = ROOT / "docs" / "reports" / "port-figures.md"
 TEMPLATE = pathlib.Path(__file__).with_name("port_figures.md.in")
-BEGIN, END = "<!-- port figures: begin (tools/port_figures.py) -->", \
-    "<!-- port figures: end -->"
 
 # name, toolchain file, real types, size tool
 TARGETS = [
@@ -143,24 +141,17 @@ HEADER = ("| core | build | library flash, B | context: pdt_ident_t / pdt_autotu
 
 
 def provenance():
-    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip()
+    """The commit, the day, the machine and the emulator of the run."""
     qemu = subprocess.run(["qemu-system-arm", "--version"], capture_output=True,
                           text=True).stdout.splitlines()[0]
-    cpu = next((ln.split(":", 1)[1].strip() for ln in
-                pathlib.Path("/proc/cpuinfo").read_text().splitlines()
-                if ln.startswith("model name")), platform.machine())
-    return f"commit {commit}, {datetime.date.today()}, {platform.system()} on {cpu}, {qemu}"
+    return (f"commit {run_provenance.commit()}, {datetime.date.today()}, "
+            f"{run_provenance.machine()}, {qemu}")
 
 
 def write(rows, consoles):
     table = HEADER + "\n" + "\n".join(rows)
-    prov = provenance()
-    text = PORT_MD.read_text()
-    i, j = text.index(BEGIN) + len(BEGIN), text.index(END)
-    PORT_MD.write_text(text[:i] + f"\n\nMeasured at {prov}.\n\n{table}\n\n" + text[j:])
     REPORT.parent.mkdir(exist_ok=True)
-    body = TEMPLATE.read_text().replace("@PROVENANCE@", prov).replace("@TABLE@", table)
+    body = TEMPLATE.read_text().replace("@PROVENANCE@", provenance()).replace("@TABLE@", table)
     logs = "\n".join(f"### {name}, {real}\n\n```\n{c}\n```\n" for name, real, c in consoles)
     REPORT.write_text(body.replace("@CONSOLES@", logs))
 

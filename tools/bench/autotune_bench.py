@@ -40,6 +40,7 @@ import scipy.linalg as sla
 import scipy.optimize as so
 import scipy.signal as ss
 
+from pdtsupport import provenance
 from pdtsupport.status import NAMES, STATUS as CODES
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -673,6 +674,7 @@ def report(res, ev_text):
                                                               "PI")
     values["pid_rows"], values["pid_gain_rows"] = gains_section(res, "at_pid", "ref_pid",
                                                                 "zn_pid", "PID")
+    values.update(provenance.fields())
     return string.Template(TEMPLATE.read_text()).substitute(values)
 
 

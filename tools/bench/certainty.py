@@ -61,6 +61,7 @@ from pdtbench import coarse_bench as cb
 from pdtbench import fastref
 from pdtbench import run_ident_bench as rb
 from pdtbench.benchlib import ROOT, models
+from pdtsupport import provenance, template
 
 BUILD = ROOT / "build" / "bench"
 # PDT_CERTAINTY_DRIVER: a driver built elsewhere (another build of the
@@ -338,8 +339,43 @@ def examples(groups, limit=12):
 # The report's introduction: what is measured and how (string.Template, ${n}
 # the closed-loop records' length).
 INTRO = pathlib.Path(__file__).with_name("certainty.md.in")
+# The Run and Summary sections of the report (parts of pdtsupport.template.parts).
+RUN = pathlib.Path(__file__).with_name("certainty_run.md.in")
 # The report of --compare (string.Template).
 COMPARE = pathlib.Path(__file__).with_name("certainty_compare.md.in")
+
+
+def run_doc(parts, run, mach):
+    """The report's Run section: the command, the machine and how long it ran."""
+    if run.get("parts"):
+        duration = parts["in_parts"].substitute(jobs=run["jobs"], parts="; ".join(
+            parts["part"].substitute(
+                minutes=f"{p['elapsed'] / 60:.1f}",
+                cases=parts["part_cases"].substitute(cases=p["cases"]) if p.get("cases") else "")
+            for p in run["parts"]))
+    elif run["elapsed"] is None:
+        duration = parts["interrupted"].substitute()
+    else:
+        duration = parts["elapsed"].substitute(
+            minutes=f"{run['elapsed'] / 60:.1f}", jobs=run["jobs"],
+            resumed=parts["resumed"].substitute() if run.get("resumed") else "")
+    return parts["run"].substitute(
+        smoke=" --smoke" if run["smoke"] else "", seeds=run["seeds"], set_seeds=run["set_seeds"],
+        reference_flag=" --reference FILE" if run.get("reference") else "",
+        reference_note=parts["reference_note"].substitute() if run.get("reference") else "",
+        duration=duration, **mach)
+
+
+def summary_doc(parts, groups):
+    """The report's Summary: the totals, then each kind of case's table."""
+    values = {}
+    for kind, gs in groups.items():
+        lines, tot = table(gs)
+        values.update({f"{kind}_{k}": v for k, v in tot.items()})
+        values[f"{kind}_table"] = "\n".join(lines)
+    _, tot_all = table([g for gs in groups.values() for g in gs])
+    return parts["summary"].substitute(values, **tot_all,
+                                       cases=sum(len(gs) for gs in groups.values()))
 
 
 def write_doc(out, results, cases, bcs, run):
@@ -355,55 +391,14 @@ def write_doc(out, results, cases, bcs, run):
     # A run limited by --cases leaves out the groups it did not run.
     closed, hard, noisy, sets = ([g for g in gs if g[1]] for gs in (closed, hard, noisy, sets))
 
-    doc = [string.Template(INTRO.read_text()).substitute(n=str(cases[0]["n"]))]
-    doc.append("## Run\n")
-    mach = rb.machine()
-    doc.append(f"- Command: `python3 tools/bench/certainty.py"
-               f"{' --smoke' if run['smoke'] else ''} --seeds {run['seeds']} "
-               f"--set-seeds {run['set_seeds']}"
-               f"{' --reference FILE' if run.get('reference') else ''}`")
-    if run.get("reference"):
-        doc.append("- The reference optimum of each record: the least of a previous full "
-                   "run's (its nine-start fit, grid search and polishes, `--reference`) and "
-                   "this run's polishes from the truth and from pdtfit's answer. A previous "
-                   "answer that was better than this one counts against this one.")
-    doc.append(f"- CPU: {mach['cpu']} ({mach['cores']} cores visible); {mach['compiler']}, "
-               f"`-O2`, float build; Python {mach['python']}, numpy {mach['numpy']}, "
-               f"scipy {mach['scipy']}")
-    if run.get("parts"):
-        doc.append("- The battery ran in parts on the same code, each with "
-                   f"{run['jobs']} worker processes: " + "; ".join(
-                       f"{p['elapsed'] / 60:.1f} min"
-                       + (f" (the cases matching `--cases '{p['cases']}'`)" if p.get("cases")
-                          else "") for p in run["parts"]) + ".\n")
-    elif run["elapsed"] is None:
-        doc.append("- **The run was interrupted**: the tables count the seeds it finished "
-                   "(the seeds column).\n")
-    else:
-        doc.append(f"- The script ran {run['elapsed'] / 60:.1f} min with {run['jobs']} worker "
-                   f"processes" + (" (the part after a resume)" if run.get("resumed") else "") +
-                   ".\n")
-    doc.append("## Summary\n")
-    _, tot_all = table(closed + hard + noisy + sets)
-    doc.append(f"**{tot_all['wrong']} wrong answers with status OK in {tot_all['n']} "
-               f"identifications** over {len(closed) + len(hard) + len(noisy) + len(sets)} "
-               f"cases; "
-               f"{tot_all['far']} of them more than 1.1 x the optimum's cost.\n")
-    for title, groups in (("Closed-loop records", closed),
-                          ("Hard cases of the benchmark's reliability section", hard),
-                          ("Noisy records under a fast square wave", noisy),
-                          ("Accuracy sets of the benchmark", sets)):
-        lines, tot = table(groups)
-        doc.append(f"### {title}\n")
-        doc.append(f"{tot['wrong']} wrong with status OK in {tot['n']} runs "
-                   f"({tot['far']} more than 1.1 x the optimum's cost).\n")
-        doc += lines
-        doc.append("")
+    parts = template.parts(RUN)
+    doc = [string.Template(INTRO.read_text()).substitute(n=str(cases[0]["n"]),
+                                                         **provenance.fields()),
+           run_doc(parts, run, rb.machine()),
+           summary_doc(parts, {"closed": closed, "hard": hard, "noisy": noisy, "sets": sets})]
     ex = examples(closed + hard + noisy + sets)
     if ex:
-        doc.append("### Examples of wrong answers (the first few)\n")
-        doc += ex
-        doc.append("")
+        doc.append(parts["examples"].substitute(examples="\n".join(ex)))
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(doc) + "\n")
 
@@ -431,7 +426,6 @@ def compare_answers(old_path, new_path, out=None, names=None):
           f"{alone} records are in one run only")
     print("\n".join(differ))
     if out:
-        from pdtsupport import provenance  # the report only
         kinds = sorted({k[0] for k in both})
         label = {"closed": "closed-loop cases", "noisy": "noisy records under a fast square wave",
                  "bench": "the benchmark's hard cases and accuracy sets"}

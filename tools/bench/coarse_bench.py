@@ -39,6 +39,7 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
+from pdtsupport import provenance  # noqa: E402
 from pdtsupport.records import simulate  # noqa: E402
 
 PDTFIT = pathlib.Path(os.environ.get("PDTFIT_BIN", ROOT / "build" / "bench" / "tools" / "pdtfit"))
@@ -184,7 +185,7 @@ def render(results, rare_results, seeds, rare_seeds):
     return string.Template(TEMPLATE.read_text()).substitute(
         seeds=str(seeds), rare_seeds=str(rare_seeds), worse_factor=f"{WORSE}", n=str(N),
         worse=str(total["worse"]), records=str(total["n"]), rows=rows,
-        **rare_section(rare_results))
+        **rare_section(rare_results), **provenance.fields())
 
 
 def main():

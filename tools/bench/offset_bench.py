@@ -13,7 +13,7 @@ each recorded as there (20 mean residence times in 1500 samples, 30 dB) with
 a PRBS, a step and a pulse that start from rest (a twentieth of the record),
 three noise seeds each, are identified as a FOPDT and as a SOPDT by
 `pdtfit identify` twice: with the output offset fitted with the model
-(`--offset estimate`, what the library did before) and with its default
+(`--offset estimate`) and with its default
 (`--offset auto`: the rest window's level when the record starts at rest).
 Next to them, the fast scipy output-error fit of fastref.py (the offset
 fitted, nine starts), the reference a plain fit from another package gives.
@@ -38,6 +38,7 @@ from pdtbench import benchlib as bl
 from pdtbench import fastref
 from pdtbench import run_ident_bench as rb
 from pdtbench.benchlib import ROOT
+from pdtsupport import provenance
 
 EXCITATIONS = ("prbs", "step", "pulse")
 SEEDS = (1, 2, 3)
@@ -131,7 +132,8 @@ def report(rows, quick, seconds):
         worst_list="\n".join(f"- {r['model'].upper()} {r['plant']}, {r['exc']}, seed {r['seed']}: "
                              f"IAE {r['auto']['iae']:.3g} % (estimate {r['estimate']['iae']:.3g} %)"
                              for r in reversed(worst)),
-        minutes=f"{seconds / 60:.1f}", quick_note=" (--quick: two plants)" if quick else "")
+        minutes=f"{seconds / 60:.1f}", quick_note=" (--quick: two plants)" if quick else "",
+        **provenance.fields())
     return string.Template(TEMPLATE.read_text()).substitute(values)
 
 

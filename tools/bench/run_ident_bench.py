@@ -55,6 +55,7 @@ import scipy
 from pdtbench import benchlib as bl
 from pdtbench.benchlib import ROOT
 from pdtbench import fastref
+from pdtsupport import provenance, template
 
 BUILD = ROOT / "build" / "bench"
 PDTFIT = BUILD / "tools" / "pdtfit"
@@ -619,24 +620,15 @@ def speed_section(quick, tmp):
 
 def certainty_section():
     """The summary of docs/reports/certainty.md (its run and its tables), headings
-    moved one level down; a pointer when it has not been generated."""
-    doc = ["## 6. Certainty of the global search\n"]
+    moved one level down, after the section's introduction (the template's
+    certainty part); a pointer when it has not been generated."""
+    parts = template.parts(PARTS)
     path = ROOT / "docs" / "reports" / "certainty.md"
     if not path.exists():
-        return doc + ["Not measured: run `python3 tools/bench/certainty.py` "
-                      "(docs/reports/certainty.md).\n"]
-    text = path.read_text()
-    doc.append("Copied from docs/reports/certainty.md, which `python3 tools/bench/certainty.py` "
-               "generates (a separate run: about 100 minutes on two cores with 1000 seeds "
-               "per closed-loop, hard and noisy case and 100 per accuracy set, its Run "
-               "section below). Every case is "
-               "a known plant; each seed is one record (its noise) and one identification "
-               "with the library's defaults (its search seed); an answer is *wrong* when "
-               "its output-error cost exceeds the reference optimum, found independently "
-               "of pdtfit by tools/bench/fastref.py, by more than 1 %. docs/reports/certainty.md "
-               "describes the records and the reference.\n")
+        return [parts["certainty_missing"].substitute()]
+    doc = [parts["certainty"].substitute()]
     keep = False
-    for line in text.splitlines():
+    for line in path.read_text().splitlines():
         if line.startswith("## Run"):
             keep = True
             continue
@@ -718,6 +710,78 @@ def speed_memory_doc(speed, mem, load_before, load_after):
 INTRO = pathlib.Path(__file__).with_name("run_ident_bench.md.in")
 # Sections 4 and 5 (speed and memory).
 SPEED_TEMPLATE = pathlib.Path(__file__).with_name("run_ident_bench_speed.md.in")
+# The prose of the machine and sections 1 to 3 (part results), of section 6
+# (certainty, certainty_missing) and of --update-speed's note, read by
+# pdtsupport.template.parts.
+PARTS = pathlib.Path(__file__).with_name("run_ident_bench_parts.md.in")
+
+
+def summary_rows(summary):
+    """Section 1's summary table: the seeds meeting the target per set."""
+    rows = []
+    for name, lab, met, metc, n in summary:
+        c = "-" if metc is None else f"{metc}/{n}"
+        rows.append(f"| {name} | {lab} | {met}/{n}{'' if met == n else ' (missed)'} | {c} |")
+    return rows
+
+
+def batch_rows(ah):
+    """Section 2's rows and the count of pdtfit's fits worse than the reference's."""
+    rows, worse = [], 0
+    for r in ah:
+        cells = []
+        for key in (("fopdt", "pdtfit"), ("fopdt", "ref"), ("sopdt", "pdtfit"), ("sopdt", "ref")):
+            f = r["fits"][key]
+            cells.append("fail" if f is None else f"{fmt(f['iae'])} / {fmt(f['ferr'])}")
+        for mdl in ("fopdt", "sopdt"):
+            fp, fr = r["fits"][(mdl, "pdtfit")], r["fits"][(mdl, "ref")]
+            if fp is None or (fr is not None and fp["iae"] > 1.1 * fr["iae"] + FLOOR):
+                worse += 1
+        ms = r["fits"][("sopdt", "pdtfit")]
+        rows.append(f"| {r['name']} | {r['wu']:.3g} | " + " | ".join(cells) +
+                    f" | {describe(ms['model']) if ms else '-'} |")
+    return rows, worse
+
+
+def reliability_rows(rel, quick):
+    """Section 3's rows: each case's success against the best cost found."""
+    rows = []
+    for ci, case in enumerate(rel_cases(quick)):
+        rs = [r for r in rel if r[0] == ci]
+        best = min(r[3] for r in rs)
+        ok = lambda r: r[3] <= 1.01 * best  # noqa: E731
+        p = [r for r in rs if r[1] == "pdtfit"]
+        r1 = [r for r in rs if r[1] == "ref1"]
+        r9 = [r for r in rs if r[1] == "ref9"][0]
+        ev = [r[4] for r in p]
+        worst = max(r[3] for r in p) / best
+        rows.append(f"| {case[0]} | {sum(map(ok, p))}/{len(p)} (worst cost {worst:.3g} x best) | "
+                    f"{int(np.median(ev))} / {max(ev)} | "
+                    f"{'within 1 %' if ok(r9) else f'{r9[3] / best:.3g} x best'} "
+                    f"({r9[4]} evaluations) | {sum(map(ok, r1))}/{len(r1)} |")
+    return rows
+
+
+def results_doc(run, acc, ah, wres, rel):
+    """The machine and sections 1 to 3: the template's results part with the
+    tables; run: mach, quick, elapsed (s), jobs, seeds, rel_seeds."""
+    quick, seeds = run["quick"], run["seeds"]
+    tables, summary = accuracy_report(acc, seeds)
+    rows, worse = batch_rows(ah)
+    n_integ = sum(1 for r in wres if r["integ"]) // len(WEIGHT_EXCITATIONS)
+    return template.parts(PARTS)["results"].substitute(
+        **run["mach"], mode="quick" if quick else "full", minutes=f"{run['elapsed'] / 60:.1f}",
+        jobs=str(run["jobs"]), seeds=str(seeds), target_snr=str(TARGET_SNR),
+        floor=f"{FLOOR:g}", n_lm=str(sum(1 for r in acc if r["ref"]["source"] == "lm")),
+        n_acc=str(len(acc)), n_met=str(sum(1 for s in summary if s[2] == s[4])),
+        n_sets=str(len(summary)), summary_rows="\n".join(summary_rows(summary)),
+        missed_seeds="".join(m + "\n" for m in missed_seeds(acc)),
+        accuracy_tables="\n".join(tables), batch_rows="\n".join(rows), batch_worse=str(worse),
+        batch_fits=str(2 * len(ah)),
+        n_weighted=str(len(wres) // len(WEIGHT_EXCITATIONS) - n_integ),
+        weight_tables="\n".join(weight_report(wres)), n_rec=str(N_REC),
+        rel_seeds=str(run["rel_seeds"]), ref1_runs=str(run["rel_seeds"] if not quick else 3),
+        reliability_rows="\n".join(reliability_rows(rel, quick)))
 
 
 def main():
@@ -743,9 +807,8 @@ def main():
         with tempfile.TemporaryDirectory() as tmp:
             speed, mem = speed_section(False, tmp)
         load_after = os.getloadavg()[0]
-        note = [f"Sections 4 to 6 were regenerated on their own "
-                f"(`run_ident_bench.py --update-speed`, {time.strftime('%Y-%m-%d')}); sections "
-                f"1 to 3 come from the full run described under Machine.\n"]
+        note = [template.parts(PARTS)["update_speed_note"].substitute(
+            date=time.strftime('%Y-%m-%d'), commit=provenance.commit())]
         sm = speed_memory_doc(speed, mem, load_before, load_after)
         doc = [head, ""] + sm[:1] + note + sm[1:] + certainty_section()
         out.write_text("\n".join(doc) + "\n")
@@ -789,115 +852,10 @@ def main():
     elapsed = time.time() - t_start
     print(f"all done {elapsed:.0f} s", flush=True)
 
-    doc = [INTRO.read_text()]
-    doc.append("## Machine\n")
-    doc.append(f"- CPU: {mach['cpu']} ({mach['cores']} cores visible)")
-    doc.append(f"- Compiler: {mach['compiler']}, `-O2`, float build")
-    doc.append(f"- Python {mach['python']}, numpy {mach['numpy']}, scipy {mach['scipy']}; "
-               f"{mach['os']}")
-    doc.append(f"- Mode: {'quick' if quick else 'full'}; the script ran {elapsed / 60:.1f} min "
-               f"with {a.jobs} worker processes.\n")
-
-    # ---- 1
-    lines, summary = accuracy_report(acc, seeds)
-    doc.append("## 1. Accuracy on known truths\n")
-    doc.append(f"{seeds} seeds per set (the seed sets the noise, the PRBS and pdtfit's "
-               f"`--seed`). Target: on every set at SNR >= {TARGET_SNR} dB, pdtfit's parameter "
-               f"errors no worse than 1.1 x the reference's in >= 99 % of seeds. Per seed "
-               f"the target is met when pdtfit's worst parameter error <= 1.1 x the "
-               f"reference's worst + {FLOOR:g}. With {seeds} seeds a single miss is "
-               f"already below 99 %.\n")
-    n_lm = sum(1 for r in acc if r["ref"]["source"] == "lm")
-    doc.append(f"The reference came from the Levenberg-Marquardt fit on {n_lm} of {len(acc)} "
-               f"records (its cost the lower), from the trust-region one on the others.\n")
-    nmet = sum(1 for s in summary if s[2] == s[4])
-    doc.append(f"**Target met on {nmet} of {len(summary)} sets** (default cost).\n")
-    doc.append("| truth | record | seeds meeting the target, default cost | combined cost |")
-    doc.append("|---|---|---|---|")
-    for name, lab, met, metc, n in summary:
-        c = "-" if metc is None else f"{metc}/{n}"
-        doc.append(f"| {name} | {lab} | {met}/{n}{'' if met == n else ' (missed)'} | {c} |")
-    doc += missed_seeds(acc)
-    doc.append("\nPer set: median and 90th percentile over the seeds.")
-    doc += lines
-    doc.append("")
-
-    # ---- 2
-    doc.append("## 2. Astrom-Hagglund test batch: FOPDT and SOPDT approximations\n")
-    doc.append("The batch of Astrom and Hagglund (2006), families P1..P9, three members each "
-               "(P7: `T e^{-0.5 s} / ((1 + sT)(1 + 0.5 s))`). Each plant is simulated exactly "
-               "(its state-space model sampled behind a zero-order hold, the dead time "
-               "included), PRBS input with a switching time of half the mean residence "
-               "time Tar (`L + sum of lags - sum of zero time constants`; 1 for P6), a "
-               "record of 20 Tar in 1500 samples, SNR 30 dB, one record per plant, seed 1. "
-               "*Step IAE*: as above over `[0, 4 Tar]` (P6: `[0, 5]`), divided by `t_end` "
-               "and the largest true response (its final value, or for P6 its value at 5 s). "
-               "*Freq. err.*: the largest relative error `|G - G_true| / |G_true|` on 200 "
-               "log-spaced frequencies from w_u/100 to w_u, the plant's phase crossover.\n")
-    doc.append("| plant | w_u rad/s | FOPDT pdtfit IAE / freq | FOPDT ref IAE / freq | "
-               "SOPDT pdtfit IAE / freq | SOPDT ref IAE / freq | pdtfit SOPDT model |")
-    doc.append("|---|---|---|---|---|---|---|")
-    worse = 0
-    for r in ah:
-        cells = []
-        for key in (("fopdt", "pdtfit"), ("fopdt", "ref"), ("sopdt", "pdtfit"), ("sopdt", "ref")):
-            f = r["fits"][key]
-            cells.append("fail" if f is None else f"{fmt(f['iae'])} / {fmt(f['ferr'])}")
-        for mdl in ("fopdt", "sopdt"):
-            fp, fr = r["fits"][(mdl, "pdtfit")], r["fits"][(mdl, "ref")]
-            if fp is None or (fr is not None and fp["iae"] > 1.1 * fr["iae"] + FLOOR):
-                worse += 1
-        ms = r["fits"][("sopdt", "pdtfit")]
-        doc.append(f"| {r['name']} | {r['wu']:.3g} | " + " | ".join(cells) +
-                   f" | {describe(ms['model']) if ms else '-'} |")
-    doc.append(f"\npdtfit's step IAE is more than 1.1 x the reference's + {FLOOR:g} in "
-               f"{worse} of {2 * len(ah)} fits.\n")
-
-    n_integ = sum(1 for r in wres if r["integ"]) // len(WEIGHT_EXCITATIONS)
-    doc.append("### Frequency weighting of the combined criterion\n")
-    doc.append(f"The same plants, one record each of PRBS, pulse and chirp (the chirp "
-               f"over 70 % of the record, then rest), all returning to rest as the "
-               f"frequency cost needs, 30 dB. pdtfit's FOPDT and SOPDT with the time cost "
-               f"(`simulation`) and with `--cost combined` weighted uniformly (the paper's "
-               f"`W = 1`) and on the control band (0 to half the phase crossover of the "
-               f"time-domain model). Geometric mean of the step IAE (as above) over the "
-               f"{len(wres) // len(WEIGHT_EXCITATIONS) - n_integ} non-integrating plants "
-               f"(an integrator's output does not return to rest, so no frequency cost "
-               f"applies), and how many plants the control band improves or worsens by "
-               f"more than 2 %.\n")
-    doc.extend(weight_report(wres))
-    doc.append("\nThe library's default weighting (`AUTO`) is the control band for a FOPDT "
-               "with the combined criterion and uniform otherwise.\n")
-
-    # ---- 3
-    doc.append("## 3. Reliability of the global search\n")
-    doc.append(f"One record per case (seed 1, SNR 30 dB, {N_REC} samples), identified with "
-               f"pdtfit `--seed 1..{rel_seeds}`. Every model is scored by the same cost: "
-               f"pdtfit's criterion (mean square output error over the samples it scores: "
-               f"the whole record), with gain and offset re-fitted in closed form, "
-               f"so that only the shape and the dead time decide. A run *succeeds* when its "
-               f"cost is within 1 % of the best cost found by any run (pdtfit or reference). "
-               f"For contrast, the reference with its nine dead-time starts (one run; it is "
-               f"deterministic) and single-start local fits from a random dead time "
-               f"({rel_seeds if not quick else 3} runs).\n")
-    doc.append("| case | pdtfit success | pdtfit evaluations median / max | "
-               "reference (9 starts) | single-start local fits success |")
-    doc.append("|---|---|---|---|---|")
-    for ci, case in enumerate(rel_cases(quick)):
-        rs = [r for r in rel if r[0] == ci]
-        best = min(r[3] for r in rs)
-        ok = lambda r: r[3] <= 1.01 * best  # noqa: E731
-        p = [r for r in rs if r[1] == "pdtfit"]
-        r1 = [r for r in rs if r[1] == "ref1"]
-        r9 = [r for r in rs if r[1] == "ref9"][0]
-        ev = [r[4] for r in p]
-        worst = max(r[3] for r in p) / best
-        doc.append(f"| {case[0]} | {sum(map(ok, p))}/{len(p)} (worst cost {worst:.3g} x best) | "
-                   f"{int(np.median(ev))} / {max(ev)} | "
-                   f"{'within 1 %' if ok(r9) else f'{r9[3] / best:.3g} x best'} "
-                   f"({r9[4]} evaluations) | {sum(map(ok, r1))}/{len(r1)} |")
-    doc.append("")
-
+    run = {"mach": mach, "quick": quick, "elapsed": elapsed, "jobs": a.jobs, "seeds": seeds,
+           "rel_seeds": rel_seeds}
+    doc = [string.Template(INTRO.read_text()).substitute(provenance.fields()),
+           results_doc(run, acc, ah, wres, rel)]
     doc += speed_memory_doc(speed, mem, load_before, load_after)
 
     # ---- 6
