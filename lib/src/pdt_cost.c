@@ -1251,6 +1251,100 @@ static void extra_profile(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real
     *out = r;
 }
 
+/* A profile's regression of the gain, normalised units: the time part
+ * at (K - kt)^2 and the frequency part af (|K| - kf)^2, each up to its
+ * constant and weighted, and the gain's bounds. */
+typedef struct prof_reg {
+    pdt_real_t at;
+    pdt_real_t kt;
+    pdt_real_t af;
+    pdt_real_t kf;
+    pdt_real_t lo;
+    pdt_real_t hi;
+    bool bounded;
+} prof_reg_t;
+
+static pdt_real_t prof_gain(const prof_reg_t *g)
+{
+    return best_gain(g->at, g->kt, g->af, g->kf, g->bounded, g->lo, g->hi);
+}
+
+/* The simulation's first pass: from the caller's sums pre around (K0, c0)
+ * when given, else the kernel's. */
+static void prof_sim_first(const pdt_cost_t *c, const pdt_discrete_t *d, size_t k0, pdt_real_t K0,
+                           pdt_real_t c0, const pdt_cost_sums_t *pre, sim_fit_t *f)
+{
+    if (pre != NULL) {
+        sim_derive(c, d, k0, K0, c0, pre, f);
+    } else {
+        sim_pass(c, d, k0, K0, c0, f);
+    }
+    if (!sim_finite(f) && K0 != PDT_R(0.0)) {
+        /* A reference far off this shape (its residual overflowed): once
+         * more without one. */
+        sim_reference(c, d->order, NULL, &K0, &c0);
+        sim_pass(c, d, k0, K0, c0, f);
+    }
+}
+
+/* The simulation's time part from the first pass f and the gain K it
+ * gives: passes again while too much of the residual cancels, then the
+ * cost ct and offset off. Returns the gain. */
+static pdt_real_t prof_sim_fit(const pdt_cost_t *c, const pdt_discrete_t *d, size_t k0,
+                               pdt_real_t ncost_ref, prof_reg_t *g, sim_fit_t *f, pdt_real_t K,
+                               pdt_real_t *ct, pdt_real_t *off)
+{
+    const bool combined = (c->cfg.kind == PDT_COST_COMBINED);
+    pdt_real_t rss = sim_rss(f, K);
+    /* The time part's own share of the reference cost. */
+    const pdt_real_t ref = combined ? ncost_ref / c->cfg.phi_t : ncost_ref;
+    const bool hinted = (f->K0 != PDT_R(0.0));
+    pdt_real_t K0 = PDT_R(0.0), c0 = PDT_R(0.0);
+    for (unsigned pass = 0u; pass < SIM_PASSES && sim_cancels(f, K, rss, ref); pass++) {
+        /* Too much of the reference fit's residual cancelled: again
+         * around the fit just found, or, where a caller's reference
+         * was so far off this shape that nothing was left, around the
+         * data's mean first. */
+        if (pass == 0u && hinted && sim_lost(f, K, rss)) {
+            sim_reference(c, d->order, NULL, &K0, &c0);
+        } else {
+            K0 = K;
+            c0 = sim_offset(c, f, K);
+        }
+        sim_pass(c, d, k0, K0, c0, f);
+        sim_summary(f, &g->at, &g->kt);
+        if (combined) {
+            g->at *= c->cfg.phi_t;
+        }
+        K = prof_gain(g);
+        rss = sim_rss(f, K);
+    }
+    *ct = rss / f->m;
+    *off = sim_offset(c, f, K);
+    return K;
+}
+
+/* The profile's cost, normalised, from its time part ct and frequency
+ * part cf. */
+static pdt_real_t prof_total(const pdt_cost_t *c, pdt_real_t ct, pdt_real_t cf)
+{
+    const pdt_cost_kind_t kind = c->cfg.kind;
+    if (kind != PDT_COST_COMBINED) {
+        return (kind == PDT_COST_FREQUENCY) ? cf : ct;
+    }
+    pdt_real_t total = PDT_R(0.0);
+    if (c->cfg.phi_t > PDT_R(0.0)) {
+        total += c->cfg.phi_t * ct;
+    }
+    if (c->cfg.phi_f > PDT_R(0.0)) {
+        total += c->cfg.phi_f * cf;
+    }
+    if (!pdt_finite(total)) {
+        total = (pdt_real_t)INFINITY;
+    }
+    return total;
+}
+
 /* The profile of a checked shape with discrete model d. pre: the kernel's
  * sums around the reference (K0, c0) when a caller already ran them, else
  * NULL. */
@@ -1265,11 +1359,14 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     const bool need_freq = (kind == PDT_COST_FREQUENCY) || (combined && c->cfg.phi_f > PDT_R(0.0));
     const bool need_time = (kind != PDT_COST_FREQUENCY) && (!combined || c->cfg.phi_t > PDT_R(0.0));
     const bool pred = need_time && !sim_time(c);
-    const pdt_real_t lo = gain_to_norm(c, gain_min), hi = gain_to_norm(c, gain_max);
+    prof_reg_t g = {PDT_R(0.0),
+                    PDT_R(0.0),
+                    PDT_R(0.0),
+                    PDT_R(0.0),
+                    gain_to_norm(c, gain_min),
+                    gain_to_norm(c, gain_max),
+                    bounded};
     pdt_cost_profile_t r = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
-    /* Regression summaries: time part a (K - kt)^2, frequency part
-     * b (|K| - kf)^2, each up to its constant. */
-    pdt_real_t at = PDT_R(0.0), kt = PDT_R(0.0), af = PDT_R(0.0), kf = PDT_R(0.0);
     pdt_real_t smean = PDT_R(0.0), emean = PDT_R(0.0), K, ct = PDT_R(0.0);
     pdt_real_t cf = PDT_R(0.0), off = PDT_R(0.0), total;
     sim_fit_t f;
@@ -1277,59 +1374,25 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
 
     if (need_time) {
         if (pred) {
-            pred_summary(c, d, scratch, &smean, &emean, &at, &kt);
+            pred_summary(c, d, scratch, &smean, &emean, &g.at, &g.kt);
         } else {
             k0 = first_scored(c, d->order, false);
-            if (pre != NULL) {
-                sim_derive(c, d, k0, K0, c0, pre, &f);
-            } else {
-                sim_pass(c, d, k0, K0, c0, &f);
-            }
-            if (!sim_finite(&f) && K0 != PDT_R(0.0)) {
-                /* A reference far off this shape (its residual overflowed):
-                 * once more without one. */
-                sim_reference(c, d->order, NULL, &K0, &c0);
-                sim_pass(c, d, k0, K0, c0, &f);
-            }
-            sim_summary(&f, &at, &kt);
+            prof_sim_first(c, d, k0, K0, c0, pre, &f);
+            sim_summary(&f, &g.at, &g.kt);
         }
         if (combined) {
-            at *= c->cfg.phi_t;
+            g.at *= c->cfg.phi_t;
         }
     }
     if (need_freq) {
-        freq_summary(c, shape, &af, &kf);
+        freq_summary(c, shape, &g.af, &g.kf);
         if (combined) {
-            af *= c->cfg.phi_f;
+            g.af *= c->cfg.phi_f;
         }
     }
-    K = best_gain(at, kt, af, kf, bounded, lo, hi);
+    K = prof_gain(&g);
     if (need_time && !pred) {
-        pdt_real_t rss = sim_rss(&f, K);
-        /* The time part's own share of the reference cost. */
-        const pdt_real_t ref = combined ? ncost_ref / c->cfg.phi_t : ncost_ref;
-        const bool hinted = (f.K0 != PDT_R(0.0));
-        for (unsigned pass = 0u; pass < SIM_PASSES && sim_cancels(&f, K, rss, ref); pass++) {
-            /* Too much of the reference fit's residual cancelled: again
-             * around the fit just found, or, where a caller's reference
-             * was so far off this shape that nothing was left, around the
-             * data's mean first. */
-            if (pass == 0u && hinted && sim_lost(&f, K, rss)) {
-                sim_reference(c, d->order, NULL, &K0, &c0);
-            } else {
-                K0 = K;
-                c0 = sim_offset(c, &f, K);
-            }
-            sim_pass(c, d, k0, K0, c0, &f);
-            sim_summary(&f, &at, &kt);
-            if (combined) {
-                at *= c->cfg.phi_t;
-            }
-            K = best_gain(at, kt, af, kf, bounded, lo, hi);
-            rss = sim_rss(&f, K);
-        }
-        ct = rss / f.m;
-        off = sim_offset(c, &f, K);
+        K = prof_sim_fit(c, d, k0, ncost_ref, &g, &f, K, &ct, &off);
     } else if (need_time) {
         pdt_real_t o = emean - K * smean;
         /* In the equation error the offset enters through A(1). */
@@ -1351,20 +1414,7 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     if (need_freq) {
         cf = freq_at(c, shape, K);
     }
-    if (combined) {
-        total = PDT_R(0.0);
-        if (c->cfg.phi_t > PDT_R(0.0)) {
-            total += c->cfg.phi_t * ct;
-        }
-        if (c->cfg.phi_f > PDT_R(0.0)) {
-            total += c->cfg.phi_f * cf;
-        }
-        if (!pdt_finite(total)) {
-            total = (pdt_real_t)INFINITY;
-        }
-    } else {
-        total = (kind == PDT_COST_FREQUENCY) ? cf : ct;
-    }
+    total = prof_total(c, ct, cf);
     r.ncost = total;
     r.cost = cost_units(c, total);
     r.ct = cost_units(c, ct);

@@ -145,6 +145,105 @@ static uint32_t parity(uint32_t x)
     return x & 1u;
 }
 
+/* A generator at its start: every counter and memory 0. */
+static void excite_clear(pdt_excite_t *g)
+{
+    g->done = false;
+    g->k = 0u;
+    g->n_on = 0u;
+    g->n_off = 0u;
+    g->pos = 0u;
+    g->c1 = PDT_R(0.0);
+    g->c2 = PDT_R(0.0);
+    g->lfsr = 0u;
+    g->taps = 0u;
+    g->started = false;
+    g->high = false;
+    g->rose = false;
+    g->since_rise = 0u;
+    g->fall_at = 0u;
+    g->seen = 0u;
+    g->stored = 0u;
+    g->pv_max = PDT_R(0.0);
+    g->pv_min = PDT_R(0.0);
+    for (unsigned i = 0; i < PDT_EXCITE_RELAY_MAX_CYCLES; i++) {
+        g->per[i] = 0u;
+        g->amp[i] = PDT_R(0.0);
+    }
+}
+
+/* The kind's part of the set-up: its samples after pre in *body (0: no
+ * end), its state, and its two output levels. False when a length does
+ * not fit. Lengths are in 64 bits so that the sum of parts cannot wrap. */
+static bool excite_kind(const pdt_excite_config_t *cfg, pdt_excite_t *g, uint64_t *body,
+                        pdt_real_t *up, pdt_real_t *down)
+{
+    uint32_t n;
+    *body = 0u;
+    *up = cfg->u0 + cfg->amplitude;
+    *down = cfg->u0;
+    switch (cfg->kind) {
+    case PDT_EXCITE_STEP:
+        if (!to_samples(cfg->duration, cfg->Ts, &n)) {
+            return false;
+        }
+        /* A duration under half a sample would end before starting: take
+         * it as one sample rather than as "no end". */
+        *body = (cfg->duration > PDT_R(0.0) && n == 0u) ? 1u : n;
+        break;
+    case PDT_EXCITE_PULSE:
+        if (!to_samples(cfg->t_on, cfg->Ts, &g->n_on) ||
+            !to_samples(cfg->t_off, cfg->Ts, &g->n_off)) {
+            return false;
+        }
+        *body = (uint64_t)cfg->count * ((uint64_t)g->n_on + g->n_off);
+        break;
+    case PDT_EXCITE_CHIRP:
+        if (!to_samples(cfg->duration, cfg->Ts, &n)) {
+            return false;
+        }
+        *body = n;
+        g->c1 = cfg->f0 * cfg->Ts;
+        g->c2 = (cfg->f1 - cfg->f0) * cfg->Ts / (PDT_R(2.0) * (pdt_real_t)n);
+        *down = cfg->u0 - cfg->amplitude;
+        break;
+    case PDT_EXCITE_PRBS:
+        *body = (uint64_t)cfg->periods * (((uint64_t)1u << cfg->prbs_bits) - 1u) * cfg->prbs_hold;
+        g->lfsr = cfg->prbs_seed & (((uint32_t)1u << cfg->prbs_bits) - 1u);
+        g->taps = prbs_mask(cfg->prbs_bits);
+        *down = cfg->u0 - cfg->amplitude;
+        break;
+    default: /* RELAY */
+        *up = cfg->u0 + cfg->bias + cfg->d;
+        *down = cfg->u0 + cfg->bias - cfg->d;
+        break;
+    }
+    return true;
+}
+
+/* The output levels up and down within the limits into g (clamped if the
+ * configuration allows it), or PDT_ERR_OUTPUT_LIMIT. */
+static pdt_status_t excite_levels(const pdt_excite_config_t *cfg, pdt_real_t up, pdt_real_t down,
+                                  pdt_excite_t *g)
+{
+    if (cfg->u0 < cfg->u_min || cfg->u0 > cfg->u_max) {
+        return PDT_ERR_OUTPUT_LIMIT;
+    }
+    if (!pdt_finite(up) || !pdt_finite(down)) {
+        return PDT_ERR_OUTPUT_LIMIT;
+    }
+    bool inside = up >= cfg->u_min && up <= cfg->u_max && down >= cfg->u_min && down <= cfg->u_max;
+    if (!inside && !cfg->clamp) {
+        return PDT_ERR_OUTPUT_LIMIT;
+    }
+    g->hi = clamp_to(up, cfg->u_min, cfg->u_max);
+    g->lo = clamp_to(down, cfg->u_min, cfg->u_max);
+    if (g->hi == g->lo) {
+        return PDT_ERR_OUTPUT_LIMIT;
+    }
+    return PDT_OK;
+}
+
 pdt_status_t pdt_excite_init(pdt_excite_t *gen, const pdt_excite_config_t *cfg)
 {
     if (gen == NULL || cfg == NULL || !config_valid(cfg)) {
@@ -157,93 +256,24 @@ pdt_status_t pdt_excite_init(pdt_excite_t *gen, const pdt_excite_config_t *cfg)
     pdt_excite_t g;
     g.cfg = *cfg;
     g.magic = EXCITE_MAGIC;
-    g.done = false;
-    g.k = 0u;
-    g.n_on = 0u;
-    g.n_off = 0u;
-    g.pos = 0u;
-    g.c1 = PDT_R(0.0);
-    g.c2 = PDT_R(0.0);
-    g.lfsr = 0u;
-    g.taps = 0u;
-    g.started = false;
-    g.high = false;
-    g.rose = false;
-    g.since_rise = 0u;
-    g.fall_at = 0u;
-    g.seen = 0u;
-    g.stored = 0u;
-    g.pv_max = PDT_R(0.0);
-    g.pv_min = PDT_R(0.0);
-    for (unsigned i = 0; i < PDT_EXCITE_RELAY_MAX_CYCLES; i++) {
-        g.per[i] = 0u;
-        g.amp[i] = PDT_R(0.0);
-    }
-
-    /* Lengths, in 64 bits so that the sum of parts cannot wrap. */
-    uint64_t body = 0u; /* samples after pre; 0 = no end */
-    uint32_t n;
+    excite_clear(&g);
+    uint64_t body;
+    pdt_real_t up;
+    pdt_real_t down;
     if (!to_samples(cfg->pre, cfg->Ts, &g.n_pre)) {
         return PDT_ERR_LENGTH;
     }
-    pdt_real_t up = cfg->u0 + cfg->amplitude;
-    pdt_real_t down = cfg->u0;
-    switch (cfg->kind) {
-    case PDT_EXCITE_STEP:
-        if (!to_samples(cfg->duration, cfg->Ts, &n)) {
-            return PDT_ERR_LENGTH;
-        }
-        /* A duration under half a sample would end before starting: take
-         * it as one sample rather than as "no end". */
-        body = (cfg->duration > PDT_R(0.0) && n == 0u) ? 1u : n;
-        break;
-    case PDT_EXCITE_PULSE:
-        if (!to_samples(cfg->t_on, cfg->Ts, &g.n_on) ||
-            !to_samples(cfg->t_off, cfg->Ts, &g.n_off)) {
-            return PDT_ERR_LENGTH;
-        }
-        body = (uint64_t)cfg->count * ((uint64_t)g.n_on + g.n_off);
-        break;
-    case PDT_EXCITE_CHIRP:
-        if (!to_samples(cfg->duration, cfg->Ts, &n)) {
-            return PDT_ERR_LENGTH;
-        }
-        body = n;
-        g.c1 = cfg->f0 * cfg->Ts;
-        g.c2 = (cfg->f1 - cfg->f0) * cfg->Ts / (PDT_R(2.0) * (pdt_real_t)n);
-        down = cfg->u0 - cfg->amplitude;
-        break;
-    case PDT_EXCITE_PRBS:
-        body = (uint64_t)cfg->periods * (((uint64_t)1u << cfg->prbs_bits) - 1u) * cfg->prbs_hold;
-        g.lfsr = cfg->prbs_seed & (((uint32_t)1u << cfg->prbs_bits) - 1u);
-        g.taps = prbs_mask(cfg->prbs_bits);
-        down = cfg->u0 - cfg->amplitude;
-        break;
-    default: /* RELAY */
-        up = cfg->u0 + cfg->bias + cfg->d;
-        down = cfg->u0 + cfg->bias - cfg->d;
-        break;
+    if (!excite_kind(cfg, &g, &body, &up, &down)) {
+        return PDT_ERR_LENGTH;
     }
     uint64_t total = body == 0u ? 0u : (uint64_t)g.n_pre + body;
     if (total > PDT_EXCITE_MAX_SAMPLES) {
         return PDT_ERR_LENGTH;
     }
     g.n_total = (uint32_t)total;
-
-    if (cfg->u0 < cfg->u_min || cfg->u0 > cfg->u_max) {
-        return PDT_ERR_OUTPUT_LIMIT;
-    }
-    if (!pdt_finite(up) || !pdt_finite(down)) {
-        return PDT_ERR_OUTPUT_LIMIT;
-    }
-    bool inside = up >= cfg->u_min && up <= cfg->u_max && down >= cfg->u_min && down <= cfg->u_max;
-    if (!inside && !cfg->clamp) {
-        return PDT_ERR_OUTPUT_LIMIT;
-    }
-    g.hi = clamp_to(up, cfg->u_min, cfg->u_max);
-    g.lo = clamp_to(down, cfg->u_min, cfg->u_max);
-    if (g.hi == g.lo) {
-        return PDT_ERR_OUTPUT_LIMIT;
+    pdt_status_t st = excite_levels(cfg, up, down, &g);
+    if (st != PDT_OK) {
+        return st;
     }
     *gen = g;
     return PDT_OK;

@@ -541,6 +541,32 @@ uint32_t pdt_ident_polish_group(const pdt_ident_t *c)
     return left < (uint32_t)PDT_VECTOR_LANES ? left : (uint32_t)PDT_VECTOR_LANES;
 }
 
+/* The stencil's next group of points evaluated; the model proposed once
+ * the stencil is complete. */
+static void stencil_group(pdt_ident_t *c)
+{
+    pdt_ident_polish_t *p = &c->nm.late.polish;
+    const uint32_t G = c->genes;
+    pdt_real_t pts[PDT_COST_MANY * 3u] = {PDT_R(0.0)};
+    pdt_real_t cost[PDT_COST_MANY], gains[PDT_COST_MANY], offsets[PDT_COST_MANY];
+    const uint32_t count = pdt_ident_polish_group(c);
+    for (uint32_t i = 0; i < count; i++) {
+        stencil_point(c, p->next + i, &pts[i * G]);
+    }
+    if (count == 1u) {
+        pdt_ident_evaluate(c, pts, cost, gains, offsets);
+    } else {
+        pdt_ident_evaluate_many(c, pts, count, cost, gains, offsets);
+    }
+    for (uint32_t i = 0; i < count; i++) {
+        p->f[p->next + i] = cost[i];
+    }
+    p->next += count;
+    if (p->next == points_of(c)) {
+        propose(c);
+    }
+}
+
 void pdt_ident_polish_step(pdt_ident_t *c)
 {
     pdt_ident_polish_t *p = &c->nm.late.polish;
@@ -560,24 +586,7 @@ void pdt_ident_polish_step(pdt_ident_t *c)
         return;
     }
     if (p->state == POLISH_STENCIL) {
-        pdt_real_t pts[PDT_COST_MANY * 3u] = {PDT_R(0.0)};
-        pdt_real_t cost[PDT_COST_MANY], gains[PDT_COST_MANY], offsets[PDT_COST_MANY];
-        const uint32_t count = pdt_ident_polish_group(c);
-        for (uint32_t i = 0; i < count; i++) {
-            stencil_point(c, p->next + i, &pts[i * G]);
-        }
-        if (count == 1u) {
-            pdt_ident_evaluate(c, pts, cost, gains, offsets);
-        } else {
-            pdt_ident_evaluate_many(c, pts, count, cost, gains, offsets);
-        }
-        for (uint32_t i = 0; i < count; i++) {
-            p->f[p->next + i] = cost[i];
-        }
-        p->next += count;
-        if (p->next == points_of(c)) {
-            propose(c);
-        }
+        stencil_group(c);
         return;
     }
     /* POLISH_TRIAL */

@@ -329,6 +329,45 @@ static bool aux_stable(const pdt_ls_t *c, const pdt_real_t *th)
            th[0] > PDT_R(-2.0) - PDT_R(2.0) * th[1];
 }
 
+/* The continuous SOPDT's a and b (s^2 + a s + b) of the delta
+ * parameters p and q, from the discrete poles z = 1 + w with
+ * w^2 - h w - p = 0. False when they are not the poles of a stable
+ * continuous model sampled (a real pole outside (0, 1), |z| >= 1). */
+static bool ls_poles(pdt_real_t Ts, pdt_real_t p, pdt_real_t q, pdt_real_t *a, pdt_real_t *b)
+{
+    const pdt_real_t a1 = -(PDT_R(1.0) + p + q);
+    /* The small w near a pole at 1 comes from the product of the roots,
+     * without cancellation. */
+    const pdt_real_t h = p + q - PDT_R(1.0);
+    const pdt_real_t disc = h * h + PDT_R(4.0) * p;
+    if (disc >= PDT_R(0.0)) {
+        pdt_real_t sq = pdt_sqrt(disc);
+        pdt_real_t wb = PDT_R(0.5) * (h < PDT_R(0.0) ? h - sq : h + sq);
+        pdt_real_t ws;
+        if (wb == PDT_R(0.0)) {
+            return false;
+        }
+        ws = -p / wb;
+        if (!(wb > PDT_R(-1.0) && wb < PDT_R(0.0) && ws > PDT_R(-1.0) && ws < PDT_R(0.0))) {
+            return false;
+        }
+        pdt_real_t s1 = pdt_log1p(wb) / Ts;
+        pdt_real_t s2 = pdt_log1p(ws) / Ts;
+        *a = -(s1 + s2);
+        *b = s1 * s2;
+    } else {
+        /* |z|^2 = a2 = q; arg z from (-a1 +/- j sqrt(-disc)) / 2. */
+        if (!(q < PDT_R(1.0) && q > PDT_R(0.0))) {
+            return false;
+        }
+        pdt_real_t sigma = PDT_R(-0.5) * pdt_log(q) / Ts;
+        pdt_real_t wd = pdt_atan2(pdt_sqrt(-disc), -a1) / Ts;
+        *a = PDT_R(2.0) * sigma;
+        *b = sigma * sigma + wd * wd;
+    }
+    return true;
+}
+
 /* The continuous model, the discrete model and the operating point of the
  * estimate th at delay l (window means m). Returns false, *r untouched,
  * when the estimate has no continuous form. */
@@ -371,35 +410,9 @@ static bool ls_form(const pdt_ls_t *c, size_t l, const pdt_real_t *m, const pdt_
     } else {
         const pdt_real_t q = th[1];
         const pdt_real_t a1 = -(PDT_R(1.0) + p + q);
-        /* Poles z = 1 + w with w^2 - h w - p = 0: the small w near a pole
-         * at 1 comes from the product of the roots, without cancellation. */
-        const pdt_real_t h = p + q - PDT_R(1.0);
-        const pdt_real_t disc = h * h + PDT_R(4.0) * p;
         pdt_real_t a, b;
-        if (disc >= PDT_R(0.0)) {
-            pdt_real_t sq = pdt_sqrt(disc);
-            pdt_real_t wb = PDT_R(0.5) * (h < PDT_R(0.0) ? h - sq : h + sq);
-            pdt_real_t ws;
-            if (wb == PDT_R(0.0)) {
-                return false;
-            }
-            ws = -p / wb;
-            if (!(wb > PDT_R(-1.0) && wb < PDT_R(0.0) && ws > PDT_R(-1.0) && ws < PDT_R(0.0))) {
-                return false;
-            }
-            pdt_real_t s1 = pdt_log1p(wb) / Ts;
-            pdt_real_t s2 = pdt_log1p(ws) / Ts;
-            a = -(s1 + s2);
-            b = s1 * s2;
-        } else {
-            /* |z|^2 = a2 = q; arg z from (-a1 +/- j sqrt(-disc)) / 2. */
-            if (!(q < PDT_R(1.0) && q > PDT_R(0.0))) {
-                return false;
-            }
-            pdt_real_t sigma = PDT_R(-0.5) * pdt_log(q) / Ts;
-            pdt_real_t wd = pdt_atan2(pdt_sqrt(-disc), -a1) / Ts;
-            a = PDT_R(2.0) * sigma;
-            b = sigma * sigma + wd * wd;
+        if (!ls_poles(Ts, p, q, &a, &b)) {
+            return false;
         }
         o.model.p.sopdt.a = a;
         o.model.p.sopdt.b = b;

@@ -189,6 +189,89 @@ static bool pair_zeros(const pdt_reduce_plant_t *p, size_t zero[])
     }
 }
 
+/* Dead time that does not depend on the lags: the plant's own, half the
+ * digital controller's period and the right-half-plane zeros. */
+static pdt_real_t half_base(const pdt_reduce_plant_t *plant, pdt_real_t h)
+{
+    pdt_real_t base = plant->theta0 + PDT_R(0.5) * h;
+    for (size_t j = 0; j < plant->n_zeros; j++) {
+        if (plant->zeros[j] < PDT_R(0.0)) {
+            base -= plant->zeros[j];
+        }
+    }
+    return base;
+}
+
+/* One pass of Skogestad's rules for the zeros with the effective delay
+ * tau_c: the lags left in eff[0..*n_eff-1] (unsorted), the rules applied in
+ * *rules; returns the gain. */
+static pdt_real_t half_pass(const pdt_reduce_plant_t *plant, const size_t zero[], pdt_real_t tau_c,
+                            pdt_real_t eff[], size_t *n_eff, uint32_t *rules)
+{
+    pdt_real_t gain = plant->k;
+    size_t n = 0;
+    *rules = 0u;
+    for (size_t i = 0; i < plant->n_lags; i++) {
+        pdt_real_t tau0 = plant->lags[i];
+        if (zero[i] == NO_ZERO) {
+            eff[n++] = tau0;
+            continue;
+        }
+        pdt_real_t T0 = plant->zeros[zero[i]];
+        if (T0 > tau0) {
+            if (tau0 >= tau_c) {
+                gain *= T0 / tau0;
+                *rules |= PDT_REDUCE_RULE_T1;
+            } else if (T0 >= tau_c) {
+                gain *= T0 / tau_c;
+                *rules |= PDT_REDUCE_RULE_T1A;
+            } else {
+                *rules |= PDT_REDUCE_RULE_T1B;
+            }
+        } else if (T0 >= PDT_R(5.0) * tau_c) {
+            gain *= T0 / tau0;
+            *rules |= PDT_REDUCE_RULE_T2;
+        } else {
+            pdt_real_t tt = PDT_R(5.0) * tau_c;
+            if (tt > tau0) {
+                tt = tau0;
+            }
+            gain *= tt / tau0;
+            *rules |= PDT_REDUCE_RULE_T3;
+            if (tt > T0) {
+                eff[n++] = tt - T0;
+            }
+        }
+    }
+    *n_eff = n;
+    return gain;
+}
+
+/* The model of the given order from the half rule's gain, time constants
+ * and dead time; false when it is no valid model. */
+static bool half_model(size_t order, pdt_real_t gain, const pdt_real_t t[2], pdt_real_t theta,
+                       pdt_model_t *m)
+{
+    if (order == 1u) {
+        m->kind = PDT_MODEL_FOPDT;
+        m->p.fopdt.K = gain;
+        m->p.fopdt.tau = t[0];
+        m->p.fopdt.Td = theta;
+    } else {
+        pdt_model_tc_t tc;
+        tc.K = gain;
+        tc.T1 = t[0];
+        tc.T2 = t[1];
+        tc.complex = false;
+        tc.Td = theta;
+        m->kind = PDT_MODEL_SOPDT;
+        if (pdt_model_sopdt_from_tc(&tc, &m->p.sopdt) != PDT_OK) {
+            return false;
+        }
+    }
+    return pdt_model_check(m) == PDT_OK;
+}
+
 pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant, const pdt_reduce_config_t *cfg,
                                   pdt_model_t *out, pdt_reduce_info_t *info)
 {
@@ -214,14 +297,7 @@ pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant, const pdt_red
     if (!pair_zeros(plant, zero)) {
         return PDT_ERR_NO_FORM;
     }
-
-    /* Dead time that does not depend on the lags. */
-    pdt_real_t base = plant->theta0 + PDT_R(0.5) * c.h;
-    for (size_t j = 0; j < plant->n_zeros; j++) {
-        if (plant->zeros[j] < PDT_R(0.0)) {
-            base -= plant->zeros[j];
-        }
-    }
+    const pdt_real_t base = half_base(plant, c.h);
 
     /* First guess of the effective delay: the zeros left out. */
     pdt_real_t t[2];
@@ -239,69 +315,17 @@ pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant, const pdt_red
     bool converged = false;
     while (passes < PDT_REDUCE_MAX_PASSES && !converged) {
         passes++;
-        gain = plant->k;
-        rules = 0u;
-        n_eff = 0;
-        for (size_t i = 0; i < n; i++) {
-            pdt_real_t tau0 = plant->lags[i];
-            if (zero[i] == NO_ZERO) {
-                eff[n_eff++] = tau0;
-                continue;
-            }
-            pdt_real_t T0 = plant->zeros[zero[i]];
-            if (T0 > tau0) {
-                if (tau0 >= tau_c) {
-                    gain *= T0 / tau0;
-                    rules |= PDT_REDUCE_RULE_T1;
-                } else if (T0 >= tau_c) {
-                    gain *= T0 / tau_c;
-                    rules |= PDT_REDUCE_RULE_T1A;
-                } else {
-                    rules |= PDT_REDUCE_RULE_T1B;
-                }
-            } else if (T0 >= PDT_R(5.0) * tau_c) {
-                gain *= T0 / tau0;
-                rules |= PDT_REDUCE_RULE_T2;
-            } else {
-                pdt_real_t tt = PDT_R(5.0) * tau_c;
-                if (tt > tau0) {
-                    tt = tau0;
-                }
-                gain *= tt / tau0;
-                rules |= PDT_REDUCE_RULE_T3;
-                if (tt > T0) {
-                    eff[n_eff++] = tt - T0;
-                }
-            }
-        }
+        gain = half_pass(plant, zero, tau_c, eff, &n_eff, &rules);
         sort_descending(eff, n_eff);
         theta = half_split(eff, n_eff, order, base, t);
         converged = pdt_fabs(theta - tau_c) <= PDT_R(8.0) * PDT_REAL_EPS * theta;
         tau_c = theta;
     }
+    pdt_model_t m;
     if (n_eff < order) {
         return PDT_ERR_NO_FORM;
     }
-
-    pdt_model_t m;
-    if (order == 1u) {
-        m.kind = PDT_MODEL_FOPDT;
-        m.p.fopdt.K = gain;
-        m.p.fopdt.tau = t[0];
-        m.p.fopdt.Td = theta;
-    } else {
-        pdt_model_tc_t tc;
-        tc.K = gain;
-        tc.T1 = t[0];
-        tc.T2 = t[1];
-        tc.complex = false;
-        tc.Td = theta;
-        m.kind = PDT_MODEL_SOPDT;
-        if (pdt_model_sopdt_from_tc(&tc, &m.p.sopdt) != PDT_OK) {
-            return PDT_ERR_ARG;
-        }
-    }
-    if (pdt_model_check(&m) != PDT_OK) {
+    if (!half_model(order, gain, t, theta, &m)) {
         return PDT_ERR_ARG;
     }
     *out = m;
@@ -434,6 +458,80 @@ static pdt_real_t mag2_of(const pdt_reduce_plant_t *p, pdt_real_t w, pdt_real_t 
     return (PDT_R(1.0) + ep) / (PDT_R(1.0) + eq);
 }
 
+/* The normal equations of Sung et al.'s least squares. */
+typedef struct sung_sums {
+    pdt_real_t s11;
+    pdt_real_t s12;
+    pdt_real_t s22;
+    pdt_real_t r1;
+    pdt_real_t r2;
+} sung_sums_t;
+
+/* Least squares in the dimensionless x = w / w_u, divided through by k^2:
+ * psi = 1 - g on the columns c1 = g x^2 and c2 = g x^4, whose coefficients
+ * are (tau w_u)^2 for the FOPDT and q1 = p1 w_u^2, q2 = p2 w_u^4 for the
+ * SOPDT. Scaling keeps the normal equations well conditioned whatever the
+ * time scale. */
+static void sung_sums(const pdt_reduce_plant_t *plant, uint32_t n_freq, pdt_real_t w_u,
+                      sung_sums_t *S)
+{
+    pdt_real_t s11 = PDT_R(0.0);
+    pdt_real_t s12 = PDT_R(0.0);
+    pdt_real_t s22 = PDT_R(0.0);
+    pdt_real_t r1 = PDT_R(0.0);
+    pdt_real_t r2 = PDT_R(0.0);
+    const pdt_real_t inv_m = PDT_R(1.0) / (pdt_real_t)n_freq;
+    for (uint32_t i = 1; i <= n_freq; i++) {
+        pdt_real_t x = (pdt_real_t)i * inv_m;
+        pdt_real_t psi;
+        pdt_real_t g = mag2_of(plant, x * w_u, &psi);
+        pdt_real_t c1 = g * x * x;
+        pdt_real_t c2 = c1 * x * x;
+        s11 += c1 * c1;
+        s12 += c1 * c2;
+        s22 += c2 * c2;
+        r1 += c1 * psi;
+        r2 += c2 * psi;
+    }
+    S->s11 = s11;
+    S->s12 = s12;
+    S->s22 = s22;
+    S->r1 = r1;
+    S->r2 = r2;
+}
+
+/* The SOPDT of the two-column fit into *m; false, *m untouched, when the
+ * fit gives none (the caller keeps the FOPDT). */
+static bool sung_sopdt(const pdt_reduce_plant_t *plant, pdt_real_t w_u, const sung_sums_t *S,
+                       pdt_model_t *m)
+{
+    pdt_real_t det = S->s11 * S->s22 - S->s12 * S->s12;
+    pdt_real_t q1 = (S->r1 * S->s22 - S->r2 * S->s12) / det;
+    pdt_real_t q2 = (S->s11 * S->r2 - S->s12 * S->r1) / det;
+    if (!(pdt_finite(q1) && pdt_finite(q2) && q2 > PDT_R(0.0))) {
+        return false;
+    }
+    pdt_real_t v2 = pdt_sqrt(q2); /* (tau w_u)^2 */
+    pdt_real_t z2 = PDT_R(0.25) * (q1 / v2 + PDT_R(2.0));
+    if (!(z2 > PDT_R(0.0))) {
+        return false;
+    }
+    pdt_real_t v = pdt_sqrt(v2);
+    pdt_real_t zeta = pdt_sqrt(z2);
+    pdt_model_natural_t nat;
+    nat.K = plant->k;
+    nat.wn = w_u / v;
+    nat.zeta = zeta;
+    nat.Td = (PDT_PI - pdt_atan2(PDT_R(2.0) * zeta * v, PDT_R(1.0) - v2)) / w_u;
+    pdt_model_t s;
+    s.kind = PDT_MODEL_SOPDT;
+    if (pdt_model_sopdt_from_natural(&nat, &s.p.sopdt) != PDT_OK) {
+        return false;
+    }
+    *m = s;
+    return true;
+}
+
 pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_config_t *cfg,
                              pdt_model_t *out, pdt_reduce_info_t *info)
 {
@@ -460,31 +558,9 @@ pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_c
     if (st != PDT_OK) {
         return st;
     }
-
-    /* Least squares in the dimensionless x = w / w_u, divided through by
-     * k^2: psi = 1 - g on the columns c1 = g x^2 and c2 = g x^4, whose
-     * coefficients are (tau w_u)^2 for the FOPDT and q1 = p1 w_u^2,
-     * q2 = p2 w_u^4 for the SOPDT. Scaling keeps the normal equations
-     * well conditioned whatever the time scale. */
-    pdt_real_t s11 = PDT_R(0.0);
-    pdt_real_t s12 = PDT_R(0.0);
-    pdt_real_t s22 = PDT_R(0.0);
-    pdt_real_t r1 = PDT_R(0.0);
-    pdt_real_t r2 = PDT_R(0.0);
-    const pdt_real_t inv_m = PDT_R(1.0) / (pdt_real_t)c.n_freq;
-    for (uint32_t i = 1; i <= c.n_freq; i++) {
-        pdt_real_t x = (pdt_real_t)i * inv_m;
-        pdt_real_t psi;
-        pdt_real_t g = mag2_of(plant, x * w_u, &psi);
-        pdt_real_t c1 = g * x * x;
-        pdt_real_t c2 = c1 * x * x;
-        s11 += c1 * c1;
-        s12 += c1 * c2;
-        s22 += c2 * c2;
-        r1 += c1 * psi;
-        r2 += c2 * psi;
-    }
-    pdt_real_t u2 = r1 / s11;
+    sung_sums_t S;
+    sung_sums(plant, c.n_freq, w_u, &S);
+    pdt_real_t u2 = S.r1 / S.s11;
     if (!(pdt_finite(u2) && u2 > PDT_R(0.0))) {
         return PDT_ERR_NO_FORM;
     }
@@ -495,31 +571,8 @@ pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_c
     m.p.fopdt.tau = u / w_u;
     m.p.fopdt.Td = (PDT_PI - pdt_atan(u)) / w_u;
     bool fallback = false;
-
     if (c.model == PDT_MODEL_SOPDT) {
-        pdt_real_t det = s11 * s22 - s12 * s12;
-        pdt_real_t q1 = (r1 * s22 - r2 * s12) / det;
-        pdt_real_t q2 = (s11 * r2 - s12 * r1) / det;
-        fallback = true;
-        if (pdt_finite(q1) && pdt_finite(q2) && q2 > PDT_R(0.0)) {
-            pdt_real_t v2 = pdt_sqrt(q2); /* (tau w_u)^2 */
-            pdt_real_t z2 = PDT_R(0.25) * (q1 / v2 + PDT_R(2.0));
-            if (z2 > PDT_R(0.0)) {
-                pdt_real_t v = pdt_sqrt(v2);
-                pdt_real_t zeta = pdt_sqrt(z2);
-                pdt_model_natural_t nat;
-                nat.K = plant->k;
-                nat.wn = w_u / v;
-                nat.zeta = zeta;
-                nat.Td = (PDT_PI - pdt_atan2(PDT_R(2.0) * zeta * v, PDT_R(1.0) - v2)) / w_u;
-                pdt_model_t s;
-                s.kind = PDT_MODEL_SOPDT;
-                if (pdt_model_sopdt_from_natural(&nat, &s.p.sopdt) == PDT_OK) {
-                    m = s;
-                    fallback = false;
-                }
-            }
-        }
+        fallback = !sung_sopdt(plant, w_u, &S, &m);
     }
     if (pdt_model_check(&m) != PDT_OK) {
         return PDT_ERR_ARG;

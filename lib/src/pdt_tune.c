@@ -344,115 +344,143 @@ typedef struct tune_rob {
     bool nyquist; /* the grid is done and the encirclement checked */
 } tune_rob_t;
 
+/* What the scan's frequency range is drawn from. */
+typedef struct rob_scale {
+    pdt_real_t kdc;  /* sign and size of L near w = 0 */
+    pdt_real_t r;    /* |L(j inf)| */
+    pdt_real_t tmin; /* the loop's shortest and longest time scales */
+    pdt_real_t tmax;
+    int n0; /* poles of L at s = 0 */
+} rob_scale_t;
+
+/* The loop of model m under gains g, with the plant's time scales. */
+static void rob_loop(const pdt_model_t *m, const pdt_tune_gains_t *g, tune_loop_t *lp,
+                     rob_scale_t *k)
+{
+    k->n0 = 1;
+    k->r = PDT_R(0.0);
+    k->tmin = PDT_REAL_MAX;
+    k->tmax = PDT_R(0.0);
+    lp->Kc = g->Kc;
+    lp->tauI = g->tauI;
+    lp->tauD = g->tauD;
+    lp->Tf = g->tauD > PDT_R(0.0) ? g->Tf : PDT_R(0.0);
+    if (m->kind == PDT_MODEL_FOPDT) {
+        lp->sopdt = false;
+        lp->K = m->p.fopdt.K;
+        lp->tau = m->p.fopdt.tau;
+        lp->a = PDT_R(0.0);
+        lp->b = PDT_R(0.0);
+        lp->Td = m->p.fopdt.Td;
+        k->kdc = lp->K;
+        scale_add(lp->tau, &k->tmin, &k->tmax);
+        if (lp->tauD > PDT_R(0.0) && lp->Tf == PDT_R(0.0)) {
+            k->r = pdt_fabs(lp->Kc * lp->K * lp->tauD / lp->tau);
+        }
+    } else {
+        lp->sopdt = true;
+        lp->K = m->p.sopdt.k;
+        lp->tau = PDT_R(0.0);
+        lp->a = m->p.sopdt.a;
+        lp->b = m->p.sopdt.b;
+        lp->Td = m->p.sopdt.Td;
+        if (lp->b > PDT_R(0.0)) {
+            k->kdc = lp->K / lp->b;
+            scale_add(lp->a / lp->b, &k->tmin, &k->tmax);
+            scale_add(PDT_R(1.0) / pdt_sqrt(lp->b), &k->tmin, &k->tmax);
+        } else {
+            k->kdc = lp->K / lp->a;
+            k->n0 = 2;
+        }
+        scale_add(PDT_R(1.0) / lp->a, &k->tmin, &k->tmax);
+    }
+}
+
+/* The scan's range [*w_lo, *w_hi]: two decades beyond the loop's time
+ * scales, widened until |L| is large at the bottom and below the top's
+ * level at the top. False when it leaves the real type. */
+static bool rob_range(const tune_loop_t *lp, const rob_scale_t *k, pdt_real_t *w_lo,
+                      pdt_real_t *w_hi)
+{
+    pdt_real_t lo = PDT_R(0.01) / k->tmax;
+    pdt_real_t hi = PDT_R(100.0) / k->tmin;
+    pdt_real_t top = k->r > PDT_R(0.0) ? PDT_R(0.5) * (PDT_R(1.0) + k->r) : PDT_R(0.1);
+    for (int i = 0; i < TUNE_WIDEN && abs2(loop_eval(lp, lo)) <= PDT_R(100.0); i++) {
+        lo *= PDT_R(0.1);
+    }
+    for (int i = 0; i < TUNE_WIDEN && abs2(loop_eval(lp, hi)) >= top * top; i++) {
+        hi *= PDT_R(10.0);
+    }
+    *w_lo = lo;
+    *w_hi = hi;
+    /* Time scales so far apart that the range the scan needs leaves the
+     * real type: nothing below could be trusted. */
+    return lo > PDT_R(0.0) && pdt_finite(hi);
+}
+
+/* The scan at its first point, w_hi, where L is La. */
+static void scan_start(tune_scan_t *s, pdt_real_t w_hi, tune_cplx_t La)
+{
+    s->npeaks = 0;
+    s->best_d2 = PDT_REAL_MAX;
+    s->best_w = w_hi;
+    s->pm = (pdt_real_t)INFINITY;
+    s->w_gc = PDT_R(0.0);
+    s->re_pc = PDT_R(0.0);
+    s->w_pc = PDT_R(0.0);
+    s->seen = 0;
+    s->evals = 0u;
+    s->w1 = s->w2 = s->d1 = s->d2 = PDT_R(0.0);
+    s->phase = arg_1p(La);
+    s->best_d2 = dist2(La);
+    s->w1 = w_hi;
+    s->d1 = s->best_d2;
+    s->seen = 1;
+}
+
 /* Everything before the grid's scan: the loop, the frequency range and the
- * scan's first point. */
+ * scan's first point. *R is its owner's scratch, written also on an error
+ * (the loop in place saves a copy of it on the stack). */
 static pdt_status_t rob_begin(const pdt_model_t *m, const pdt_tune_gains_t *g, tune_rob_t *R)
 {
     if (m == NULL || g == NULL || pdt_model_check(m) != PDT_OK || !gains_valid(g)) {
         return PDT_ERR_ARG;
     }
-    tune_loop_t lp;
-    pdt_real_t kdc;            /* sign and size of L near w = 0 */
-    int n0 = 1;                /* poles of L at s = 0 */
-    pdt_real_t r = PDT_R(0.0); /* |L(j inf)| */
-    pdt_real_t tmin = PDT_REAL_MAX;
-    pdt_real_t tmax = PDT_R(0.0);
-    lp.Kc = g->Kc;
-    lp.tauI = g->tauI;
-    lp.tauD = g->tauD;
-    lp.Tf = g->tauD > PDT_R(0.0) ? g->Tf : PDT_R(0.0);
-    if (m->kind == PDT_MODEL_FOPDT) {
-        lp.sopdt = false;
-        lp.K = m->p.fopdt.K;
-        lp.tau = m->p.fopdt.tau;
-        lp.a = PDT_R(0.0);
-        lp.b = PDT_R(0.0);
-        lp.Td = m->p.fopdt.Td;
-        kdc = lp.K;
-        scale_add(lp.tau, &tmin, &tmax);
-        if (lp.tauD > PDT_R(0.0) && lp.Tf == PDT_R(0.0)) {
-            r = pdt_fabs(lp.Kc * lp.K * lp.tauD / lp.tau);
-        }
-    } else {
-        lp.sopdt = true;
-        lp.K = m->p.sopdt.k;
-        lp.tau = PDT_R(0.0);
-        lp.a = m->p.sopdt.a;
-        lp.b = m->p.sopdt.b;
-        lp.Td = m->p.sopdt.Td;
-        if (lp.b > PDT_R(0.0)) {
-            kdc = lp.K / lp.b;
-            scale_add(lp.a / lp.b, &tmin, &tmax);
-            scale_add(PDT_R(1.0) / pdt_sqrt(lp.b), &tmin, &tmax);
-        } else {
-            kdc = lp.K / lp.a;
-            n0 = 2;
-        }
-        scale_add(PDT_R(1.0) / lp.a, &tmin, &tmax);
-    }
-    if (kdc == PDT_R(0.0) || !pdt_finite(kdc)) {
+    tune_loop_t *const lp = &R->lp;
+    rob_scale_t k;
+    rob_loop(m, g, lp, &k);
+    if (k.kdc == PDT_R(0.0) || !pdt_finite(k.kdc)) {
         return PDT_ERR_ARG;
     }
     /* Positive feedback at low frequency, or a loop that keeps a gain of 1
      * or more at every high frequency behind a dead time: no stable loop. */
-    if (kdc * lp.Kc < PDT_R(0.0) || r >= PDT_R(1.0)) {
+    if (k.kdc * lp->Kc < PDT_R(0.0) || k.r >= PDT_R(1.0)) {
         return PDT_ERR_UNSTABLE;
     }
-    scale_add(lp.Td, &tmin, &tmax);
-    scale_add(lp.tauI, &tmin, &tmax);
-    scale_add(lp.tauD, &tmin, &tmax);
-    scale_add(lp.Tf, &tmin, &tmax);
+    scale_add(lp->Td, &k.tmin, &k.tmax);
+    scale_add(lp->tauI, &k.tmin, &k.tmax);
+    scale_add(lp->tauD, &k.tmin, &k.tmax);
+    scale_add(lp->Tf, &k.tmin, &k.tmax);
 
-    pdt_real_t w_lo = PDT_R(0.01) / tmax;
-    pdt_real_t w_hi = PDT_R(100.0) / tmin;
-    pdt_real_t top = r > PDT_R(0.0) ? PDT_R(0.5) * (PDT_R(1.0) + r) : PDT_R(0.1);
-    pdt_real_t top_big = rmax(PDT_R(0.5), PDT_R(0.5) * (PDT_R(1.0) + r));
-    for (int i = 0; i < TUNE_WIDEN && abs2(loop_eval(&lp, w_lo)) <= PDT_R(100.0); i++) {
-        w_lo *= PDT_R(0.1);
-    }
-    for (int i = 0; i < TUNE_WIDEN && abs2(loop_eval(&lp, w_hi)) >= top * top; i++) {
-        w_hi *= PDT_R(10.0);
-    }
-    if (!(w_lo > PDT_R(0.0)) || !pdt_finite(w_hi)) {
-        /* The time scales lie so far apart that the range the scan needs
-         * leaves the real type: nothing below could be trusted. */
+    pdt_real_t w_lo;
+    pdt_real_t w_hi;
+    if (!rob_range(lp, &k, &w_lo, &w_hi)) {
         return PDT_ERR_ARG;
     }
-
-    tune_scan_t s;
-    s.npeaks = 0;
-    s.best_d2 = PDT_REAL_MAX;
-    s.best_w = w_hi;
-    s.pm = (pdt_real_t)INFINITY;
-    s.w_gc = PDT_R(0.0);
-    s.re_pc = PDT_R(0.0);
-    s.w_pc = PDT_R(0.0);
-    s.seen = 0;
-    s.evals = 0u;
-    s.w1 = s.w2 = s.d1 = s.d2 = PDT_R(0.0);
-
     /* From the top down, where |L| < 1 makes the principal arg(1 + L)
      * the continuous one. */
     pdt_real_t llo = pdt_log(w_lo);
     pdt_real_t lhi = pdt_log(w_hi);
-    pdt_real_t dl = (lhi - llo) / (pdt_real_t)(PDT_TUNE_GRID - 1u);
-    pdt_real_t wa = w_hi;
-    tune_cplx_t La = loop_eval(&lp, wa);
-    s.phase = arg_1p(La);
-    s.best_d2 = dist2(La);
-    s.w1 = wa;
-    s.d1 = s.best_d2;
-    s.seen = 1;
-    R->lp = lp;
-    R->s = s;
-    R->r = r;
-    R->top_big = top_big;
+    tune_cplx_t La = loop_eval(lp, w_hi);
+    scan_start(&R->s, w_hi, La);
+    R->r = k.r;
+    R->top_big = rmax(PDT_R(0.5), PDT_R(0.5) * (PDT_R(1.0) + k.r));
     R->w_lo = w_lo;
     R->llo = llo;
-    R->dl = dl;
-    R->wa = wa;
+    R->dl = (lhi - llo) / (pdt_real_t)(PDT_TUNE_GRID - 1u);
+    R->wa = w_hi;
     R->La = La;
-    R->n0 = n0;
+    R->n0 = k.n0;
     R->i = PDT_TUNE_GRID - 1u;
     R->peak = 0;
     R->nyquist = false;

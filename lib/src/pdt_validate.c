@@ -468,23 +468,22 @@ static pdt_real_t c_abs(val_c_t x)
     return pdt_hypot(x.re, x.im);
 }
 
-pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
-                                 const pdt_tune_gains_t *g, pdt_real_t *ms, bool *fir_part)
+/* The arguments of pdt_validate_margin usable. */
+static bool margin_args_ok(const pdt_validate_result_t *v, pdt_real_t dTd,
+                           const pdt_tune_gains_t *g)
 {
-    if (v == NULL || g == NULL || ms == NULL || !pdt_finite(dTd) || !pdt_finite(g->Kc) ||
-        !(g->tauI > PDT_R(0.0)) || !pdt_finite(g->tauI) || !(g->tauD >= PDT_R(0.0)) ||
-        !(g->Tf >= PDT_R(0.0)) || !pdt_finite(g->tauD) || !pdt_finite(g->Tf) ||
-        pdt_model_check(&v->model) != PDT_OK || !(v->Ts > PDT_R(0.0))) {
-        return PDT_ERR_ARG;
-    }
+    return v != NULL && g != NULL && pdt_finite(dTd) && pdt_finite(g->Kc) && g->tauI > PDT_R(0.0) &&
+           pdt_finite(g->tauI) && g->tauD >= PDT_R(0.0) && g->Tf >= PDT_R(0.0) &&
+           pdt_finite(g->tauD) && pdt_finite(g->Tf) && pdt_model_check(&v->model) == PDT_OK &&
+           v->Ts > PDT_R(0.0);
+}
+
+/* The grid's lowest frequency and its step in log w: from a thousandth of
+ * the slowest of the loop's time scales up to the Nyquist frequency. */
+static pdt_real_t margin_grid(const pdt_validate_result_t *v, bool fo, const pdt_tune_gains_t *g,
+                              pdt_real_t Td, pdt_real_t *lr)
+{
     const pdt_model_t *m = &v->model;
-    const bool fo = m->kind == PDT_MODEL_FOPDT;
-    /* An integrator's b is bounded below by 0: its one-sided uncertainty
-     * only turns the integration into a slow pole, which the controller's
-     * own integral covers; the first-order bound would instead grow without
-     * limit at low frequency. */
-    const bool integ = !fo && m->p.sopdt.b == PDT_R(0.0);
-    pdt_real_t Td = pdt_model_dead_time(m) + dTd;
     pdt_real_t T = g->tauI;
     pdt_real_t tm = fo ? m->p.fopdt.tau
                        : m->p.sopdt.a / (m->p.sopdt.b > PDT_R(0.0) ? m->p.sopdt.b
@@ -500,92 +499,138 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
     if (!(w_hi > w_lo)) {
         w_hi = PDT_R(10.0) * w_lo;
     }
-    pdt_real_t lr = pdt_log(w_hi / w_lo) / (pdt_real_t)(VAL_GRID - 1u);
-    const uint32_t np = v->std.count - 1u; /* without y0 */
-    /* The bound needs the covariance, and the gain determined: a shape
-     * parameter the data do not determine is fixed at its estimate (its
-     * effect on the output is within what the others explain), the gain
-     * never is. */
+    *lr = pdt_log(w_hi / w_lo) / (pdt_real_t)(VAL_GRID - 1u);
+    return w_lo;
+}
+
+/* The bound needs the covariance, and the gain determined: a shape
+ * parameter the data do not determine is fixed at its estimate (its effect
+ * on the output is within what the others explain), the gain never is. */
+static bool margin_cov_ok(const pdt_validate_result_t *v, uint32_t np)
+{
     bool std_ok = pdt_finite(v->std.std[0]);
     for (uint32_t i = 0; i < np; i++) {
         for (uint32_t j = 0; j < np; j++) {
             std_ok = std_ok && pdt_finite(v->std.cov[i][j]);
         }
     }
+    return std_ok;
+}
+
+/* G(jw) of model m (a FOPDT if fo) with dead time Td, and in dg its derivatives by the
+ * parameters: gain G / K; FOPDT tau -s G / (tau s + 1); SOPDT a -s G / D,
+ * b -G / D; dead time -s G. */
+static val_c_t margin_plant(const pdt_model_t *m, bool fo, pdt_real_t w, pdt_real_t Td,
+                            val_c_t dg[4])
+{
+    val_c_t s = {PDT_R(0.0), w};
+    val_c_t dly = {pdt_cos(w * Td), -pdt_sin(w * Td)};
+    val_c_t den;
+    pdt_real_t gain;
+    if (fo) {
+        den.re = PDT_R(1.0);
+        den.im = w * m->p.fopdt.tau;
+        gain = m->p.fopdt.K;
+    } else {
+        den.re = m->p.sopdt.b - w * w;
+        den.im = m->p.sopdt.a * w;
+        gain = m->p.sopdt.k;
+    }
+    val_c_t one = {gain, PDT_R(0.0)};
+    val_c_t G = c_mul(c_div(one, den), dly);
+    dg[0] = (val_c_t){G.re / gain, G.im / gain};
+    val_c_t sG = c_mul(s, G);
+    val_c_t msG = {-sG.re, -sG.im};
+    val_c_t mG = {-G.re, -G.im};
+    if (fo) {
+        dg[1] = c_div(msG, den);
+        dg[2] = msG;
+    } else {
+        dg[1] = c_div(msG, den);
+        dg[2] = c_div(mG, den);
+        dg[3] = msG;
+    }
+    return G;
+}
+
+/* The parameters' part of the bound on |dG|: VAL_CHI standard deviations
+ * of G along the covariance of the np parameters (an integrator's b left
+ * out). */
+static pdt_real_t margin_dpar(const pdt_validate_result_t *v, const val_c_t dg[4], uint32_t np,
+                              bool integ)
+{
+    pdt_real_t qv = PDT_R(0.0);
+    for (uint32_t a = 0; a < np; a++) {
+        for (uint32_t b = 0; b < np; b++) {
+            if (integ && (a == 2u || b == 2u)) {
+                continue;
+            }
+            qv += v->std.cov[a][b] * (dg[a].re * dg[b].re + dg[a].im * dg[b].im);
+        }
+    }
+    return qv > PDT_R(0.0) ? VAL_CHI * pdt_sqrt(qv) : PDT_R(0.0);
+}
+
+/* The part of the input's dynamics the model missed: |sum h_j z^-j| with
+ * z^-1 = e^{-j w Ts}. The lag fir_lag is a pure delay and leaves the
+ * magnitude alone; the phasor turns by one multiplication per tap (12
+ * taps: no drift to speak of in float). */
+static pdt_real_t margin_dfir(const pdt_validate_result_t *v, pdt_real_t w)
+{
+    val_c_t acc = {PDT_R(0.0), PDT_R(0.0)};
+    val_c_t zi = {pdt_cos(w * v->Ts), -pdt_sin(w * v->Ts)};
+    val_c_t zp = {PDT_R(1.0), PDT_R(0.0)};
+    for (uint32_t j = 0; j < PDT_VALIDATE_FIR; j++) {
+        acc.re += v->fir[j] * zp.re;
+        acc.im += v->fir[j] * zp.im;
+        zp = c_mul(zp, zi);
+    }
+    return c_abs(acc);
+}
+
+/* C(jw) = Kc (1 + 1 / (j w tauI) + j w tauD / (1 + j w Tf)). */
+static val_c_t margin_controller(const pdt_tune_gains_t *g, pdt_real_t w)
+{
+    val_c_t C = {PDT_R(1.0), PDT_R(-1.0) / (w * g->tauI)};
+    if (g->tauD > PDT_R(0.0)) {
+        val_c_t num = {PDT_R(0.0), w * g->tauD};
+        val_c_t dd = {PDT_R(1.0), w * g->Tf};
+        val_c_t d = c_div(num, dd);
+        C.re += d.re;
+        C.im += d.im;
+    }
+    C.re *= g->Kc;
+    C.im *= g->Kc;
+    return C;
+}
+
+pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
+                                 const pdt_tune_gains_t *g, pdt_real_t *ms, bool *fir_part)
+{
+    if (ms == NULL || !margin_args_ok(v, dTd, g)) {
+        return PDT_ERR_ARG;
+    }
+    const pdt_model_t *m = &v->model;
+    const bool fo = m->kind == PDT_MODEL_FOPDT;
+    /* An integrator's b is bounded below by 0: its one-sided uncertainty
+     * only turns the integration into a slow pole, which the controller's
+     * own integral covers; the first-order bound would instead grow without
+     * limit at low frequency. */
+    const bool integ = !fo && m->p.sopdt.b == PDT_R(0.0);
+    pdt_real_t Td = pdt_model_dead_time(m) + dTd;
+    pdt_real_t lr;
+    pdt_real_t w_lo = margin_grid(v, fo, g, Td, &lr);
+    const uint32_t np = v->std.count - 1u; /* without y0 */
+    bool std_ok = margin_cov_ok(v, np);
     pdt_real_t best = PDT_R(1.0);
     bool best_fir = false;
     for (uint32_t i = 0; i < VAL_GRID; i++) {
         pdt_real_t w = w_lo * pdt_exp(lr * (pdt_real_t)i);
-        val_c_t s = {PDT_R(0.0), w};
-        val_c_t dly = {pdt_cos(w * Td), -pdt_sin(w * Td)};
-        val_c_t den;
-        pdt_real_t gain;
-        if (fo) {
-            den.re = PDT_R(1.0);
-            den.im = w * m->p.fopdt.tau;
-            gain = m->p.fopdt.K;
-        } else {
-            den.re = m->p.sopdt.b - w * w;
-            den.im = m->p.sopdt.a * w;
-            gain = m->p.sopdt.k;
-        }
-        val_c_t one = {gain, PDT_R(0.0)};
-        val_c_t G = c_mul(c_div(one, den), dly);
-        /* dG/dp: gain G / K; FOPDT tau -s G / (tau s + 1); SOPDT a -s G / D,
-         * b -G / D; dead time -s G. */
         val_c_t dg[4];
-        dg[0] = (val_c_t){G.re / gain, G.im / gain};
-        val_c_t sG = c_mul(s, G);
-        val_c_t msG = {-sG.re, -sG.im};
-        val_c_t mG = {-G.re, -G.im};
-        if (fo) {
-            dg[1] = c_div(msG, den);
-            dg[2] = msG;
-        } else {
-            dg[1] = c_div(msG, den);
-            dg[2] = c_div(mG, den);
-            dg[3] = msG;
-        }
-        pdt_real_t dpar = PDT_R(0.0);
-        if (std_ok) {
-            pdt_real_t qv = PDT_R(0.0);
-            for (uint32_t a = 0; a < np; a++) {
-                for (uint32_t b = 0; b < np; b++) {
-                    if (integ && (a == 2u || b == 2u)) {
-                        continue;
-                    }
-                    qv += v->std.cov[a][b] * (dg[a].re * dg[b].re + dg[a].im * dg[b].im);
-                }
-            }
-            dpar = qv > PDT_R(0.0) ? VAL_CHI * pdt_sqrt(qv) : PDT_R(0.0);
-        }
-        pdt_real_t dfir = PDT_R(0.0);
-        if (!v->independent) {
-            /* |sum h_j z^-j| with z^-1 = e^{-j w Ts}: the lag fir_lag is a
-             * pure delay and leaves the magnitude alone; the phasor turns
-             * by one multiplication per tap (12 taps: no drift to speak
-             * of in float). */
-            val_c_t acc = {PDT_R(0.0), PDT_R(0.0)};
-            val_c_t zi = {pdt_cos(w * v->Ts), -pdt_sin(w * v->Ts)};
-            val_c_t zp = {PDT_R(1.0), PDT_R(0.0)};
-            for (uint32_t j = 0; j < PDT_VALIDATE_FIR; j++) {
-                acc.re += v->fir[j] * zp.re;
-                acc.im += v->fir[j] * zp.im;
-                zp = c_mul(zp, zi);
-            }
-            dfir = c_abs(acc);
-        }
-        /* C(jw) = Kc (1 + 1 / (j w tauI) + j w tauD / (1 + j w Tf)). */
-        val_c_t C = {PDT_R(1.0), PDT_R(-1.0) / (w * g->tauI)};
-        if (g->tauD > PDT_R(0.0)) {
-            val_c_t num = {PDT_R(0.0), w * g->tauD};
-            val_c_t dd = {PDT_R(1.0), w * g->Tf};
-            val_c_t d = c_div(num, dd);
-            C.re += d.re;
-            C.im += d.im;
-        }
-        C.re *= g->Kc;
-        C.im *= g->Kc;
+        val_c_t G = margin_plant(m, fo, w, Td, dg);
+        pdt_real_t dpar = std_ok ? margin_dpar(v, dg, np, integ) : PDT_R(0.0);
+        pdt_real_t dfir = v->independent ? PDT_R(0.0) : margin_dfir(v, w);
+        val_c_t C = margin_controller(g, w);
         val_c_t L = c_mul(C, G);
         pdt_real_t sabs = PDT_R(1.0) / pdt_hypot(PDT_R(1.0) + L.re, L.im);
         pdt_real_t cs = c_abs(C) * sabs * (std_ok ? dpar + dfir : PDT_REAL_MAX);

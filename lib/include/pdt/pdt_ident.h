@@ -37,6 +37,7 @@
 #include "pdt/pdt_common.h"
 #include "pdt/pdt_cost.h"
 #include "pdt/pdt_model.h"
+#include "pdt/private/pdt_ident_state.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -328,16 +329,15 @@ typedef struct pdt_ident_result {
 #define PDT_IDENT_EVIDENCE_MIN 16.0
 #define PDT_IDENT_FIT_FLOOR    5.0
 
-/* Most independent searches. */
-#define PDT_IDENT_MAX_SEARCHES 3u
+/* Most independent searches: 3, one answer each beside the dead-time
+ * profile's in the context. */
+#define PDT_IDENT_MAX_SEARCHES (PDT_IDENT_VOTES - 1u)
 
 /* The identification context. Its parts, one per stage of the engine
  * (docs/ident-engine.md), are defined in pdt/private/pdt_ident_state.h:
  * the caller allocates pdt_ident_t, so their sizes must be visible, but
  * everything in them is private. Read the answer with pdt_ident_result;
  * the layout may change in any release. */
-#include "pdt/private/pdt_ident_state.h"
-
 typedef struct pdt_ident {
     pdt_ident_config_t cfg;
     pdt_ident_data_t data;

@@ -2,9 +2,9 @@
  * The identification context's private parts, one per stage of the engine
  * (docs/ident-engine.md, docs/design.md). The caller allocates
  * pdt_ident_t, so their sizes must be visible to it, and this header is
- * installed; nothing in it is an interface. pdt/pdt_ident.h includes it
- * where it needs it (after PDT_IDENT_MAX_SEARCHES): include that header,
- * not this one. The layout may change in any release.
+ * installed; nothing in it is an interface. pdt/pdt_ident.h includes it:
+ * include that header, not this one. The layout may change in any
+ * release.
  */
 #ifndef PDT_IDENT_STATE_H
 #define PDT_IDENT_STATE_H
@@ -96,8 +96,9 @@ typedef struct pdt_ident_scan {
     pdt_real_t a, b, x1, x2, f1, f2; /* golden section */
 } pdt_ident_scan_t;
 
-/* The searches' answers and the dead-time profile's polish. */
-#define PDT_IDENT_VOTES (PDT_IDENT_MAX_SEARCHES + 1u)
+/* The answers kept: one per independent search and the dead-time
+ * profile's polish (pdt_ident.h derives PDT_IDENT_MAX_SEARCHES from it). */
+#define PDT_IDENT_VOTES 4u
 
 typedef struct pdt_ident_vote {
     uint32_t searches; /* to run */
