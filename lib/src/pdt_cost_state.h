@@ -59,4 +59,38 @@ void pdt_cost_extra_add(const pdt_cost_t *c, const pdt_discrete_t *d, const pdt_
 bool pdt_cost_extra_state_gain(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *scratch,
                                pdt_real_t *rest, pdt_real_t *state);
 
+/* The sums the shared gain of several records takes from this one
+ * (docs/several-records.md): with P the projection off the record's own
+ * columns (offset, drift, states as c fits them, gain excluded), *sss =
+ * s'P s and *ssy = s'P y of the shape d's response s, normalised units,
+ * from the normal equations. scratch: n reals. One pass over the record
+ * and two solves. */
+void pdt_cost_extra_sums(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *scratch,
+                         pdt_real_t *sss, pdt_real_t *ssy);
+
+/* The joint profile of several records of one process (pdt_cost_joint.c):
+ * costs[0 .. count - 1], each a SIMULATION cost of its own record and
+ * period, with its own offset (and state, drift as it fits them); the
+ * shape's gain shared. As pdt_cost_profile for one record: ncost the
+ * summed squared residual over the summed scored samples in costs[0]'s
+ * normalised units, cost the same in output units squared, gain the
+ * shared multiplier (clamped to [gain_min, gain_max] unless both are 0),
+ * offset costs[0]'s; ct = cost, cf = 0. scratch: the longest record's n
+ * reals. PDT_ERR_ARG where a record's cost cannot discretise the shape
+ * or its delay exceeds the record's delay bound; *out untouched then.
+ * Work: three passes over each record (pdt_cost_extra_sums, then
+ * pdt_cost_extra_solve at the shared gain). */
+pdt_status_t pdt_cost_joint_profile(const pdt_cost_t *const *costs, size_t count,
+                                    const pdt_model_t *shape, pdt_real_t gain_min,
+                                    pdt_real_t gain_max, pdt_real_t *scratch,
+                                    pdt_cost_profile_t *out);
+
+/* One record's own terms at model m's gain (its gain fixed, the record's
+ * own columns fitted): offset, state, drift in output units as
+ * pdt_cost_extra_terms gives them, ncost in output units squared, and
+ * *sst the record's sum of (y - mean y)^2 in output units squared.
+ * scratch: n reals. PDT_ERR_ARG for a model c cannot discretise. */
+pdt_status_t pdt_cost_joint_terms(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *scratch,
+                                  pdt_cost_extra_t *out, pdt_real_t *sst);
+
 #endif /* PDT_COST_STATE_H */

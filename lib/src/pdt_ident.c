@@ -116,11 +116,13 @@ typedef struct bounds {
 
 static pdt_status_t resolve_bounds(const pdt_ident_config_t *cfg, size_t n, bounds_t *b)
 {
-    pdt_real_t T = cfg->Ts * (pdt_real_t)n;
+    pdt_real_t T, Ts;
+    /* Several records: the shortest one's duration, the shortest period. */
+    pdt_ident_multi_span(cfg, n, &T, &Ts);
     b->tau_min = cfg->tau_min;
     b->tau_max = cfg->tau_max;
     if (b->tau_min == PDT_R(0.0) && b->tau_max == PDT_R(0.0)) {
-        b->tau_min = cfg->Ts * PDT_R(0.25);
+        b->tau_min = Ts * PDT_R(0.25);
         b->tau_max = PDT_R(2.0) * T;
     }
     b->Td_min = cfg->Td_min;
@@ -322,7 +324,7 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     if (cfg->K_min > cfg->K_max) {
         return PDT_ERR_BOUNDS;
     }
-    return PDT_OK;
+    return pdt_ident_multi_check(cfg);
 }
 
 /* Whole samples in a time t >= 0 at period Ts, at most cap: a ratio past
@@ -340,7 +342,7 @@ static size_t screen_reals(const pdt_ident_config_t *cfg, size_t n)
 {
     /* Without the screen and with missing samples refused, y is never
      * filled or screened: a small part's RAM is spared the copy. */
-    if (cfg->no_screen && cfg->refuse_missing) {
+    if ((cfg->no_screen && cfg->refuse_missing) || pdt_ident_multi(cfg)) {
         return 0u;
     }
     const size_t bits = 8u * sizeof(pdt_real_t);
@@ -350,7 +352,8 @@ static size_t screen_reals(const pdt_ident_config_t *cfg, size_t n)
 /* Layout of the workspace after the cost's own part, in reals. */
 static size_t own_reals(const pdt_ident_config_t *cfg, uint32_t pop, uint32_t genes, size_t n)
 {
-    return 2u * (size_t)pop * ((size_t)genes + 3u) + (size_t)pop + n + screen_reals(cfg, n);
+    return 2u * (size_t)pop * ((size_t)genes + 3u) + (size_t)pop + pdt_ident_multi_longest(cfg, n) +
+           screen_reals(cfg, n) + pdt_ident_multi_reals(cfg);
 }
 
 size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
@@ -655,7 +658,15 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         return PDT_ERR_ARG;
     }
     pdt_cost_t cost;
+    pdt_cost_t *more_cost = NULL;
     st = pdt_cost_init(&cost, &cc, data->u, data->y, data->n, work, cost_bytes);
+    if (st == PDT_OK && pdt_ident_multi(cfg)) {
+        /* The further records' costs after the scratch. */
+        const size_t at = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) +
+                          own_reals(cfg, population_of(cfg), genes_of(cfg->model), data->n) -
+                          pdt_ident_multi_reals(cfg);
+        st = pdt_ident_multi_prepare(cfg, &cc, b.Td_max, work, at, &more_cost);
+    }
     if (st != PDT_OK) {
         return st;
     }
@@ -674,6 +685,11 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     c->data = data_in;
     c->genes = genes_of(cfg_in.model);
     c->cost = cost;
+    c->more_cost = more_cost;
+    if (more_cost != NULL) {
+        /* Several records: the searches run on the whole records. */
+        c->cfg.coarse = 1u;
+    }
     c->cost_work = work;
     c->cost_work_len = cost_bytes;
     carve(c, work, cost_bytes);
@@ -686,7 +702,7 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     /* With the state estimated the record's start is no rest window; with
      * a drift the offset is the level at the record's middle, not the rest
      * window's. */
-    c->rest = (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift)
+    c->rest = (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift || more_cost != NULL)
                   ? 0u
                   : rest_usable(&cfg_in, &c->data, quiet);
     begin_search(c, &cc);
@@ -729,7 +745,7 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     if (data->n < PDT_MIN_SAMPLES) {
         return PDT_ERR_TOO_SHORT;
     }
-    if (cfg->refuse_missing || !pdt_ident_screen_needed(cfg, data)) {
+    if (cfg->refuse_missing || pdt_ident_multi(cfg) || !pdt_ident_screen_needed(cfg, data)) {
         return start(ctx, cfg, data, work, work_len, NULL);
     }
     /* Missing samples or gross outliers: the record filled in the
