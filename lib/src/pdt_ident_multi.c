@@ -92,7 +92,7 @@ void pdt_ident_multi_span(const pdt_ident_config_t *cfg, size_t n, pdt_real_t *T
  * dead-time bound; its delay bound. */
 static pdt_status_t check_more(const pdt_ident_record_t *rec, pdt_real_t Td_max, size_t *delay_max)
 {
-    if (rec->n < PDT_MIN_SAMPLES) {
+    if (rec->n < (size_t)PDT_MIN_SAMPLES) {
         return PDT_ERR_TOO_SHORT;
     }
     pdt_real_t umin = rec->u[0], umax = rec->u[0], ymin = rec->y[0], ymax = rec->y[0];
@@ -166,7 +166,7 @@ static size_t costs_of(const pdt_ident_t *c, const pdt_cost_t **costs)
     return 1u + (size_t)c->cfg.more_count;
 }
 
-pdt_status_t pdt_ident_profile(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t glo,
+pdt_status_t pdt_ident_profile(pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t glo,
                                pdt_real_t ghi, const pdt_cost_hint_t *hint, pdt_cost_profile_t *out)
 {
     if (c->cfg.more_count == 0u) {
@@ -177,7 +177,7 @@ pdt_status_t pdt_ident_profile(const pdt_ident_t *c, const pdt_model_t *shape, p
     return pdt_cost_joint_profile(costs, count, shape, glo, ghi, c->scratch, out);
 }
 
-pdt_status_t pdt_ident_profile_many(const pdt_ident_t *c, const pdt_model_t *shapes, size_t count,
+pdt_status_t pdt_ident_profile_many(pdt_ident_t *c, const pdt_model_t *shapes, size_t count,
                                     const pdt_real_t *glo, const pdt_real_t *ghi,
                                     const pdt_cost_hint_t *hint, pdt_cost_profile_t *out)
 {
@@ -263,8 +263,7 @@ void pdt_ident_multi_std(pdt_ident_t *c)
     c->phase = PH_SCREEN;
 }
 
-pdt_status_t pdt_ident_record_result(const pdt_ident_t *ctx, uint32_t r,
-                                     pdt_ident_record_fit_t *out)
+pdt_status_t pdt_ident_record_result(pdt_ident_t *ctx, uint32_t r, pdt_ident_record_fit_t *out)
 {
     pdt_ident_result_t res;
     if (ctx == NULL || out == NULL) {

@@ -324,10 +324,10 @@ pdt_status_t pdt_ident_multi_prepare(const pdt_ident_config_t *cfg, const pdt_co
 /* The profile of one shape (pdt_cost_profile_hint) or of count shapes
  * (pdt_cost_profile_many) on the context's cost with its scratch: with
  * several records their joint profile (pdt_cost_joint_profile). */
-pdt_status_t pdt_ident_profile(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t glo,
+pdt_status_t pdt_ident_profile(pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t glo,
                                pdt_real_t ghi, const pdt_cost_hint_t *hint,
                                pdt_cost_profile_t *out);
-pdt_status_t pdt_ident_profile_many(const pdt_ident_t *c, const pdt_model_t *shapes, size_t count,
+pdt_status_t pdt_ident_profile_many(pdt_ident_t *c, const pdt_model_t *shapes, size_t count,
                                     const pdt_real_t *glo, const pdt_real_t *ghi,
                                     const pdt_cost_hint_t *hint, pdt_cost_profile_t *out);
 /* Several records: the answer m's joint fit, the first record's offset,

@@ -54,7 +54,7 @@ static void check_missing(const char *path, const ident_data_t *d)
 }
 
 /* The result's JSON with the records' part; 1 when a flag was warned. */
-static int print_several(const ident_args_t *a, const pdt_ident_t *ctx, const pdt_ident_result_t *r,
+static int print_several(const ident_args_t *a, pdt_ident_t *ctx, const pdt_ident_result_t *r,
                          const ident_data_t *d, size_t count)
 {
     static char buf[16384];

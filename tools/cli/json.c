@@ -327,7 +327,7 @@ int pdtcli_ident_json_boot(const pdt_ident_result_t *r, const pdt_real_t *u, con
     return pdtcli_jb_done(&jb);
 }
 
-pdt_status_t pdtcli_jb_several(pdtcli_jbuf_t *jb, const pdt_ident_t *ctx, const char *const *names,
+pdt_status_t pdtcli_jb_several(pdtcli_jbuf_t *jb, pdt_ident_t *ctx, const char *const *names,
                                size_t count)
 {
     unsigned long samples = 0;

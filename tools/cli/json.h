@@ -70,7 +70,7 @@ int pdtcli_jb_done(const pdtcli_jbuf_t *jb);
  * the uncertainty null, "record_fit" (each record's file, from names when
  * not NULL, n, Ts, u0, y0, fit, cost, x0, dx0, drift), "records" and
  * "samples". A status of pdt_ident_record_result on error. */
-pdt_status_t pdtcli_jb_several(pdtcli_jbuf_t *jb, const pdt_ident_t *ctx, const char *const *names,
+pdt_status_t pdtcli_jb_several(pdtcli_jbuf_t *jb, pdt_ident_t *ctx, const char *const *names,
                                size_t count);
 /* The tuning object of `pdtfit tune` into jb (see json.c). */
 void pdtcli_jb_tune(pdtcli_jbuf_t *jb, const char *rule, const char *form, int knob_tau_c,

@@ -709,8 +709,7 @@ typedef struct pdt_ident_record_fit {
  * one init had); O(n_r). PDT_ERR_ARG for NULL or r past the records,
  * PDT_ERR_STATE before the answer, the identification's error status
  * after one; *out untouched on error. */
-pdt_status_t pdt_ident_record_result(const pdt_ident_t *ctx, uint32_t r,
-                                     pdt_ident_record_fit_t *out);
+pdt_status_t pdt_ident_record_result(pdt_ident_t *ctx, uint32_t r, pdt_ident_record_fit_t *out);
 
 /* Blocking convenience: init, step until done, result. Same statuses. */
 pdt_status_t pdt_identify(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
