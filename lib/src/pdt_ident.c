@@ -658,15 +658,7 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         return PDT_ERR_ARG;
     }
     pdt_cost_t cost;
-    pdt_cost_t *more_cost = NULL;
     st = pdt_cost_init(&cost, &cc, data->u, data->y, data->n, work, cost_bytes);
-    if (st == PDT_OK && pdt_ident_multi(cfg)) {
-        /* The further records' costs after the scratch. */
-        const size_t at = (cost_bytes + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) +
-                          own_reals(cfg, population_of(cfg), genes_of(cfg->model), data->n) -
-                          pdt_ident_multi_reals(cfg);
-        st = pdt_ident_multi_prepare(cfg, &cc, b.Td_max, work, at, &more_cost);
-    }
     if (st != PDT_OK) {
         return st;
     }
@@ -685,8 +677,7 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     c->data = data_in;
     c->genes = genes_of(cfg_in.model);
     c->cost = cost;
-    c->more_cost = more_cost;
-    if (more_cost != NULL) {
+    if (pdt_ident_multi(&cfg_in)) {
         /* Several records: the searches run on the whole records. */
         c->cfg.coarse = 1u;
     }
@@ -702,9 +693,10 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     /* With the state estimated the record's start is no rest window; with
      * a drift the offset is the level at the record's middle, not the rest
      * window's. */
-    c->rest = (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift || more_cost != NULL)
-                  ? 0u
-                  : rest_usable(&cfg_in, &c->data, quiet);
+    c->rest =
+        (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift || pdt_ident_multi(&cfg_in))
+            ? 0u
+            : rest_usable(&cfg_in, &c->data, quiet);
     begin_search(c, &cc);
     return PDT_OK;
 }
@@ -732,6 +724,32 @@ static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc)
     c->magic = IDENT_MAGIC;
 }
 
+/* Several records: the further records' costs prepared after the rest of
+ * the workspace, before start (its stack stays one record's). */
+static pdt_status_t prepare_more(const pdt_ident_config_t *cfg, const pdt_ident_data_t *data,
+                                 void *work, size_t work_len, pdt_cost_t **more)
+{
+    bounds_t b;
+    pdt_cost_config_t cc;
+    pdt_status_t st = check_work(cfg, data->n, work, work_len);
+    st = (st == PDT_OK) ? resolve_bounds(cfg, data->n, &b) : st;
+    if (st != PDT_OK) {
+        return st;
+    }
+    cost_config(cfg, PDT_R(0.0), PDT_R(0.0), false, 0u, &cc);
+    size_t delay_max = 0u;
+    if (check_record(cfg, data, &b, &delay_max) != PDT_OK) {
+        /* start gives the first record's status. */
+        return PDT_OK;
+    }
+    cc.delay_max = delay_max;
+    const size_t at =
+        (pdt_cost_workspace_size(&cc, data->n) + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) +
+        own_reals(cfg, population_of(cfg), genes_of(cfg->model), data->n) -
+        pdt_ident_multi_reals(cfg);
+    return pdt_ident_multi_prepare(cfg, &cc, b.Td_max, work, at, more);
+}
+
 pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                             const pdt_ident_data_t *data, void *work, size_t work_len)
 {
@@ -745,7 +763,16 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     if (data->n < PDT_MIN_SAMPLES) {
         return PDT_ERR_TOO_SHORT;
     }
-    if (cfg->refuse_missing || pdt_ident_multi(cfg) || !pdt_ident_screen_needed(cfg, data)) {
+    if (pdt_ident_multi(cfg)) {
+        pdt_cost_t *more = NULL;
+        st = prepare_more(cfg, data, work, work_len, &more);
+        st = (st == PDT_OK) ? start(ctx, cfg, data, work, work_len, NULL) : st;
+        if (st == PDT_OK) {
+            ctx->more_cost = more;
+        }
+        return st;
+    }
+    if (cfg->refuse_missing || !pdt_ident_screen_needed(cfg, data)) {
         return start(ctx, cfg, data, work, work_len, NULL);
     }
     /* Missing samples or gross outliers: the record filled in the
