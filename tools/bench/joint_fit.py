@@ -21,6 +21,53 @@ import scipy.optimize as so
 
 from pdtbench import benchlib as bl
 from pdtbench.benchlib import models
+from pdtsupport import records as shared
+
+
+# The test cases of several records (python/tests/test_several.py and
+# tools/bench/several_records.py): name: kind, (numerator, denominator,
+# dead time) of the plant, each record's (n, Ts, u0, y0, amplitude), noise.
+PLANTS = {
+    "fopdt_slow": ("fopdt", ([1.8], [30.0, 1.0], 12.0),
+                   [(400, 1.0, 40.0, 300.0, 5.0), (300, 2.0, 55.0, 320.0, 8.0)], 0.05),
+    "fopdt_fast": ("fopdt", ([-0.7], [8.0, 1.0], 3.0),
+                   [(300, 0.5, 10.0, 3.0, 2.0), (500, 0.25, 0.0, -4.0, 3.0)], 0.01),
+    "sopdt_lag": ("sopdt", ([1.5], list(np.polymul([20.0, 1.0], [6.0, 1.0])), 5.0),
+                  [(500, 1.0, 0.0, 10.0, 4.0), (400, 0.5, 20.0, 40.0, 6.0)], 0.02),
+}
+
+
+def make_record(num, den, Td, n, Ts, u0, y0, amp, noise, seed):
+    """(u, y, fs): steps around u0 after a rest, the plant's response
+    behind a zero-order hold around y0, white noise of std `noise`."""
+    u = shared.multistep_input(n, u0, amp, 15, 45, 10, seed)
+    y = y0 + shared.simulate(num, den, Td, u - u0, Ts)
+    rng = np.random.default_rng(seed)
+    return u, y + noise * rng.standard_normal(n), 1.0 / Ts
+
+
+def plant_records(name, seed):
+    """The records of case `name` at noise seed `seed`: (kind, [(u, y, fs)])."""
+    kind, (num, den, Td), recs, noise = PLANTS[name]
+    return kind, [make_record(num, den, Td, *rec, noise, seed + 10 * i)
+                  for i, rec in enumerate(recs)]
+
+
+def model_of(r):
+    """The pdtref model of a result (attributes or a dict of the JSON)."""
+    g = r.get if isinstance(r, dict) else (lambda k: getattr(r, k))
+    if g("model") == "fopdt":
+        return models.Fopdt(g("K"), g("tau"), g("Td"))
+    return models.Sopdt(g("K") * g("b"), g("a"), g("b"), g("Td"))
+
+
+def compare(kind, records, mine, initial="rest"):
+    """pdtfit's model against the reference's joint optimum: ((worst
+    relative difference, its parameter), each record's offset, the cost
+    ratio of pdtfit's model over the reference's)."""
+    ref = JointReference(kind, [(u, y, 1.0 / fs) for u, y, fs in records], initial)
+    m_ref, offsets, c_ref = ref.fit(starts=[mine])
+    return worst_difference(mine, m_ref), offsets, ref.cost_of(mine) / c_ref
 
 
 def free_columns(m, Ts, n):
