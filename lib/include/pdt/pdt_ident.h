@@ -558,13 +558,15 @@ typedef struct pdt_ident {
 /* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */
 void pdt_ident_config_default(pdt_ident_config_t *cfg);
 
-/* Workspace bytes pdt_ident_init needs for cfg and n samples; 0 when cfg is
- * NULL or the configuration is unsupported (init then says why). */
+/* Workspace bytes pdt_ident_init needs for cfg and n samples (of the first
+ * record; cfg->more's records are counted from cfg: each one's cost object
+ * and normalised copy, and the scratch is the longest record's); 0 when
+ * cfg is NULL or the configuration is unsupported (init then says why). */
 size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
 
 /* Compile-time upper bound of the workspace for n samples and a population
  * of pop (PDT_IDENT_POPULATION_SOPDT covers both automatic populations),
- * any configuration: for static arrays. */
+ * any configuration of one record: for static arrays. */
 #define PDT_IDENT_WORKSPACE_SIZE(n, pop)                                                           \
     (PDT_COST_WORKSPACE_SIZE(n) +                                                                  \
      (2u * (size_t)(n) + (size_t)(n) / 16u + 13u * (size_t)(pop) + 3u) * sizeof(pdt_real_t))
@@ -584,7 +586,10 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
  * at rest: over its last twentieth, at least 8 samples, the mean of u or
  * of y lies more than a fifth of its range from its starting level),
  * PDT_ERR_LENGTH (record too long for the FFT), PDT_ERR_NOMEM (work NULL or
- * too small). ctx is left untouched on error; so is work, except for a
+ * too small); with several records (cfg->more) also PDT_ERR_ARG for a
+ * setting they do not take and the statuses above for any record. ctx is
+ * left untouched on error; so is work, except with several records (their
+ * costs are prepared first) and for a
  * record with a missing sample or, without no_screen, a value
  * pdt_cost_outlier names: its screened copy of y is written into work before
  * the checks that can still refuse it. */
@@ -593,7 +598,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 
 /* Advances the search by at most max_evaluations cost evaluations of the
  * whole record, or one group of PDT_VECTOR_LANES (pdt_config.h) when
- * asked for fewer (each O(n) time domain, O(N_f / 2) frequency domain).
+ * asked for fewer (each O(n) time domain, O(N_f / 2) frequency domain;
+ * with several records each evaluation scores every record, three passes
+ * over each: O(n_1 + ... + n_R)).
  * The budget counts the samples scored: a search on a coarse record of
  * n / D samples makes D evaluations for one (each still has the fixed
  * part of discretising its model, a few hundred instructions). Plus at
