@@ -93,7 +93,7 @@ static void test_vectors(void **state)
             g_scratch[CJ_NMAX + k] = CANARY_VALUE;
         }
         assert_int_equal(pdt_cost_joint_profile(costs, t->count, &shape, (pdt_real_t)0.0,
-                                                (pdt_real_t)0.0, g_scratch, &p),
+                                                (pdt_real_t)0.0, NULL, g_scratch, &p),
                          PDT_OK);
         canary_check(&g_scratch[CJ_NMAX], CANARY_COUNT);
         const double e[3] = {fabs((double)p.cost - t->want[0]) / t->want[0],
@@ -124,16 +124,16 @@ static void test_bounds(void **state)
     const pdt_model_t shape = shape_of(t->kind, t->p);
     pdt_cost_profile_t f, b;
     assert_int_equal(pdt_cost_joint_profile(costs, t->count, &shape, (pdt_real_t)0.0,
-                                            (pdt_real_t)0.0, g_scratch, &f),
+                                            (pdt_real_t)0.0, NULL, g_scratch, &f),
                      PDT_OK);
     const pdt_real_t hi = f.gain * (pdt_real_t)0.8;
-    assert_int_equal(pdt_cost_joint_profile(costs, t->count, &shape, -hi, hi, g_scratch, &b),
+    assert_int_equal(pdt_cost_joint_profile(costs, t->count, &shape, -hi, hi, NULL, g_scratch, &b),
                      PDT_OK);
     assert_true(b.gain == hi);
     assert_true(b.cost > f.cost);
-    assert_int_equal(
-        pdt_cost_joint_profile(costs, 0u, &shape, (pdt_real_t)0.0, (pdt_real_t)0.0, g_scratch, &b),
-        PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_joint_profile(costs, 0u, &shape, (pdt_real_t)0.0, (pdt_real_t)0.0,
+                                            NULL, g_scratch, &b),
+                     PDT_ERR_ARG);
 }
 
 /* ---- identification */

@@ -174,7 +174,7 @@ pdt_status_t pdt_ident_profile(pdt_ident_t *c, const pdt_model_t *shape, pdt_rea
     }
     const pdt_cost_t *costs[PDT_IDENT_MAX_RECORDS];
     const size_t count = costs_of(c, costs);
-    return pdt_cost_joint_profile(costs, count, shape, glo, ghi, c->scratch, out);
+    return pdt_cost_joint_profile(costs, count, shape, glo, ghi, hint, c->scratch, out);
 }
 
 pdt_status_t pdt_ident_profile_many(pdt_ident_t *c, const pdt_model_t *shapes, size_t count,
