@@ -184,18 +184,16 @@ pdt_status_t pdt_ident_profile_many(pdt_ident_t *c, const pdt_model_t *shapes, s
     if (c->cfg.more_count == 0u) {
         return pdt_cost_profile_many(&c->cost, shapes, count, glo, ghi, hint, c->scratch, out);
     }
-    pdt_cost_profile_t r[PDT_COST_MANY];
     if (count == 0u || count > PDT_COST_MANY) {
         return PDT_ERR_ARG;
     }
+    /* Each shape on its own; the caller scores each alone again where one
+     * is refused, so out may hold the ones before it. */
     for (size_t i = 0u; i < count; i++) {
-        const pdt_status_t st = pdt_ident_profile(c, &shapes[i], glo[i], ghi[i], hint, &r[i]);
+        const pdt_status_t st = pdt_ident_profile(c, &shapes[i], glo[i], ghi[i], hint, &out[i]);
         if (st != PDT_OK) {
             return st;
         }
-    }
-    for (size_t i = 0u; i < count; i++) {
-        out[i] = r[i];
     }
     return PDT_OK;
 }
