@@ -155,7 +155,7 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
 static void parse(ident_args_t *a, int argc, char **argv)
 {
     cli_opt_t tab[CLI_MAX_OPTS];
-    cli_parser_t p = {"identify", CMD_IDENTIFY, tab, 0, &a->file, {0}};
+    cli_parser_t p = {"identify", CMD_IDENTIFY, tab, 0, &a->file, {0}, NULL, NULL, 0};
     p.n_opt = ident_table(a, tab);
     p.more = a->more;
     p.n_more = &a->n_more;

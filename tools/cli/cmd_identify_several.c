@@ -64,7 +64,7 @@ static int print_several(const ident_args_t *a, pdt_ident_t *ctx, const pdt_iden
     pdtcli_jb_init(&jb, buf + len - 1, sizeof buf - (size_t)len + 1);
     const char *names[PDT_IDENT_MAX_RECORDS];
     names[0] = a->file;
-    for (size_t r = 1; r < count; r++) names[r] = a->more[r - 1u];
+    for (size_t k = 1; k < count; k++) names[k] = a->more[k - 1u];
     const pdt_status_t st = pdtcli_jb_several(&jb, ctx, names, count);
     if (st != PDT_OK) cli_fail(EXIT_REFUSED, "cannot identify: %s", pdt_status_str(st));
     pdtcli_jb_raw(&jb, "}");
