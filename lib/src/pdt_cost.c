@@ -1582,3 +1582,19 @@ pdt_status_t pdt_cost_simulate(const pdt_cost_t *c, const pdt_discrete_t *d, pdt
     }
     return PDT_OK;
 }
+
+void pdt_cost_sim_sums(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t K0, pdt_real_t c0,
+                       pdt_cost_sim_t *out)
+{
+    sim_fit_t f;
+    sim_pass(c, d, first_scored(c, d->order, false), K0, c0, &f);
+    out->m = f.m;
+    out->sum_s = f.sum_s;
+    out->sum_e = f.sum_e;
+    out->vss = f.vss;
+    out->ves = f.ves;
+    out->vee = f.vee;
+    out->ss = f.ss;
+    out->es = f.es;
+    out->ee = f.ee;
+}

@@ -420,3 +420,31 @@ bool pdt_cost_extra_state_gain(const pdt_cost_t *c, const pdt_model_t *m, pdt_re
     *state = residual_ss(&e, &d, scratch, th);
     return pdt_finite(*rest) && pdt_finite(*state);
 }
+
+void pdt_cost_extra_sums(const pdt_cost_t *c, const pdt_discrete_t *d, pdt_real_t *scratch,
+                         pdt_real_t *sss, pdt_real_t *ssy)
+{
+    const pdt_real_t zero = PDT_R(0.0);
+    pdt_real_t th[COLS];
+    normal_t e;
+    accumulate(c, d, scratch, &e);
+    /* The record's own columns fitted to y with the gain held at 0: what
+     * is left of s'y is s'P y. */
+    (void)solve(&e, COLS, &zero, 0u, th);
+    pdt_real_t sy = e.h[0];
+    for (uint32_t j = 1u; j < COLS; j++) {
+        sy -= e.g[TRI(j)] * th[j];
+    }
+    /* The same for s itself: s'P s. */
+    normal_t es = e;
+    for (uint32_t j = 0u; j < COLS; j++) {
+        es.h[j] = e.g[TRI(j)];
+    }
+    (void)solve(&es, COLS, &zero, 0u, th);
+    pdt_real_t ss = e.g[0];
+    for (uint32_t j = 1u; j < COLS; j++) {
+        ss -= e.g[TRI(j)] * th[j];
+    }
+    *sss = ss;
+    *ssy = sy;
+}

@@ -116,11 +116,13 @@ typedef struct bounds {
 
 static pdt_status_t resolve_bounds(const pdt_ident_config_t *cfg, size_t n, bounds_t *b)
 {
-    pdt_real_t T = cfg->Ts * (pdt_real_t)n;
+    pdt_real_t T, Ts;
+    /* Several records: the shortest one's duration, the shortest period. */
+    pdt_ident_multi_span(cfg, n, &T, &Ts);
     b->tau_min = cfg->tau_min;
     b->tau_max = cfg->tau_max;
     if (b->tau_min == PDT_R(0.0) && b->tau_max == PDT_R(0.0)) {
-        b->tau_min = cfg->Ts * PDT_R(0.25);
+        b->tau_min = Ts * PDT_R(0.25);
         b->tau_max = PDT_R(2.0) * T;
     }
     b->Td_min = cfg->Td_min;
@@ -322,7 +324,7 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
     if (cfg->K_min > cfg->K_max) {
         return PDT_ERR_BOUNDS;
     }
-    return PDT_OK;
+    return pdt_ident_multi_check(cfg);
 }
 
 /* Whole samples in a time t >= 0 at period Ts, at most cap: a ratio past
@@ -340,7 +342,7 @@ static size_t screen_reals(const pdt_ident_config_t *cfg, size_t n)
 {
     /* Without the screen and with missing samples refused, y is never
      * filled or screened: a small part's RAM is spared the copy. */
-    if (cfg->no_screen && cfg->refuse_missing) {
+    if ((cfg->no_screen && cfg->refuse_missing) || pdt_ident_multi(cfg)) {
         return 0u;
     }
     const size_t bits = 8u * sizeof(pdt_real_t);
@@ -350,7 +352,8 @@ static size_t screen_reals(const pdt_ident_config_t *cfg, size_t n)
 /* Layout of the workspace after the cost's own part, in reals. */
 static size_t own_reals(const pdt_ident_config_t *cfg, uint32_t pop, uint32_t genes, size_t n)
 {
-    return 2u * (size_t)pop * ((size_t)genes + 3u) + (size_t)pop + n + screen_reals(cfg, n);
+    return 2u * (size_t)pop * ((size_t)genes + 3u) + (size_t)pop + pdt_ident_multi_longest(cfg, n) +
+           screen_reals(cfg, n) + pdt_ident_multi_reals(cfg);
 }
 
 size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n)
@@ -674,6 +677,10 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     c->data = data_in;
     c->genes = genes_of(cfg_in.model);
     c->cost = cost;
+    if (pdt_ident_multi(&cfg_in)) {
+        /* Several records: the searches run on the whole records. */
+        c->cfg.coarse = 1u;
+    }
     c->cost_work = work;
     c->cost_work_len = cost_bytes;
     carve(c, work, cost_bytes);
@@ -686,9 +693,10 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     /* With the state estimated the record's start is no rest window; with
      * a drift the offset is the level at the record's middle, not the rest
      * window's. */
-    c->rest = (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift)
-                  ? 0u
-                  : rest_usable(&cfg_in, &c->data, quiet);
+    c->rest =
+        (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift || pdt_ident_multi(&cfg_in))
+            ? 0u
+            : rest_usable(&cfg_in, &c->data, quiet);
     begin_search(c, &cc);
     return PDT_OK;
 }
@@ -716,6 +724,32 @@ static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc)
     c->magic = IDENT_MAGIC;
 }
 
+/* Several records: the further records' costs prepared after the rest of
+ * the workspace, before start (its stack stays one record's). */
+static pdt_status_t prepare_more(const pdt_ident_config_t *cfg, const pdt_ident_data_t *data,
+                                 void *work, size_t work_len, pdt_cost_t **more)
+{
+    bounds_t b;
+    pdt_cost_config_t cc;
+    pdt_status_t st = check_work(cfg, data->n, work, work_len);
+    st = (st == PDT_OK) ? resolve_bounds(cfg, data->n, &b) : st;
+    if (st != PDT_OK) {
+        return st;
+    }
+    cost_config(cfg, PDT_R(0.0), PDT_R(0.0), false, 0u, &cc);
+    size_t delay_max = 0u;
+    if (check_record(cfg, data, &b, &delay_max) != PDT_OK) {
+        /* start gives the first record's status. */
+        return PDT_OK;
+    }
+    cc.delay_max = delay_max;
+    const size_t at =
+        (pdt_cost_workspace_size(&cc, data->n) + sizeof(pdt_real_t) - 1u) / sizeof(pdt_real_t) +
+        own_reals(cfg, population_of(cfg), genes_of(cfg->model), data->n) -
+        pdt_ident_multi_reals(cfg);
+    return pdt_ident_multi_prepare(cfg, &cc, b.Td_max, work, at, more);
+}
+
 pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                             const pdt_ident_data_t *data, void *work, size_t work_len)
 {
@@ -728,6 +762,15 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     }
     if (data->n < PDT_MIN_SAMPLES) {
         return PDT_ERR_TOO_SHORT;
+    }
+    if (pdt_ident_multi(cfg)) {
+        pdt_cost_t *more = NULL;
+        st = prepare_more(cfg, data, work, work_len, &more);
+        st = (st == PDT_OK) ? start(ctx, cfg, data, work, work_len, NULL) : st;
+        if (st == PDT_OK) {
+            ctx->more_cost = more;
+        }
+        return st;
     }
     if (cfg->refuse_missing || !pdt_ident_screen_needed(cfg, data)) {
         return start(ctx, cfg, data, work, work_len, NULL);
@@ -966,4 +1009,17 @@ pdt_status_t pdt_identify(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         }
     }
     return st;
+}
+
+pdt_status_t pdt_ident_record_result(pdt_ident_t *ctx, uint32_t r, pdt_ident_record_fit_t *out)
+{
+    pdt_ident_result_t res;
+    if (ctx == NULL || out == NULL) {
+        return PDT_ERR_ARG;
+    }
+    const pdt_status_t st = pdt_ident_result(ctx, &res);
+    if (st != PDT_OK) {
+        return st;
+    }
+    return pdt_ident_multi_record(ctx, &res, r, out);
 }

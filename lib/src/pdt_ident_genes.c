@@ -216,8 +216,7 @@ void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, p
     pdt_ident_shape(c, g, &shape);
     pdt_ident_gain_bounds(c, &shape, &glo, &ghi);
     pdt_ident_counted(c, 1u, c->cost.n);
-    const bool ok =
-        pdt_cost_profile_hint(&c->cost, &shape, glo, ghi, &hint, c->scratch, &pr) == PDT_OK;
+    const bool ok = pdt_ident_profile(c, &shape, glo, ghi, &hint, &pr) == PDT_OK;
     take(&pr, ok, cost, gain, offset);
     if (ok) {
         track_best(c, g, &pr);
@@ -236,13 +235,12 @@ void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count
         pdt_ident_shape(c, &g[i * G], &shapes[i]);
         pdt_ident_gain_bounds(c, &shapes[i], &glo[i], &ghi[i]);
     }
-    if (pdt_cost_profile_many(&c->cost, shapes, (size_t)count, glo, ghi, &hint, c->scratch, pr) !=
-        PDT_OK) {
+    if (pdt_ident_profile_many(c, shapes, (size_t)count, glo, ghi, &hint, pr) != PDT_OK) {
         /* One shape the cost refuses: each on its own, as the single
          * evaluation scores it. */
         for (uint32_t i = 0; i < count; i++) {
-            const bool ok = pdt_cost_profile_hint(&c->cost, &shapes[i], glo[i], ghi[i], &hint,
-                                                  c->scratch, &pr[i]) == PDT_OK;
+            const bool ok =
+                pdt_ident_profile(c, &shapes[i], glo[i], ghi[i], &hint, &pr[i]) == PDT_OK;
             take(&pr[i], ok, &cost[i], &gain[i], &offset[i]);
             if (!ok) {
                 pr[i].ncost = PDT_REAL_MAX;

@@ -151,6 +151,10 @@ void pdt_ident_extra_finish(pdt_ident_t *c, const pdt_model_t *m)
 {
     pdt_cost_extra_t x;
     pdt_discrete_t d;
+    if (pdt_ident_multi(&c->cfg)) {
+        pdt_ident_multi_finish(c, m);
+        return;
+    }
     for (uint32_t i = 0u; i < 4u; i++) {
         c->extra[i] = PDT_R(0.0);
     }

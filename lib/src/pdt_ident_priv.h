@@ -16,6 +16,7 @@
  *   pdt_ident_coarse.c  the searches' coarse record, the whole one after
  *   pdt_ident_screen.c  missing samples and gross errors left out (screen)
  *   pdt_ident_initial.c whether the record started at rest
+ *   pdt_ident_multi.c   several records: their costs, the joint profile
  *
  * A stage function does at most one evaluation, or one preparation as
  * costly as init, and sets c->phase to what comes next.
@@ -298,5 +299,47 @@ bool pdt_ident_state_refit(pdt_ident_t *c);
 /* The identification prepared again, as init does, on the screen's
  * filled record, the screen's state kept; its status. */
 pdt_status_t pdt_ident_restart(pdt_ident_t *c);
+
+/* ---- pdt_ident_multi.c: several records (pdt_ident_config_t.more) */
+
+/* Whether cfg has records beyond the first. */
+bool pdt_ident_multi(const pdt_ident_config_t *cfg);
+/* init's checks of the further records and of what they allow
+ * (PDT_ERR_ARG); PDT_OK for one record. */
+pdt_status_t pdt_ident_multi_check(const pdt_ident_config_t *cfg);
+/* The longest record's samples (the scratch's length), n the first's. */
+size_t pdt_ident_multi_longest(const pdt_ident_config_t *cfg, size_t n);
+/* The workspace's reals for the further records' costs and copies, at
+ * its end; 0 for one record. */
+size_t pdt_ident_multi_reals(const pdt_ident_config_t *cfg);
+/* The shortest record's duration *T and the shortest period *Ts (the
+ * default search bounds), n the first record's samples. With one record
+ * cfg->Ts n and cfg->Ts. */
+void pdt_ident_multi_span(const pdt_ident_config_t *cfg, size_t n, pdt_real_t *T, pdt_real_t *Ts);
+/* The further records checked and their costs prepared (cc the first
+ * record's configuration; each gets its own period, operating point and
+ * delay bound) in work from real index at; *costs their array there,
+ * NULL for one record. init's statuses for a record. */
+pdt_status_t pdt_ident_multi_prepare(const pdt_ident_config_t *cfg, const pdt_cost_config_t *cc,
+                                     pdt_real_t Td_max, void *work, size_t at, pdt_cost_t **costs);
+/* The profile of one shape (pdt_cost_profile_hint) or of count shapes
+ * (pdt_cost_profile_many) on the context's cost with its scratch: with
+ * several records their joint profile (pdt_cost_joint_profile). */
+pdt_status_t pdt_ident_profile(pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t glo,
+                               pdt_real_t ghi, const pdt_cost_hint_t *hint,
+                               pdt_cost_profile_t *out);
+pdt_status_t pdt_ident_profile_many(pdt_ident_t *c, const pdt_model_t *shapes, size_t count,
+                                    const pdt_real_t *glo, const pdt_real_t *ghi,
+                                    const pdt_cost_hint_t *hint, pdt_cost_profile_t *out);
+/* Several records: the answer m's joint fit, the first record's offset,
+ * state and drift (pdt_ident_extra_finish's part). */
+void pdt_ident_multi_finish(pdt_ident_t *c, const pdt_model_t *m);
+/* Several records: PH_STD's part (no uncertainty; the joint evidence). */
+void pdt_ident_multi_std(pdt_ident_t *c);
+/* Record r's part of the answer res (pdt_ident_record_result's work, here
+ * so that this file needs nothing of the sequencer's): PDT_ERR_ARG for r
+ * past the records, PDT_ERR_NONFINITE where its terms cannot be formed. */
+pdt_status_t pdt_ident_multi_record(pdt_ident_t *ctx, const pdt_ident_result_t *res, uint32_t r,
+                                    pdt_ident_record_fit_t *out);
 
 #endif /* PDT_IDENT_PRIV_H */

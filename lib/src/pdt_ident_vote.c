@@ -240,7 +240,7 @@ void pdt_ident_finish(pdt_ident_t *c)
                 glo = c->best.gain;
                 ghi = c->best.gain;
             }
-            if (pdt_cost_profile(&c->cost, &shape, glo, ghi, c->scratch, &pr) == PDT_OK &&
+            if (pdt_ident_profile(c, &shape, glo, ghi, NULL, &pr) == PDT_OK &&
                 !(pr.ncost >
                   c->best.cost * pdt_exp(CHI2_1_99 / (pdt_real_t)c->cost.n) + COST_FLOOR)) {
                 m.p.sopdt.b = PDT_R(0.0);
@@ -460,13 +460,17 @@ static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
 void pdt_ident_std(pdt_ident_t *c)
 {
     pdt_fisher_sums_t fs;
-    c->std = (pdt_ident_std_t){0};
-    if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, c, &c->std, &fs) ==
-        PDT_OK) {
-        evidence(c, &fs);
+    if (pdt_ident_multi(&c->cfg)) {
+        pdt_ident_multi_std(c);
     } else {
-        c->evidence = PDT_R(0.0);
-        c->flags |= (c->fit >= FIT_FLOOR) ? 0u : PDT_IDENT_FLAG_NO_RELATION;
+        c->std = (pdt_ident_std_t){0};
+        if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, c, &c->std, &fs) ==
+            PDT_OK) {
+            evidence(c, &fs);
+        } else {
+            c->evidence = PDT_R(0.0);
+            c->flags |= (c->fit >= FIT_FLOOR) ? 0u : PDT_IDENT_FLAG_NO_RELATION;
+        }
     }
     c->phase = PH_SCREEN;
 }

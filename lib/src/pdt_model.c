@@ -487,3 +487,22 @@ pdt_real_t pdt_model_phase_crossover(const pdt_model_t *m)
     }
     return PDT_R(0.5) * (lo + hi);
 }
+
+pdt_real_t pdt_model_split_gain(const pdt_model_t *m, pdt_model_t *shape)
+{
+    pdt_real_t K = PDT_R(0.0);
+    *shape = *m;
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        K = m->p.fopdt.K;
+        shape->p.fopdt.K = PDT_R(1.0);
+        break;
+    case PDT_MODEL_SOPDT:
+        K = m->p.sopdt.k;
+        shape->p.sopdt.k = PDT_R(1.0);
+        break;
+    default:
+        break;
+    }
+    return K;
+}

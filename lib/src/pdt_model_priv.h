@@ -26,4 +26,8 @@ pdt_real_t pdt_model_phase_crossover(const pdt_model_t *m);
  * checks, for the discretisation's three samples per evaluation. */
 pdt_real_t pdt_model_sopdt_unit_step(pdt_real_t a, pdt_real_t b, pdt_real_t t);
 
+/* The model's gain numerator (a FOPDT's K, a SOPDT's k) split from its
+ * shape: *shape is m with that numerator 1, as the costs profile it. */
+pdt_real_t pdt_model_split_gain(const pdt_model_t *m, pdt_model_t *shape);
+
 #endif /* PDT_MODEL_PRIV_H */

@@ -33,7 +33,7 @@ from . import _lib
 from ._lib import lib
 
 __all__ = ["PdtError", "Model", "IdentResult", "TuneResult", "Record", "identify", "tune",
-           "reduce", "model", "read_csv", "STATUS_NAMES", "REAL_BYTES", "__version__"]
+           "reduce", "model", "read_csv", "identify_many", "STATUS_NAMES", "REAL_BYTES", "__version__"]
 
 __version__ = _lib.VERSION
 """The library's version, PDT_VERSION_* of pdt_common.h (the one place it
@@ -419,6 +419,93 @@ def identify(u, y, fs=None, model="fopdt", cost="simulation", seed=1, *, Ts=None
     if rule_form is not None:
         d["tune"] = _tune_of_ident(d, native, rule_form, topts)
     return IdentResult(d, native, u, y, Ts)
+
+
+def identify_many(records, model="fopdt", cost="simulation", seed=1, *, method="ga",
+                  evaluations=None, population=None, td_max=None, weight=None, band=None,
+                  phi_t=None, phi_f=None, integer_delay=False, coarse=None, offset="auto",
+                  uncertainty="auto", bootstrap=None, tune=None, tau_c=None, lambda_=None,
+                  ms_max=None, deriv_filter=None, u_span=None, y_span=None, fit_min=None,
+                  u_before=None, missing="refuse", initial=None, drift=False):
+    """Identifies one FOPDT or SOPDT model from several records of one
+    process, as `pdtfit identify FILE FILE ...` does (docs/several-records.md).
+
+    records     a sequence of 2 .. 8 tuples (u, y, fs): each record's input
+                and output (sequences of equal length, finite) and its
+                sampling frequency in Hz. Each record has its own sampling
+                period, its own input operating point (its u[0]), its own
+                output offset and, with initial="estimate", its own state
+                at the first sample (with drift=True its own drift); the
+                dynamics (K, tau, Td, or the SOPDT's) are shared. The
+                answer is the joint output-error optimum over all records.
+
+    The keyword options are identify()'s, with these differences, each a
+    ValueError when asked for: method "ga" and cost "simulation" only; no
+    weight, band, phi_t, phi_f, integer_delay, u_before; coarse None or 1
+    (the searches run on the whole records); offset "auto" or "estimate"
+    (both estimate each record's offset); initial None (= "rest") or
+    "rest" or "estimate" ("auto"'s test and refit take one record);
+    missing "refuse" (a NaN in any y is a ValueError naming the record and
+    the sample); uncertainty "auto" (no bootstrap: the result's std, cov
+    and uncertainty are None, docs/several-records.md). tune and its
+    options tune the joint model as identify() does.
+
+    Returns an IdentResult with the keys of identify()'s (those of the
+    first record: its y0, u0, Ts, n; fit and cost over all records) plus
+    record_fit (a list, one dict per record: n, Ts, u0, y0, fit, cost,
+    x0, dx0, drift), records and samples; .u, .y, .Ts are the first
+    record's. Raises PdtError when the library refuses a record (e.g.
+    PDT_ERR_NO_EXCITATION, PDT_ERR_TOO_SHORT for the dead-time bound).
+    """
+    recs = list(records)
+    if not 2 <= len(recs) <= _lib.MAX_RECORDS:
+        raise ValueError(f"records must hold 2 .. {_lib.MAX_RECORDS} (u, y, fs) tuples, "
+                         f"got {len(recs)}")
+    refused = dict(method=str(method).lower() != "ga", cost=str(cost).lower() != "simulation",
+                   weight=weight is not None, band=band is not None, phi_t=phi_t is not None,
+                   phi_f=phi_f is not None, integer_delay=bool(integer_delay),
+                   coarse=coarse not in (None, 0, 1), offset=str(offset).lower() == "rest",
+                   u_before=u_before is not None, missing=str(missing).lower() != "refuse",
+                   initial=initial is not None and str(initial).lower() == "auto",
+                   model=str(model).lower() == "auto", uncertainty=uncertainty != "auto",
+                   bootstrap=bootstrap is not None)
+    bad = [k for k, v in refused.items() if v]
+    if bad:
+        raise ValueError(f"identify_many: {', '.join(bad)}: not with several records "
+                         "(docs/several-records.md)")
+    arrays, Ts = [], []
+    for r, rec in enumerate(recs):
+        if len(rec) != 3:
+            raise ValueError(f"records[{r}] must be (u, y, fs)")
+        u, _ = _darray(rec[0], f"records[{r}] u")
+        y, _ = _darray(rec[1], f"records[{r}] y")
+        if len(u) != len(y):
+            raise ValueError(f"records[{r}]: u has {len(u)} samples, y {len(y)}")
+        Ts.append(1.0 / _real(f"records[{r}] fs", rec[2], lambda f: f > 0,
+                              "> 0 (a sampling frequency in Hz)"))
+        arrays.append((u, y))
+    o = _ident_opts(model, "ga", "simulation", seed, evaluations, population, td_max, None,
+                    None, None, None, False, coarse, offset, None,
+                    "rest" if initial is None else initial, drift)
+    o.refuse_missing = 1
+    topts = dict(tau_c=tau_c, lambda_=lambda_, ms_max=ms_max, deriv_filter=deriv_filter,
+                 u_span=u_span, y_span=y_span, fit_min=fit_min)
+    if tune is None and any(v is not None for v in topts.values()):
+        raise ValueError("the tuning options go with tune='RULE[:FORM]'")
+    rule_form = _rule_form(tune) if tune is not None else None
+    count = len(recs)
+    up = (_lib.D * count)(*[a[0].ctypes.data_as(_lib.D) for a in arrays])
+    yp = (_lib.D * count)(*[a[1].ctypes.data_as(_lib.D) for a in arrays])
+    ns = (ctypes.c_size_t * count)(*[len(a[0]) for a in arrays])
+    ts = (ctypes.c_double * count)(*Ts)
+    native = (ctypes.c_double * 5)()
+    buf = ctypes.create_string_buffer(_JSON_LEN)
+    _check(lib.pdtpy_identify_many(up, yp, ns, ts, count, ctypes.byref(o), native, buf,
+                                   _JSON_LEN), "identify_many")
+    d = _parse(buf)
+    if rule_form is not None:
+        d["tune"] = _tune_of_ident(d, native, rule_form, topts)
+    return IdentResult(d, native, arrays[0][0], arrays[0][1], Ts[0])
 
 
 def _rule_form(spec):

@@ -78,6 +78,10 @@ lib.pdtpy_model_make.argtypes = [ctypes.c_int, ctypes.c_int] + [ctypes.c_double]
 lib.pdtpy_model_json.argtypes = [D, ctypes.c_char_p, ctypes.c_size_t]
 lib.pdtpy_identify.argtypes = [D, D, ctypes.c_size_t, ctypes.c_double,
                                ctypes.POINTER(IdentOpts), D, ctypes.c_char_p, ctypes.c_size_t]
+DP = ctypes.POINTER(D)
+lib.pdtpy_identify_many.argtypes = [DP, DP, ctypes.POINTER(ctypes.c_size_t), D, ctypes.c_size_t,
+                                    ctypes.POINTER(IdentOpts), D, ctypes.c_char_p,
+                                    ctypes.c_size_t]
 lib.pdtpy_simulate.argtypes = [D, ctypes.c_double, D, D, ctypes.c_size_t, ctypes.c_double,
                                ctypes.c_double, D]
 lib.pdtpy_tune.argtypes = [D, ctypes.POINTER(TuneOpts), D, ctypes.c_char_p, ctypes.c_size_t]
@@ -116,6 +120,7 @@ FORMS = _choices(_tune["pdt_tune_form_t"], "PDT_TUNE_")
 _common = _cheader.defines(INCLUDE / "pdt_common.h")
 VERSION = "%d.%d.%d" % tuple(_common["PDT_VERSION_" + p] for p in ("MAJOR", "MINOR", "PATCH"))
 MAX_POPULATION = _cheader.defines(INCLUDE / "pdt_ident.h")["PDT_IDENT_MAX_POPULATION"]
+MAX_RECORDS = _cheader.defines(INCLUDE / "pdt_ident.h")["PDT_IDENT_MAX_RECORDS"]
 
 
 def darray(values):

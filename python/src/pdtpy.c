@@ -274,6 +274,68 @@ int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
     return st;
 }
 
+/* Several records of one process identified together (docs/several-records.md):
+ * the JSON of `pdtfit identify FILE FILE ...` without the files' names. */
+static int many_run(pdt_real_t *const *u, pdt_real_t *const *y, const size_t *n, const double *Ts,
+                    size_t count, const pdtpy_ident_opts_t *o, double *model, char *json,
+                    size_t json_len)
+{
+    pdt_ident_record_t more[PDT_IDENT_MAX_RECORDS - 1u];
+    pdt_ident_config_t cfg;
+    ga_config(o, Ts[0], &cfg);
+    cfg.no_screen = true;
+    for (size_t r = 1; r < count; r++)
+        more[r - 1u] = (pdt_ident_record_t){u[r], y[r], n[r], (pdt_real_t)Ts[r], false, 0};
+    cfg.more = more;
+    cfg.more_count = (uint32_t)(count - 1u);
+    pdt_ident_t *ctx = malloc(sizeof *ctx);
+    const size_t work_len = pdt_ident_workspace_size(&cfg, n[0]);
+    void *work = work_len ? malloc(work_len) : NULL;
+    int st = PDTPY_ERR_NOMEM;
+    pdt_ident_result_t res;
+    if (ctx && (work || !work_len)) {
+        const pdt_ident_data_t data = {u[0], y[0], n[0]};
+        st = pdt_identify(ctx, &cfg, &data, work, work_len, &res);
+    }
+    if (st == PDT_OK) {
+        model_out(&res.model, model);
+        int len = pdtcli_ident_json_boot(&res, NULL, NULL, Ts[0], n[0], NULL, json, json_len);
+        if (len > 0) {
+            pdtcli_jbuf_t jb;
+            pdtcli_jb_init(&jb, json + len - 1, json_len - (size_t)len + 1);
+            st = pdtcli_jb_several(&jb, ctx, NULL, count);
+            pdtcli_jb_raw(&jb, "}");
+            len = pdtcli_jb_done(&jb);
+        }
+        if (len < 0) st = PDTPY_ERR_NOMEM;
+    }
+    free(work);
+    free(ctx);
+    return st;
+}
+
+int pdtpy_identify_many(const double *const *u, const double *const *y, const size_t *n,
+                        const double *Ts, size_t count, const pdtpy_ident_opts_t *o, double *model,
+                        char *json, size_t json_len)
+{
+    pdt_real_t *ur[PDT_IDENT_MAX_RECORDS] = {NULL}, *yr[PDT_IDENT_MAX_RECORDS] = {NULL};
+    int st = PDT_ERR_ARG;
+    if (count >= 2u && count <= PDT_IDENT_MAX_RECORDS) {
+        int ok = 1;
+        for (size_t r = 0; r < count; r++) {
+            ur[r] = to_real(u[r], n[r]);
+            yr[r] = to_real(y[r], n[r]);
+            ok = ok && ur[r] && yr[r];
+        }
+        st = ok ? many_run(ur, yr, n, Ts, count, o, model, json, json_len) : PDTPY_ERR_NOMEM;
+    }
+    for (size_t r = 0; r < PDT_IDENT_MAX_RECORDS; r++) {
+        free(ur[r]);
+        free(yr[r]);
+    }
+    return st;
+}
+
 size_t pdtpy_outlier(const double *x, size_t n)
 {
     pdt_real_t *r = to_real(x, n);

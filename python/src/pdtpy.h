@@ -101,6 +101,12 @@ PDTPY_API int pdtpy_model_json(const double *model, char *buf, size_t len);
 PDTPY_API int pdtpy_identify(const double *u, const double *y, size_t n, double Ts,
                              const pdtpy_ident_opts_t *o, double *model, char *json,
                              size_t json_len);
+/* Several records (count 2 .. PDT_IDENT_MAX_RECORDS) of one process: u[r],
+ * y[r] of n[r] samples every Ts[r] s; the options as pdtpy_identify's
+ * (GA, the simulation criterion), every screen off. */
+PDTPY_API int pdtpy_identify_many(const double *const *u, const double *const *y, const size_t *n,
+                                  const double *Ts, size_t count, const pdtpy_ident_opts_t *o,
+                                  double *model, char *json, size_t json_len);
 PDTPY_API int pdtpy_simulate(const double *model, double Ts, const double *u, const double *y,
                              size_t n, double u0, double y0, double *ysim);
 /* model NULL: no model (zn from Ku and Pu only, the figures null). */

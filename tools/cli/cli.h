@@ -113,6 +113,11 @@ typedef struct cli_parser {
     size_t n_opt;
     const char **file; /* the one positional argument, or NULL: none */
     int seen[CLI_MAX_OPTS];
+    /* Further positional arguments after the first (identify's further
+     * records), or NULL: one only. */
+    const char **more;
+    size_t *n_more;
+    size_t max_more;
 } cli_parser_t;
 
 /* Parses argv[0 .. argc) against p's table, storing every value; ends the

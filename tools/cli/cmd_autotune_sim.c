@@ -95,8 +95,9 @@ static void parse(at_args_t *a, int argc, char **argv)
     cli_opt_t tab[CLI_MAX_OPTS];
     const size_t n = sizeof rows / sizeof rows[0];
     memcpy(tab, rows, sizeof rows);
-    cli_parser_t p = {"autotune-sim", CMD_AUTOTUNE, tab, n + tune_opts_table(&a->t, tab + n, 1),
-                      NULL,           {0}};
+    cli_parser_t p = {
+        "autotune-sim", CMD_AUTOTUNE, tab, n + tune_opts_table(&a->t, tab + n, 1), NULL, {0},
+        NULL,           NULL,         0};
     cli_parse(&p, argc, argv);
 }
 

@@ -155,9 +155,13 @@ static void check_ident_args(const cli_parser_t *p, ident_args_t *a)
 static void parse(ident_args_t *a, int argc, char **argv)
 {
     cli_opt_t tab[CLI_MAX_OPTS];
-    cli_parser_t p = {"identify", CMD_IDENTIFY, tab, 0, &a->file, {0}};
+    cli_parser_t p = {"identify", CMD_IDENTIFY, tab, 0, &a->file, {0}, NULL, NULL, 0};
     p.n_opt = ident_table(a, tab);
+    p.more = a->more;
+    p.n_more = &a->n_more;
+    p.max_more = PDT_IDENT_MAX_RECORDS - 1u;
     cli_parse(&p, argc, argv);
+    a->have_initial = cli_given(&p, "--initial");
     check_ident_args(&p, a);
 }
 
@@ -180,7 +184,7 @@ static void warn_missing(const char *name, const pdtcli_series_t *s)
              more ? ", ..." : "");
 }
 
-static void read_data(const ident_args_t *a, ident_data_t *d)
+void ident_read(const ident_args_t *a, const char *path, ident_data_t *d)
 {
     pdtcli_csv_opts_t o;
     pdtcli_csv_opts_default(&o);
@@ -199,9 +203,9 @@ static void read_data(const ident_args_t *a, ident_data_t *d)
     o.units_row = a->units_row;
     o.time_format = a->time_format;
     char err[600];
-    if (pdtcli_csv_read_series(a->file, &o, &d->s, err, sizeof err) != 0)
+    if (pdtcli_csv_read_series(path, &o, &d->s, err, sizeof err) != 0)
         cli_fail(EXIT_USAGE, "%s", err);
-    const char *name = strcmp(a->file, "-") == 0 ? "stdin" : a->file;
+    const char *name = strcmp(path, "-") == 0 ? "stdin" : path;
     const size_t n = d->s.n;
     if (n < PDT_MIN_SAMPLES)
         cli_fail(EXIT_USAGE, "%s: %zu data row%s, at least %u needed", name, n, n == 1 ? "" : "s",
@@ -306,7 +310,7 @@ static uint32_t least_evaluations(pdt_ident_config_t cfg, size_t n)
     return lo;
 }
 
-static void ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
+void ident_ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg)
 {
     pdt_ident_config_default(cfg);
     cfg->model = (pdt_model_kind_t)a->model;
@@ -344,7 +348,7 @@ static void identify_kind(const ident_args_t *a, const ident_data_t *d, int kind
                           pdt_ident_result_t *res, pdt_real_t *yfit)
 {
     pdt_ident_config_t cfg;
-    ga_config(a, d->s.Ts, &cfg);
+    ident_ga_config(a, d->s.Ts, &cfg);
     cfg.model = (pdt_model_kind_t)kind;
     const size_t n = d->s.n;
     /* A size of 0 means the configuration is refused; pdt_identify then
@@ -592,7 +596,7 @@ static const pdtcli_boot_t *bootstrap(const ident_args_t *a, const ident_data_t 
                    (a->uncertainty == UNC_AUTO && r->model.kind == PDT_MODEL_SOPDT);
     if (a->method != METHOD_GA || !on) return NULL;
     pdt_ident_config_t cfg;
-    ga_config(a, d->s.Ts, &cfg);
+    ident_ga_config(a, d->s.Ts, &cfg);
     cfg.model = r->model.kind;
     const unsigned runs = a->have_boot_runs ? (unsigned)a->boot_runs : PDTCLI_BOOT_RUNS;
     if (pdtcli_bootstrap(&cfg, r, d->u, d->y, d->s.n, runs, b) == 0) return b;
@@ -696,9 +700,10 @@ int cmd_identify(int argc, char **argv)
     a.cost = PDT_COST_SIMULATION;
     a.seed = 1;
     parse(&a, argc, argv);
+    if (a.n_more > 0u) return ident_several(&a);
     ident_data_t d;
     memset(&d, 0, sizeof d);
-    read_data(&a, &d);
+    ident_read(&a, a.file, &d);
     pdt_ident_result_t res;
     order_info_t order;
     memset(&order, 0, sizeof order);

@@ -53,7 +53,8 @@ static void parse(mon_args_t *a, int argc, char **argv)
         {"--min-samples", OPT_UINT, &a->min_samples, &a->have_min_samples, 0, 16, UINT32_MAX, NULL,
          "a sample count >= 16", 0},
     };
-    cli_parser_t p = {"monitor", CMD_MONITOR, tab, sizeof tab / sizeof tab[0], &a->file, {0}};
+    cli_parser_t p = {"monitor", CMD_MONITOR, tab, sizeof tab / sizeof tab[0], &a->file, {0},
+                      NULL,      NULL,        0};
     cli_parse(&p, argc, argv);
     if (!a->file) cli_fail(EXIT_USAGE, "monitor: missing FILE (a CSV file, or - for stdin)");
     if (a->have_u_min != a->have_u_max)

@@ -28,7 +28,8 @@ static void parse(reduce_args_t *a, int argc, char **argv)
         {"--delay", OPT_REAL, &a->delay, NULL, CHK_GE0, 0, 0, NULL, "a dead time >= 0 s", 0},
         {"--h", OPT_REAL, &a->h, &a->have_h, CHK_GE0, 0, 0, NULL, "a controller period >= 0 s", 0},
     };
-    cli_parser_t p = {"reduce", CMD_REDUCE, tab, sizeof tab / sizeof tab[0], NULL, {0}};
+    cli_parser_t p = {"reduce", CMD_REDUCE, tab, sizeof tab / sizeof tab[0], NULL, {0},
+                      NULL,     NULL,       0};
     cli_parse(&p, argc, argv);
     if (!a->have_method) cli_fail(EXIT_USAGE, "reduce: --method skogestad|sung is required");
     if (!a->have_model) cli_fail(EXIT_USAGE, "reduce: --model fopdt|sopdt is required");

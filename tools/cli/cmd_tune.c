@@ -37,7 +37,7 @@ static void parse(tune_args_t *a, int argc, char **argv)
                              0,        0,        NULL,       NULL,        0};
         tab[n++] = p;
     }
-    cli_parser_t p = {"tune", CMD_TUNE, tab, n, NULL, {0}};
+    cli_parser_t p = {"tune", CMD_TUNE, tab, n, NULL, {0}, NULL, NULL, 0};
     cli_parse(&p, argc, argv);
 }
 

@@ -23,6 +23,10 @@ typedef struct ident_args {
     double td_max, fs, phi_t, phi_f, f_lo, f_hi, u_before;
     uint64_t seed, evaluations, population, coarse, skip;
     const char *band, *t_col, *u_col, *y_col, *sep, *decimal, *file;
+    /* Further records of the same process (FILE ...), after file. */
+    const char *more[PDT_IDENT_MAX_RECORDS - 1u];
+    size_t n_more;
+    int have_initial;
     const char *out_sim, *plot, *plot_script, *tune;
     int have_model, have_td_max, have_fs, have_evaluations, have_population, have_weight;
     int have_phi_t, have_phi_f, have_time_unit, have_u_before;
@@ -43,6 +47,15 @@ typedef struct ident_data {
 void ident_add_state(const pdt_ident_result_t *r, double Ts, size_t n, double *ysim);
 double ident_simulate(const pdt_model_t *m, double Ts, const ident_data_t *d, pdt_real_t u0,
                       pdt_real_t y0, double *ysim);
+
+/* Reads the record of path (a CSV file, or - for stdin) with a's column
+ * options, with the reader's warnings; ends the program on an error. */
+void ident_read(const ident_args_t *a, const char *path, ident_data_t *d);
+/* The identification's configuration of a's options at period Ts. */
+void ident_ga_config(const ident_args_t *a, double Ts, pdt_ident_config_t *cfg);
+/* Several records (a->n_more > 0): identified together, printed; the
+ * exit status. */
+int ident_several(const ident_args_t *a);
 
 /* Writes t,u,y,ysim,residual of the record and the model to path. */
 void ident_write_sim(const char *path, const ident_data_t *d, const pdt_ident_result_t *r);

@@ -327,6 +327,48 @@ int pdtcli_ident_json_boot(const pdt_ident_result_t *r, const pdt_real_t *u, con
     return pdtcli_jb_done(&jb);
 }
 
+pdt_status_t pdtcli_jb_several(pdtcli_jbuf_t *jb, pdt_ident_t *ctx, const char *const *names,
+                               size_t count)
+{
+    unsigned long samples = 0;
+    pdtcli_jb_raw(jb, ",\"std\":null,\"cov\":null,\"uncertainty\":null,\"record_fit\":[");
+    for (uint32_t r = 0; r < count; r++) {
+        pdt_ident_record_fit_t f;
+        const pdt_status_t st = pdt_ident_record_result(ctx, r, &f);
+        if (st != PDT_OK) return st;
+        samples += (unsigned long)f.n;
+        pdtcli_jb_printf(jb, "%s{\"n\":%lu", r ? "," : "", (unsigned long)f.n);
+        if (names && names[r]) {
+            /* The path as a JSON string: quotes, backslashes and control
+             * characters escaped. */
+            pdtcli_jb_raw(jb, ",\"file\":\"");
+            for (const char *c = names[r]; *c; c++) {
+                const unsigned char ch = (unsigned char)*c;
+                if (ch == '"' || ch == '\\')
+                    pdtcli_jb_printf(jb, "\\%c", *c);
+                else if (ch < 0x20u)
+                    pdtcli_jb_printf(jb, "\\u%04x", (unsigned)ch);
+                else
+                    pdtcli_jb_printf(jb, "%c", *c);
+            }
+            pdtcli_jb_raw(jb, "\"");
+        }
+        pdtcli_jb_key(jb, "Ts", (double)f.Ts);
+        pdtcli_jb_key(jb, "u0", (double)f.u0);
+        pdtcli_jb_key(jb, "y0", (double)f.y0);
+        pdtcli_jb_key(jb, "fit", (double)f.fit);
+        pdtcli_jb_key(jb, "cost", (double)f.cost);
+        pdtcli_jb_key(jb, "x0", (double)f.x0);
+        pdtcli_jb_key(jb, "dx0", (double)f.dx0);
+        pdtcli_jb_key(jb, "drift", (double)f.drift);
+        pdtcli_jb_raw(jb, "}");
+    }
+    pdtcli_jb_raw(jb, "]");
+    pdtcli_jb_uint(jb, "records", (unsigned long)count);
+    pdtcli_jb_uint(jb, "samples", samples);
+    return PDT_OK;
+}
+
 int pdtcli_ident_json(const pdt_ident_result_t *r, const pdt_real_t *u, const pdt_real_t *y,
                       double Ts, size_t n, char *buf, size_t len)
 {

@@ -66,6 +66,12 @@ void pdtcli_jb_uint(pdtcli_jbuf_t *jb, const char *key, unsigned long v);
 /* The model object; r NULL: the model's keys only. */
 void pdtcli_jb_model(pdtcli_jbuf_t *jb, const pdt_model_t *m, const pdt_ident_result_t *r);
 int pdtcli_jb_done(const pdtcli_jbuf_t *jb);
+/* Several records' keys after an identification's (docs/several-records.md):
+ * the uncertainty null, "record_fit" (each record's file, from names when
+ * not NULL, n, Ts, u0, y0, fit, cost, x0, dx0, drift), "records" and
+ * "samples". A status of pdt_ident_record_result on error. */
+pdt_status_t pdtcli_jb_several(pdtcli_jbuf_t *jb, pdt_ident_t *ctx, const char *const *names,
+                               size_t count);
 /* The tuning object of `pdtfit tune` into jb (see json.c). */
 void pdtcli_jb_tune(pdtcli_jbuf_t *jb, const char *rule, const char *form, int knob_tau_c,
                     int knob_lambda, const pdt_tune_result_t *r, const pdt_tune_figures_t *fig,

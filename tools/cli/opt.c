@@ -199,6 +199,13 @@ static void positional(cli_parser_t *p, const char *arg)
     if (!p->file)
         cli_fail(EXIT_USAGE, "%s: unexpected argument '%s' (%s reads no file)", p->cmd, arg,
                  p->cmd);
+    if (*p->file && p->more && *p->n_more < p->max_more) {
+        p->more[(*p->n_more)++] = arg;
+        return;
+    }
+    if (*p->file && p->more)
+        cli_fail(EXIT_USAGE, "%s: at most %zu FILEs, got '%s' after them", p->cmd, p->max_more + 1u,
+                 arg);
     if (*p->file)
         cli_fail(EXIT_USAGE, "%s: one FILE only, got '%s' after '%s'", p->cmd, arg, *p->file);
     *p->file = arg;

@@ -395,3 +395,47 @@ def profile_state(u, y, dm, Ts, u0=0.0, y0=0.0, delay_max=None, estimate_offset=
                 offset=float(got.get("offset", 0.0)), x0=float(got.get("x0", 0.0)),
                 x1=float(got.get("x1", 0.0)) / Ts,
                 drift=float(got.get("drift", 0.0)) / (n * Ts))
+
+
+def profile_joint(records, estimate_offset=True, estimate_state=False, drift=False):
+    """Several records of one process: the simulation cost of a shape
+    minimised over one gain shared by all records and each record's own
+    offset (estimate_offset), free response of its state at the first
+    sample (estimate_state) and drift (drift), by numpy's least squares on
+    the stacked explicit columns (the own columns block-diagonal), every
+    record scored whole.
+
+    records: a list of dicts with u, y, dm (the unit-gain shape discretised
+    at the record's period), Ts, u0, y0. Returns a dict: cost (mean square
+    residual over all samples), gain, offsets (each record's, added to its
+    y0)."""
+    blocks, ys, names = [], [], []
+    for r, rec in enumerate(records):
+        yd = _deviation(rec["y"], rec["y0"])
+        n = len(yd)
+        cols = []
+        if estimate_offset:
+            cols.append((np.ones(n), ("offset", r)))
+        if drift:
+            cols.append(((np.arange(n) - 0.5 * (n - 1)) / n, ("drift", r)))
+        if estimate_state:
+            for i, f in enumerate(free_response(rec["dm"], n)):
+                cols.append((f, ("x%d" % i, r)))
+        blocks.append((simulation_output(rec["u"], rec["dm"], rec["u0"]), cols))
+        ys.append(yd)
+    total = sum(len(y) for y in ys)
+    own = [name for _, cols in blocks for _, name in cols]
+    A = np.zeros((total, 1 + len(own)))
+    at = 0
+    for s, cols in blocks:
+        n = len(s)
+        A[at:at + n, 0] = s
+        for col, name in cols:
+            A[at:at + n, 1 + own.index(name)] = col
+        at += n
+    y = np.concatenate(ys)
+    coef = np.linalg.lstsq(A, y, rcond=None)[0]
+    res = y - A @ coef
+    offsets = [float(coef[1 + own.index(("offset", r))]) if estimate_offset else 0.0
+               for r in range(len(records))]
+    return dict(cost=float(np.mean(res * res)), gain=float(coef[0]), offsets=offsets)

@@ -101,6 +101,26 @@ typedef enum pdt_ident_initial {
                                     * SIMULATION criterion only */
 } pdt_ident_initial_t;
 
+/* Most records one identification fits together: the first
+ * (pdt_ident_data_t) and up to PDT_IDENT_MAX_RECORDS - 1 more
+ * (pdt_ident_config_t.more). */
+#define PDT_IDENT_MAX_RECORDS 8u
+
+/* A further record of the same process (docs/several-records.md): n
+ * samples of u and y every Ts seconds, in the caller's memory, unchanged
+ * while the identification runs. Its input operating point is u_before
+ * when given, else u[0]; its output offset (and, with initial ESTIMATE,
+ * its state at the first sample, with drift its drift) is its own; the
+ * dynamics are those of the other records. */
+typedef struct pdt_ident_record {
+    const pdt_real_t *u;
+    const pdt_real_t *y;
+    size_t n;
+    pdt_real_t Ts;       /* s, finite and > 0 */
+    bool u_before_given; /* as pdt_ident_config_t's, for this record */
+    pdt_real_t u_before;
+} pdt_ident_record_t;
+
 typedef struct pdt_ident_config {
     pdt_model_kind_t model;    /* FOPDT or SOPDT. Default FOPDT */
     pdt_real_t Ts;             /* sampling period, s. Must be set (> 0) */
@@ -209,6 +229,18 @@ typedef struct pdt_ident_config {
      * then the operating point at the record's middle. SIMULATION
      * criterion only. Default false */
     bool drift;
+    /* Further records of the same process, identified with the first as
+     * one model (docs/several-records.md): more[0 .. more_count - 1],
+     * more_count <= PDT_IDENT_MAX_RECORDS - 1, in the caller's memory for
+     * the life of the identification. 0 (the default): one record. With
+     * more records only the SIMULATION criterion, FRACTIONAL dead times,
+     * coarse 0 or 1 (the searches run on the whole records), offset AUTO
+     * or ESTIMATE (AUTO is ESTIMATE: no rest window), initial REST or
+     * ESTIMATE and no_screen are accepted; anything else is PDT_ERR_ARG,
+     * and a missing (non-finite) sample in any record is
+     * PDT_ERR_NONFINITE. */
+    const pdt_ident_record_t *more;
+    uint32_t more_count;
 } pdt_ident_config_t;
 
 /* One record: n samples of input u and output y, every Ts seconds, in the
@@ -379,21 +411,25 @@ typedef struct pdt_ident {
     pdt_real_t runner_up;
     pdt_ident_std_t std;
     pdt_real_t evidence;
-    pdt_real_t extra[4]; /* the answer's x0, dx0, drift (result units) and
+    pdt_real_t extra[4];   /* the answer's x0, dx0, drift (result units) and
                           * the residual's sum of squares with them */
-    bool auto_state;     /* AUTO's refit with the state estimated ran */
+    bool auto_state;       /* AUTO's refit with the state estimated ran */
+    pdt_cost_t *more_cost; /* the costs of cfg.more's records (workspace),
+                            * NULL with one record */
 } pdt_ident_t;
 
 /* Fills cfg with the documented defaults (Ts left 0). Nothing for NULL. */
 void pdt_ident_config_default(pdt_ident_config_t *cfg);
 
-/* Workspace bytes pdt_ident_init needs for cfg and n samples; 0 when cfg is
- * NULL or the configuration is unsupported (init then says why). */
+/* Workspace bytes pdt_ident_init needs for cfg and n samples (of the first
+ * record; cfg->more's records are counted from cfg: each one's cost object
+ * and normalised copy, and the scratch is the longest record's); 0 when
+ * cfg is NULL or the configuration is unsupported (init then says why). */
 size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
 
 /* Compile-time upper bound of the workspace for n samples and a population
  * of pop (PDT_IDENT_POPULATION_SOPDT covers both automatic populations),
- * any configuration: for static arrays. */
+ * any configuration of one record: for static arrays. */
 #define PDT_IDENT_WORKSPACE_SIZE(n, pop)                                                           \
     (PDT_COST_WORKSPACE_SIZE(n) +                                                                  \
      (2u * (size_t)(n) + (size_t)(n) / 16u + 13u * (size_t)(pop) + 3u) * sizeof(pdt_real_t))
@@ -413,7 +449,10 @@ size_t pdt_ident_workspace_size(const pdt_ident_config_t *cfg, size_t n);
  * at rest: over its last twentieth, at least 8 samples, the mean of u or
  * of y lies more than a fifth of its range from its starting level),
  * PDT_ERR_LENGTH (record too long for the FFT), PDT_ERR_NOMEM (work NULL or
- * too small). ctx is left untouched on error; so is work, except for a
+ * too small); with several records (cfg->more) also PDT_ERR_ARG for a
+ * setting they do not take and the statuses above for any record. ctx is
+ * left untouched on error; so is work, except with several records (their
+ * costs are prepared first) and for a
  * record with a missing sample or, without no_screen, a value
  * pdt_cost_outlier names: its screened copy of y is written into work before
  * the checks that can still refuse it. */
@@ -422,7 +461,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
 
 /* Advances the search by at most max_evaluations cost evaluations of the
  * whole record, or one group of PDT_VECTOR_LANES (pdt_config.h) when
- * asked for fewer (each O(n) time domain, O(N_f / 2) frequency domain).
+ * asked for fewer (each O(n) time domain, O(N_f / 2) frequency domain;
+ * with several records each evaluation scores every record, three passes
+ * over each: O(n_1 + ... + n_R)).
  * The budget counts the samples scored: a search on a coarse record of
  * n / D samples makes D evaluations for one (each still has the fixed
  * part of discretising its model, a few hundred instructions). Plus at
@@ -515,6 +556,30 @@ typedef struct pdt_ident_printed {
  * then. O(1), no memory beyond the stack frame. */
 pdt_status_t pdt_ident_std_printed(const pdt_model_t *m, const pdt_ident_std_t *s,
                                    pdt_ident_printed_t *out);
+
+/* One record's part of the answer of several (docs/several-records.md):
+ * its operating point, its own terms at the shared model and its fit. */
+typedef struct pdt_ident_record_fit {
+    size_t n;         /* samples */
+    pdt_real_t Ts;    /* s */
+    pdt_real_t u0;    /* input operating point: u[0] or its u_before */
+    pdt_real_t y0;    /* output operating point, estimated */
+    pdt_real_t x0;    /* initial ESTIMATE: its free response at the first
+                      * sample, output units; else 0 */
+    pdt_real_t dx0;   /* initial ESTIMATE, SOPDT: its slope, per second */
+    pdt_real_t drift; /* drift: output units per second; else 0 */
+    pdt_real_t cost;  /* mean square residual, output units squared */
+    pdt_real_t fit;   /* percent, as pdt_ident_result_t.fit, of this record */
+} pdt_ident_record_fit_t;
+
+/* Record r's part of the answer once pdt_ident_step has returned PDT_OK:
+ * r = 0 the first record (data of init), r = 1 .. more_count cfg.more's.
+ * With one record, r = 0 gives the result's own u0, y0, x0, dx0, drift
+ * and a fit with them. Uses the workspace's scratch (it must still be the
+ * one init had); O(n_r). PDT_ERR_ARG for NULL or r past the records,
+ * PDT_ERR_STATE before the answer, the identification's error status
+ * after one; *out untouched on error. */
+pdt_status_t pdt_ident_record_result(pdt_ident_t *ctx, uint32_t r, pdt_ident_record_fit_t *out);
 
 /* Blocking convenience: init, step until done, result. Same statuses. */
 pdt_status_t pdt_identify(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
