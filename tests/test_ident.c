@@ -465,6 +465,9 @@ static void assert_same_result(const pdt_ident_result_t *a, const pdt_ident_resu
     assert_int_equal(a->evaluations, b->evaluations);
     assert_int_equal(a->generations, b->generations);
     assert_same_real(a->f_band, b->f_band, "f_band");
+    assert_int_equal(a->flags, b->flags);
+    assert_same_real(a->evidence, b->evidence, "evidence");
+    assert_memory_equal(&a->std, &b->std, sizeof a->std);
 }
 
 /* Steps ctx to the end with calls of at most `bound` evaluations each,
@@ -563,6 +566,31 @@ static void test_stepping(void **state)
     pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, s2.Ts);
     cfg.max_evaluations = 1500u;
     stepping_matches_blocking(&cfg, s2.n, 1u);
+}
+
+/* The answer's uncertainty runs in blocks of samples over calls, its
+ * state in the population's part of the workspace; a population too
+ * small to hold it has the pass in one step. Either way the covariance is
+ * pdt_ident_uncertainty's, bit for bit. */
+static void test_std_steps(void **state)
+{
+    (void)state;
+    pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
+    record_spec_t s = {m, (pdt_real_t)1.0, 400u, 40.0, 350.0, 5.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    static const uint32_t pops[] = {4u, 0u};
+    for (size_t i = 0; i < 2u; i++) {
+        pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+        cfg.population = pops[i];
+        cfg.max_evaluations = 1200u;
+        const pdt_ident_result_t res = stepping_matches_blocking(&cfg, s.n, 1u);
+        pdt_ident_data_t data = {g_u, g_y, s.n};
+        pdt_ident_std_t sd;
+        assert_int_equal(pdt_ident_uncertainty(&res.model, &data, s.Ts, res.y0, &sd), PDT_OK);
+        assert_true(sd.count == 4u);
+        assert_memory_equal(&sd, &res.std, sizeof sd);
+    }
 }
 
 /* The evaluation count never passes max_evaluations, down to the
@@ -1566,6 +1594,7 @@ int main(void)
         cmocka_unit_test(test_workspace_size),
         cmocka_unit_test(test_workspace_canaries),
         cmocka_unit_test(test_stepping),
+        cmocka_unit_test(test_std_steps),
         cmocka_unit_test(test_budget),
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_second_search_ends_early),

@@ -888,6 +888,24 @@ static void run_stage(pdt_ident_t *c)
     case PH_STD:
         pdt_ident_std(c);
         break;
+    case PH_STD_PASS:
+        pdt_ident_std_pass(c);
+        break;
+    case PH_EVIDENCE:
+        pdt_ident_std_evidence(c);
+        break;
+    case PH_SCREEN_HIGH:
+        pdt_ident_screen_high(c);
+        break;
+    case PH_SCREEN_BOUND:
+        pdt_ident_screen_bound(c);
+        break;
+    case PH_SCREEN_REFILL:
+        pdt_ident_screen_refill(c);
+        break;
+    case PH_SCREEN_RESTART:
+        pdt_ident_screen_restart(c);
+        break;
     default: /* PH_SCREEN */
         pdt_ident_screen_step(c);
         break;
@@ -919,15 +937,20 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         [PH_PROBE] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_PROFILE] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_STD] = HEAVY,
+        [PH_STD_PASS] = HEAVY,
+        [PH_EVIDENCE] = HEAVY,
         [PH_SCREEN] = HEAVY,
+        [PH_SCREEN_HIGH] = HEAVY,
+        [PH_SCREEN_BOUND] = HEAVY,
+        [PH_SCREEN_REFILL] = HEAVY,
+        [PH_SCREEN_RESTART] = HEAVY,
     };
     /* The budget counts the samples the evaluations score: an evaluation
      * of a coarse record of n / D samples is a D-th of one of the whole. */
     const uint64_t cap = (uint64_t)max_evaluations * ctx->data.n;
     uint64_t budget = cap;
-    bool heavy = false;
     while (ctx->phase != PH_DONE) {
-        if (ctx->phase < PH_INIT_POP || ctx->phase > PH_SCREEN) {
+        if (ctx->phase < PH_INIT_POP || ctx->phase >= PH_DONE) {
             return PDT_ERR_STATE;
         }
         const uint32_t needs = STAGE_NEEDS[ctx->phase];
@@ -936,7 +959,10 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
          * larger than a whole call's budget still runs, alone. */
         uint64_t want = ((needs & GROUP) != 0u ? group_of(ctx) : 1u) * one;
         want = want < cap ? want : cap;
-        if (((needs & NEEDS_BUDGET) != 0u && budget < want) || ((needs & HEAVY) != 0u && heavy)) {
+        /* A heavy stage has the call to itself: it runs only before any
+         * evaluation of the call, and the call ends after it. */
+        if (((needs & NEEDS_BUDGET) != 0u && budget < want) ||
+            ((needs & HEAVY) != 0u && budget < cap)) {
             return PDT_RUNNING;
         }
         const uint64_t before = ctx->samples;
@@ -946,7 +972,9 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
             const uint64_t units = used > one ? used : one;
             budget = budget > units ? budget - units : 0u;
         }
-        heavy = heavy || (needs & HEAVY) != 0u;
+        if ((needs & HEAVY) != 0u && ctx->phase != PH_DONE) {
+            return PDT_RUNNING;
+        }
     }
     return ctx->screen.status;
 }

@@ -29,23 +29,29 @@
 
 /* The sequencer's stages (pdt_ident_t.phase). */
 enum {
-    PH_INIT_POP = 1, /* evaluating the initial population */
-    PH_BREED,        /* breeding a generation */
-    PH_EVAL_OFF,     /* evaluating offspring */
-    PH_BAND,         /* CONTROL weighting: the band from the time model */
-    PH_RECENTRE,     /* COMBINED: the spectra on the estimated offset */
-    PH_REFINE_START, /* the refinement's starts */
-    PH_REFINE,       /* Nelder-Mead */
-    PH_DELAY_SCAN,   /* frequency criterion: dead time and sign from Ct */
-    PH_DELAY_REFINE, /* its golden section */
-    PH_FINISH,       /* a search's answer; may re-score once (an integrator) */
-    PH_FINE,         /* the whole record after the coarse one's searches */
-    PH_REST,         /* AUTO offset: the answer polished on the rest level */
-    PH_POLISH,       /* Newton polish of one answer (after PH_FINE, PH_REST) */
-    PH_PROBE,        /* the dead time about a polished answer, shape held */
-    PH_PROFILE,      /* the searches' answer checked along the dead time */
-    PH_STD,          /* the parameters' uncertainty */
-    PH_SCREEN,       /* gross errors: left out, and the search run again */
+    PH_INIT_POP = 1,   /* evaluating the initial population */
+    PH_BREED,          /* breeding a generation */
+    PH_EVAL_OFF,       /* evaluating offspring */
+    PH_BAND,           /* CONTROL weighting: the band from the time model */
+    PH_RECENTRE,       /* COMBINED: the spectra on the estimated offset */
+    PH_REFINE_START,   /* the refinement's starts */
+    PH_REFINE,         /* Nelder-Mead */
+    PH_DELAY_SCAN,     /* frequency criterion: dead time and sign from Ct */
+    PH_DELAY_REFINE,   /* its golden section */
+    PH_FINISH,         /* a search's answer; may re-score once (an integrator) */
+    PH_FINE,           /* the whole record after the coarse one's searches */
+    PH_REST,           /* AUTO offset: the answer polished on the rest level */
+    PH_POLISH,         /* Newton polish of one answer (after PH_FINE, PH_REST) */
+    PH_PROBE,          /* the dead time about a polished answer, shape held */
+    PH_PROFILE,        /* the searches' answer checked along the dead time */
+    PH_STD,            /* the parameters' uncertainty: its pass begun */
+    PH_STD_PASS,       /* its Fisher pass, a block of samples per step */
+    PH_EVIDENCE,       /* the answer's evidence against the null model */
+    PH_SCREEN,         /* gross errors: the answer's residual */
+    PH_SCREEN_HIGH,    /* its high pass */
+    PH_SCREEN_BOUND,   /* the samples beyond the bound left out */
+    PH_SCREEN_REFILL,  /* the record filled again */
+    PH_SCREEN_RESTART, /* and the search run again on it */
     PH_DONE,
     PH_COUNT
 };
@@ -245,7 +251,12 @@ void pdt_ident_polish_probe(pdt_ident_t *c);
 /* The points the next PH_POLISH or PH_PROBE step evaluates together. */
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c);
 void pdt_ident_polish_step(pdt_ident_t *c);
+/* The answer's uncertainty: PH_STD begins the Fisher pass, PH_STD_PASS
+ * sums a block of PDT_FISHER_BLOCK samples per step, PH_EVIDENCE the
+ * evidence against the null model. */
 void pdt_ident_std(pdt_ident_t *c);
+void pdt_ident_std_pass(pdt_ident_t *c);
+void pdt_ident_std_evidence(pdt_ident_t *c);
 
 /* ---- pdt_ident_screen.c */
 
@@ -260,9 +271,16 @@ bool pdt_ident_screen_needed(const pdt_ident_config_t *cfg, const pdt_ident_data
  * PDT_ERR_OUTLIER when more than the limit are. */
 pdt_status_t pdt_ident_screen_prepare(pdt_ident_screen_t *s, const pdt_ident_config_t *cfg,
                                       const pdt_ident_data_t *d);
-/* PH_SCREEN: the answer's residual screened; PH_DONE, or, with samples
- * newly left out, the identification begun again on the filled record. */
+/* The answer's residual screened, one O(n) step each: PH_SCREEN its
+ * residual (or AUTO's identification with the state estimated begun),
+ * PH_SCREEN_HIGH its high pass, PH_SCREEN_BOUND the samples left out
+ * (PH_DONE where none are new), PH_SCREEN_REFILL the record filled again,
+ * PH_SCREEN_RESTART the identification begun again on it. */
 void pdt_ident_screen_step(pdt_ident_t *c);
+void pdt_ident_screen_high(pdt_ident_t *c);
+void pdt_ident_screen_bound(pdt_ident_t *c);
+void pdt_ident_screen_refill(pdt_ident_t *c);
+void pdt_ident_screen_restart(pdt_ident_t *c);
 /* The result's excluded, missing and excluded_first. */
 void pdt_ident_screen_report(const pdt_ident_screen_t *s, size_t n, pdt_ident_result_t *r);
 

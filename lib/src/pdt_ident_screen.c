@@ -486,12 +486,21 @@ static void measured_h(const pdt_ident_screen_t *s, pdt_real_t *h, size_t n)
     }
 }
 
+/* The screen in steps of O(n) each: PH_SCREEN the answer's residual,
+ * PH_SCREEN_HIGH its high pass, PH_SCREEN_BOUND the bound and the
+ * samples it leaves out, PH_SCREEN_REFILL the record filled again, and
+ * PH_SCREEN_RESTART the identification started again on it. h lies in the
+ * scratch from the first to the third; the residual's range is kept in
+ * the workspace's population part, which nothing reads once the searches
+ * are done (the restart carves it again). */
+static pdt_real_t *range_kept(const pdt_ident_t *c)
+{
+    return &c->ga.pop_cost[0];
+}
+
 void pdt_ident_screen_step(pdt_ident_t *c)
 {
     pdt_ident_screen_t *s = &c->screen;
-    const size_t n = c->data.n;
-    pdt_real_t *h = c->scratch;
-    pdt_real_t range;
     if (pdt_ident_state_refit(c)) {
         return;
     }
@@ -500,16 +509,30 @@ void pdt_ident_screen_step(pdt_ident_t *c)
      * the real type) there is no answer to screen with: the result refuses
      * it. */
     if (c->cfg.no_screen || s->rounds >= PDT_IDENT_SCREEN_ROUNDS || s->settled ||
-        !(c->best.cost < PDT_REAL_MAX) || !residual(c, h, &range)) {
+        !(c->best.cost < PDT_REAL_MAX) || !residual(c, c->scratch, range_kept(c))) {
         return;
     }
-    high_pass(h, s->mask, n);
-    measured_h(s, h, n);
+    c->phase = PH_SCREEN_HIGH;
+}
+
+void pdt_ident_screen_high(pdt_ident_t *c)
+{
+    high_pass(c->scratch, c->screen.mask, c->data.n);
+    measured_h(&c->screen, c->scratch, c->data.n);
+    c->phase = PH_SCREEN_BOUND;
+}
+
+void pdt_ident_screen_bound(pdt_ident_t *c)
+{
+    pdt_ident_screen_t *s = &c->screen;
+    const size_t n = c->data.n;
+    const pdt_real_t *h = c->scratch;
+    c->phase = PH_DONE;
     for (size_t k = 0u; k < (n + 7u) / 8u; k++) {
         s->fresh[k] = 0u;
     }
     bool grow = false;
-    const pdt_real_t bound = bound_of(s, h, n, range, &grow);
+    const pdt_real_t bound = bound_of(s, h, n, *range_kept(c), &grow);
     const uint32_t back = restore(s, h, n, bound);
     const uint32_t added = mark(s, h, n, bound, grow);
     if (added == 0u && back == 0u && s->excluded == 0u) {
@@ -520,6 +543,20 @@ void pdt_ident_screen_step(pdt_ident_t *c)
         s->status = PDT_ERR_OUTLIER;
         return;
     }
+    /* Without new samples or ones taken back, this round only fills the
+     * old ones with a model that did not see them: the next answer is the
+     * last. */
+    s->settled = added == 0u && back == 0u;
+    c->phase = PH_SCREEN_REFILL;
+}
+
+void pdt_ident_screen_refill(pdt_ident_t *c)
+{
+    pdt_ident_screen_t *s = &c->screen;
+    const size_t n = c->data.n;
+    pdt_real_t *h = c->scratch;
+    pdt_real_t range;
+    c->phase = PH_DONE;
     /* The answer's output again (h was overwritten), for the refill. */
     if (!residual(c, h, &range)) {
         return;
@@ -528,11 +565,14 @@ void pdt_ident_screen_step(pdt_ident_t *c)
         h[k] = s->yfill[k] - h[k];
     }
     refill(s, h, n);
-    /* Without new samples or ones taken back, this round only filled the
-     * old ones with a model that did not see them: the next answer is the
-     * last. */
-    s->settled = added == 0u && back == 0u;
     s->rounds++;
+    c->phase = PH_SCREEN_RESTART;
+}
+
+void pdt_ident_screen_restart(pdt_ident_t *c)
+{
+    pdt_ident_screen_t *s = &c->screen;
+    const size_t n = c->data.n;
     const pdt_status_t st = pdt_ident_restart(c);
     if (st != PDT_OK) {
         c->screen.status = st;

@@ -278,15 +278,11 @@ void pdt_ident_finish(pdt_ident_t *c)
  * module's. */
 typedef char std_fits_fisher[(PDT_IDENT_MAX_PARAMS == PDT_FISHER_MAX) ? 1 : -1];
 
-/* pdt_ident_uncertainty, with the residual's sum of squares and its
- * autocorrelation's inflation (pdt_fisher_inflation) into *fs_out. With
- * the answer of ctx (not NULL) and parameters fitted beside the model's
- * (the free response, the drift; docs/field-data.md), the covariance is
- * conditional on them at their estimates, and the residual's variance is
- * that of the residual with them over n less them too. */
-static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
-                                pdt_real_t y0, const pdt_real_t *u0, const pdt_ident_t *ctx,
-                                pdt_ident_std_t *out, pdt_fisher_sums_t *fs_out)
+/* The checks of pdt_ident_uncertainty; *before: the input before the
+ * record (u0 when given, else the first sample). */
+static pdt_status_t uncertainty_check(const pdt_model_t *m, const pdt_ident_data_t *data,
+                                      pdt_real_t Ts, pdt_real_t y0, const pdt_real_t *u0,
+                                      const pdt_ident_std_t *out, pdt_real_t *before)
 {
     if (m == NULL || data == NULL || data->u == NULL || data->y == NULL || out == NULL ||
         pdt_model_check(m) != PDT_OK || !pdt_finite(Ts) || !(Ts > PDT_R(0.0)) || !pdt_finite(y0)) {
@@ -302,26 +298,52 @@ static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *da
         }
         moves = moves || data->u[k] != data->u[0];
     }
-    const pdt_real_t before = (u0 != NULL) ? *u0 : data->u[0];
-    if (!moves && before == data->u[0]) {
+    *before = (u0 != NULL) ? *u0 : data->u[0];
+    if (!moves && *before == data->u[0]) {
         return PDT_ERR_NO_EXCITATION;
     }
-    pdt_fisher_matrix_t F;
-    const pdt_status_t st = pdt_fisher_sum(m, Ts, data->u, data->y, data->n, y0, before, F, fs_out);
+    return PDT_OK;
+}
+
+/* The covariance from the Fisher information F and its sums fs over n
+ * samples: with the answer of ctx (not NULL) and parameters fitted beside
+ * the model's (the free response, the drift; docs/field-data.md), the
+ * covariance is conditional on them at their estimates, and the
+ * residual's variance is that of the residual with them over n less them
+ * too. */
+static void uncertainty_end(pdt_fisher_matrix_t F, pdt_fisher_sums_t *fs, size_t n,
+                            const pdt_ident_t *ctx, pdt_ident_std_t *out)
+{
+    pdt_ident_std_t r = {0};
+    r.count = fs->np;
+    size_t dof_n = n;
+    const uint32_t nu = (ctx != NULL) ? pdt_ident_nuisance(ctx) : 0u;
+    if (nu > 0u && n > (size_t)nu + (size_t)fs->np) {
+        fs->sse = ctx->extra[3];
+        dof_n -= (size_t)nu;
+    }
+    pdt_fisher_covariance(F, fs->np, dof_n, fs->sse, pdt_fisher_inflation(fs), r.std, r.cov);
+    *out = r;
+}
+
+/* pdt_ident_uncertainty, with the residual's sum of squares and its
+ * autocorrelation's inflation (pdt_fisher_inflation) into *fs_out, and
+ * the answer of ctx (not NULL) as uncertainty_end takes it. */
+static pdt_status_t uncertainty(const pdt_model_t *m, const pdt_ident_data_t *data, pdt_real_t Ts,
+                                pdt_real_t y0, const pdt_real_t *u0, const pdt_ident_t *ctx,
+                                pdt_ident_std_t *out, pdt_fisher_sums_t *fs_out)
+{
+    pdt_real_t before = PDT_R(0.0);
+    pdt_status_t st = uncertainty_check(m, data, Ts, y0, u0, out, &before);
     if (st != PDT_OK) {
         return st;
     }
-    pdt_ident_std_t r = {0};
-    r.count = fs_out->np;
-    size_t dof_n = data->n;
-    const uint32_t nu = (ctx != NULL) ? pdt_ident_nuisance(ctx) : 0u;
-    if (nu > 0u && data->n > (size_t)nu + (size_t)fs_out->np) {
-        fs_out->sse = ctx->extra[3];
-        dof_n -= (size_t)nu;
+    pdt_fisher_matrix_t F;
+    st = pdt_fisher_sum(m, Ts, data->u, data->y, data->n, y0, before, F, fs_out);
+    if (st != PDT_OK) {
+        return st;
     }
-    pdt_fisher_covariance(F, fs_out->np, dof_n, fs_out->sse, pdt_fisher_inflation(fs_out), r.std,
-                          r.cov);
-    *out = r;
+    uncertainty_end(F, fs_out, data->n, ctx, out);
     return PDT_OK;
 }
 
@@ -455,22 +477,92 @@ static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
     }
 }
 
-/* The answer's uncertainty: count 0 where it cannot be computed; its
- * evidence against the null model. */
+/* The answer's uncertainty in steps (PH_STD, PH_STD_PASS, PH_EVIDENCE):
+ * the Fisher pass in blocks of PDT_FISHER_BLOCK samples, as the
+ * validation's, then the evidence. Its state lies in the workspace's
+ * population part, which nothing reads once the searches are done (a
+ * restart carves it again); where a small population leaves that part
+ * too short, the whole pass is one step. The same sums either way. */
+typedef struct std_run {
+    pdt_fisher_sums_t fs; /* first: the evidence reads it, scratch not */
+    pdt_fisher_run_t R;
+    pdt_fisher_matrix_t F;
+} std_run_t;
+
+/* The state in the population part, its first address aligned for it;
+ * NULL where it does not fit before the scratch. */
+static std_run_t *std_run_of(const pdt_ident_t *c)
+{
+    void *const base = c->ga.pop;
+    const uintptr_t a = (uintptr_t)sizeof(uintmax_t);
+    const uintptr_t pad = (a - ((uintptr_t)base % a)) % a;
+    const ptrdiff_t reals = c->scratch - c->ga.pop;
+    if ((size_t)pad + sizeof(std_run_t) > (size_t)reals * sizeof(pdt_real_t)) {
+        return NULL;
+    }
+    return (std_run_t *)(void *)((unsigned char *)base + pad);
+}
+
+/* The uncertainty that could not be computed: count 0, no evidence. */
+static void std_failed(pdt_ident_t *c)
+{
+    c->evidence = PDT_R(0.0);
+    c->flags |= (c->fit >= FIT_FLOOR) ? 0u : PDT_IDENT_FLAG_NO_RELATION;
+    c->phase = PH_SCREEN;
+}
+
 void pdt_ident_std(pdt_ident_t *c)
 {
-    pdt_fisher_sums_t fs;
+    c->std = (pdt_ident_std_t){0};
+    std_run_t *const run = std_run_of(c);
     if (pdt_ident_multi(&c->cfg)) {
+        /* Several records: no uncertainty, their joint evidence, in one
+         * step (docs/several-records.md). */
         pdt_ident_multi_std(c);
-    } else {
-        c->std = (pdt_ident_std_t){0};
+        c->phase = PH_SCREEN;
+        return;
+    }
+    if (run == NULL) {
+        pdt_fisher_sums_t fs;
         if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, c, &c->std, &fs) ==
             PDT_OK) {
             evidence(c, &fs);
+            c->phase = PH_SCREEN;
         } else {
-            c->evidence = PDT_R(0.0);
-            c->flags |= (c->fit >= FIT_FLOOR) ? 0u : PDT_IDENT_FLAG_NO_RELATION;
+            std_failed(c);
         }
+        return;
     }
+    pdt_real_t before = PDT_R(0.0);
+    pdt_status_t st =
+        uncertainty_check(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, &c->std, &before);
+    if (st == PDT_OK) {
+        st = pdt_fisher_begin(&run->R, &c->model, c->cfg.Ts, c->data.u, c->data.y, c->data.n, c->y0,
+                              before, run->F);
+    }
+    if (st != PDT_OK) {
+        std_failed(c);
+        return;
+    }
+    c->phase = PH_STD_PASS;
+}
+
+void pdt_ident_std_pass(pdt_ident_t *c)
+{
+    std_run_t *const run = std_run_of(c);
+    if (!pdt_fisher_block(&run->R)) {
+        return;
+    }
+    if (pdt_fisher_end(&run->R, &run->fs) != PDT_OK) {
+        std_failed(c);
+        return;
+    }
+    uncertainty_end(run->F, &run->fs, c->data.n, c, &c->std);
+    c->phase = PH_EVIDENCE;
+}
+
+void pdt_ident_std_evidence(pdt_ident_t *c)
+{
+    evidence(c, &std_run_of(c)->fs);
     c->phase = PH_SCREEN;
 }

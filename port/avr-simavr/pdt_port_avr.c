@@ -7,6 +7,7 @@
  */
 #include "pdt_port.h"
 #include "pdt_port_avr.h"
+#include "pdt_port_common.h"
 
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -117,19 +118,11 @@ size_t pdt_avr_stack_depth(void)
 
 void pdt_avr_stack_paint(void)
 {
-    /* Below the current stack pointer, with a margin for this frame. */
-    uint8_t *top = (uint8_t *)(uintptr_t)(SP - 16u);
-    for (uint8_t *p = &__heap_start; p < top; p++) {
-        *p = STACK_PAINT;
-    }
+    pdt_port_paint_stack(&__heap_start, STACK_PAINT);
 }
 
 size_t pdt_avr_stack_used(void)
 {
-    const uint8_t *p = &__heap_start;
-    const uint8_t *end = (const uint8_t *)(uintptr_t)(RAMEND + 1u);
-    while (p < end && *p == STACK_PAINT) {
-        p++;
-    }
-    return (size_t)(end - p);
+    return pdt_port_painted_used(&__heap_start, (const uint8_t *)(uintptr_t)(RAMEND + 1u),
+                                 STACK_PAINT);
 }

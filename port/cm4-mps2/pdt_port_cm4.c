@@ -18,6 +18,7 @@
 
 #include "pdt_port.h"
 #include "pdt_port_cm4.h"
+#include "pdt_port_common.h"
 #include "pdt_port_target.h"
 
 /* ARMv7-M and ARMv8-M Mainline have the DWT cycle counter; ARMv6-M
@@ -187,39 +188,9 @@ uint64_t pdt_port_ticks_per_second(void)
     return g_counter == PDT_CM4_COUNTER_NONE ? 0u : PDT_CM4_CORE_HZ;
 }
 
-/* Decimal digits of v into buf (at least 11 bytes); returns the count. */
-static size_t format_uint(uint32_t v, char *buf)
-{
-    char tmp[10];
-    size_t n = 0;
-    do {
-        tmp[n++] = (char)('0' + v % 10u);
-        v /= 10u;
-    } while (v != 0u);
-    for (size_t i = 0; i < n; i++) {
-        buf[i] = tmp[n - 1u - i];
-    }
-    return n;
-}
-
-static void write_str(const char *s)
-{
-    size_t n = 0;
-    while (s[n] != '\0') {
-        n++;
-    }
-    pdt_port_write(s, n);
-}
-
 void pdt_port_assert_failed(const char *expr, const char *file, int line)
 {
-    char num[11];
-    write_str(file);
-    write_str(":");
-    pdt_port_write(num, format_uint(line < 0 ? 0u : (uint32_t)line, num));
-    write_str(": PDT_ASSERT(");
-    write_str(expr);
-    write_str(") failed\n");
+    pdt_port_report_assert(expr, file, line);
     pdt_port_exit(2);
 }
 

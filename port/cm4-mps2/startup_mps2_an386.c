@@ -9,6 +9,7 @@
 
 #include "pdt_port.h"
 #include "pdt_port_cm4.h"
+#include "pdt_port_common.h"
 #include "pdt_port_target.h"
 
 /* Linker-script symbols (mps2_an386.ld). */
@@ -47,8 +48,8 @@ void pdt_cm4_fault_report(const uint32_t *frame, uint32_t exc_return);
 #define PDT_CM4_ARMV6M 0
 #endif
 
-/* Word written over the unused stack at reset. */
-#define STACK_PAINT 0xC5AC5AC5u
+/* Byte written over the unused stack at reset. */
+#define STACK_PAINT 0xC5u
 
 /* Core exceptions 1..15, then the AN386's 32 device interrupts, all of
  * which this port leaves disabled. */
@@ -142,14 +143,7 @@ void pdt_cm4_reset_handler(void)
 
 void pdt_cm4_stack_paint(void)
 {
-    /* Everything below this frame is free; a few words of margin cover
-     * what the compiler may still push. An interrupt taken meanwhile only
-     * uses the same free space and leaves it free again. */
-    uint32_t *sp;
-    __asm volatile("mov %0, sp" : "=r"(sp));
-    for (uint32_t *p = __stack_bottom__; p < sp - 8; p++) {
-        *p = STACK_PAINT;
-    }
+    pdt_port_paint_stack((unsigned char *)__stack_bottom__, STACK_PAINT);
 }
 
 size_t pdt_cm4_stack_depth(void)
@@ -166,31 +160,8 @@ size_t pdt_cm4_stack_size(void)
 
 size_t pdt_cm4_stack_used(void)
 {
-    const volatile uint32_t *p = __stack_bottom__;
-    while (p < __stack_top__ && *p == STACK_PAINT) {
-        p++;
-    }
-    return (size_t)((uintptr_t)__stack_top__ - (uintptr_t)p);
-}
-
-/* Writes "name 0x12345678" and a newline. */
-static void report_hex(const char *name, uint32_t v)
-{
-    static const char digits[] = "0123456789abcdef";
-    char buf[32];
-    size_t n = 0;
-    while (name[n] != '\0' && n < 16u) {
-        buf[n] = name[n];
-        n++;
-    }
-    buf[n++] = ' ';
-    buf[n++] = '0';
-    buf[n++] = 'x';
-    for (int shift = 28; shift >= 0; shift -= 4) {
-        buf[n++] = digits[(v >> (unsigned)shift) & 0xFu];
-    }
-    buf[n++] = '\n';
-    pdt_port_write(buf, n);
+    return pdt_port_painted_used((const unsigned char *)__stack_bottom__,
+                                 (const unsigned char *)__stack_top__, STACK_PAINT);
 }
 
 /* Reports the fault's status registers and the faulting PC taken from the
@@ -200,16 +171,16 @@ void pdt_cm4_fault_report(const uint32_t *frame, uint32_t exc_return)
     uint32_t exception = SCB_ICSR & 0x1FFu;
     static const char msg[] = "\n*** fault: exception";
     pdt_port_write(msg, sizeof msg - 1u);
-    report_hex("", exception);
+    pdt_port_write_hex("", exception);
 #if !PDT_CM4_ARMV6M
-    report_hex("CFSR", SCB_CFSR);
-    report_hex("HFSR", SCB_HFSR);
-    report_hex("MMFAR", SCB_MMFAR);
-    report_hex("BFAR", SCB_BFAR);
+    pdt_port_write_hex("CFSR", SCB_CFSR);
+    pdt_port_write_hex("HFSR", SCB_HFSR);
+    pdt_port_write_hex("MMFAR", SCB_MMFAR);
+    pdt_port_write_hex("BFAR", SCB_BFAR);
 #endif
-    report_hex("EXC_RETURN", exc_return);
-    report_hex("PC", frame[6]);
-    report_hex("LR", frame[5]);
+    pdt_port_write_hex("EXC_RETURN", exc_return);
+    pdt_port_write_hex("PC", frame[6]);
+    pdt_port_write_hex("LR", frame[5]);
     pdt_port_exit(3);
 }
 
@@ -242,7 +213,7 @@ void pdt_cm4_default_handler(void)
 {
     static const char msg[] = "\n*** unexpected interrupt\n";
     pdt_port_write(msg, sizeof msg - 1u);
-    report_hex("exception", SCB_ICSR & 0x1FFu);
+    pdt_port_write_hex("exception", SCB_ICSR & 0x1FFu);
     pdt_port_exit(4);
 }
 

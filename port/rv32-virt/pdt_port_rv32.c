@@ -21,6 +21,7 @@
 #include <stdint.h>
 
 #include "pdt_port.h"
+#include "pdt_port_common.h"
 #include "pdt_port_target.h"
 
 #ifndef PDT_RV32_CORE_HZ
@@ -40,7 +41,7 @@ void pdt_rv32_trap_handler(void);
 #define SEMI_ADP_APPLICATION_EXIT 0x20026u
 #define SEMI_ADP_RUNTIME_ERROR    0x20023u
 
-#define STACK_PAINT 0xC5AC5AC5u
+#define STACK_PAINT 0xC5u
 
 /* CSR instructions: Zicsr named for the assembler, whatever -march the
  * compiler was given (the multilib's, rv32imac or rv32imafc). */
@@ -67,18 +68,14 @@ static uintptr_t semihost(uintptr_t op, const void *arg)
     return a0;
 }
 
-static uint32_t *stack_bottom(void)
+static unsigned char *stack_bottom(void)
 {
-    return (uint32_t *)((uintptr_t)__stack - (uintptr_t)__stack_size);
+    return (unsigned char *)((uintptr_t)__stack - (uintptr_t)__stack_size);
 }
 
 void pdt_port_stack_paint(void)
 {
-    uint32_t *sp;
-    __asm volatile("mv %0, sp" : "=r"(sp));
-    for (uint32_t *p = stack_bottom(); p < sp - 16; p++) {
-        *p = STACK_PAINT;
-    }
+    pdt_port_paint_stack(stack_bottom(), STACK_PAINT);
 }
 
 size_t pdt_port_stack_depth(void)
@@ -95,11 +92,7 @@ size_t pdt_port_stack_size(void)
 
 size_t pdt_port_stack_used(void)
 {
-    const volatile uint32_t *p = stack_bottom();
-    while (p < __stack && *p == STACK_PAINT) {
-        p++;
-    }
-    return (size_t)((uintptr_t)__stack - (uintptr_t)p);
+    return pdt_port_painted_used(stack_bottom(), (const unsigned char *)__stack, STACK_PAINT);
 }
 
 void pdt_port_init(void)
@@ -158,31 +151,6 @@ uint64_t pdt_port_counter_wrap(void)
     return 0u; /* 64 bits: no wrap to cross */
 }
 
-static void write_str(const char *s)
-{
-    size_t n = 0;
-    while (s[n] != '\0') {
-        n++;
-    }
-    pdt_port_write(s, n);
-}
-
-/* Writes "name 0x12345678" and a newline. */
-static void report_hex(const char *name, uint32_t v)
-{
-    static const char digits[] = "0123456789abcdef";
-    char buf[12];
-    write_str(name);
-    buf[0] = ' ';
-    buf[1] = '0';
-    buf[2] = 'x';
-    for (unsigned i = 0; i < 8u; i++) {
-        buf[3u + i] = digits[(v >> (28u - 4u * i)) & 0xFu];
-    }
-    buf[11] = '\n';
-    pdt_port_write(buf, sizeof buf);
-}
-
 __attribute__((interrupt("machine"), aligned(4))) void pdt_rv32_trap_handler(void)
 {
     uint32_t cause;
@@ -191,28 +159,16 @@ __attribute__((interrupt("machine"), aligned(4))) void pdt_rv32_trap_handler(voi
     __asm volatile(CSR_ASM("csrr %0, mcause") : "=r"(cause));
     __asm volatile(CSR_ASM("csrr %0, mepc") : "=r"(epc));
     __asm volatile(CSR_ASM("csrr %0, mtval") : "=r"(tval));
-    write_str("\n*** trap\n");
-    report_hex("mcause", cause);
-    report_hex("mepc", epc);
-    report_hex("mtval", tval);
+    pdt_port_write_text("\n*** trap\n");
+    pdt_port_write_hex("mcause", cause);
+    pdt_port_write_hex("mepc", epc);
+    pdt_port_write_hex("mtval", tval);
     pdt_port_exit(3);
 }
 
 void pdt_port_assert_failed(const char *expr, const char *file, int line)
 {
-    char num[12];
-    size_t n = sizeof num;
-    uint32_t v = line < 0 ? 0u : (uint32_t)line;
-    do {
-        num[--n] = (char)('0' + v % 10u);
-        v /= 10u;
-    } while (v != 0u && n > 0u);
-    write_str(file);
-    write_str(":");
-    pdt_port_write(num + n, sizeof num - n);
-    write_str(": PDT_ASSERT(");
-    write_str(expr);
-    write_str(") failed\n");
+    pdt_port_report_assert(expr, file, line);
     pdt_port_exit(2);
 }
 

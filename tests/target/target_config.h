@@ -56,6 +56,9 @@ typedef struct target_at_run {
     uint64_t worst_valid;  /* ticks of the slowest identify call after the
                             * searches: the validation in steps, the order's
                             * choice and the disturbance check */
+    uint64_t worst_init;   /* ticks of the slowest identify call that began
+                            * an identification (pdt_ident_init) */
+    uint64_t worst_step;   /* ticks of the slowest other identify call */
     size_t stack;          /* bytes below the run's frame */
 } target_at_run_t;
 

@@ -466,14 +466,19 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
  * over each: O(n_1 + ... + n_R)).
  * The budget counts the samples scored: a search on a coarse record of
  * n / D samples makes D evaluations for one (each still has the fixed
- * part of discretising its model, a few hundred instructions). Plus at
- * most one breeding step (O(P^2 genes) for the sharing) or one
- * preparation (of the spectra, O(N_f log N_f) as in init: COMBINED
- * re-centres them once before the refinement, and the CONTROL weighting
- * sets its band once; of the whole record's cost after a coarse one's
- * searches, O(n)) or the answer's uncertainty (once, O(n) per
- * parameter). Returns PDT_RUNNING while there is work left, PDT_OK when
- * done (also on every later call), PDT_ERR_ARG for NULL or
+ * part of discretising its model, a few hundred instructions). Or, in a
+ * call of its own with no evaluation, one heavier step: a breeding step
+ * (O(P^2 genes) for the sharing), a preparation (of the spectra,
+ * O(N_f log N_f) as in init: COMBINED re-centres them once before the
+ * refinement, and the CONTROL weighting sets its band once; of the whole
+ * record's cost after a coarse one's searches, O(n)), a block of the
+ * answer's uncertainty (PDT_FISHER_BLOCK = 256 samples, O(1) per sample and
+ * parameter; the whole pass in one call where the population is too small
+ * to hold its state), its evidence (O(n)), or one of the screen's O(n)
+ * steps (its residual, its running median, its bound, the refill; a
+ * restart on the filled record costs what init does). Returns PDT_RUNNING
+ * while there is work left, PDT_OK when done (also on every later call),
+ * PDT_ERR_ARG for NULL or
  * max_evaluations = 0, PDT_ERR_STATE if ctx was not initialised. Once the
  * screen has left samples out, the identification starts again on the
  * record without them: PDT_ERR_OUTLIER when more are to be left out than
