@@ -364,25 +364,17 @@ static void window_moments(const pdt_real_t *x, size_t k0, size_t n, pdt_real_t 
 
 static size_t first_scored(const pdt_cost_t *c, uint8_t order, bool pred);
 
-pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pdt_real_t *u,
-                           const pdt_real_t *y, size_t n, void *work, size_t work_len)
+/* pdt_cost_init's checks of its arguments and of the record, in the order
+ * of its documented statuses; *lu the delay bound resolved. */
+static pdt_status_t init_check(const pdt_cost_config_t *cfg, const pdt_real_t *u,
+                               const pdt_real_t *y, size_t n, size_t *lu)
 {
-    pdt_cost_t t;
-    size_t lu;
     size_t k;
-    size_t nf = 0u;
-    size_t need = 2u * n * sizeof(pdt_real_t);
-    pdt_real_t *un;
-    pdt_real_t *yn;
-
-    if (c == NULL || cfg == NULL || u == NULL || y == NULL || !config_ok(cfg)) {
-        return PDT_ERR_ARG;
-    }
-    lu = resolve_delay_max(n, cfg->delay_max);
-    if (lu >= n || n - (cfg->whole_record ? 0u : lu) < (size_t)PDT_MIN_SAMPLES + 2u) {
+    *lu = resolve_delay_max(n, cfg->delay_max);
+    if (*lu >= n || n - (cfg->whole_record ? 0u : *lu) < (size_t)PDT_MIN_SAMPLES + 2u) {
         return PDT_ERR_TOO_SHORT;
     }
-    if (cfg->delay_min > lu || cfg->f_lo > cfg->f_hi) {
+    if (cfg->delay_min > *lu || cfg->f_lo > cfg->f_hi) {
         return PDT_ERR_BOUNDS;
     }
     for (k = 0u; k < n; k++) {
@@ -398,6 +390,103 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
     if (!pdt_finite(cfg->u0) || !pdt_finite(cfg->y0)) {
         return PDT_ERR_NONFINITE;
     }
+    return PDT_OK;
+}
+
+/* The frequency part's size: its FFT length *nf, the bin spacing in
+ * t->w_step, and the workspace bytes *need grown by the spectra's (0 when
+ * they overflow); the custom weights checked. */
+static pdt_status_t init_frequency_size(const pdt_cost_config_t *cfg, size_t n, size_t lu,
+                                        pdt_cost_t *t, size_t *nf, size_t *need)
+{
+    size_t k;
+    *nf = pdt_cost_fft_size(n, lu);
+    if (*nf == 0u) {
+        return PDT_ERR_LENGTH;
+    }
+    t->w_step = (PDT_R(2.0) * PDT_PI) / ((pdt_real_t)*nf * cfg->Ts);
+    if (!pdt_finite(t->w_step)) {
+        return PDT_ERR_ARG;
+    }
+    if (cfg->weight == PDT_WEIGHT_CUSTOM) {
+        for (k = 0u; k <= *nf / 2u; k++) {
+            if (!pdt_finite(cfg->weights[k]) || cfg->weights[k] < PDT_R(0.0)) {
+                return PDT_ERR_ARG;
+            }
+        }
+    }
+    *need = (spectra_bytes(*nf) == 0u) ? 0u : *need + spectra_bytes(*nf);
+    return PDT_OK;
+}
+
+/* The record normalised into the workspace's first 2 n reals, with its
+ * scales and the output's moments over the scored windows. */
+static void init_normalise(pdt_cost_t *t, const pdt_cost_config_t *cfg, const pdt_real_t *u,
+                           const pdt_real_t *y, size_t n, pdt_real_t *un)
+{
+    size_t k;
+    pdt_real_t *yn = un + n;
+    t->u_exp = normalise(u, cfg->u0, n, un);
+    t->y_exp = normalise(y, cfg->y0, n, yn);
+    t->pow2[POW2_TO_NORM_GAIN] = pow2_of(t->u_exp - t->y_exp);
+    t->pow2[POW2_TO_GAIN] = pow2_of(t->y_exp - t->u_exp);
+    t->pow2[POW2_TO_OUT] = pow2_of(t->y_exp);
+    t->pow2[POW2_TO_COST] = pow2_of(2 * t->y_exp);
+    t->u = un;
+    t->y = yn;
+    for (k = 0u; k < 2u; k++) {
+        window_moments(yn, first_scored(t, (uint8_t)(k + 1u), false), n, &t->ysum[k], &t->yvar[k]);
+    }
+}
+
+/* The frequency part's spectra after the normalised record (base), nf
+ * points, in the workspace's remaining work_len bytes. */
+static pdt_status_t init_spectra(pdt_cost_t *t, const pdt_cost_config_t *cfg, size_t n, size_t nf,
+                                 pdt_real_t *base, size_t work_len)
+{
+    const size_t nb = nf / 2u;
+    pdt_fft_t fft;
+    pdt_status_t st;
+    /* Layout (reals): [0, nb) |U|, [nb, 2nb) |Y|, [2nb, 3nb) weights,
+     * then the twiddles. u's FFT buffer is [0, 2nb) and leaves |U| at
+     * its start; y's is [nb, 3nb) and leaves |Y| at its start; the
+     * weights come last, over the end of y's buffer. The spectra are of
+     * the normalised record, like everything else. */
+    st = pdt_fft_init(&fft, nf, base + 3u * nb, work_len - (2u * n + 3u * nb) * sizeof(pdt_real_t));
+    if (st == PDT_OK) {
+        st = spectrum_magnitude(&fft, t->u, PDT_R(0.0), n, nf, base);
+    }
+    if (st == PDT_OK) {
+        st = spectrum_magnitude(&fft, t->y, PDT_R(0.0), n, nf, base + nb);
+    }
+    if (st != PDT_OK) {
+        /* Cannot happen for an nf that pdt_cost_fft_size returned. */
+        return st;
+    }
+    fill_weights(cfg, n, nf, base + 2u * nb, &t->k_first, &t->k_last);
+    t->nf = nf;
+    t->umag = base;
+    t->ymag = base + nb;
+    t->wgt = base + 2u * nb;
+    return PDT_OK;
+}
+
+pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pdt_real_t *u,
+                           const pdt_real_t *y, size_t n, void *work, size_t work_len)
+{
+    pdt_cost_t t;
+    size_t lu;
+    size_t nf = 0u;
+    size_t need = 2u * n * sizeof(pdt_real_t);
+    pdt_status_t st;
+
+    if (c == NULL || cfg == NULL || u == NULL || y == NULL || !config_ok(cfg)) {
+        return PDT_ERR_ARG;
+    }
+    st = init_check(cfg, u, y, n, &lu);
+    if (st != PDT_OK) {
+        return st;
+    }
 
     t.cfg = *cfg;
     t.cfg.delay_max = lu;
@@ -411,22 +500,10 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
     t.w_step = PDT_R(0.0);
 
     if (cfg->use_frequency) {
-        nf = pdt_cost_fft_size(n, lu);
-        if (nf == 0u) {
-            return PDT_ERR_LENGTH;
+        st = init_frequency_size(cfg, n, lu, &t, &nf, &need);
+        if (st != PDT_OK) {
+            return st;
         }
-        t.w_step = (PDT_R(2.0) * PDT_PI) / ((pdt_real_t)nf * cfg->Ts);
-        if (!pdt_finite(t.w_step)) {
-            return PDT_ERR_ARG;
-        }
-        if (cfg->weight == PDT_WEIGHT_CUSTOM) {
-            for (k = 0u; k <= nf / 2u; k++) {
-                if (!pdt_finite(cfg->weights[k]) || cfg->weights[k] < PDT_R(0.0)) {
-                    return PDT_ERR_ARG;
-                }
-            }
-        }
-        need = (spectra_bytes(nf) == 0u) ? 0u : need + spectra_bytes(nf);
     }
     if (work == NULL) {
         return PDT_ERR_NOMEM;
@@ -438,47 +515,13 @@ pdt_status_t pdt_cost_init(pdt_cost_t *c, const pdt_cost_config_t *cfg, const pd
         return PDT_ERR_NOMEM;
     }
 
-    un = (pdt_real_t *)work;
-    yn = un + n;
-    t.u_exp = normalise(u, cfg->u0, n, un);
-    t.y_exp = normalise(y, cfg->y0, n, yn);
-    t.pow2[POW2_TO_NORM_GAIN] = pow2_of(t.u_exp - t.y_exp);
-    t.pow2[POW2_TO_GAIN] = pow2_of(t.y_exp - t.u_exp);
-    t.pow2[POW2_TO_OUT] = pow2_of(t.y_exp);
-    t.pow2[POW2_TO_COST] = pow2_of(2 * t.y_exp);
-    t.u = un;
-    t.y = yn;
-    for (k = 0u; k < 2u; k++) {
-        window_moments(yn, first_scored(&t, (uint8_t)(k + 1u), false), n, &t.ysum[k], &t.yvar[k]);
-    }
-
+    pdt_real_t *const un = (pdt_real_t *)work;
+    init_normalise(&t, cfg, u, y, n, un);
     if (cfg->use_frequency) {
-        const size_t nb = nf / 2u;
-        pdt_real_t *base = yn + n;
-        pdt_fft_t fft;
-        pdt_status_t st;
-        /* Layout (reals): [0, nb) |U|, [nb, 2nb) |Y|, [2nb, 3nb) weights,
-         * then the twiddles. u's FFT buffer is [0, 2nb) and leaves |U| at
-         * its start; y's is [nb, 3nb) and leaves |Y| at its start; the
-         * weights come last, over the end of y's buffer. The spectra are of
-         * the normalised record, like everything else. */
-        st = pdt_fft_init(&fft, nf, base + 3u * nb,
-                          work_len - (2u * n + 3u * nb) * sizeof(pdt_real_t));
-        if (st == PDT_OK) {
-            st = spectrum_magnitude(&fft, un, PDT_R(0.0), n, nf, base);
-        }
-        if (st == PDT_OK) {
-            st = spectrum_magnitude(&fft, yn, PDT_R(0.0), n, nf, base + nb);
-        }
+        st = init_spectra(&t, cfg, n, nf, un + 2u * n, work_len);
         if (st != PDT_OK) {
-            /* Cannot happen for an nf that pdt_cost_fft_size returned. */
             return st;
         }
-        fill_weights(cfg, n, nf, base + 2u * nb, &t.k_first, &t.k_last);
-        t.nf = nf;
-        t.umag = base;
-        t.ymag = base + nb;
-        t.wgt = base + 2u * nb;
     }
     /* Only the weights were needed from the caller's array; do not keep a
      * pointer that the caller may let go. */
