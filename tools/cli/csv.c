@@ -964,7 +964,13 @@ static int resample(reader_t *r, double Ts, pdtcli_series_t *out)
 {
     const double span = r->t[r->rows - 1] - r->t[0];
     const double ng = floor(span / Ts + 0.5) + 1.0;
-    if (!(ng <= 1e8)) return set_err(r, "%s: resampling would give %.0f rows", r->name, ng);
+    /* A stamp far off (a wrong year, a counter's wrap) would fill a gap of
+     * millions of rows: no more than a record may have. */
+    if (!(ng <= (double)PDT_MAX_SAMPLES))
+        return set_err(r,
+                       "%s: the t column spans %.0f periods of %.9g s, more than the %u rows a "
+                       "record may have (a stamp out of place?)",
+                       r->name, ng, Ts, (unsigned)PDT_MAX_SAMPLES);
     const size_t n = (size_t)ng;
     out->u = malloc(n * sizeof *out->u);
     out->y = malloc(n * sizeof *out->y);

@@ -158,6 +158,17 @@ def test_missing_time_is_refused(tmp_path, rec, cell):
     assert_usage_error(run([*MODEL, path]), "t.csv:79:", "column t")
 
 
+def test_stamp_far_out_of_place_is_refused(tmp_path, rec):
+    """A last stamp 10^8 s on (a wrong year, a counter's wrap): refused as a
+    gap, and with --resample at once rather than filled with 10^9 rows
+    (found by fuzz_csv: tests/fuzz/corpus/csv/finding-gap-rows)."""
+    body = rows(*rec)
+    body[-1][0] = "%.10g" % 1e8
+    path = write(tmp_path / "far.csv", "t,u,y", body)
+    assert_usage_error(run([*MODEL, path]), "far.csv:", "not uniformly sampled")
+    assert_usage_error(run([*MODEL, "--resample", path]), "far.csv:", "rows a record may have")
+
+
 def test_bad_value_usage(tmp_path, rec):
     path = write(tmp_path / "ok.csv", "t,u,y", rows(*rec))
     assert_usage_error(run([*MODEL, "--bad-value", "x", path]), "--bad-value")
