@@ -12,7 +12,11 @@ set(CMAKE_RANLIB avr-ranlib)
 set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
 set(PDT_AVR_MCU atmega2560 CACHE STRING "avr-gcc -mmcu of the AVR build")
 set(PDT_AVR_F_CPU 16000000 CACHE STRING "Clock of the AVR build in Hz (F_CPU)")
-set(CMAKE_C_FLAGS_INIT "-mmcu=${PDT_AVR_MCU} -DF_CPU=${PDT_AVR_F_CPU}UL")
+# A function and an object per section, so that the link's --gc-sections
+# leaves out whatever a program does not call: an Arduino build does the
+# same, and the 256 KiB of flash hold the target test program only so.
+set(CMAKE_C_FLAGS_INIT
+    "-mmcu=${PDT_AVR_MCU} -DF_CPU=${PDT_AVR_F_CPU}UL -ffunction-sections -fdata-sections")
 set(CMAKE_C_FLAGS_MINSIZEREL_INIT "-Os")
 set(CMAKE_BUILD_TYPE MinSizeRel CACHE STRING "Build type")
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
