@@ -11,6 +11,7 @@
 #include "test_util.h"
 
 #include "pdt_cost_state.h"
+#include "sim_process.h"
 #include "sim_rng.h"
 
 #include "cost_joint_vectors.h"
@@ -30,25 +31,6 @@ static pdt_real_t g_u[3][CJ_NMAX];
 static pdt_real_t g_y[3][CJ_NMAX];
 static pdt_real_t g_scratch[CJ_NMAX + CANARY_COUNT];
 static pdt_real_t g_work[3][CJ_WORK];
-
-static pdt_model_t shape_of(int kind, const double *p)
-{
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    if (kind == 0) {
-        m.kind = PDT_MODEL_FOPDT;
-        m.p.fopdt.K = (pdt_real_t)p[0];
-        m.p.fopdt.tau = (pdt_real_t)p[1];
-        m.p.fopdt.Td = (pdt_real_t)p[2];
-    } else {
-        m.kind = PDT_MODEL_SOPDT;
-        m.p.sopdt.k = (pdt_real_t)p[0];
-        m.p.sopdt.a = (pdt_real_t)p[1];
-        m.p.sopdt.b = (pdt_real_t)p[2];
-        m.p.sopdt.Td = (pdt_real_t)p[3];
-    }
-    return m;
-}
 
 static void prepare(size_t slot, size_t rec, const int *flags, pdt_cost_t *c)
 {
@@ -87,7 +69,7 @@ static void test_vectors(void **state)
             prepare(r, t->rec[r], t->flags, &c[r]);
             costs[r] = &c[r];
         }
-        const pdt_model_t shape = shape_of(t->kind, t->p);
+        const pdt_model_t shape = vector_model(t->kind + 1, t->p);
         pdt_cost_profile_t p;
         for (size_t k = 0; k < CANARY_COUNT; k++) {
             g_scratch[CJ_NMAX + k] = CANARY_VALUE;
@@ -121,7 +103,7 @@ static void test_bounds(void **state)
         prepare(r, t->rec[r], t->flags, &c[r]);
         costs[r] = &c[r];
     }
-    const pdt_model_t shape = shape_of(t->kind, t->p);
+    const pdt_model_t shape = vector_model(t->kind + 1, t->p);
     pdt_cost_profile_t f, b;
     assert_int_equal(pdt_cost_joint_profile(costs, t->count, &shape, (pdt_real_t)0.0,
                                             (pdt_real_t)0.0, NULL, g_scratch, &f),
@@ -146,17 +128,6 @@ static pdt_real_t g_ru[3][NMAX];
 static pdt_real_t g_ry[3][NMAX];
 static pdt_real_t g_iwork[WORK_REALS];
 static pdt_ident_t g_ctx;
-
-static pdt_model_t fopdt(double K, double tau, double Td)
-{
-    pdt_model_t m;
-    memset(&m, 0, sizeof m);
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = (pdt_real_t)K;
-    m.p.fopdt.tau = (pdt_real_t)tau;
-    m.p.fopdt.Td = (pdt_real_t)Td;
-    return m;
-}
 
 /* An overdamped SOPDT of DC gain K, time constants T1, T2, dead time Td. */
 static pdt_model_t sopdt(double K, double T1, double T2, double Td)
@@ -215,7 +186,7 @@ static void test_fopdt_two(void **state)
     pdt_model_t m;
     pdt_ident_config_t cfg;
     pdt_ident_result_t res;
-    m = fopdt(2.0, 10.0, 3.0);
+    m = model_fopdt(2.0, 10.0, 3.0);
     record(0, &m, 400u, (pdt_real_t)0.5, 40.0, 300.0, 5.0, 0.05, 3u);
     record(1, &m, 300u, (pdt_real_t)1.0, 60.0, 340.0, 8.0, 0.05, 4u);
     const pdt_ident_record_t more = {g_ru[1], g_ry[1], 300u, (pdt_real_t)1.0, false, 0};
@@ -278,7 +249,7 @@ static void test_refusals(void **state)
     pdt_model_t m;
     pdt_ident_config_t cfg;
     pdt_ident_result_t res;
-    m = fopdt(2.0, 10.0, 3.0);
+    m = model_fopdt(2.0, 10.0, 3.0);
     record(0, &m, 300u, (pdt_real_t)1.0, 40.0, 300.0, 5.0, 0.05, 3u);
     record(1, &m, 300u, (pdt_real_t)1.0, 60.0, 340.0, 8.0, 0.05, 4u);
     pdt_ident_record_t more[PDT_IDENT_MAX_RECORDS];

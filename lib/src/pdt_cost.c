@@ -826,6 +826,27 @@ static pdt_status_t eval_discretize(const pdt_cost_t *c, const pdt_model_t *m, p
     return check_dmodel(c, d);
 }
 
+/* The criterion's value, normalised, from its time part ct and its
+ * frequency part cf: pdt_cost_eval's and the profile's. */
+static pdt_real_t cost_total(const pdt_cost_t *c, pdt_real_t ct, pdt_real_t cf)
+{
+    const pdt_cost_kind_t kind = c->cfg.kind;
+    if (kind != PDT_COST_COMBINED) {
+        return (kind == PDT_COST_FREQUENCY) ? cf : ct;
+    }
+    pdt_real_t total = PDT_R(0.0);
+    if (c->cfg.phi_t > PDT_R(0.0)) {
+        total += c->cfg.phi_t * ct;
+    }
+    if (c->cfg.phi_f > PDT_R(0.0)) {
+        total += c->cfg.phi_f * cf;
+    }
+    if (!pdt_finite(total)) {
+        total = (pdt_real_t)INFINITY;
+    }
+    return total;
+}
+
 pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t *cost)
 {
     pdt_cost_kind_t kind;
@@ -860,20 +881,7 @@ pdt_status_t pdt_cost_eval(const pdt_cost_t *c, const pdt_model_t *m, pdt_real_t
     if (need_freq && (kind != PDT_COST_COMBINED || c->cfg.phi_f > PDT_R(0.0))) {
         cf = frequency_cost(c, m);
     }
-    if (kind == PDT_COST_COMBINED) {
-        total = PDT_R(0.0);
-        if (c->cfg.phi_t > PDT_R(0.0)) {
-            total += c->cfg.phi_t * ct;
-        }
-        if (c->cfg.phi_f > PDT_R(0.0)) {
-            total += c->cfg.phi_f * cf;
-        }
-        if (!pdt_finite(total)) {
-            total = (pdt_real_t)INFINITY;
-        }
-    } else {
-        total = need_time ? ct : cf;
-    }
+    total = cost_total(c, ct, cf);
     *cost = cost_units(c, total);
     return PDT_OK;
 }
@@ -1367,27 +1375,6 @@ static pdt_real_t prof_sim_fit(const pdt_cost_t *c, const pdt_discrete_t *d, siz
     return K;
 }
 
-/* The profile's cost, normalised, from its time part ct and frequency
- * part cf. */
-static pdt_real_t prof_total(const pdt_cost_t *c, pdt_real_t ct, pdt_real_t cf)
-{
-    const pdt_cost_kind_t kind = c->cfg.kind;
-    if (kind != PDT_COST_COMBINED) {
-        return (kind == PDT_COST_FREQUENCY) ? cf : ct;
-    }
-    pdt_real_t total = PDT_R(0.0);
-    if (c->cfg.phi_t > PDT_R(0.0)) {
-        total += c->cfg.phi_t * ct;
-    }
-    if (c->cfg.phi_f > PDT_R(0.0)) {
-        total += c->cfg.phi_f * cf;
-    }
-    if (!pdt_finite(total)) {
-        total = (pdt_real_t)INFINITY;
-    }
-    return total;
-}
-
 /* The profile of a checked shape with discrete model d. pre: the kernel's
  * sums around the reference (K0, c0) when a caller already ran them, else
  * NULL. */
@@ -1457,7 +1444,7 @@ static void profile_run(const pdt_cost_t *c, const pdt_model_t *shape, const pdt
     if (need_freq) {
         cf = freq_at(c, shape, K);
     }
-    total = prof_total(c, ct, cf);
+    total = cost_total(c, ct, cf);
     r.ncost = total;
     r.cost = cost_units(c, total);
     r.ct = cost_units(c, ct);
