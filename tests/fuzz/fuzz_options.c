@@ -68,7 +68,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         {"--text", OPT_TEXT, &v.text, &v.given[6], CHK_ANY, 0, 0, NULL, NULL, 0},
         {"--list", OPT_LIST, &v.list, &v.given[7], CHK_GT0, 0, 0, NULL, "> 0", 0},
     };
-    cli_parser_t p = {"identify", CMD_IDENTIFY, tab, sizeof tab / sizeof tab[0], &file, {0}};
+    /* identify's further records: up to three more positional arguments. */
+    const char *more[3] = {NULL, NULL, NULL};
+    size_t n_more = 0u;
+    const size_t n_tab = sizeof tab / sizeof tab[0];
+    const size_t max_more = sizeof more / sizeof more[0];
+    cli_parser_t p = {"identify", CMD_IDENTIFY, tab, n_tab, &file, {0}, more, &n_more, max_more};
     if (setjmp(g_back) != 0) {
         FZ_CHECK(g_status == EXIT_USAGE || g_status == 0);
         return 0;
@@ -84,6 +89,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FZ_CHECK(v.list.n >= 0 && v.list.n <= CLI_MAX_LIST);
     for (int i = 0; i < v.list.n; i++) {
         FZ_CHECK(isfinite(v.list.v[i]) && v.list.v[i] > 0.0);
+    }
+    FZ_CHECK(n_more <= max_more);
+    FZ_CHECK(n_more == 0u || file != NULL);
+    for (size_t i = 0; i < n_more; i++) {
+        FZ_CHECK(more[i] != NULL);
     }
     for (size_t i = 0; i < p.n_opt; i++) {
         FZ_CHECK(p.seen[i] == 0 || p.seen[i] == 1);
