@@ -22,8 +22,12 @@ void pdt_ident_band_start(pdt_ident_t *c)
         f = f_nyq;
     }
     f = f < f_bin ? f_bin : f;
-    size_t bins = (size_t)(f / f_bin);
-    bins = bins < 1u ? 1u : (bins > nb ? nb : bins);
+    /* The ratio in reals first: at the ends of the real range (a bin width
+     * that underflows, a Nyquist frequency that overflows) it is infinite
+     * or NaN, which no integer holds; the whole spectrum then. */
+    const pdt_real_t ratio = f / f_bin;
+    size_t bins = (ratio < (pdt_real_t)nb) ? (size_t)ratio : nb;
+    bins = bins < 1u ? 1u : bins;
     pdt_cost_config_t cc = c->cost.cfg;
     pdt_cost_t nc;
     cc.kind = c->cfg.cost;
