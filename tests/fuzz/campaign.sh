@@ -5,8 +5,8 @@
 # it has made its quota of executions or run SECONDS, whichever ends first.
 # A run that finds something is restarted on the corpus so far; the finding's
 # input stays in WORK_DIR/<target>/artifacts/. fuzz_ident and fuzz_autotune
-# run in their quick modes (FZ_IDENT_SMALL=1: records of at most 64 samples,
-# smaller budgets; FZ_AUTOTUNE_SMALL=1: capacities of at most 47 samples,
+# run in their quick modes (FZ_IDENT_SMALL=1: records of at most 24 samples,
+# smaller budgets; FZ_AUTOTUNE_SMALL=1: capacities of at most 31 samples,
 # smaller budgets) and without libFuzzer's entropic schedule (-entropic=0):
 # a whole search touches so many features that the schedule's bookkeeping
 # per feature took most of each run (docs/fuzzing.md).

@@ -20,10 +20,10 @@ static _Alignas(16) uint8_t g_work[WORK_BYTES + FZ_CANARY_LEN];
 
 /* The long campaign's quick mode (FZ_AUTOTUNE_SMALL=1 in the environment,
  * tests/fuzz/campaign.sh): capacities of at most SMALL_CAP + 7 samples and
- * identification budgets of at most 60 + 255 / 4 evaluations, a whole
+ * identification budgets of at most 60 + 255 / 16 evaluations, a whole
  * autotune being this target's cost; the bytes mean the same otherwise, so
  * the corpora serve both modes. */
-#define SMALL_CAP 40u
+#define SMALL_CAP 24u
 static uint32_t g_cap_max = CAP_MAX;
 static uint32_t g_budget_div = 1u;
 
@@ -37,7 +37,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
     const char *small = getenv("FZ_AUTOTUNE_SMALL");
     if (small != NULL && strcmp(small, "1") == 0) {
         g_cap_max = SMALL_CAP;
-        g_budget_div = 4u;
+        g_budget_div = 16u;
     }
     return 0;
 }
