@@ -1501,6 +1501,9 @@ static void test_errors_state(void **state)
     memcpy(&g_ctx2, &g_ctx, sizeof g_ctx);
     assert_int_equal(pdt_ident_step(&g_ctx, 0u), PDT_ERR_ARG);
     assert_memory_equal(&g_ctx, &g_ctx2, sizeof g_ctx);
+    /* The first call prepares the searches and evaluates nothing. */
+    assert_int_equal(pdt_ident_step(&g_ctx, 5u), PDT_RUNNING);
+    assert_int_equal(g_ctx.evaluations, 0u);
     assert_int_equal(pdt_ident_step(&g_ctx, 5u), PDT_RUNNING);
     /* Whole groups of the population only: 4 (one group) with vector
      * lanes, else 5. */

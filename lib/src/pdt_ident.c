@@ -623,7 +623,6 @@ static void screen_begin(pdt_ident_t *c, const pdt_ident_screen_t *screen, void 
  * good: the record checked, the cost prepared, the context written. screen
  * is the screen's state to keep (a record with samples left out), or NULL.
  * cfg, data and screen may lie in *ctx. */
-static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc);
 
 static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                           const pdt_ident_data_t *data, void *work, size_t work_len,
@@ -697,31 +696,23 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift || pdt_ident_multi(&cfg_in))
             ? 0u
             : rest_usable(&cfg_in, &c->data, quiet);
-    begin_search(c, &cc);
+    /* The searches begin at PH_PREPARE, in a call of their own: the coarse
+     * record and its cost weigh as much as the checks above (a scan of a
+     * control task's budget each). */
+    c->coarse.delay_max = (uint32_t)cc.delay_max;
+    c->phase = PH_PREPARE;
+    c->magic = IDENT_MAGIC;
     return PDT_OK;
 }
 
-/* The searches' budget, the coarse record, the first population. */
-static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc)
+/* PH_PREPARE: the searches' budget, the coarse record and its cost, the
+ * first population. */
+static void prepare_search(pdt_ident_t *c)
 {
     c->vote.searches = searches_of(&c->cfg);
     c->vote.budget = c->cfg.max_evaluations / c->vote.searches;
-    /* The searches' coarse record, its cost over the whole record's (the
-     * same workspace: PH_FINE prepares the whole one again). */
-    const size_t nc = pdt_ident_coarse_prepare(c, cc);
-    if (nc != 0u) {
-        const bool ok = pdt_cost_init(&c->cost, cc, c->scratch, &c->scratch[nc], nc, c->cost_work,
-                                      pdt_cost_workspace_size(cc, nc)) == PDT_OK;
-        pdt_ident_coarse_begin(c, ok, cc);
-        if (!ok) {
-            /* Not a record its cost takes (a block mean left the input
-             * still): the whole one, prepared again over what was written. */
-            (void)pdt_cost_init(&c->cost, cc, c->data.u, c->data.y, c->data.n, c->cost_work,
-                                c->cost_work_len);
-        }
-    }
+    pdt_ident_coarse_start(c);
     pdt_ident_ga_start(c);
-    c->magic = IDENT_MAGIC;
 }
 
 /* Several records: the further records' costs prepared after the rest of
@@ -840,6 +831,9 @@ static uint32_t group_of(const pdt_ident_t *c)
 static void run_stage(pdt_ident_t *c)
 {
     switch (c->phase) {
+    case PH_PREPARE:
+        prepare_search(c);
+        break;
     case PH_INIT_POP:
         pdt_ident_ga_eval_parent(c);
         break;
@@ -921,6 +915,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         return PDT_ERR_STATE;
     }
     static const uint8_t STAGE_NEEDS[PH_COUNT] = {
+        [PH_PREPARE] = HEAVY,
         [PH_INIT_POP] = NEEDS_BUDGET | EVALUATES | GROUP,
         [PH_BREED] = NEEDS_BUDGET | HEAVY,
         [PH_EVAL_OFF] = NEEDS_BUDGET | EVALUATES | GROUP,
@@ -950,7 +945,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
     const uint64_t cap = (uint64_t)max_evaluations * ctx->data.n;
     uint64_t budget = cap;
     while (ctx->phase != PH_DONE) {
-        if (ctx->phase < PH_INIT_POP || ctx->phase >= PH_DONE) {
+        if (ctx->phase < PH_PREPARE || ctx->phase >= PH_DONE) {
             return PDT_ERR_STATE;
         }
         const uint32_t needs = STAGE_NEEDS[ctx->phase];

@@ -108,7 +108,10 @@ static size_t factor_of(const pdt_ident_t *c)
     return D >= 2u ? D : 1u;
 }
 
-size_t pdt_ident_coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
+/* The decimation D and the coarse record of n / D samples in the scratch
+ * (u, then y), cc changed to its cost's configuration; 0 when the record
+ * is searched whole (cc unchanged). */
+static size_t coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
 {
     c->coarse.factor = 1u;
     c->coarse.stage = 0u;
@@ -142,7 +145,9 @@ size_t pdt_ident_coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
     return nc;
 }
 
-void pdt_ident_coarse_begin(pdt_ident_t *c, bool prepared, pdt_cost_config_t *cc)
+/* Whether the coarse record's cost was prepared: if not, cc is set back
+ * and the whole record is searched. */
+static void coarse_begin(pdt_ident_t *c, bool prepared, pdt_cost_config_t *cc)
 {
     if (!prepared) {
         /* Searched whole: the configuration back to the whole record's. */
@@ -153,6 +158,29 @@ void pdt_ident_coarse_begin(pdt_ident_t *c, bool prepared, pdt_cost_config_t *cc
     }
     c->coarse.stage = 1u;
     c->vote.budget = (c->cfg.max_evaluations - c->cfg.refine_evaluations) / c->vote.searches;
+}
+
+void pdt_ident_coarse_start(pdt_ident_t *c)
+{
+    /* The configuration init prepared the whole record's cost with, from
+     * that cost's copy: its delay bound as given, the caller's weights. */
+    pdt_cost_config_t cc = c->cost.cfg;
+    cc.delay_max = (size_t)c->coarse.delay_max;
+    cc.weights = c->cfg.weights;
+    /* The coarse cost over the whole one's, in the same workspace (PH_FINE
+     * prepares the whole one again). */
+    const size_t nc = coarse_prepare(c, &cc);
+    if (nc != 0u) {
+        const bool ok = pdt_cost_init(&c->cost, &cc, c->scratch, &c->scratch[nc], nc, c->cost_work,
+                                      pdt_cost_workspace_size(&cc, nc)) == PDT_OK;
+        coarse_begin(c, ok, &cc);
+        if (!ok) {
+            /* Not a record its cost takes (a block mean left the input
+             * still): the whole one, prepared again over what was written. */
+            (void)pdt_cost_init(&c->cost, &cc, c->data.u, c->data.y, c->data.n, c->cost_work,
+                                c->cost_work_len);
+        }
+    }
 }
 
 bool pdt_ident_coarse_pending(pdt_ident_t *c)

@@ -29,7 +29,8 @@
 
 /* The sequencer's stages (pdt_ident_t.phase). */
 enum {
-    PH_INIT_POP = 1,   /* evaluating the initial population */
+    PH_PREPARE = 1,    /* the searches' coarse record, its cost, the population */
+    PH_INIT_POP,       /* evaluating the initial population */
     PH_BREED,          /* breeding a generation */
     PH_EVAL_OFF,       /* evaluating offspring */
     PH_BAND,           /* CONTROL weighting: the band from the time model */
@@ -212,14 +213,11 @@ void pdt_ident_rest_start(pdt_ident_t *c);
 
 /* ---- pdt_ident_coarse.c */
 
-/* At init, after the whole record's cost (cc) was prepared: the
- * decimation D and the coarse record of n / D samples in the scratch (u,
- * then y), cc changed to its cost's configuration; 0 when the record is
- * searched whole (cc unchanged). Init then prepares the coarse record's
- * cost over the whole one's and says whether that succeeded: if not, cc
- * is set back and the whole record is searched. */
-size_t pdt_ident_coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc);
-void pdt_ident_coarse_begin(pdt_ident_t *c, bool prepared, pdt_cost_config_t *cc);
+/* PH_PREPARE, after init prepared the whole record's cost: the
+ * decimation D, the coarse record of n / D samples and its cost over the
+ * whole one's; the whole record searched when D < 2 or that cost refuses
+ * the coarse record (the whole one's prepared again). */
+void pdt_ident_coarse_start(pdt_ident_t *c);
 /* The searches concluded on the coarse record: PH_FINE. */
 bool pdt_ident_coarse_pending(pdt_ident_t *c);
 /* PH_FINE: the whole record's cost, then the answer polished on it, or
