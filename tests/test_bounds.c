@@ -553,6 +553,49 @@ static void test_ident_gain_bounds_beyond_float(void **state)
     }
 }
 
+/* fuzz_ident's input (tests/fuzz/corpus/ident/finding-gain-unit-underflow):
+ * a SOPDT with its gain bounded to [-1.7e38, 0] on a record of 22 samples.
+ * Shapes whose b underflowed to a few denormals scaled both gain bounds to
+ * zero, which the cost reads as no bound, and the answer came back with a
+ * positive gain. Such shapes are now refused; the gain keeps its bounds. */
+static void test_ident_gain_unit_underflow(void **state)
+{
+    (void)state;
+    static pdt_real_t u[22], y[22];
+    const pdt_real_t level = R(0.0185039993);
+    for (size_t k = 0; k < 22u; k++) {
+        u[k] = k < 16u ? R(-1290.0) : level;
+        y[k] = k < 5u ? R(7.71000004) : level;
+    }
+    y[0] = R(14727000.0);
+    y[4] = R(8.39999962);
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.model = PDT_MODEL_SOPDT;
+    cfg.cost = PDT_COST_PREDICTION;
+    cfg.time_kind = PDT_COST_PREDICTION;
+    cfg.weight = PDT_IDENT_WEIGHT_UNIFORM;
+    cfg.delay_mode = PDT_DELAY_FRACTIONAL;
+    cfg.Ts = R(0.17);
+    cfg.K_min = R(-1.70141183e38);
+    cfg.K_max = R(0.0);
+    cfg.zeta_min = R(1.1264e19);
+    cfg.integrating = true;
+    cfg.population = 6u;
+    cfg.max_evaluations = 40u;
+    cfg.refine_evaluations = 15u;
+    cfg.coarse = 7u;
+    cfg.seed = 2308374423u;
+    pdt_ident_result_t r;
+    const pdt_status_t st = ident_steps(&cfg, u, y, 22u, 1u, &r);
+    if (st == PDT_OK) {
+        const pdt_model_sopdt_t *p = &r.model.p.sopdt;
+        /* The DC gain k / b, or the integrating gain k / a. */
+        const pdt_real_t K = p->b > R(0.0) ? p->k / p->b : p->k / p->a;
+        assert_true(K >= cfg.K_min && K <= cfg.K_max);
+    }
+}
+
 /* fuzz_ident's input (tests/fuzz/corpus/ident/finding-coarse-budget): a
  * FOPDT on a coarse record of half the samples, 143 evaluations in all.
  * The dead-time profile took the searches' budget to its last evaluation,
@@ -607,6 +650,7 @@ int main(void)
         cmocka_unit_test(test_ident_tau_bound_at_scale),
         cmocka_unit_test(test_ident_empty_band_writes_nothing),
         cmocka_unit_test(test_ident_gain_bounds_beyond_float),
+        cmocka_unit_test(test_ident_gain_unit_underflow),
         cmocka_unit_test(test_ident_coarse_budget),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -178,6 +178,14 @@ void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_r
     }
     *lo = c->cfg.K_min * scale;
     *hi = c->cfg.K_max * scale;
+    if (*lo == PDT_R(0.0) && *hi == PDT_R(0.0)) {
+        /* Bounds the shape's gain unit scales below the real type's range
+         * (a SOPDT whose b underflows): 0, 0 would tell the cost there is
+         * no bound at all. An empty interval instead: the cost refuses the
+         * shape, as no gain within the bounds can be represented on it. */
+        *lo = PDT_R(1.0);
+        *hi = PDT_R(-1.0);
+    }
 }
 
 /* The search's best follows the candidates. */
