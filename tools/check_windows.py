@@ -32,7 +32,8 @@ import tempfile
 import numpy as np
 
 from pdtsupport.cli import write_csv
-from pdtsupport.records import multistep_input, noise, simulate
+from pdtsupport.plant import simulate
+from pdtsupport.records import multistep_input, noise
 
 # Keys of the search's trace and of flat maxima, and their tolerances.
 TRACE = {"evaluations", "scans", "identify", "std", "cov", "ci95", "cost", "bic", "evidence",

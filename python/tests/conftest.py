@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from pdtsupport import cli
-from pdtsupport import records as shared
+from pdtsupport import cli, plant
+from pdtsupport.records import multistep_input
 from pdtsupport.rng import Lcg64
 
 
@@ -20,7 +20,7 @@ def pytest_runtest_setup(item):
 def multistep(n, u0, amp, seed, rest=20):
     """Steps of 20 to 59 samples at random levels around u0, after `rest`
     samples at u0 (the tools' shared record maker)."""
-    return shared.multistep_input(n, u0, amp, 20, 59, rest, seed)
+    return multistep_input(n, u0, amp, 20, 59, rest, seed)
 
 
 def sopdt_response(u, u0, y0, K, T1, T2, delay, noise, seed):
@@ -28,7 +28,7 @@ def sopdt_response(u, u0, y0, K, T1, T2, delay, noise, seed):
     from rest behind a zero-order hold (the tools' shared simulator), plus
     noise."""
     den = np.polymul([T1, 1.0], [T2, 1.0]) if T2 else np.array([T1, 1.0])
-    y = y0 + shared.simulate([K], den, float(delay), np.asarray(u, float) - u0, 1.0)
+    y = y0 + plant.simulate([K], den, float(delay), np.asarray(u, float) - u0, 1.0)
     rng = Lcg64(seed + 1)
     return y + noise * np.array([rng.gauss() for _ in range(len(u))])
 

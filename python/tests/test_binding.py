@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import pdtfit
-from pdtsupport import cli, status
+from pdtsupport import cli, plant, status
 
 cli_test = pytest.mark.cli
 
@@ -264,11 +264,7 @@ def test_read_csv_bad_value_and_bad_rows(records, tmp_path):
 def _fopdt_response(u, Ts, u0):
     """20 + the response of 2 e^(-1.3 s) / (5 s + 1), at rest at u0 before
     the record, to u (zero-order hold, whole-sample dead time)."""
-    a, d = math.exp(-Ts / 5.0), int(round(1.3 / Ts))
-    du = np.r_[np.zeros(d + 1), np.asarray(u) - u0]
-    y = np.zeros(len(u))
-    for k in range(1, len(u)):
-        y[k] = a * y[k - 1] + 2.0 * (1.0 - a) * du[k - 1]
+    y = plant.first_order(2.0, math.exp(-Ts / 5.0), np.asarray(u) - u0, int(round(1.3 / Ts)) + 1)
     return 20.0 + y + np.random.default_rng(5).normal(0.0, 0.01, len(u))
 
 

@@ -36,11 +36,9 @@ import string
 import subprocess
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.optimize as so
-import scipy.signal as ss
 
-from pdtsupport import provenance
+from pdtsupport import plant, provenance
 from pdtsupport.status import NAMES, STATUS as CODES
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -142,48 +140,14 @@ def batch():
 
 # ------------------------------------------------------------------ simulation
 
-def ss_real(p):
-    A, B, C, D = ss.tf2ss(p.num, p.den)
-    return A, B[:, 0], C[0, :]
-
-
-def phi_gamma(A, B, t):
-    n = A.shape[0]
-    M = np.zeros((n + 1, n + 1))
-    M[:n, :n] = A * t
-    M[:n, n] = B * t
-    E = sla.expm(M)
-    return E[:n, :n], E[:n, n]
-
-
 def zoh_delay(p, Ts):
     """x[k+1] = Phi x[k] + Gb u[k-l] + Ga u[k-l-1] for the dead time (l+f) Ts."""
-    A, B, C = ss_real(p)
-    x = p.L / Ts
-    l = int(math.floor(x + 1e-9))
-    f = x - l
-    if f < 1e-9:
-        f = 0.0
-    Phi, _ = phi_gamma(A, B, Ts)
-    Pm, Gm = phi_gamma(A, B, (1.0 - f) * Ts)
-    _, Gf = phi_gamma(A, B, f * Ts)
-    return Phi, Gm, Pm @ Gf, C, l
+    return plant.fractional(p.num, p.den, p.L, Ts)
 
 
 def sim_step(h, p, n_steps):
     """Open-loop unit step response at t = k h (exact ZOH, L a whole number of steps)."""
-    A, B, C = ss_real(p)
-    Phi, G = phi_gamma(A, B, h)
-    m = int(round(p.L / h))
-    x = np.zeros(len(B))
-    y = np.zeros(n_steps)
-    for k in range(n_steps):
-        y[k] = C @ x
-        if k >= m:
-            x = Phi @ x + G
-        else:
-            x = Phi @ x
-    return y
+    return plant.step_response(p.num, p.den, p.L, h, n_steps)
 
 
 def time_scale(p):
@@ -218,22 +182,17 @@ def closed_loop(p, g, scale, load):
     error left at the end (to flag loops that have not settled)."""
     Kc, tI, tD, Tf = g
     h = sim_grid(p, scale)
-    A, B, C = ss_real(p)
-    Phi, G = phi_gamma(A, B, h)
-    m = int(round(p.L / h))
+    sim = plant.Fine(p.num, p.den, h, int(round(p.L / h)))
     n_steps = int(round(SIM_SPAN * scale / h))
     r = 0.0 if load else 1.0
     d = 1.0 if load else 0.0
-    x = np.zeros(len(B))
-    buf = [0.0] * (m + 1)
     I = 0.0
     xf = 0.0
     af = math.exp(-h / Tf) if Tf > 0 else 0.0
     iae = 0.0
     e = 0.0
-    bi = 0
-    for k in range(n_steps):
-        y = float(C @ x)
+    for _ in range(n_steps):
+        y = sim.output()
         e = r - y
         if not math.isfinite(y) or abs(y) > 1e6:
             return float("inf"), float("inf")
@@ -248,9 +207,7 @@ def closed_loop(p, g, scale, load):
         u = Kc * (e + I + ud)
         I += h * e / tI
         iae += abs(e) * h
-        buf[bi] = u + d
-        bi = (bi + 1) % (m + 1)
-        x = Phi @ x + G * buf[bi]     # the input of m steps ago
+        sim.advance(u + d)             # moved by the input of L before
     return iae, abs(e)
 
 

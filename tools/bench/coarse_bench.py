@@ -40,7 +40,7 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 from pdtsupport import provenance  # noqa: E402
-from pdtsupport.records import simulate  # noqa: E402
+from pdtsupport.plant import simulate  # noqa: E402
 
 PDTFIT = pathlib.Path(os.environ.get("PDTFIT_BIN", ROOT / "build" / "bench" / "tools" / "pdtfit"))
 N = 1200

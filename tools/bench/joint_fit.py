@@ -21,7 +21,7 @@ import scipy.optimize as so
 
 from pdtbench import benchlib as bl
 from pdtbench.benchlib import models
-from pdtsupport import records as shared
+from pdtsupport import plant, records
 
 
 # The test cases of several records (python/tests/test_several.py and
@@ -40,8 +40,8 @@ PLANTS = {
 def make_record(num, den, Td, n, Ts, u0, y0, amp, noise, seed):
     """(u, y, fs): steps around u0 after a rest, the plant's response
     behind a zero-order hold around y0, white noise of std `noise`."""
-    u = shared.multistep_input(n, u0, amp, 15, 45, 10, seed)
-    y = y0 + shared.simulate(num, den, Td, u - u0, Ts)
+    u = records.multistep_input(n, u0, amp, 15, 45, 10, seed)
+    y = y0 + plant.simulate(num, den, Td, u - u0, Ts)
     rng = np.random.default_rng(seed)
     return u, y + noise * rng.standard_normal(n), 1.0 / Ts
 

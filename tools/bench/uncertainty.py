@@ -26,7 +26,7 @@ import tempfile
 
 import numpy as np
 
-from pdtsupport.records import simulate
+from pdtsupport.plant import simulate
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 TEMPLATE = pathlib.Path(__file__).with_name("uncertainty_template.md")

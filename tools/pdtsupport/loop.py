@@ -1,14 +1,15 @@
 """Closed-loop records for the loop-performance monitor's tests and report:
 a PI controller (velocity form, its own discretisation) around a
-continuous plant simulated on a fine grid (scipy's zero-order-hold state
-space), with a valve (limits, stiction), load disturbances at the plant
-input, measurement noise and set-point steps. Written apart from the C
+continuous plant simulated on a fine grid (pdtsupport.plant.Fine), with
+a valve (limits, stiction), load disturbances at the plant input,
+measurement noise and set-point steps. Written apart from the C
 library: it shares no code with pdt_monitor, pdt_pid or pdt_discrete."""
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.signal as ss
 
+from pdtsupport.plant import Fine
 from pdtsupport.rng import Lcg64
 
 
@@ -137,13 +138,7 @@ def simulate(plant, sc, seed, sub=4):
     rng = np.random.default_rng(seed)
     load, sp, noise = _disturbances(sc, plant, rnd, rng)
     h = plant.Ts / sub
-    num, den = plant.tf(plant.K * sc.gain_factor)
-    A, B, C, D, _ = ss.cont2discrete(ss.tf2ss(num, den), h, method="zoh")
-    x = np.zeros(A.shape[0])
-    shift = int(round(plant.Td / h))
-    fifo = [0.0] * (shift + 1)  # the plant's input, shift substeps back
-    at = 0
-    Bv, Cv, Dv = B[:, 0], C[0], float(D[0, 0])
+    sim = Fine(*plant.tf(plant.K * sc.gain_factor), h, int(round(plant.Td / h)))
     u = np.zeros(sc.n)
     pv = np.zeros(sc.n)
     uk, valve, e_last, y = 0.0, 0.0, 0.0, 0.0
@@ -157,10 +152,8 @@ def simulate(plant, sc, seed, sub=4):
         if abs(uk - valve) > sc.stiction:
             valve = uk
         for _ in range(sub):
-            fifo[at] = valve + load[k]
-            at = (at + 1) % len(fifo)
-            x = A @ x + Bv * fifo[at]
-        y = float(Cv @ x + Dv * fifo[at])
+            w = sim.advance(valve + load[k])
+        y = sim.output_fed(w)
     return {"t": np.arange(sc.n) * plant.Ts, "sp": sp + sc.pv0, "pv": pv + sc.pv0,
             "u": u + sc.u0}
 

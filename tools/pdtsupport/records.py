@@ -1,10 +1,8 @@
-"""Records the command-line tests share: simulated with scipy.signal (the
-process driven by a zero-order-hold input, its dead time applied by
-shifting the input on a fine grid on which the delayed switching instants
-fall), and the check of a recovered FOPDT."""
+"""What the command-line tests' records share (simulated by
+pdtsupport.plant.simulate): their input, noise, operating point and
+length, and the check of a recovered FOPDT."""
 import numpy as np
 import pytest
-import scipy.signal as ss
 
 from pdtsupport.cli import FOPDT_KEYS
 from pdtsupport.rng import Lcg64
@@ -22,19 +20,6 @@ def multistep_input(n, u0, amp, hold_min, hold_max, rest, seed):
         sign = -sign
         k += hold
     return u
-
-
-def simulate(num, den, Td, u, Ts, sub=20):
-    """Samples y(k Ts) of num/den e^{-Td s} for the ZOH input u (deviations),
-    from rest. Td must be a multiple of Ts / sub."""
-    h = Ts / sub
-    shift = round(Td / h)
-    assert abs(shift * h - Td) < 1e-9
-    uf = np.repeat(u, sub)
-    uf = np.concatenate([np.zeros(shift), uf])[: len(uf)]
-    t = np.arange(len(uf)) * h
-    _, yf, _ = ss.lsim((num, den), uf, t, interp=False)
-    return yf[::sub]
 
 
 def noise(n, std, seed):

@@ -7,7 +7,8 @@ generated vectors and benchmark records must not change with it).
   stream of sim_rng_* in tools/sim/sim_rng.h;
 - Lcg64: 64-bit LCG, Knuth's MMIX constants (the command-line tests'
   records, the monitor report's loops);
-- SplitMix64 (the identification benchmark): the stream of sim_rng64_*.
+- SplitMix64 (the identification benchmark): the stream of sim_rng64_*;
+- Xorshift32: Marsaglia's xorshift32 (the GA operators' vectors).
 """
 import math
 
@@ -109,3 +110,22 @@ class SplitMix64:
         u1 = 1.0 - self.uniform(n)      # (0, 1]
         u2 = self.uniform(n)
         return np.sqrt(-2.0 * np.log(u1)) * np.cos(2.0 * math.pi * u2)
+
+
+class Xorshift32:
+    """Marsaglia's xorshift32 (13, 17, 5), an iterator of floats in [0, 1)
+    from the top 24 bits; a zero seed is taken as 1."""
+
+    def __init__(self, seed):
+        self.state = seed & MASK32 or 1
+
+    def __iter__(self):
+        return self
+
+    def __next__(self):
+        s = self.state
+        s ^= (s << 13) & MASK32
+        s ^= s >> 17
+        s ^= (s << 5) & MASK32
+        self.state = s
+        return (s >> 8) / float(1 << 24)

@@ -10,12 +10,12 @@ the demo's seed, twelve uniforms a normal: pdtsupport.rng.Lcg32.normal12,
 sim_rng_normal in tools/sim/sim_rng.h), one stream shared by the records in
 the order the demo makes them (chirp for Table 1, chirp again for Table 2,
 pulse-1, pulse-2). The sampled response is exact here as in the demo (the
-matrix exponential of a zero-order hold: scipy's here, the shared
-simulator's there), so the two agree to rounding.
+matrix exponential of a zero-order hold: pdtsupport.plant's here, the
+shared simulator of tools/sim there), so the two agree to rounding.
 """
 import numpy as np
-import scipy.signal as ss
 
+from pdtsupport import plant
 from pdtsupport.rng import Lcg32
 
 FS = 20.0
@@ -61,8 +61,7 @@ def freq17(w):
 def step17(t):
     """Unit-step response of (17) at times t (s, from 0, uniform)."""
     t = np.asarray(t, dtype=float)
-    _, y = ss.step(tf17(), T=t)
-    return y
+    return plant.simulate(*tf17(), 0.0, np.ones(t.size), t[1] - t[0], sub=1)
 
 
 def excitation(name, t):
@@ -81,12 +80,7 @@ def excitation(name, t):
 def simulate17(ud):
     """y[k]: response of (17) at k Ts, from rest, to ud[0..k-1] held over each
     period (y[0] = 0), as plant17_simulate samples it."""
-    n = len(ud)
-    t = np.arange(n + 1) * TS
-    # lsim with interp=False holds each input over its period; the sample at
-    # (k+1) Ts then sees u[0..k].
-    _, y, _ = ss.lsim(tf17(), np.append(ud, ud[-1]), t, interp=False)
-    return y[:n]
+    return plant.simulate(*tf17(), 0.0, ud, TS, sub=1)
 
 
 def records():

@@ -19,7 +19,8 @@ from scipy.optimize import brentq
 
 from pdtsupport.cli import FOPDT_KEYS, ROOT, SOPDT_KEYS, assert_usage_error, parse_output, \
     run, write_csv
-from pdtsupport.records import N, TS, U0, Y0, check_fopdt, multistep_input, noise, simulate
+from pdtsupport.plant import simulate
+from pdtsupport.records import N, TS, U0, Y0, check_fopdt, multistep_input, noise
 
 pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from pdtsupport.cli import FOPDT_KEYS, assert_usage_error, run
-from pdtsupport.records import N, TS, U0, Y0, check_fopdt, multistep_input, noise, simulate
+from pdtsupport.plant import simulate
+from pdtsupport.records import N, TS, U0, Y0, check_fopdt, multistep_input, noise
 
 pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 

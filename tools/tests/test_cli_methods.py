@@ -13,7 +13,7 @@ import pytest
 
 from pdtsupport.cli import LS_FOPDT_KEYS, LS_SOPDT_KEYS, assert_usage_error, parse_output, run, \
     write_csv
-from pdtsupport import records
+from pdtsupport import plant, records
 
 pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 
@@ -156,12 +156,7 @@ def fopdt_record(K=2.0, tau=5.0, l=13, n=600, u0=50.0, y0=20.0):
     """Exact samples of K e^{-l Ts s}/(tau s + 1) behind a ZOH: the
     difference equation (3) is exact for it."""
     u = multistep(n, u0, 7)
-    a = np.exp(-TS / tau)
-    y = np.zeros(n)
-    for k in range(1, n):
-        uk = u[k - 1 - l] - u0 if k - 1 - l >= 0 else 0.0
-        y[k] = a * y[k - 1] + K * (1 - a) * uk
-    return u, y0 + y
+    return u, y0 + plant.first_order(K, np.exp(-TS / tau), u - u0, l)
 
 
 def sopdt_record(K=1.5, T1=4.0, T2=1.0, l=8, n=800, u0=10.0, y0=3.0):

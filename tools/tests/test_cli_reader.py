@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from pdtsupport.cli import assert_usage_error, run
-from pdtsupport.records import N, TS, U0, Y0, multistep_input, noise, simulate
+from pdtsupport.plant import simulate
+from pdtsupport.records import N, TS, U0, Y0, multistep_input, noise
 
 pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 

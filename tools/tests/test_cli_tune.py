@@ -22,9 +22,9 @@ import subprocess
 
 import numpy as np
 import pytest
-import scipy.signal as ss
 
 from pdtsupport.cli import MODEL_KEYS, TUNE_KEYS, assert_usage_error, parse_output, run
+from pdtsupport.plant import Fine
 
 pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 
@@ -450,16 +450,15 @@ def replay(num, den, delay, Ts, u, sub):
     h = Ts / sub
     l = int(round(delay / h))
     assert abs(l * h - delay) < 1e-9
-    A, B, C, D, _ = ss.cont2discrete(ss.tf2ss(num, den), h, method="zoh")
-    uf = np.concatenate([np.zeros(l), np.repeat(u, sub)])[:len(u) * sub]
-    x = np.zeros(A.shape[0])
+    sim = Fine(num, den, h, l)
     y = np.empty(len(u))
-    for k in range(len(uf)):
+    w = 0.0
+    for k, uk in enumerate(np.repeat(u, sub)):
         if k % sub == 0:
             # Read before the scan's output is applied: the feedthrough sees
             # the delayed input of the instant just before.
-            y[k // sub] = (C @ x).item() + D.item() * (uf[k - 1] if k else 0.0)
-        x = A @ x + B[:, 0] * uf[k]
+            y[k // sub] = sim.output_fed(w)
+        w = sim.advance(uk)
     return y
 
 

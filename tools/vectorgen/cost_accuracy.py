@@ -19,6 +19,7 @@ import numpy as np
 from pdtref import cost as ref
 
 from . import _emit
+from pdtsupport import plant
 from pdtsupport.rng import Lcg32 as Lcg
 from . import cost as base
 
@@ -60,12 +61,7 @@ def record(n, seed, hold, amp, su, sy, uoff, yoff):
     rng = Lcg(seed)
     u = rng.bits(n, hold)
     noise = rng.noise(amp, n)
-    x = 0.0
-    y = np.zeros(n)
-    for k in range(n):
-        ud = u[k - 1 - PLANT_L] if k >= 1 + PLANT_L else 0.0
-        x = a * x + b * ud
-        y[k] = x + noise[k]
+    y = plant.first_order(PLANT_K, a, u, PLANT_L) + noise
     us = np.float32(su * u + uoff * su).astype(np.float64)
     ys = np.float32(sy * y + yoff * sy).astype(np.float64)
     return a, b, us, ys

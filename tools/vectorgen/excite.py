@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from pdtref import excite as E
+from pdtsupport import plant
 from pdtsupport.rng import Lcg32
 
 from . import _emit
@@ -115,12 +116,7 @@ def rec_cases():
     def stream_step(m, D, u0, u1, y0, gain, k_step, seed, noise=0.02):
         """Scans of a first-order response to a step of u at scan k_step."""
         u = np.where(np.arange(m) >= k_step, u1, u0)
-        y = np.empty(m)
-        x = 0.0
-        a = math.exp(-1.0 / 15.0)
-        for i in range(m):
-            y[i] = y0 + x
-            x = a * x + (1 - a) * gain * (u[i] - u0)
+        y = y0 + plant.first_order(gain, math.exp(-1.0 / 15.0), u - u0)
         nz = (np.array(lcg(seed, m)) - 127.5) / 128.0
         return u, grid(y + noise * nz)
 

@@ -19,6 +19,7 @@ are the reference's float64 results. The header stores
 import numpy as np
 
 from pdtref import ga
+from pdtsupport.rng import Xorshift32
 
 from . import _emit
 
@@ -46,17 +47,6 @@ def f32(x):
 
 U_GRID = tuple(f32(u) for u in U_GRID)
 MUT_U = tuple(f32(u) for u in MUT_U)
-
-
-def xorshift32(seed):
-    """Marsaglia's xorshift32 as a generator of floats in [0, 1); plain
-    integers, independent of numpy's random streams."""
-    s = seed & 0xFFFFFFFF or 1
-    while True:
-        s ^= (s << 13) & 0xFFFFFFFF
-        s ^= s >> 17
-        s ^= (s << 5) & 0xFFFFFFFF
-        yield (s >> 8) / float(1 << 24)
 
 
 def inside(frac, lo, hi):
@@ -116,7 +106,7 @@ def sbx_part():
                 c1, c2 = ga.sbx(p1, p2, lo, hi, eta, np.array(U_GRID))
                 for x1, x2 in zip(c1, c2):
                     grid += [x1, x2]
-    rand = xorshift32(0x5B7)
+    rand = Xorshift32(0x5B7)
     rows = []
     for _ in range(RANDOM_CASES):
         lo = f32(-10 + 10 * next(rand))
@@ -152,7 +142,7 @@ def mutation_part():
             xs.append(x)
             for eta in ETAS:
                 grid += [float(v) for v in ga.mutate(x, lo, hi, eta, np.array(MUT_U))]
-    rand = xorshift32(0xA11CE)
+    rand = Xorshift32(0xA11CE)
     rows = []
     for _ in range(RANDOM_CASES):
         lo = f32(-10 + 10 * next(rand))
@@ -180,7 +170,7 @@ SHARE_CASES = ((1, 2, 0.3, 1.0, "rand"), (2, 1, 0.5, 1.0, "same"), (5, 3, 0.4, 1
 
 
 def share_part():
-    rand = xorshift32(0x5A4E)
+    rand = Xorshift32(0x5A4E)
     genes, los, his, costs, shared = [], [], [], [], []
     for n, g, sigma, alpha, layout in SHARE_CASES:
         lo = np.array([f32(-3 + 3 * next(rand)) for _ in range(g)])
