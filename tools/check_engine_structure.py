@@ -13,8 +13,14 @@ The figures:
                larger lowers the first figure, not this one
   phase_writes assignments of an identification phase (`phase = PH_...`)
                in lib/src files other than the sequencer, pdt_ident.c
-  kind_tests   binary tests `== PDT_MODEL_...` / `!= PDT_MODEL_...` outside
-               the model-kind layer (lib/src/pdt_model*.c)
+  kind_tests   places outside the model-kind layer (the files in
+               KIND_LAYER: lib/src/pdt_model.c and its private header) that
+               tell the model kinds apart: a comparison with an enumerator
+               of pdt_model_kind_t (==, !=, <, >, <=, >=, with either side
+               first, so `kind == X ? a : b` counts) or a `case` label of
+               one, in lib/src's sources and headers and lib/include's
+               headers; and in the layer, a `default:` label, which would
+               keep -Wswitch from naming a switch a new kind must fill
   stage_state  structs of the engine's stage state defined in the public
                header lib/include/pdt/pdt_ident.h: those no prototype names,
                directly or through a struct it holds (they belong in
@@ -36,7 +42,8 @@ SRC = ROOT / "lib" / "src"
 LIMITS = ROOT / "tools" / "engine_structure_limits.txt"
 SEQUENCER = "pdt_ident.c"
 PHASE_WRITE = re.compile(r"\bphase\s*=\s*PH_\w+")
-KIND_TEST = re.compile(r"[!=]=\s*PDT_MODEL_\w+|PDT_MODEL_\w+\s*[!=]=")
+KIND_LAYER = ("pdt_model.c", "pdt_model_priv.h")
+MODEL_H = ROOT / "lib" / "include" / "pdt" / "pdt_model.h"
 
 
 def symbols(cc, tmp):
@@ -108,14 +115,45 @@ def cycles(g):
     return comps
 
 
+def strip_comments(text):
+    return re.sub(r"/\*.*?\*/|//[^\n]*", "", text, flags=re.S)
+
+
 def grep_counts(pattern, files):
     """{file name: matches} over files, comments stripped."""
     out = {}
     for f in files:
-        text = re.sub(r"/\*.*?\*/", "", f.read_text(), flags=re.S)
-        n = len(pattern.findall(text))
+        n = len(pattern.findall(strip_comments(f.read_text())))
         if n:
             out[f.name] = n
+    return out
+
+
+def kind_enumerators(header_text):
+    """The enumerators of pdt_model_kind_t in the text of pdt_model.h."""
+    m = re.search(r"typedef enum pdt_model_kind \{(.*?)\} pdt_model_kind_t;",
+                  strip_comments(header_text), re.S)
+    return re.findall(r"\b(PDT_\w+)\s*(?:=[^,}]*)?(?:,|$)", m.group(1).strip())
+
+
+def kind_test_pattern(names):
+    """A comparison with one of the enumerators names, either side first,
+    or a case label of one."""
+    alt = "(?:%s)\\b" % "|".join(map(re.escape, names))
+    op = r"(?:[!=<>]=|<(?!<)|>(?!>))"
+    return re.compile(r"(?<![-<>])%s[\s(]*%s|\b%s[\s)]*%s|\bcase[\s(]+%s" % (op, alt, alt, op, alt))
+
+
+def kind_tests(root=ROOT):
+    """{file: count} of the kind tests outside the layer and of the
+    default labels in it."""
+    names = kind_enumerators((root / MODEL_H.relative_to(ROOT)).read_text())
+    src = root / "lib" / "src"
+    files = sorted(src.glob("*.[ch]")) + sorted((root / "lib" / "include").rglob("*.h"))
+    out = grep_counts(kind_test_pattern(names),
+                      [f for f in files if f.name not in KIND_LAYER])
+    layer = grep_counts(re.compile(r"\bdefault\s*:"), [src / n for n in KIND_LAYER])
+    out.update({"%s (default labels)" % k: v for k, v in layer.items()})
     return out
 
 
@@ -144,14 +182,15 @@ def measure(cc):
         comps = cycles(graph(symbols(cc, tmp)))
     files = sorted(SRC.glob("*.c"))
     phase = grep_counts(PHASE_WRITE, [f for f in files if f.name != SEQUENCER])
-    kind = grep_counts(KIND_TEST, [f for f in files if not f.name.startswith("pdt_model")])
+    kind = kind_tests()
     structs = stage_structs()
     figures = {"cycles": len(comps), "cycle_files": sum(len(c) for c in comps),
                "phase_writes": sum(phase.values()),
                "kind_tests": sum(kind.values()), "stage_state": len(structs)}
     detail = {"cycles": [" <-> ".join(c) for c in comps], "cycle_files": [],
               "phase_writes": ["%s: %d" % kv for kv in sorted(phase.items())],
-              "kind_tests": ["%s: %d" % kv for kv in sorted(kind.items())],
+              "kind_tests": ["outside the layer " + ", ".join(KIND_LAYER)] +
+                            ["%s: %d" % kv for kv in sorted(kind.items())],
               "stage_state": structs}
     return figures, detail
 

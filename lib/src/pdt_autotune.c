@@ -7,6 +7,7 @@
 
 #include "pdt_autotune_priv.h"
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 #define AUTOTUNE_MAGIC PDT_MAGIC('P', 'D', 'A', 'T')
 
@@ -105,6 +106,13 @@ static bool validates(const pdt_autotune_config_t *cfg)
     return cfg->order_auto || cfg->ms_robust > PDT_R(0.0);
 }
 
+/* The model the automatic order's identification stage fits: a FOPDT,
+ * then a SOPDT. */
+static pdt_model_kind_t stage_kind(uint32_t stage)
+{
+    return stage == 0u ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+}
+
 /* Bytes of the identification's part, for capacity samples. The size grows
  * with the record length, so it covers any shorter record. */
 static size_t ident_bytes(const pdt_autotune_config_t *cfg)
@@ -112,7 +120,8 @@ static size_t ident_bytes(const pdt_autotune_config_t *cfg)
     pdt_ident_config_t ic = ident_config(cfg);
     size_t b = pdt_ident_workspace_size(&ic, cfg->capacity);
     if (cfg->order_auto) {
-        ic.model = ic.model == PDT_MODEL_FOPDT ? PDT_MODEL_SOPDT : PDT_MODEL_FOPDT;
+        /* The other stage's model: the larger part serves either. */
+        ic.model = stage_kind(ic.model == stage_kind(0u) ? 1u : 0u);
         size_t b2 = pdt_ident_workspace_size(&ic, cfg->capacity);
         if (b == 0u || b2 == 0u) {
             return 0u;
@@ -432,7 +441,7 @@ static pdt_model_kind_t stage_model(const pdt_autotune_t *at)
     if (!at->cfg.order_auto) {
         return at->cfg.ident.model;
     }
-    return at->stage == 0u ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+    return stage_kind(at->stage);
 }
 
 /* The recorder pairs the output of an interval's first scan with the mean
@@ -523,11 +532,7 @@ static pdt_status_t finish_identify(pdt_autotune_t *at, pdt_real_t *u)
     }
     at->res.relay_spread = at->res.has_relay ? pdt_autotune_relay_spread(&at->gen) : PDT_R(0.0);
     pdt_real_t shift = dead_time_shift(at);
-    if (at->res.ident.model.kind == PDT_MODEL_FOPDT) {
-        at->res.ident.model.p.fopdt.Td += shift;
-    } else {
-        at->res.ident.model.p.sopdt.Td += shift;
-    }
+    pdt_model_add_dead_time(&at->res.ident.model, shift);
     at->res.has_model = true;
     if (at->res.response > PDT_R(0.0) && at->res.response < RESPONSE_QUANTA * at->res.quantum) {
         /* A response of a few steps of the sensor: the experiment is too
@@ -626,7 +631,7 @@ static pdt_status_t scan_identify(pdt_autotune_t *at, pdt_real_t *u)
         if (st != PDT_OK) {
             return fail(at, st, u);
         }
-        if (kind == PDT_MODEL_FOPDT) {
+        if (kind == at->first.model.kind) {
             at->res.bic_other = at->res.valid.bic;
             at->res.ident = at->first;
             at->res.valid = at->first_valid;
@@ -659,8 +664,7 @@ static bool relay_agrees(const pdt_autotune_t *at)
     pdt_real_t gain;
     if (pdt_model_dc_gain(&at->res.ident.model, &gain) == PDT_OK && gain < PDT_R(0.0)) {
         ph += PDT_PI; /* the relay's action took the sign out */
-    } else if (at->res.ident.model.kind == PDT_MODEL_SOPDT &&
-               at->res.ident.model.p.sopdt.k < PDT_R(0.0)) {
+    } else if (pdt_model_gain_numerator(&at->res.ident.model) < PDT_R(0.0)) {
         ph += PDT_PI;
     }
     pdt_real_t x = at->gen.cfg.eps / rl->a; /* the hysteresis used */

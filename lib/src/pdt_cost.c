@@ -753,7 +753,7 @@ static pdt_real_t frequency_cost(const pdt_cost_t *c, const pdt_model_t *m)
     pdt_real_t tau = PDT_R(0.0);
     pdt_real_t a = PDT_R(0.0);
     pdt_real_t b = PDT_R(0.0);
-    bool first_order = (m->kind == PDT_MODEL_FOPDT);
+    bool first_order = (pdt_model_kind_lags(m->kind) == 1u);
     pdt_real_t s = PDT_R(0.0);
     pdt_real_t blk = PDT_R(0.0);
     unsigned fill = 0u;

@@ -32,6 +32,7 @@
 #include "pdt_cost_state.h"
 
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 #if PDT_REAL_DOUBLE
 #define ldexp_r ldexp
@@ -354,12 +355,7 @@ pdt_status_t pdt_cost_extra_terms(const pdt_cost_t *c, const pdt_model_t *m, pdt
         return PDT_ERR_ARG;
     }
     /* The unit-gain shape: the fit's gain multiplies it. */
-    shape = *m;
-    if (m->kind == PDT_MODEL_FOPDT) {
-        shape.p.fopdt.K = PDT_R(1.0);
-    } else {
-        shape.p.sopdt.k = PDT_R(1.0);
-    }
+    (void)pdt_model_split_gain(m, &shape);
     if (pdt_discrete_init(&shape, c->cfg.Ts, &d) != PDT_OK) {
         return PDT_ERR_ARG;
     }
@@ -401,12 +397,7 @@ bool pdt_cost_extra_state_gain(const pdt_cost_t *c, const pdt_model_t *m, pdt_re
         pdt_model_check(m) != PDT_OK) {
         return false;
     }
-    shape = *m;
-    if (m->kind == PDT_MODEL_FOPDT) {
-        shape.p.fopdt.K = PDT_R(1.0);
-    } else {
-        shape.p.sopdt.k = PDT_R(1.0);
-    }
+    (void)pdt_model_split_gain(m, &shape);
     if (pdt_discrete_init(&shape, c->cfg.Ts, &d) != PDT_OK) {
         return false;
     }

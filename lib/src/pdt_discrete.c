@@ -124,7 +124,7 @@ static pdt_status_t zoh(const pdt_model_t *m, pdt_real_t Ts, size_t l, pdt_real_
 {
     pdt_discrete_t r;
     r.delay = l;
-    if (m->kind == PDT_MODEL_FOPDT) {
+    if (pdt_model_kind_lags(m->kind) == 1u) {
         zoh_fopdt(&m->p.fopdt, Ts, f, &r);
     } else {
         zoh_sopdt(&m->p.sopdt, Ts, f, &r);

@@ -8,52 +8,25 @@
 
 #include "pdt_discrete_priv.h"
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 /* Partial sums over this many samples before they join the total, so that
  * float sums over long records keep their accuracy. */
 #define FISHER_BLOCK PDT_FISHER_BLOCK
 
-/* The parameter vector of m, in the documented order (y0 excluded). */
-static uint32_t params_of(const pdt_model_t *m, pdt_real_t *p)
-{
-    if (m->kind == PDT_MODEL_FOPDT) {
-        p[0] = m->p.fopdt.K;
-        p[1] = m->p.fopdt.tau;
-        p[2] = m->p.fopdt.Td;
-        return 3u;
-    }
-    p[0] = m->p.sopdt.k;
-    p[1] = m->p.sopdt.a;
-    p[2] = m->p.sopdt.b;
-    p[3] = m->p.sopdt.Td;
-    return 4u;
-}
-
-static void params_set(pdt_model_t *m, const pdt_real_t *p)
-{
-    if (m->kind == PDT_MODEL_FOPDT) {
-        m->p.fopdt.K = p[0];
-        m->p.fopdt.tau = p[1];
-        m->p.fopdt.Td = p[2];
-    } else {
-        m->p.sopdt.k = p[0];
-        m->p.sopdt.a = p[1];
-        m->p.sopdt.b = p[2];
-        m->p.sopdt.Td = p[3];
-    }
-}
-
-/* Finite-difference step of parameter i (never 0, and upward for b and Td
- * so that the perturbed model stays valid). */
+/* Finite-difference step of parameter i of the vector p
+ * (pdt_model_params_get's order; never 0, and upward for b and Td so that
+ * the perturbed model stays valid). */
 static pdt_real_t fd_step(const pdt_model_t *m, uint32_t i, const pdt_real_t *p, pdt_real_t Ts)
 {
-    uint32_t np = m->kind == PDT_MODEL_FOPDT ? 3u : 4u;
-    if (i == np - 1u) {
+    const pdt_model_param_t name = pdt_model_kind_param(m->kind, i);
+    if (name == PDT_MODEL_PARAM_TD) {
         return PDT_R(0.02) * Ts + PDT_R(1e-3) * p[i];
     }
-    if (m->kind == PDT_MODEL_SOPDT && i == 2u && p[2] == PDT_R(0.0)) {
-        /* An integrator: b's scale is that of critical damping, a^2 / 4. */
-        return PDT_R(2.5e-4) * p[1] * p[1];
+    if (name == PDT_MODEL_PARAM_B && p[i] == PDT_R(0.0)) {
+        /* An integrator: b's scale is that of critical damping, a^2 / 4,
+         * with a the parameter before b. */
+        return PDT_R(2.5e-4) * p[i - 1u] * p[i - 1u];
     }
     return PDT_R(1e-3) * pdt_fabs(p[i]);
 }
@@ -254,7 +227,7 @@ pdt_status_t pdt_fisher_begin(pdt_fisher_run_t *R, const pdt_model_t *m, pdt_rea
                               pdt_real_t u0, pdt_fisher_matrix_t F)
 {
     pdt_real_t p[4] = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
-    const uint32_t nm = params_of(m, p);
+    const uint32_t nm = pdt_model_params_get(m, p);
     const uint32_t nj = nm + 1u;
     /* The nominal model, then one per shape parameter: the gain enters
      * linearly (ys / K), the offset as a constant. */
@@ -270,7 +243,7 @@ pdt_status_t pdt_fisher_begin(pdt_fisher_run_t *R, const pdt_model_t *m, pdt_rea
         pp[i] += fd_step(m, i, p, Ts);
         P->h[i] = pp[i] - p[i];
         pdt_model_t mp = *m;
-        params_set(&mp, pp);
+        pdt_model_params_set(&mp, pp);
         if (!(P->h[i] > PDT_R(0.0)) || pdt_discrete_init(&mp, Ts, &P->d[i]) != PDT_OK) {
             return PDT_ERR_ARG;
         }

@@ -47,7 +47,7 @@ void pdt_ident_config_default(pdt_ident_config_t *cfg)
 
 static uint32_t genes_of(pdt_model_kind_t kind)
 {
-    return kind == PDT_MODEL_SOPDT ? 3u : 2u;
+    return pdt_model_kind_params(kind) - 1u; /* the gain is profiled */
 }
 
 /* The population, the automatic one resolved: a 2-gene FOPDT search needs
@@ -57,7 +57,8 @@ static uint32_t population_of(const pdt_ident_config_t *cfg)
     if (cfg->population != 0u) {
         return cfg->population;
     }
-    return cfg->model == PDT_MODEL_SOPDT ? PDT_IDENT_POPULATION_SOPDT : PDT_IDENT_POPULATION_FOPDT;
+    return pdt_model_kind_lags(cfg->model) == 2u ? PDT_IDENT_POPULATION_SOPDT
+                                                 : PDT_IDENT_POPULATION_FOPDT;
 }
 
 /* The cost's weighting: the identification's own, CONTROL uniform until
@@ -164,7 +165,7 @@ static pdt_status_t gene_bounds(const pdt_ident_config_t *cfg, const bounds_t *b
                                 pdt_real_t *hi)
 {
     const uint32_t G = genes_of(cfg->model);
-    if (cfg->model == PDT_MODEL_FOPDT) {
+    if (pdt_model_kind_lags(cfg->model) == 1u) {
         lo[0] = pdt_log(b->tau_min);
         hi[0] = pdt_log(b->tau_max);
     } else {
@@ -263,7 +264,7 @@ static pdt_status_t check_weight(const pdt_ident_config_t *cfg)
 
 static pdt_status_t check_config(const pdt_ident_config_t *cfg)
 {
-    if (cfg->model != PDT_MODEL_FOPDT && cfg->model != PDT_MODEL_SOPDT) {
+    if (!pdt_model_kind_known(cfg->model)) {
         return PDT_ERR_ARG;
     }
     if (!pdt_finite(cfg->Ts) || !(cfg->Ts > PDT_R(0.0))) {
@@ -313,7 +314,7 @@ static pdt_status_t check_config(const pdt_ident_config_t *cfg)
         !pdt_finite(cfg->tolerance)) {
         return PDT_ERR_ARG;
     }
-    if (cfg->model == PDT_MODEL_SOPDT &&
+    if (pdt_model_kind_lags(cfg->model) == 2u &&
         (!(cfg->zeta_min > PDT_R(0.0)) || !pdt_finite(cfg->zeta_min))) {
         return PDT_ERR_ARG;
     }

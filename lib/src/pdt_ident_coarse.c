@@ -197,7 +197,7 @@ bool pdt_ident_coarse_pending(pdt_ident_t *c)
  * underdamped, its lag 1 / a when it integrates. */
 static pdt_real_t time_scale(const pdt_model_t *m)
 {
-    if (m->kind == PDT_MODEL_FOPDT) {
+    if (pdt_model_kind_lags(m->kind) == 1u) {
         return m->p.fopdt.tau;
     }
     const pdt_real_t a = m->p.sopdt.a, b = m->p.sopdt.b;

@@ -66,7 +66,7 @@ static void generation_end(pdt_ident_t *c)
      * searches run their course: on its records the early end saved 1 to
      * 3 % and let a second search settle in a dead-time basin a fraction
      * of a sample from the optimum's (docs/ident-engine.md). */
-    const bool caught_up = c->cfg.model == PDT_MODEL_FOPDT && c->band_stage == 0u &&
+    const bool caught_up = pdt_model_kind_lags(c->cfg.model) == 1u && c->band_stage == 0u &&
                            pdt_ident_used(c) >= c->cfg.stall_generations * c->cfg.population &&
                            pdt_ident_vote_caught_up(c);
     if (!caught_up && ga->stall < c->cfg.stall_generations &&

@@ -16,7 +16,7 @@ pdt_ident_weight_t pdt_ident_weight_of(const pdt_ident_config_t *cfg)
     if (cfg->weight != PDT_IDENT_WEIGHT_AUTO) {
         return cfg->weight;
     }
-    return cfg->model == PDT_MODEL_FOPDT && cfg->cost == PDT_COST_COMBINED
+    return pdt_model_kind_lags(cfg->model) == 1u && cfg->cost == PDT_COST_COMBINED
                ? PDT_IDENT_WEIGHT_CONTROL
                : PDT_IDENT_WEIGHT_UNIFORM;
 }
@@ -30,7 +30,7 @@ bool pdt_ident_control_band(const pdt_ident_config_t *cfg)
 uint32_t pdt_ident_late_reserve(const pdt_ident_config_t *cfg)
 {
     uint32_t r = cfg->cost == PDT_COST_FREQUENCY ? PDT_IDENT_SCAN_EVALUATIONS : 0u;
-    if (cfg->model == PDT_MODEL_SOPDT && cfg->integrating) {
+    if (pdt_model_kind_lags(cfg->model) == 2u && cfg->integrating) {
         r += 1u;
     }
     return r;
@@ -141,7 +141,7 @@ void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
     if (c->cfg.delay_mode == PDT_DELAY_INTEGER) {
         Td = pdt_ident_whole_td(Td, c->cfg.Ts, c->cfg.Td_min, td_upper(c));
     }
-    if (c->cfg.model == PDT_MODEL_FOPDT) {
+    if (pdt_model_kind_lags(c->cfg.model) == 1u) {
         m->kind = PDT_MODEL_FOPDT;
         m->p.fopdt.K = PDT_R(1.0);
         m->p.fopdt.tau = tau_of_gene(c, g[0]);
@@ -171,7 +171,7 @@ void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_r
         *hi = PDT_R(0.0);
         return;
     }
-    if (shape->kind == PDT_MODEL_SOPDT) {
+    if (pdt_model_kind_lags(shape->kind) == 2u) {
         /* K = k / b, or Ki = k / a for an integrator, k = gain unit. */
         scale = (shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a) /
                 shape->p.sopdt.k;

@@ -205,7 +205,7 @@ uint32_t pdt_ident_nuisance(const pdt_ident_t *c)
 {
     uint32_t k = 0u;
     if (c->cost.cfg.estimate_state) {
-        k += (c->cfg.model == PDT_MODEL_SOPDT) ? 2u : 1u;
+        k += pdt_model_kind_lags(c->cfg.model); /* a state per lag */
     }
     return k + (c->cost.cfg.drift ? 1u : 0u);
 }

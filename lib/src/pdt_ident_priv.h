@@ -26,6 +26,7 @@
 
 #include "pdt/pdt_ident.h"
 #include "pdt_cost_engine.h"
+#include "pdt_model_priv.h"
 
 /* The sequencer's stages (pdt_ident_t.phase). */
 enum {

@@ -5,6 +5,7 @@
  */
 #include "pdt/pdt_ident.h"
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 /* The model's own parameters: FOPDT K, tau, Td, y0; SOPDT k, a, b, Td, y0. */
 #define NATIVE_MAX PDT_IDENT_MAX_PARAMS
@@ -137,7 +138,7 @@ pdt_status_t pdt_ident_std_printed(const pdt_model_t *m, const pdt_ident_std_t *
         return PDT_ERR_ARG;
     }
     uint32_t need = 5u;
-    if (m->kind == PDT_MODEL_FOPDT) {
+    if (pdt_model_kind_lags(m->kind) == 1u) {
         need = 4u;
     }
     if (s->count != need) {
@@ -152,7 +153,7 @@ pdt_status_t pdt_ident_std_printed(const pdt_model_t *m, const pdt_ident_std_t *
         }
     }
     jacobian_t J = {{0}};
-    if (m->kind == PDT_MODEL_FOPDT) {
+    if (pdt_model_kind_lags(m->kind) == 1u) {
         fopdt_rows(out, J);
     } else {
         sopdt_rows(&m->p.sopdt, out, J);

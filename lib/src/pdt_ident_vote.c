@@ -26,7 +26,7 @@
 
 static pdt_real_t model_gain(const pdt_model_t *m)
 {
-    return m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
+    return pdt_model_gain_numerator(m);
 }
 
 /* The same structure: the gain's sign and, for a SOPDT, whether it
@@ -36,7 +36,7 @@ static bool same_structure(const pdt_model_t *a, const pdt_model_t *b)
     if ((model_gain(a) < PDT_R(0.0)) != (model_gain(b) < PDT_R(0.0))) {
         return false;
     }
-    return a->kind != PDT_MODEL_SOPDT ||
+    return pdt_model_kind_lags(a->kind) != 2u ||
            ((a->p.sopdt.b > PDT_R(0.0)) == (b->p.sopdt.b > PDT_R(0.0)));
 }
 
@@ -70,7 +70,7 @@ bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
 static void best_model(const pdt_ident_t *c, pdt_model_t *m)
 {
     pdt_ident_shape(c, c->best.genes, m);
-    if (m->kind == PDT_MODEL_FOPDT) {
+    if (pdt_model_kind_lags(m->kind) == 1u) {
         m->p.fopdt.K *= c->best.gain;
     } else {
         m->p.sopdt.k *= c->best.gain;
@@ -213,7 +213,7 @@ void pdt_ident_finish(pdt_ident_t *c)
 {
     pdt_model_t m;
     best_model(c, &m);
-    if (m.kind == PDT_MODEL_SOPDT && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
+    if (pdt_model_kind_lags(m.kind) == 2u && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
         /* A lag a hundred records long may not be told from an integrator
          * in this record: then report the integrator (b = 0) rather than a
          * DC gain the data do not determine. Told apart means the lag's

@@ -19,6 +19,7 @@
 #include "pdt/pdt_ls.h"
 
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 #define LS_MAGIC PDT_MAGIC('P', 'D', 'L', 'S')
 
@@ -85,7 +86,7 @@ static void acc_end(ls_acc_t *a)
 
 static unsigned order_of(const pdt_ls_t *c)
 {
-    return c->cfg.model == PDT_MODEL_SOPDT ? 2u : 1u;
+    return pdt_model_kind_lags(c->cfg.model);
 }
 
 /* Input deviation u(k - lag) - u0; the input is at rest before sample 0. */
@@ -101,7 +102,7 @@ static void ls_row(const pdt_ls_t *c, size_t k, size_t l, pdt_real_t *t, pdt_rea
     const pdt_real_t *y = c->y;
     *t = y[k] - y[k - 1u];
     x[0] = y[k - 1u] - y[0];
-    if (c->cfg.model == PDT_MODEL_FOPDT) {
+    if (order_of(c) == 1u) {
         x[1] = udev(c, k, l + 1u);
     } else {
         pdt_real_t ua = udev(c, k, l + 1u);
@@ -119,7 +120,7 @@ static void aux_advance(const pdt_ls_t *c, const pdt_real_t *th, size_t k, size_
                         pdt_real_t *x2)
 {
     pdt_real_t x;
-    if (c->cfg.model == PDT_MODEL_FOPDT) {
+    if (order_of(c) == 1u) {
         x = *x1 + th[0] * *x1 + th[1] * udev(c, k, l + 1u);
     } else {
         pdt_real_t ua = udev(c, k, l + 1u);
@@ -322,7 +323,7 @@ static pdt_real_t ls_residual(const pdt_ls_t *c, size_t l, const pdt_real_t *m,
  * simulation stays bounded (Jury's conditions in the delta parameters). */
 static bool aux_stable(const pdt_ls_t *c, const pdt_real_t *th)
 {
-    if (c->cfg.model == PDT_MODEL_FOPDT) {
+    if (order_of(c) == 1u) {
         return th[0] < PDT_R(0.0) && th[0] > PDT_R(-2.0);
     }
     return th[1] < PDT_R(1.0) && th[1] > PDT_R(-1.0) && th[0] < PDT_R(0.0) &&
@@ -393,7 +394,7 @@ static bool ls_form(const pdt_ls_t *c, size_t l, const pdt_real_t *m, const pdt_
     o.delay = l;
     o.cost = PDT_R(0.0);
     o.skipped = 0u;
-    if (c->cfg.model == PDT_MODEL_FOPDT) {
+    if (order_of(c) == 1u) {
         if (!(p > PDT_R(-1.0))) {
             return false;
         }
@@ -499,13 +500,13 @@ pdt_status_t pdt_ls_init(pdt_ls_t *ctx, const pdt_ls_config_t *cfg, const pdt_re
     if (!pdt_finite(cfg->Ts) || !(cfg->Ts > PDT_R(0.0))) {
         return PDT_ERR_ARG;
     }
-    if (cfg->model != PDT_MODEL_FOPDT && cfg->model != PDT_MODEL_SOPDT) {
+    if (!pdt_model_kind_known(cfg->model)) {
         return PDT_ERR_ARG;
     }
     if (cfg->method != PDT_LS_ELMS && cfg->method != PDT_LS_EIV) {
         return PDT_ERR_ARG;
     }
-    const size_t order = (cfg->model == PDT_MODEL_SOPDT) ? 2u : 1u;
+    const size_t order = pdt_model_kind_lags(cfg->model);
     const size_t dmax = pdt_delay_bound(n, cfg->delay_max);
     if (dmax >= n) {
         return PDT_ERR_TOO_SHORT;

@@ -34,9 +34,8 @@ pdt_status_t pdt_model_check(const pdt_model_t *m)
         return fopdt_valid(&m->p.fopdt) ? PDT_OK : PDT_ERR_ARG;
     case PDT_MODEL_SOPDT:
         return sopdt_valid(&m->p.sopdt) ? PDT_OK : PDT_ERR_ARG;
-    default:
-        return PDT_ERR_ARG;
     }
+    return PDT_ERR_ARG; /* not a kind */
 }
 
 pdt_real_t pdt_model_dead_time(const pdt_model_t *m)
@@ -49,9 +48,8 @@ pdt_real_t pdt_model_dead_time(const pdt_model_t *m)
         return m->p.fopdt.Td;
     case PDT_MODEL_SOPDT:
         return m->p.sopdt.Td;
-    default:
-        return PDT_R(0.0);
     }
+    return PDT_R(0.0);
 }
 
 /* ---- conversions -------------------------------------------------------- */
@@ -202,15 +200,18 @@ pdt_status_t pdt_model_dc_gain(const pdt_model_t *m, pdt_real_t *gain)
     if (gain == NULL || pdt_model_check(m) != PDT_OK) {
         return PDT_ERR_ARG;
     }
-    if (m->kind == PDT_MODEL_FOPDT) {
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
         *gain = m->p.fopdt.K;
         return PDT_OK;
+    case PDT_MODEL_SOPDT:
+        if (m->p.sopdt.b == PDT_R(0.0)) {
+            return PDT_ERR_NO_FORM;
+        }
+        *gain = m->p.sopdt.k / m->p.sopdt.b;
+        return PDT_OK;
     }
-    if (m->p.sopdt.b == PDT_R(0.0)) {
-        return PDT_ERR_NO_FORM;
-    }
-    *gain = m->p.sopdt.k / m->p.sopdt.b;
-    return PDT_OK;
+    return PDT_ERR_ARG;
 }
 
 /* ---- step response ------------------------------------------------------ */
@@ -393,15 +394,19 @@ pdt_status_t pdt_model_step(const pdt_model_t *m, const pdt_real_t *t, size_t n,
             return PDT_ERR_NONFINITE;
         }
     }
-    if (m->kind == PDT_MODEL_FOPDT) {
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
         for (size_t i = 0; i < n; i++) {
             y[i] = fopdt_step1(&m->p.fopdt, t[i]);
         }
-    } else {
+        break;
+    case PDT_MODEL_SOPDT: {
         const pdt_model_sopdt_t *p = &m->p.sopdt;
         for (size_t i = 0; i < n; i++) {
             y[i] = p->k * pdt_model_sopdt_unit_step(p->a, p->b, t[i] - p->Td);
         }
+        break;
+    }
     }
     return PDT_OK;
 }
@@ -424,8 +429,7 @@ pdt_status_t pdt_model_freq(const pdt_model_t *m, const pdt_real_t *w, size_t n,
     if (negative) {
         return PDT_ERR_ARG;
     }
-    const bool negative_gain =
-        (m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k) < PDT_R(0.0);
+    const bool negative_gain = pdt_model_gain_numerator(m) < PDT_R(0.0);
     for (size_t i = 0; i < n; i++) {
         if (mag != NULL) {
             mag[i] = pdt_model_magnitude_at(m, w[i]);
@@ -437,12 +441,8 @@ pdt_status_t pdt_model_freq(const pdt_model_t *m, const pdt_real_t *w, size_t n,
     return PDT_OK;
 }
 
-pdt_real_t pdt_model_magnitude_at(const pdt_model_t *m, pdt_real_t w)
+static pdt_real_t sopdt_magnitude(const pdt_model_sopdt_t *p, pdt_real_t w)
 {
-    if (m->kind == PDT_MODEL_FOPDT) {
-        return pdt_fabs(m->p.fopdt.K) / pdt_hypot(PDT_R(1.0), w * m->p.fopdt.tau);
-    }
-    const pdt_model_sopdt_t *p = &m->p.sopdt;
     if (p->b == PDT_R(0.0)) {
         /* k / (jw (jw + a)) */
         pdt_real_t den = w * pdt_hypot(w, p->a);
@@ -454,17 +454,35 @@ pdt_real_t pdt_model_magnitude_at(const pdt_model_t *m, pdt_real_t w)
     return pdt_fabs(p->k) / pdt_hypot(p->b - w * w, p->a * w);
 }
 
-pdt_real_t pdt_model_shape_phase(const pdt_model_t *m, pdt_real_t w)
+pdt_real_t pdt_model_magnitude_at(const pdt_model_t *m, pdt_real_t w)
 {
-    if (m->kind == PDT_MODEL_FOPDT) {
-        return -pdt_atan(w * m->p.fopdt.tau) - w * m->p.fopdt.Td;
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        return pdt_fabs(m->p.fopdt.K) / pdt_hypot(PDT_R(1.0), w * m->p.fopdt.tau);
+    case PDT_MODEL_SOPDT:
+        return sopdt_magnitude(&m->p.sopdt, w);
     }
-    const pdt_model_sopdt_t *p = &m->p.sopdt;
+    return PDT_R(0.0);
+}
+
+static pdt_real_t sopdt_phase(const pdt_model_sopdt_t *p, pdt_real_t w)
+{
     if (p->b == PDT_R(0.0)) {
         /* the pole at 0 gives -pi/2, also at w = 0 */
         return -PDT_R(0.5) * PDT_PI - pdt_atan2(w, p->a) - w * p->Td;
     }
     return -pdt_atan2(p->a * w, p->b - w * w) - w * p->Td;
+}
+
+pdt_real_t pdt_model_shape_phase(const pdt_model_t *m, pdt_real_t w)
+{
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        return -pdt_atan(w * m->p.fopdt.tau) - w * m->p.fopdt.Td;
+    case PDT_MODEL_SOPDT:
+        return sopdt_phase(&m->p.sopdt, w);
+    }
+    return PDT_R(0.0);
 }
 
 pdt_real_t pdt_model_phase_crossover(const pdt_model_t *m)
@@ -501,8 +519,81 @@ pdt_real_t pdt_model_split_gain(const pdt_model_t *m, pdt_model_t *shape)
         K = m->p.sopdt.k;
         shape->p.sopdt.k = PDT_R(1.0);
         break;
-    default:
-        break;
     }
     return K;
+}
+
+/* ---- the model-kind layer ------------------------------------------------ */
+
+pdt_model_param_t pdt_model_kind_param(pdt_model_kind_t kind, uint32_t i)
+{
+    static const pdt_model_param_t fopdt[3] = {PDT_MODEL_PARAM_K, PDT_MODEL_PARAM_TAU,
+                                               PDT_MODEL_PARAM_TD};
+    static const pdt_model_param_t sopdt[4] = {PDT_MODEL_PARAM_K, PDT_MODEL_PARAM_A,
+                                               PDT_MODEL_PARAM_B, PDT_MODEL_PARAM_TD};
+    switch (kind) {
+    case PDT_MODEL_FOPDT:
+        return i < 3u ? fopdt[i] : PDT_MODEL_PARAM_NONE;
+    case PDT_MODEL_SOPDT:
+        return i < 4u ? sopdt[i] : PDT_MODEL_PARAM_NONE;
+    }
+    return PDT_MODEL_PARAM_NONE;
+}
+
+uint32_t pdt_model_params_get(const pdt_model_t *m, pdt_real_t *p)
+{
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        p[0] = m->p.fopdt.K;
+        p[1] = m->p.fopdt.tau;
+        p[2] = m->p.fopdt.Td;
+        return 3u;
+    case PDT_MODEL_SOPDT:
+        p[0] = m->p.sopdt.k;
+        p[1] = m->p.sopdt.a;
+        p[2] = m->p.sopdt.b;
+        p[3] = m->p.sopdt.Td;
+        return 4u;
+    }
+    return 0u;
+}
+
+void pdt_model_params_set(pdt_model_t *m, const pdt_real_t *p)
+{
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        m->p.fopdt.K = p[0];
+        m->p.fopdt.tau = p[1];
+        m->p.fopdt.Td = p[2];
+        break;
+    case PDT_MODEL_SOPDT:
+        m->p.sopdt.k = p[0];
+        m->p.sopdt.a = p[1];
+        m->p.sopdt.b = p[2];
+        m->p.sopdt.Td = p[3];
+        break;
+    }
+}
+
+pdt_real_t pdt_model_gain_numerator(const pdt_model_t *m)
+{
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        return m->p.fopdt.K;
+    case PDT_MODEL_SOPDT:
+        return m->p.sopdt.k;
+    }
+    return PDT_R(0.0);
+}
+
+void pdt_model_add_dead_time(pdt_model_t *m, pdt_real_t dTd)
+{
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        m->p.fopdt.Td += dTd;
+        break;
+    case PDT_MODEL_SOPDT:
+        m->p.sopdt.Td += dTd;
+        break;
+    }
 }

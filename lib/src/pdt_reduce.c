@@ -5,6 +5,7 @@
 #include "pdt/pdt_reduce.h"
 
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 /* Scan of the phase for the ultimate frequency: ratio 2^(1/8) per point. */
 #define SCAN_RATIO       PDT_R(1.0905077326652577)
@@ -72,7 +73,7 @@ static pdt_status_t check_config(const pdt_reduce_config_t *cfg, pdt_reduce_conf
         c->n_freq = PDT_REDUCE_N_FREQ_DEFAULT;
         return PDT_OK;
     }
-    if (cfg->model != PDT_MODEL_FOPDT && cfg->model != PDT_MODEL_SOPDT) {
+    if (!pdt_model_kind_known(cfg->model)) {
         return PDT_ERR_ARG;
     }
     if (!pdt_finite(cfg->h)) {
@@ -291,7 +292,7 @@ pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant, const pdt_red
         return PDT_ERR_LENGTH;
     }
     const size_t n = plant->n_lags;
-    const size_t order = (c.model == PDT_MODEL_SOPDT) ? 2u : 1u;
+    const size_t order = pdt_model_kind_lags(c.model);
     size_t zero[PDT_REDUCE_MAX_LAGS];
     pdt_real_t eff[PDT_REDUCE_MAX_LAGS];
     if (!pair_zeros(plant, zero)) {
@@ -544,7 +545,7 @@ pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_c
     if (st != PDT_OK) {
         return st;
     }
-    if (out == NULL || (c.model == PDT_MODEL_SOPDT && c.n_freq < 2u)) {
+    if (out == NULL || (pdt_model_kind_lags(c.model) == 2u && c.n_freq < 2u)) {
         return PDT_ERR_ARG;
     }
     if (c.n_freq > PDT_REDUCE_MAX_FREQ) {
@@ -571,7 +572,7 @@ pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_c
     m.p.fopdt.tau = u / w_u;
     m.p.fopdt.Td = (PDT_PI - pdt_atan(u)) / w_u;
     bool fallback = false;
-    if (c.model == PDT_MODEL_SOPDT) {
+    if (pdt_model_kind_lags(c.model) == 2u) {
         fallback = !sung_sopdt(plant, w_u, &S, &m);
     }
     if (pdt_model_check(&m) != PDT_OK) {

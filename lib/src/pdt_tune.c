@@ -365,7 +365,7 @@ static void rob_loop(const pdt_model_t *m, const pdt_tune_gains_t *g, tune_loop_
     lp->tauI = g->tauI;
     lp->tauD = g->tauD;
     lp->Tf = g->tauD > PDT_R(0.0) ? g->Tf : PDT_R(0.0);
-    if (m->kind == PDT_MODEL_FOPDT) {
+    if (pdt_model_kind_lags(m->kind) == 1u) {
         lp->sopdt = false;
         lp->K = m->p.fopdt.K;
         lp->tau = m->p.fopdt.tau;
@@ -753,7 +753,7 @@ typedef struct tune_view {
 static void view_of(const pdt_model_t *m, tune_view_t *v)
 {
     v->T1 = v->T2 = v->a = v->b = v->k = PDT_R(0.0);
-    if (m->kind == PDT_MODEL_FOPDT) {
+    if (pdt_model_kind_lags(m->kind) == 1u) {
         v->shape = SHAPE_FIRST;
         v->K = m->p.fopdt.K;
         v->tau = m->p.fopdt.tau;
@@ -946,7 +946,7 @@ static pdt_status_t rule_zn(const pdt_model_t *m, const pdt_tune_config_t *cfg, 
     }
     const pdt_real_t wu = pdt_model_phase_crossover(m);
     /* Ku carries the gain's sign: the rule's Kc has it. */
-    const pdt_real_t gain = m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
+    const pdt_real_t gain = pdt_model_gain_numerator(m);
     pdt_real_t mag = pdt_model_magnitude_at(m, wu);
     mag = gain < PDT_R(0.0) ? -mag : mag;
     pdt_real_t Ku = PDT_R(1.0) / mag;

@@ -8,6 +8,7 @@
 #include "pdt_fisher.h"
 #include "pdt_internal.h"
 #include "pdt_linalg.h"
+#include "pdt_model_priv.h"
 
 /* The lags the Fisher pass sums are the whiteness test's. */
 typedef char lags_match[(PDT_VALIDATE_LAGS == PDT_FISHER_LAGS) ? 1 : -1];
@@ -95,7 +96,7 @@ static pdt_status_t prepare(const pdt_model_t *m, const pdt_ident_data_t *data, 
 
 static pdt_real_t gain_of(const pdt_model_t *m)
 {
-    return m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
+    return pdt_model_gain_numerator(m);
 }
 
 /* What the stages after the preparation carry: the result as it is
@@ -423,8 +424,8 @@ static bool determined(const pdt_validate_result_t *v)
 pdt_status_t pdt_ident_select_order(const pdt_validate_result_t *fo,
                                     const pdt_validate_result_t *so, pdt_model_kind_t *kind)
 {
-    if (fo == NULL || so == NULL || kind == NULL || fo->model.kind != PDT_MODEL_FOPDT ||
-        so->model.kind != PDT_MODEL_SOPDT) {
+    if (fo == NULL || so == NULL || kind == NULL || pdt_model_kind_lags(fo->model.kind) != 1u ||
+        pdt_model_kind_lags(so->model.kind) != 2u) {
         return PDT_ERR_ARG;
     }
     /* A model whose gain the data do not determine, or whose covariance is
@@ -611,7 +612,7 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
         return PDT_ERR_ARG;
     }
     const pdt_model_t *m = &v->model;
-    const bool fo = m->kind == PDT_MODEL_FOPDT;
+    const bool fo = pdt_model_kind_lags(m->kind) == 1u;
     /* An integrator's b is bounded below by 0: its one-sided uncertainty
      * only turns the integration into a slow pole, which the controller's
      * own integral covers; the first-order bound would instead grow without

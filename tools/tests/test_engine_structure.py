@@ -31,3 +31,42 @@ def test_checkout_within_limits():
     limits = ces.read_limits()
     assert set(figures) == set(limits)
     assert all(figures[k] <= limits[k] for k in figures)
+
+
+def test_kind_enumerators_and_tests():
+    text = "/* c */ typedef enum pdt_model_kind { PDT_MODEL_FOPDT = 1, PDT_MODEL_SOPDT = 2 } " \
+           "pdt_model_kind_t;"
+    names = ces.kind_enumerators(text)
+    assert names == ["PDT_MODEL_FOPDT", "PDT_MODEL_SOPDT"]
+    pat = ces.kind_test_pattern(names)
+    counted = ["m->kind == PDT_MODEL_FOPDT", "PDT_MODEL_SOPDT != k", "k == PDT_MODEL_FOPDT ? 1 : 2",
+               "(PDT_MODEL_FOPDT) == k", "k > PDT_MODEL_FOPDT", "case PDT_MODEL_SOPDT:"]
+    ignored = ["m->kind = PDT_MODEL_FOPDT;", "x ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT",
+               "f(PDT_MODEL_SOPDT);", "k == PDT_MODEL_PARAM_TD", "#ifndef PDT_MODEL_H"]
+    assert [len(pat.findall(s)) for s in counted] == [1] * len(counted)
+    assert [len(pat.findall(s)) for s in ignored] == [0] * len(ignored)
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="no C compiler")
+def test_wswitch_names_every_layer_switch(tmp_path):
+    """A new enumerator of pdt_model_kind_t: -Wswitch names every switch of
+    the layer (none has a default), and the layer has a switch per
+    operation only (kind_tests keeps kinds out of the other files)."""
+    import re
+    import subprocess
+    inc = tmp_path / "include"
+    shutil.copytree(ROOT / "lib" / "include", inc)
+    header = inc / "pdt" / "pdt_model.h"
+    text = header.read_text()
+    new = text.replace("PDT_MODEL_SOPDT = 2 }", "PDT_MODEL_SOPDT = 2, PDT_MODEL_NEW = 3 }")
+    assert new != text
+    header.write_text(new)
+    src = ROOT / "lib" / "src" / "pdt_model.c"
+    res = subprocess.run(["cc", "-std=c99", "-Wswitch", "-c", "-I", str(inc), "-I",
+                          str(src.parent), str(src), "-o", str(tmp_path / "m.o")],
+                         capture_output=True, text=True, check=True)
+    named = set(re.findall(r"(pdt_model\.c|pdt_model_priv\.h):(\d+):\d+: warning: "
+                           r"enumeration value .PDT_MODEL_NEW", res.stderr))
+    switches = sum(len(re.findall(r"\bswitch\s*\(", ces.strip_comments((src.parent / f).read_text())))
+                   for f in ces.KIND_LAYER)
+    assert switches > 0 and len(named) == switches
