@@ -38,11 +38,17 @@ void pdt_ident_ga_start(pdt_ident_t *c)
     c->vote.base = c->evaluations;
     c->best.cost = PDT_REAL_MAX;
     c->band_stage = pdt_ident_control_band(&c->cfg) ? 1u : 0u;
-    c->phase = PH_INIT_POP;
 }
 
-/* After a generation: the stall bookkeeping, and the next stage. */
-static void generation_end(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_ga_begin(pdt_ident_t *c)
+{
+    pdt_ident_ga_start(c);
+    return OUT_DONE;
+}
+
+/* After a generation: the stall bookkeeping; another generation, or the
+ * population's end. */
+static pdt_ident_outcome_t generation_end(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
     c->generations++;
@@ -71,12 +77,17 @@ static void generation_end(pdt_ident_t *c)
                            pdt_ident_vote_caught_up(c);
     if (!caught_up && ga->stall < c->cfg.stall_generations &&
         pdt_ident_used(c) + c->cfg.population <= ga_budget) {
-        c->phase = PH_BREED;
-    } else if (c->band_stage == 1u) {
-        c->phase = PH_BAND;
-    } else {
-        c->phase = c->cost.cfg.kind == PDT_COST_COMBINED ? PH_RECENTRE : PH_REFINE_START;
+        return OUT_GENERATION;
     }
+    return OUT_DONE;
+}
+
+pdt_ident_outcome_t pdt_ident_ga_end(pdt_ident_t *c)
+{
+    if (c->band_stage == 1u) {
+        return OUT_BAND;
+    }
+    return c->cost.cfg.kind == PDT_COST_COMBINED ? OUT_RECENTRE : OUT_DONE;
 }
 
 uint32_t pdt_ident_ga_group(const pdt_ident_t *c)
@@ -99,13 +110,14 @@ static void eval_group(pdt_ident_t *c, pdt_real_t *genes, pdt_real_t *cost, pdt_
     c->ga.next += count;
 }
 
-void pdt_ident_ga_eval_parent(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_ga_eval_parent(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
     eval_group(c, ga->pop, ga->pop_cost, ga->pop_gain, ga->pop_offset);
     if (ga->next == c->cfg.population) {
-        generation_end(c);
+        return generation_end(c);
     }
+    return OUT_AGAIN;
 }
 
 static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
@@ -117,7 +129,7 @@ static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
 }
 
 /* One generation of offspring from the current population. */
-void pdt_ident_ga_breed(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_ga_breed(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
     const size_t P = (size_t)c->cfg.population, G = (size_t)c->genes;
@@ -153,7 +165,7 @@ void pdt_ident_ga_breed(pdt_ident_t *c)
         }
     }
     ga->next = 0u;
-    c->phase = PH_EVAL_OFF;
+    return OUT_DONE;
 }
 
 /* Elitism: the best `elite` parents replace the worst offspring when better,
@@ -194,12 +206,13 @@ static void survive(pdt_ident_t *c)
     }
 }
 
-void pdt_ident_ga_eval_offspring(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_ga_eval_offspring(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
     eval_group(c, ga->off, ga->off_cost, ga->off_gain, ga->off_offset);
     if (ga->next == c->cfg.population) {
         survive(c);
-        generation_end(c);
+        return generation_end(c);
     }
+    return OUT_AGAIN;
 }

@@ -27,27 +27,44 @@
 #include "pdt/pdt_ident.h"
 #include "pdt_cost_engine.h"
 
-/* The sequencer's stages (pdt_ident_t.phase). */
+/* The sequencer's phases (pdt_ident_t.phase): the stage that runs next.
+ * Where each leads is the table PLAN in pdt_ident.c (docs/ident-engine.md
+ * draws it). A phase marked "decision" only chooses the next: it does no
+ * evaluation and runs in the call that reached it. */
 enum {
     PH_INIT_POP = 1,   /* evaluating the initial population */
     PH_BREED,          /* breeding a generation */
     PH_EVAL_OFF,       /* evaluating offspring */
+    PH_GA_END,         /* decision: the band, the spectra or the refinement */
+    PH_GA_START,       /* another search's population (no evaluation) */
     PH_BAND,           /* CONTROL weighting: the band from the time model */
     PH_RECENTRE,       /* COMBINED: the spectra on the estimated offset */
     PH_REFINE_START,   /* the refinement's starts */
+    PH_REFINE_FROM,    /* a refinement from pdt_ident_t.start alone */
     PH_REFINE,         /* Nelder-Mead */
+    PH_NM_BEST,        /* Nelder-Mead from the polish's best point begun */
+    PH_POLISH_BEGIN,   /* a Newton polish from the best begun */
+    PH_POLISH,         /* Newton polish of one answer */
+    PH_REFINE_END,     /* decision: the dead-time scan, a kink pass, the
+                        * dead-time probe or the search's answer */
+    PH_PROBE,          /* the dead time about a polished answer, shape held */
+    PH_SCAN_START,     /* frequency criterion: its dead-time scan begun */
     PH_DELAY_SCAN,     /* frequency criterion: dead time and sign from Ct */
     PH_DELAY_REFINE,   /* its golden section */
-    PH_FINISH,         /* a search's answer; may re-score once (an integrator) */
-    PH_FINE,           /* the whole record after the coarse one's searches */
-    PH_REST,           /* AUTO offset: the answer polished on the rest level */
-    PH_POLISH,         /* Newton polish of one answer (after PH_FINE, PH_REST) */
-    PH_PROBE,          /* the dead time about a polished answer, shape held */
+    PH_FINISH,         /* a polish's answer; may re-score once (an integrator) */
+    PH_SEARCH_END,     /* decision: the answer kept; another search or not */
+    PH_PROFILE_BEGIN,  /* decision: the dead-time profile or not */
     PH_PROFILE,        /* the searches' answer checked along the dead time */
+    PH_CONCLUDE,       /* the answer of all searches, its flags */
+    PH_COARSE_CHECK,   /* decision: the whole record after a coarse one */
+    PH_FINE,           /* the whole record after the coarse one's searches */
+    PH_REST_CHECK,     /* decision: the answer polished on the rest level */
+    PH_REST,           /* AUTO offset: the answer polished on the rest level */
     PH_STD,            /* the parameters' uncertainty: its pass begun */
     PH_STD_PASS,       /* its Fisher pass, a block of samples per step */
     PH_EVIDENCE,       /* the answer's evidence against the null model */
     PH_SCREEN,         /* gross errors: the answer's residual */
+    PH_REFIT,          /* AUTO initial state: the search again, state estimated */
     PH_SCREEN_HIGH,    /* its high pass */
     PH_SCREEN_BOUND,   /* the samples beyond the bound left out */
     PH_SCREEN_REFILL,  /* the record filled again */
@@ -55,6 +72,29 @@ enum {
     PH_DONE,
     PH_COUNT
 };
+
+/* What a stage function returns; PLAN gives the phase that follows each
+ * (an outcome a phase never returns leads nowhere: PDT_ERR_STATE). */
+typedef enum pdt_ident_outcome {
+    OUT_AGAIN = 0,  /* more of the stage's work: the phase runs again */
+    OUT_DONE,       /* the stage's work ended; a decision taken */
+    OUT_SKIPPED,    /* a decision not taken: nothing to do there */
+    OUT_FAILED,     /* a preparation or a pass failed */
+    OUT_BEGUN,      /* a pass in several steps begun: its steps next */
+    OUT_GENERATION, /* the population: another generation */
+    OUT_BAND,       /* the population on the time cost ended: the band */
+    OUT_RECENTRE,   /* the population ended, COMBINED: its spectra */
+    OUT_POLISH,     /* a polish of one answer begins */
+    OUT_FALLBACK,   /* the polish hands over to Nelder-Mead */
+    OUT_SCAN,       /* frequency criterion: the dead-time scan */
+    OUT_KINK,       /* a kink pass begun */
+    OUT_PROBE,      /* the dead-time probe begun */
+    OUT_SEARCH,     /* another search */
+    OUT_WHOLE,      /* the coarse answer polished on the whole record */
+    OUT_REST,       /* the answer polished on the rest level */
+    OUT_REFIT,      /* the identification again with the state estimated */
+    OUT_COUNT
+} pdt_ident_outcome_t;
 
 /* The frequency criterion cannot see the dead time or the sign of the
  * gain; after its search, Td is scanned on a grid of SCAN_POINTS values of
@@ -84,9 +124,13 @@ uint32_t pdt_ident_used(const pdt_ident_t *c);
  * late reserve. */
 uint32_t pdt_ident_left(const pdt_ident_t *c);
 
-/* The least budget of one search (pdt_ident.c): one population (two with
- * the CONTROL weighting), one simplex and the late reserve. */
-uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg);
+/* The least budget of one search of the given population: one population
+ * (two with the CONTROL weighting), one simplex and the late reserve. */
+uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg, uint32_t population);
+
+/* The running search's budget set so that pdt_ident_left gives budget
+ * evaluations from now on (a polish of one answer, the profile's). */
+void pdt_ident_polish_budget(pdt_ident_t *c, uint32_t budget);
 
 /* Books count evaluations, each scoring a record of n samples: the
  * evaluations reported and the samples the step budget counts. */
@@ -139,45 +183,61 @@ void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count
 
 /* ---- pdt_ident_ga.c */
 
-/* A search from scratch: a Latin hypercube population, the GA reset. */
+/* A search from scratch: a Latin hypercube population, the GA reset (init;
+ * PH_GA_START's stage). */
 void pdt_ident_ga_start(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_ga_begin(pdt_ident_t *c);
 /* The individuals the next population stage evaluates together: up to
  * PDT_VECTOR_LANES from an index that is a multiple of it, fewer at the
  * population's end. Fixed by the index alone, so the answer does not
  * depend on how the work is split into calls. */
 uint32_t pdt_ident_ga_group(const pdt_ident_t *c);
-void pdt_ident_ga_eval_parent(pdt_ident_t *c);
-void pdt_ident_ga_breed(pdt_ident_t *c);
-void pdt_ident_ga_eval_offspring(pdt_ident_t *c);
+/* PH_INIT_POP, PH_EVAL_OFF: a group evaluated; at the population's end
+ * another generation or the end. */
+pdt_ident_outcome_t pdt_ident_ga_eval_parent(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_ga_breed(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_ga_eval_offspring(pdt_ident_t *c);
+/* PH_GA_END: the band after the time cost's run (CONTROL), the spectra
+ * re-centred (COMBINED), else the refinement. */
+pdt_ident_outcome_t pdt_ident_ga_end(pdt_ident_t *c);
 
 /* ---- pdt_ident_band.c */
 
-void pdt_ident_band_start(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_band_start(pdt_ident_t *c);
 
 /* ---- pdt_ident_refine.c */
 
-void pdt_ident_refine_recentre(pdt_ident_t *c);
-void pdt_ident_refine_begin(pdt_ident_t *c);
-void pdt_ident_refine_step(pdt_ident_t *c);
-/* A search's refinement from x0 alone (the profile's point): Nelder-Mead,
- * then the polish, with the running search's budget. */
-void pdt_ident_refine_from(pdt_ident_t *c, const pdt_real_t *x0);
+pdt_ident_outcome_t pdt_ident_refine_recentre(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_refine_begin(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_refine_step(pdt_ident_t *c);
+/* PH_REFINE_FROM: a refinement from pdt_ident_t.start alone (the
+ * profile's point): Nelder-Mead, then the polish, with the running
+ * search's budget. */
+pdt_ident_outcome_t pdt_ident_refine_from(pdt_ident_t *c);
+/* PH_NM_BEST: Nelder-Mead from the best with what is left of the polish's
+ * budget; OUT_SKIPPED where no simplex fits. */
+pdt_ident_outcome_t pdt_ident_refine_nm_best(pdt_ident_t *c);
 /* The points the next PH_REFINE step evaluates together: one of each
  * running niche run, up to PDT_VECTOR_LANES; 1 in the final polish. */
 uint32_t pdt_ident_refine_group(const pdt_ident_t *c);
 
 /* ---- pdt_ident_scan.c */
 
-void pdt_ident_scan_start(pdt_ident_t *c);
-void pdt_ident_scan_grid(pdt_ident_t *c);
-void pdt_ident_scan_golden(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_scan_start(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_scan_grid(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_scan_golden(pdt_ident_t *c);
 
 /* ---- pdt_ident_vote.c */
 
-void pdt_ident_finish(pdt_ident_t *c);
-/* The answer of all searches (and of the profile's polish): the least
- * cost, confirmed or flagged, then the stage that follows. */
-void pdt_ident_conclude(pdt_ident_t *c);
+/* PH_FINISH: the running polish's answer; OUT_WHOLE after the coarse
+ * answer's polish on the whole record, OUT_REST after the polish on the
+ * rest level, else OUT_DONE (a search's or the profile's answer). */
+pdt_ident_outcome_t pdt_ident_finish(pdt_ident_t *c);
+/* PH_SEARCH_END: the answer kept; another search (OUT_SEARCH) or not. */
+pdt_ident_outcome_t pdt_ident_search_end(pdt_ident_t *c);
+/* PH_CONCLUDE: the answer of all searches (and of the profile's polish):
+ * the least cost, confirmed or flagged. */
+pdt_ident_outcome_t pdt_ident_conclude(pdt_ident_t *c);
 /* The answer kept with the least cost (done >= 1), and the searches among
  * the answers kept (the profile's is not one). */
 uint32_t pdt_ident_vote_best(const pdt_ident_t *c);
@@ -193,22 +253,25 @@ uint32_t pdt_ident_bound_flags(const pdt_ident_t *c);
 
 /* ---- pdt_ident_profile.c */
 
-/* When the searches have ended: true when the profile begins (PH_PROFILE);
- * false once it ran, where it does not apply or where the budget cannot
- * pay for it, and when its polish has ended (its answer the last kept). */
-bool pdt_ident_profile_begin(pdt_ident_t *c);
-/* PH_PROFILE: the next group of grid points, then the polish of the far
- * point below the answer's neighbourhood, or the vote. */
-void pdt_ident_profile_step(pdt_ident_t *c);
+/* PH_PROFILE_BEGIN, when the searches have ended: OUT_DONE when the
+ * profile begins; OUT_SKIPPED once it ran, where it does not apply or
+ * where the budget cannot pay for it, and when its polish has ended (its
+ * answer the last kept). */
+pdt_ident_outcome_t pdt_ident_profile_begin(pdt_ident_t *c);
+/* PH_PROFILE: the next group of grid points, then the refinement of the
+ * far point below the answer's neighbourhood (OUT_POLISH, its start in
+ * pdt_ident_t.start), or the vote. */
+pdt_ident_outcome_t pdt_ident_profile_step(pdt_ident_t *c);
 /* The points the next PH_PROFILE step evaluates together. */
 uint32_t pdt_ident_profile_group(const pdt_ident_t *c);
 
 /* ---- pdt_ident_rest.c */
 
-/* After the searches concluded: PH_REST when the answer's fitted offset
- * disagrees with the rest window's level, else PH_STD. */
-void pdt_ident_rest_check(pdt_ident_t *c);
-void pdt_ident_rest_start(pdt_ident_t *c);
+/* PH_REST_CHECK, after the searches concluded: OUT_DONE when the
+ * answer's fitted offset disagrees with the rest window's level. */
+pdt_ident_outcome_t pdt_ident_rest_check(const pdt_ident_t *c);
+/* PH_REST: the cost on the rest level, the polish's budget set. */
+pdt_ident_outcome_t pdt_ident_rest_start(pdt_ident_t *c);
 
 /* ---- pdt_ident_coarse.c */
 
@@ -220,43 +283,42 @@ void pdt_ident_rest_start(pdt_ident_t *c);
  * is set back and the whole record is searched. */
 size_t pdt_ident_coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc);
 void pdt_ident_coarse_begin(pdt_ident_t *c, bool prepared, pdt_cost_config_t *cc);
-/* The searches concluded on the coarse record: PH_FINE. */
-bool pdt_ident_coarse_pending(pdt_ident_t *c);
-/* PH_FINE: the whole record's cost, then the answer polished on it, or
- * the searches run again on it when the answer is too fast for the
- * coarse record. */
-void pdt_ident_coarse_fine(pdt_ident_t *c);
+/* PH_COARSE_CHECK: OUT_DONE when the searches concluded on the coarse
+ * record. */
+pdt_ident_outcome_t pdt_ident_coarse_pending(const pdt_ident_t *c);
+/* PH_FINE: the whole record's cost, then the answer polished on it
+ * (OUT_POLISH), or the searches run again on it when the answer is too
+ * fast for the coarse record (OUT_SEARCH). */
+pdt_ident_outcome_t pdt_ident_coarse_fine(pdt_ident_t *c);
 
-/* ---- the polish of one answer (pdt_ident_refine.c, pdt_ident_polish.c) */
-/* The best polished within budget evaluations: Newton on differences
- * (PH_POLISH), Nelder-Mead where that cannot go on. */
-void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget);
-/* Nelder-Mead from the best with what is left of the polish's budget. */
-void pdt_ident_refine_nm_best(pdt_ident_t *c);
-/* What follows a refinement: the dead-time scan of the frequency
- * criterion, else the kink passes and the dead-time probe, else the
- * search's answer. */
-void pdt_ident_refine_end(pdt_ident_t *c);
-/* From the best. */
-void pdt_ident_polish_begin(pdt_ident_t *c);
-/* On the whole record's output error with a fractional dead time, after
- * the answer's polish: the next of its two kink passes (pdt_ident_polish.c)
- * begun, after them the dead-time probe (PH_PROBE). False, and nothing
- * begun, once the probe ran, where none applies or where the budget is
- * spent. */
-bool pdt_ident_polish_kinks(pdt_ident_t *c);
+/* ---- pdt_ident_polish.c: the polish of one answer */
+
+/* PH_POLISH_BEGIN: the Newton polish from the best (its budget set). */
+pdt_ident_outcome_t pdt_ident_polish_begin(pdt_ident_t *c);
+/* PH_POLISH: the next point or group of the Newton polish; OUT_FALLBACK
+ * where it hands over to Nelder-Mead, OUT_DONE at its end. */
+pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c);
+/* PH_REFINE_END, what follows a refinement: the dead-time scan of the
+ * frequency criterion (OUT_SCAN); on the whole record's output error with
+ * a fractional dead time, after the answer's polish, the next of its two
+ * kink passes (OUT_KINK), after them the dead-time probe (OUT_PROBE);
+ * else the answer (OUT_DONE). */
+pdt_ident_outcome_t pdt_ident_polish_end(pdt_ident_t *c);
 /* PH_PROBE: the next points of the dead-time probe (a group), then the
- * polish from the lowest where it is below the answer. */
-void pdt_ident_polish_probe(pdt_ident_t *c);
+ * polish from the lowest where it is below the answer (OUT_POLISH). */
+pdt_ident_outcome_t pdt_ident_polish_probe(pdt_ident_t *c);
 /* The points the next PH_POLISH or PH_PROBE step evaluates together. */
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c);
-void pdt_ident_polish_step(pdt_ident_t *c);
-/* The answer's uncertainty: PH_STD begins the Fisher pass, PH_STD_PASS
- * sums a block of PDT_FISHER_BLOCK samples per step, PH_EVIDENCE the
- * evidence against the null model. */
-void pdt_ident_std(pdt_ident_t *c);
-void pdt_ident_std_pass(pdt_ident_t *c);
-void pdt_ident_std_evidence(pdt_ident_t *c);
+uint32_t pdt_ident_probe_group(const pdt_ident_t *c);
+
+/* ---- pdt_ident_vote.c: the answer's uncertainty */
+
+/* PH_STD begins the Fisher pass (OUT_BEGUN), or does it whole (OUT_DONE);
+ * PH_STD_PASS sums a block of PDT_FISHER_BLOCK samples per step,
+ * PH_EVIDENCE the evidence against the null model. */
+pdt_ident_outcome_t pdt_ident_std(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_std_pass(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_std_evidence(pdt_ident_t *c);
 
 /* ---- pdt_ident_screen.c */
 
@@ -272,15 +334,19 @@ bool pdt_ident_screen_needed(const pdt_ident_config_t *cfg, const pdt_ident_data
 pdt_status_t pdt_ident_screen_prepare(pdt_ident_screen_t *s, const pdt_ident_config_t *cfg,
                                       const pdt_ident_data_t *d);
 /* The answer's residual screened, one O(n) step each: PH_SCREEN its
- * residual (or AUTO's identification with the state estimated begun),
- * PH_SCREEN_HIGH its high pass, PH_SCREEN_BOUND the samples left out
- * (PH_DONE where none are new), PH_SCREEN_REFILL the record filled again,
- * PH_SCREEN_RESTART the identification begun again on it. */
-void pdt_ident_screen_step(pdt_ident_t *c);
-void pdt_ident_screen_high(pdt_ident_t *c);
-void pdt_ident_screen_bound(pdt_ident_t *c);
-void pdt_ident_screen_refill(pdt_ident_t *c);
-void pdt_ident_screen_restart(pdt_ident_t *c);
+ * residual (OUT_REFIT: AUTO's identification with the state estimated
+ * first), PH_SCREEN_HIGH its high pass, PH_SCREEN_BOUND the samples left
+ * out (OUT_SKIPPED where none are new), PH_SCREEN_REFILL the record
+ * filled again; PH_SCREEN_RESTART (pdt_ident.c) begins the identification
+ * again on it. */
+pdt_ident_outcome_t pdt_ident_screen_step(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_screen_high(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_screen_bound(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_screen_refill(pdt_ident_t *c);
+/* The restart failed with st: the status kept, and where the cost
+ * refused the refilled record for a value orders of magnitude off, that
+ * sample named. */
+void pdt_ident_screen_failed(pdt_ident_t *c, pdt_status_t st);
 /* The result's excluded, missing and excluded_first. */
 void pdt_ident_screen_report(const pdt_ident_screen_t *s, size_t n, pdt_ident_result_t *r);
 
@@ -307,16 +373,10 @@ bool pdt_ident_want_state(const pdt_ident_t *c);
  * a tenth of its residual and more than chance explains (scratch
  * overwritten). */
 bool pdt_ident_state_matters(pdt_ident_t *c);
-/* PH_SCREEN's first duty: where AUTO's test asked for it (auto_state set
- * with initial still AUTO), the identification begun again with the
- * state estimated; true when it was. */
-bool pdt_ident_state_refit(pdt_ident_t *c);
-
-/* ---- pdt_ident.c */
-
-/* The identification prepared again, as init does, on the screen's
- * filled record, the screen's state kept; its status. */
-pdt_status_t pdt_ident_restart(pdt_ident_t *c);
+/* PH_SCREEN's first duty: whether AUTO's test asked for the
+ * identification again with the state estimated (auto_state set with
+ * initial still AUTO; PH_REFIT, pdt_ident.c, begins it). */
+bool pdt_ident_refit_due(const pdt_ident_t *c);
 
 /* ---- pdt_ident_multi.c: several records (pdt_ident_config_t.more) */
 

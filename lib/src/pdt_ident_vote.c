@@ -116,7 +116,7 @@ static bool gain_on_bound(const pdt_ident_t *c, pdt_real_t K)
  * profile's answer confirms one in its basin, and stands on its own where
  * it is the least: the profile saw the whole dead-time range, and its
  * point lay below everything near the searches' answer. */
-void pdt_ident_conclude(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_conclude(pdt_ident_t *c)
 {
     const uint32_t best = pdt_ident_vote_best(c);
     const pdt_real_t cb = c->vote.cost[best];
@@ -152,9 +152,7 @@ void pdt_ident_conclude(pdt_ident_t *c)
         c->best.genes[j] = c->vote.genes[best][j];
     }
     c->flags = flags | pdt_ident_bound_flags(c);
-    if (!pdt_ident_coarse_pending(c)) {
-        pdt_ident_rest_check(c);
-    }
+    return OUT_DONE;
 }
 
 uint32_t pdt_ident_vote_best(const pdt_ident_t *c)
@@ -180,9 +178,10 @@ uint32_t pdt_ident_bound_flags(const pdt_ident_t *c)
                : 0u;
 }
 
-/* A search ended: keep what it found, then another search or the answer.
- * The second always runs; the third only when the first two disagree. */
-static void search_end(pdt_ident_t *c)
+/* A search ended: keep what it found, then another search (OUT_SEARCH) or
+ * the answer (OUT_DONE). The second always runs; the third only when the
+ * first two disagree. */
+pdt_ident_outcome_t pdt_ident_search_end(pdt_ident_t *c)
 {
     const uint32_t k = c->vote.done;
     c->vote.found[k] = c->model;
@@ -197,19 +196,13 @@ static void search_end(pdt_ident_t *c)
     for (uint32_t i = 0u; i < k; i++) {
         agreed = agreed || pdt_ident_vote_same_basin(c, i, k);
     }
-    if (c->vote.done < c->vote.searches && (c->vote.done < 2u || !agreed)) {
-        pdt_ident_ga_start(c);
-        return;
-    }
-    if (pdt_ident_profile_begin(c)) {
-        return;
-    }
-    pdt_ident_conclude(c);
+    return (c->vote.done < c->vote.searches && (c->vote.done < 2u || !agreed)) ? OUT_SEARCH
+                                                                               : OUT_DONE;
 }
 
 /* The running search's answer: the model in engineering units, its
  * operating point and its fit. */
-void pdt_ident_finish(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_finish(pdt_ident_t *c)
 {
     pdt_model_t m;
     best_model(c, &m);
@@ -262,16 +255,14 @@ void pdt_ident_finish(pdt_ident_t *c)
          * searches' verdict stands, its bounds are the polish's. */
         c->coarse.stage = 3u;
         c->flags = (c->flags & ~PDT_IDENT_FLAG_AT_BOUND) | pdt_ident_bound_flags(c);
-        pdt_ident_rest_check(c);
-        return;
+        return OUT_WHOLE;
     }
     if (c->rest_stage == 1u) {
         /* The polish on the rest level: this is the answer. */
         c->rest_stage = 2u;
-        c->phase = PH_STD;
-        return;
+        return OUT_REST;
     }
-    search_end(c);
+    return OUT_DONE;
 }
 
 /* The covariance lives in the result's type: its size must be the Fisher
@@ -504,14 +495,14 @@ static std_run_t *std_run_of(const pdt_ident_t *c)
 }
 
 /* The uncertainty that could not be computed: count 0, no evidence. */
-static void std_failed(pdt_ident_t *c)
+static pdt_ident_outcome_t std_failed(pdt_ident_t *c)
 {
     c->evidence = PDT_R(0.0);
     c->flags |= (c->fit >= FIT_FLOOR) ? 0u : PDT_IDENT_FLAG_NO_RELATION;
-    c->phase = PH_SCREEN;
+    return OUT_FAILED;
 }
 
-void pdt_ident_std(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_std(pdt_ident_t *c)
 {
     c->std = (pdt_ident_std_t){0};
     std_run_t *const run = std_run_of(c);
@@ -519,19 +510,16 @@ void pdt_ident_std(pdt_ident_t *c)
         /* Several records: no uncertainty, their joint evidence, in one
          * step (docs/several-records.md). */
         pdt_ident_multi_std(c);
-        c->phase = PH_SCREEN;
-        return;
+        return OUT_DONE;
     }
     if (run == NULL) {
         pdt_fisher_sums_t fs;
         if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, c, &c->std, &fs) ==
             PDT_OK) {
             evidence(c, &fs);
-            c->phase = PH_SCREEN;
-        } else {
-            std_failed(c);
+            return OUT_DONE;
         }
-        return;
+        return std_failed(c);
     }
     pdt_real_t before = PDT_R(0.0);
     pdt_status_t st =
@@ -541,28 +529,26 @@ void pdt_ident_std(pdt_ident_t *c)
                               before, run->F);
     }
     if (st != PDT_OK) {
-        std_failed(c);
-        return;
+        return std_failed(c);
     }
-    c->phase = PH_STD_PASS;
+    return OUT_BEGUN;
 }
 
-void pdt_ident_std_pass(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_std_pass(pdt_ident_t *c)
 {
     std_run_t *const run = std_run_of(c);
     if (!pdt_fisher_block(&run->R)) {
-        return;
+        return OUT_AGAIN;
     }
     if (pdt_fisher_end(&run->R, &run->fs) != PDT_OK) {
-        std_failed(c);
-        return;
+        return std_failed(c);
     }
     uncertainty_end(run->F, &run->fs, c->data.n, c, &c->std);
-    c->phase = PH_EVIDENCE;
+    return OUT_DONE;
 }
 
-void pdt_ident_std_evidence(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_std_evidence(pdt_ident_t *c)
 {
     evidence(c, &std_run_of(c)->fs);
-    c->phase = PH_SCREEN;
+    return OUT_DONE;
 }

@@ -396,6 +396,7 @@ typedef struct pdt_ident {
     uint32_t rest_stage;  /* 1 while the answer is polished on the rest
                            * level, 2 after */
     pdt_ident_best_t best;
+    pdt_real_t start[3]; /* the next refinement's start (PH_REFINE_FROM) */
     pdt_ident_ga_t ga;
     pdt_ident_refine_t nm; /* with the polish's state */
     pdt_ident_scan_t scan;
