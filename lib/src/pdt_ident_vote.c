@@ -8,109 +8,14 @@
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
 
-/* Costs closer than this (relative) are one basin; a different structure
- * this close is an ambiguity. */
-#define AGREE_RTOL     PDT_R(0.01)
+/* A different structure this close (relative) is an ambiguity. */
 #define AMBIGUOUS_RTOL PDT_R(0.05)
-/* Answers this close in normalised genes are one basin whatever their
- * costs (an exact fit's cost is all rounding, its ratios meaningless). */
-#define AGREE_GENES    PDT_R(0.01)
 /* 99 % quantile of chi-square with one degree of freedom. */
 #define CHI2_1_99      PDT_R(6.635)
 /* Normalised costs closer than this are the real type's rounding, not the
  * data's (float: an RMS of about 1e-4 of the record's range): a noise-free
  * integrator's fit is not beaten by a lag that fits its rounding. */
 #define COST_FLOOR     (PDT_REAL_EPS / PDT_R(8.0))
-/* A gene this close to its bound (normalised) lies on it. */
-#define BOUND_TOL      PDT_R(1e-3)
-
-static pdt_real_t model_gain(const pdt_model_t *m)
-{
-    return m->kind == PDT_MODEL_FOPDT ? m->p.fopdt.K : m->p.sopdt.k;
-}
-
-/* The same structure: the gain's sign and, for a SOPDT, whether it
- * integrates. */
-static bool same_structure(const pdt_model_t *a, const pdt_model_t *b)
-{
-    if ((model_gain(a) < PDT_R(0.0)) != (model_gain(b) < PDT_R(0.0))) {
-        return false;
-    }
-    return a->kind != PDT_MODEL_SOPDT ||
-           ((a->p.sopdt.b > PDT_R(0.0)) == (b->p.sopdt.b > PDT_R(0.0)));
-}
-
-/* Cost b within rtol of cost a (normalised costs: the record lies in
- * (-1, 1), so a few ulps of 1 are the floor of an exact fit). */
-static bool cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol)
-{
-    pdt_real_t lo = a < b ? a : b;
-    pdt_real_t d = a < b ? b - a : a - b;
-    return d <= rtol * lo + PDT_R(64.0) * PDT_REAL_EPS * PDT_REAL_EPS;
-}
-
-/* A model m with cost and genes g lies in the basin of answer i: the same
- * structure, and costs within 1 % or genes within AGREE_GENES. */
-static bool in_basin_of(const pdt_ident_t *c, uint32_t i, const pdt_model_t *m, pdt_real_t cost,
-                        const pdt_real_t *g)
-{
-    return same_structure(&c->vote.found[i], m) &&
-           (cost_close(c->vote.cost[i], cost, AGREE_RTOL) ||
-            pdt_ident_distance(c, c->vote.genes[i], g) < AGREE_GENES);
-}
-
-/* Searches i and j ended in one basin. */
-bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
-{
-    return in_basin_of(c, i, &c->vote.found[j], c->vote.cost[j], c->vote.genes[j]);
-}
-
-/* The running search's best as a model: the shape's gain unit times the
- * multiplier found. */
-static void best_model(const pdt_ident_t *c, pdt_model_t *m)
-{
-    pdt_ident_shape(c, c->best.genes, m);
-    if (m->kind == PDT_MODEL_FOPDT) {
-        m->p.fopdt.K *= c->best.gain;
-    } else {
-        m->p.sopdt.k *= c->best.gain;
-    }
-}
-
-bool pdt_ident_vote_caught_up(const pdt_ident_t *c)
-{
-    if (c->vote.done == 0u || !(c->best.cost < PDT_REAL_MAX)) {
-        return false;
-    }
-    pdt_model_t m;
-    best_model(c, &m);
-    return in_basin_of(c, pdt_ident_vote_best(c), &m, c->best.cost, c->best.genes);
-}
-
-static bool on_bound(const pdt_ident_t *c, const pdt_real_t *g)
-{
-    for (uint32_t j = 0; j < c->genes; j++) {
-        const pdt_real_t t = (g[j] - c->lo[j]) / (c->hi[j] - c->lo[j]);
-        /* Only the upper bounds: a time constant below a quarter sample
-         * (a lag too short to matter, or a SOPDT's second lag vanishing),
-         * no dead time and 1/zeta = 0 (an integrator) are answers. */
-        if (t > PDT_R(1.0) - BOUND_TOL) {
-            return true;
-        }
-    }
-    return false;
-}
-
-static bool gain_on_bound(const pdt_ident_t *c, pdt_real_t K)
-{
-    const pdt_real_t lo = c->cfg.K_min, hi = c->cfg.K_max;
-    if (!(hi > lo)) {
-        return false;
-    }
-    const pdt_real_t tol = BOUND_TOL * (hi - lo);
-    return K <= lo + tol || K >= hi - tol;
-}
-
 /* The answer of all searches: the least cost; confirmed by another search
  * in its basin, flagged otherwise, the runner-up basin's cost ratio. The
  * profile's answer confirms one in its basin, and stands on its own where
@@ -127,12 +32,12 @@ pdt_ident_outcome_t pdt_ident_conclude(pdt_ident_t *c)
         if (i == best) {
             continue;
         }
-        const bool same = same_structure(&c->vote.found[i], &c->vote.found[best]);
+        const bool same = pdt_ident_same_structure(&c->vote.found[i], &c->vote.found[best]);
         if (pdt_ident_vote_same_basin(c, i, best)) {
             confirmed = true;
             continue;
         }
-        if (!same && cost_close(cb, c->vote.cost[i], AMBIGUOUS_RTOL)) {
+        if (!same && pdt_ident_cost_close(cb, c->vote.cost[i], AMBIGUOUS_RTOL)) {
             flags |= PDT_IDENT_FLAG_AMBIGUOUS;
         }
         const pdt_real_t ratio = cb > PDT_R(0.0) ? c->vote.cost[i] / cb : PDT_REAL_MAX;
@@ -153,29 +58,6 @@ pdt_ident_outcome_t pdt_ident_conclude(pdt_ident_t *c)
     }
     c->flags = flags | pdt_ident_bound_flags(c);
     return OUT_DONE;
-}
-
-uint32_t pdt_ident_vote_best(const pdt_ident_t *c)
-{
-    uint32_t best = 0u;
-    for (uint32_t i = 1u; i < c->vote.done; i++) {
-        if (c->vote.cost[i] < c->vote.cost[best]) {
-            best = i;
-        }
-    }
-    return best;
-}
-
-uint32_t pdt_ident_vote_searches(const pdt_ident_t *c)
-{
-    return c->vote.done - (c->vote.profiled != 0u ? 1u : 0u);
-}
-
-uint32_t pdt_ident_bound_flags(const pdt_ident_t *c)
-{
-    return (on_bound(c, c->best.genes) || gain_on_bound(c, model_gain(&c->model)))
-               ? PDT_IDENT_FLAG_AT_BOUND
-               : 0u;
 }
 
 /* A search ended: keep what it found, then another search (OUT_SEARCH) or
@@ -205,7 +87,7 @@ pdt_ident_outcome_t pdt_ident_search_end(pdt_ident_t *c)
 pdt_ident_outcome_t pdt_ident_finish(pdt_ident_t *c)
 {
     pdt_model_t m;
-    best_model(c, &m);
+    pdt_ident_best_model(c, &m);
     if (m.kind == PDT_MODEL_SOPDT && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
         /* A lag a hundred records long may not be told from an integrator
          * in this record: then report the integrator (b = 0) rather than a
