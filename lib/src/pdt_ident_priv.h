@@ -1,10 +1,11 @@
 /*
  * The identification engine's stages, private to the library. pdt_ident.c
- * checks the configuration and sequences the stages by a table; each
- * stage lives in its own file and keeps its state in its own part of
- * pdt_ident_t:
+ * checks the configuration and sequences the stages by one const table,
+ * PLAN: for each phase, what its stage needs (an evaluation of this
+ * call's budget, a group of them, or a call of its own) and the phase
+ * after each outcome the stage returns (docs/ident-engine.md draws it).
+ * Each stage lives in its own file:
  *
- *   pdt_ident_genes.c   the gene coding and one candidate's evaluation
  *   pdt_ident_ga.c      the population: start, breeding, survival (ga)
  *   pdt_ident_band.c    the CONTROL weighting's band, between two GA runs
  *   pdt_ident_refine.c  Nelder-Mead from the best niches (nm)
@@ -15,11 +16,34 @@
  *   pdt_ident_rest.c    the output offset from the rest window (rest)
  *   pdt_ident_coarse.c  the searches' coarse record, the whole one after
  *   pdt_ident_screen.c  missing samples and gross errors left out (screen)
+ *
+ * and the helpers they share, which call no stage:
+ *
+ *   pdt_ident_genes.c   the gene coding, one candidate's evaluation, the
+ *                       budgets
+ *   pdt_ident_common.c  the answers kept: the best, one basin or two
  *   pdt_ident_initial.c whether the record started at rest
  *   pdt_ident_multi.c   several records: their costs, the joint profile
  *
- * A stage function does at most one evaluation, or one preparation as
- * costly as init, and sets c->phase to what comes next.
+ * The stage contract. A stage function returns an outcome and never
+ * writes pdt_ident_t.phase; it calls no function of another stage's file
+ * (the sequencer's file holds the two restarts, PH_REFIT and
+ * PH_SCREEN_RESTART). What it may do in one call is what its phase needs
+ * in PLAN: a phase marked EVALUATES does one evaluation, or with GROUP the
+ * group its *_group function names (up to PDT_VECTOR_LANES; the probe's
+ * and the profile's points may also be fewer where some lie beyond the
+ * bounds); a HEAVY phase does one preparation as costly as init (a cost
+ * prepared again, a breeding, a block of the Fisher pass, an O(n) step
+ * of the screen), and no evaluation; a phase that needs nothing does no
+ * evaluation and no O(n) work but the two restarts that end PH_SCREEN's
+ * call. A stage reads and writes its own part of pdt_ident_t and the
+ * shared part: the configuration, the record and its cost, the gene
+ * bounds lo and hi, best (every evaluation updates it), vote (the answers
+ * kept; vote.base and vote.budget the running search's or polish's
+ * budget, set through pdt_ident_polish_budget), start (the profile's
+ * point for PH_REFINE_FROM), the answer (model, y0, fit, flags,
+ * evidence, std, extra) and the modes that say whose answer a polish
+ * gives: coarse.stage, rest_stage, band_stage and profile.stage.
  */
 #ifndef PDT_IDENT_PRIV_H
 #define PDT_IDENT_PRIV_H
@@ -181,6 +205,30 @@ void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, p
 void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count, pdt_real_t *cost,
                              pdt_real_t *gain, pdt_real_t *offset);
 
+/* ---- pdt_ident_common.c: the answers kept */
+
+/* The answer kept with the least cost (done >= 1), and the searches among
+ * the answers kept (the profile's is not one). */
+uint32_t pdt_ident_vote_best(const pdt_ident_t *c);
+uint32_t pdt_ident_vote_searches(const pdt_ident_t *c);
+/* Answers i and j in one basin (the same structure; costs within 1 % or
+ * genes within 1 % of their ranges). */
+bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j);
+/* The running search's GA best lies in the basin of the best answer kept
+ * (pdt_ident_vote_same_basin's test): it has caught up with it. */
+bool pdt_ident_vote_caught_up(const pdt_ident_t *c);
+/* Flags on the answer's genes (AT_BOUND) after the whole record's polish. */
+uint32_t pdt_ident_bound_flags(const pdt_ident_t *c);
+
+/* The same structure: the gain's sign and, for a SOPDT, whether it
+ * integrates. */
+bool pdt_ident_same_structure(const pdt_model_t *a, const pdt_model_t *b);
+/* Cost b within rtol of cost a (normalised costs). */
+bool pdt_ident_cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol);
+/* The running search's best as a model: the shape's gain unit times the
+ * multiplier found. */
+void pdt_ident_best_model(const pdt_ident_t *c, pdt_model_t *m);
+
 /* ---- pdt_ident_ga.c */
 
 /* A search from scratch: a Latin hypercube population, the GA reset (init;
@@ -238,18 +286,6 @@ pdt_ident_outcome_t pdt_ident_search_end(pdt_ident_t *c);
 /* PH_CONCLUDE: the answer of all searches (and of the profile's polish):
  * the least cost, confirmed or flagged. */
 pdt_ident_outcome_t pdt_ident_conclude(pdt_ident_t *c);
-/* The answer kept with the least cost (done >= 1), and the searches among
- * the answers kept (the profile's is not one). */
-uint32_t pdt_ident_vote_best(const pdt_ident_t *c);
-uint32_t pdt_ident_vote_searches(const pdt_ident_t *c);
-/* Answers i and j in one basin (the same structure; costs within 1 % or
- * genes within 1 % of their ranges). */
-bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j);
-/* The running search's GA best lies in the basin of the best answer kept
- * (pdt_ident_vote_same_basin's test): it has caught up with it. */
-bool pdt_ident_vote_caught_up(const pdt_ident_t *c);
-/* Flags on the answer's genes (AT_BOUND) after the whole record's polish. */
-uint32_t pdt_ident_bound_flags(const pdt_ident_t *c);
 
 /* ---- pdt_ident_profile.c */
 
