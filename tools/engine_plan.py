@@ -75,9 +75,11 @@ def plan(text):
 def stages(text):
     """{phase: the function its stage is} from the sequencer's switches."""
     out = {}
-    for m in re.finditer(r"case (PH_\w+):\s*return (\w+)\(c\);", text):
-        out[m.group(1)] = m.group(2)
-    for m in re.finditer(r"default: /\* (PH_\w+) \*/\s*return (\w+)\(c\);", text):
+    call = r"\s*return (\w+)\(c(?:, (\w+))?\);"
+    for m in re.finditer(r"((?:case PH_\w+:\s*)+)" + call, text):
+        for ph in re.findall(r"case (PH_\w+):", m.group(1)):
+            out[ph] = m.group(2) if m.group(3) is None else "%s (%s)" % (m.group(2), m.group(3))
+    for m in re.finditer(r"default: /\* (PH_\w+) \*/" + call, text):
         out[m.group(1)] = m.group(2)
     return out
 
@@ -98,7 +100,11 @@ def section():
              "|---|---|---|---|---|"]
     for ph, needs, nexts in rows:
         fn = fns.get(ph, "?")
-        fn = "`%s`" % fn if fn.startswith("pdt_") else "%s (`lib/src/pdt_ident.c`)" % fn
+        if fn.startswith("pdt_"):
+            name, _, arg = fn.partition(" ")
+            fn = "`%s`%s" % (name, " " + arg if arg else "")
+        else:
+            fn = "%s (`lib/src/pdt_ident.c`)" % fn
         arrows = "; ".join("%s → `%s`" % (short(o, "OUT_"), n) for o, n in nexts)
         lines.append("| `%s` | %s | %s | %s | %s |" % (ph, phases.get(ph, ""),
                                                        needs_words(needs, defs), fn, arrows))

@@ -623,6 +623,7 @@ static void screen_begin(pdt_ident_t *c, const pdt_ident_screen_t *screen, void 
  * is the screen's state to keep (a record with samples left out), or NULL.
  * cfg, data and screen may lie in *ctx. */
 static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc);
+static uint32_t next_of(uint32_t phase, pdt_ident_outcome_t out);
 
 static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                           const pdt_ident_data_t *data, void *work, size_t work_len,
@@ -719,8 +720,7 @@ static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc)
                                 c->cost_work_len);
         }
     }
-    pdt_ident_ga_start(c);
-    c->phase = PH_INIT_POP;
+    c->phase = next_of(PH_GA_START, pdt_ident_ga_begin(c));
     c->magic = IDENT_MAGIC;
 }
 
@@ -873,9 +873,15 @@ static const plan_t PLAN[PH_COUNT] = {
     [PH_EVAL_OFF] =
         {NEEDS_GROUP,
          {[OUT_AGAIN] = PH_EVAL_OFF, [OUT_GENERATION] = PH_BREED, [OUT_DONE] = PH_GA_END}},
-    [PH_GA_END] =
-        {0u, {[OUT_BAND] = PH_BAND, [OUT_RECENTRE] = PH_RECENTRE, [OUT_DONE] = PH_REFINE_START}},
-    [PH_GA_START] = {0u, {[OUT_DONE] = PH_INIT_POP}},
+    [PH_TIME_POP] =
+        {NEEDS_GROUP,
+         {[OUT_AGAIN] = PH_TIME_POP, [OUT_GENERATION] = PH_TIME_BREED, [OUT_DONE] = PH_BAND}},
+    [PH_TIME_BREED] = {NEEDS_BUDGET | HEAVY, {[OUT_DONE] = PH_TIME_OFF}},
+    [PH_TIME_OFF] =
+        {NEEDS_GROUP,
+         {[OUT_AGAIN] = PH_TIME_OFF, [OUT_GENERATION] = PH_TIME_BREED, [OUT_DONE] = PH_BAND}},
+    [PH_GA_END] = {0u, {[OUT_RECENTRE] = PH_RECENTRE, [OUT_DONE] = PH_REFINE_START}},
+    [PH_GA_START] = {0u, {[OUT_DONE] = PH_INIT_POP, [OUT_TIME] = PH_TIME_POP}},
     [PH_BAND] = {HEAVY, {[OUT_DONE] = PH_INIT_POP}},
     /* The refinement and the polish (pdt_ident_refine.c,
      * pdt_ident_polish.c, pdt_ident_scan.c). */
@@ -958,7 +964,7 @@ static uint32_t group_of(const pdt_ident_t *c)
         return pdt_ident_profile_group(c);
     case PH_REFINE:
         return pdt_ident_refine_group(c);
-    default: /* PH_INIT_POP, PH_EVAL_OFF */
+    default: /* PH_INIT_POP, PH_EVAL_OFF, PH_TIME_POP, PH_TIME_OFF */
         return pdt_ident_ga_group(c);
     }
 }
@@ -968,11 +974,16 @@ static pdt_ident_outcome_t run_search(pdt_ident_t *c)
 {
     switch (c->phase) {
     case PH_INIT_POP:
-        return pdt_ident_ga_eval_parent(c);
+        return pdt_ident_ga_eval_parent(c, false);
     case PH_BREED:
+    case PH_TIME_BREED:
         return pdt_ident_ga_breed(c);
     case PH_EVAL_OFF:
-        return pdt_ident_ga_eval_offspring(c);
+        return pdt_ident_ga_eval_offspring(c, false);
+    case PH_TIME_POP:
+        return pdt_ident_ga_eval_parent(c, true);
+    case PH_TIME_OFF:
+        return pdt_ident_ga_eval_offspring(c, true);
     case PH_GA_END:
         return pdt_ident_ga_end(c);
     case PH_GA_START:

@@ -44,7 +44,6 @@ pdt_ident_outcome_t pdt_ident_band_start(pdt_ident_t *c)
         c->cost = nc;
         c->f_band = f;
     }
-    c->band_stage = 2u;
     c->best.cost = PDT_REAL_MAX;
     c->ga.best_history = PDT_REAL_MAX;
     c->ga.stall = 0u;

@@ -43,7 +43,7 @@
  * budget, set through pdt_ident_polish_budget), start (the profile's
  * point for PH_REFINE_FROM), the answer (model, y0, fit, flags,
  * evidence, std, extra) and the modes that say whose answer a polish
- * gives: coarse.stage, rest_stage, band_stage and profile.stage.
+ * gives: coarse.stage, rest_stage and profile.stage.
  */
 #ifndef PDT_IDENT_PRIV_H
 #define PDT_IDENT_PRIV_H
@@ -59,7 +59,10 @@ enum {
     PH_INIT_POP = 1,   /* evaluating the initial population */
     PH_BREED,          /* breeding a generation */
     PH_EVAL_OFF,       /* evaluating offspring */
-    PH_GA_END,         /* decision: the band, the spectra or the refinement */
+    PH_TIME_POP,       /* CONTROL weighting: the population on the time cost */
+    PH_TIME_BREED,     /* its generation bred */
+    PH_TIME_OFF,       /* its offspring evaluated */
+    PH_GA_END,         /* decision: the spectra or the refinement */
     PH_GA_START,       /* another search's population (no evaluation) */
     PH_BAND,           /* CONTROL weighting: the band from the time model */
     PH_RECENTRE,       /* COMBINED: the spectra on the estimated offset */
@@ -106,7 +109,7 @@ typedef enum pdt_ident_outcome {
     OUT_FAILED,     /* a preparation or a pass failed */
     OUT_BEGUN,      /* a pass in several steps begun: its steps next */
     OUT_GENERATION, /* the population: another generation */
-    OUT_BAND,       /* the population on the time cost ended: the band */
+    OUT_TIME,       /* CONTROL weighting: a search on the time cost first */
     OUT_RECENTRE,   /* the population ended, COMBINED: its spectra */
     OUT_POLISH,     /* a polish of one answer begins */
     OUT_FALLBACK,   /* the polish hands over to Nelder-Mead */
@@ -231,23 +234,23 @@ void pdt_ident_best_model(const pdt_ident_t *c, pdt_model_t *m);
 
 /* ---- pdt_ident_ga.c */
 
-/* A search from scratch: a Latin hypercube population, the GA reset (init;
- * PH_GA_START's stage). */
-void pdt_ident_ga_start(pdt_ident_t *c);
+/* PH_GA_START: a search from scratch, a Latin hypercube population, the
+ * GA reset; OUT_TIME where it begins on the CONTROL weighting's time
+ * cost. */
 pdt_ident_outcome_t pdt_ident_ga_begin(pdt_ident_t *c);
 /* The individuals the next population stage evaluates together: up to
  * PDT_VECTOR_LANES from an index that is a multiple of it, fewer at the
  * population's end. Fixed by the index alone, so the answer does not
  * depend on how the work is split into calls. */
 uint32_t pdt_ident_ga_group(const pdt_ident_t *c);
-/* PH_INIT_POP, PH_EVAL_OFF: a group evaluated; at the population's end
- * another generation or the end. */
-pdt_ident_outcome_t pdt_ident_ga_eval_parent(pdt_ident_t *c);
+/* PH_INIT_POP, PH_EVAL_OFF (PH_TIME_POP, PH_TIME_OFF with time set: the
+ * CONTROL weighting's run on the time cost, on half the budget): a group
+ * evaluated; at the population's end another generation or the end. */
+pdt_ident_outcome_t pdt_ident_ga_eval_parent(pdt_ident_t *c, bool time);
 pdt_ident_outcome_t pdt_ident_ga_breed(pdt_ident_t *c);
-pdt_ident_outcome_t pdt_ident_ga_eval_offspring(pdt_ident_t *c);
-/* PH_GA_END: the band after the time cost's run (CONTROL), the spectra
- * re-centred (COMBINED), else the refinement. */
-pdt_ident_outcome_t pdt_ident_ga_end(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_ga_eval_offspring(pdt_ident_t *c, bool time);
+/* PH_GA_END: the spectra re-centred (COMBINED), else the refinement. */
+pdt_ident_outcome_t pdt_ident_ga_end(const pdt_ident_t *c);
 
 /* ---- pdt_ident_band.c */
 

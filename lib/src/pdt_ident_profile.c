@@ -134,7 +134,6 @@ pdt_ident_outcome_t pdt_ident_profile_begin(pdt_ident_t *c)
         c->cfg.max_evaluations - c->evaluations < need) {
         return OUT_SKIPPED;
     }
-    p->stage = 1u;
     p->next = 0u;
     for (uint32_t k = 0u; k < 2u; k++) {
         p->near[k] = PDT_REAL_MAX;

@@ -388,8 +388,6 @@ typedef struct pdt_ident {
     pdt_real_t lo[3]; /* gene bounds */
     pdt_real_t hi[3];
     pdt_real_t td_offset; /* c0 of the dead-time gene log(Td + c0), s */
-    uint32_t band_stage;  /* CONTROL weighting: 1 while the search runs on
-                           * the time cost, 2 after; 0 otherwise */
     pdt_real_t f_band;    /* CONTROL weighting: the band's edge, Hz */
     uint32_t rest;        /* AUTO offset: the rest window's samples, 0 when
                            * the record has none to use */
