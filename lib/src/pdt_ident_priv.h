@@ -30,18 +30,19 @@
  * (the sequencer's file holds the two restarts, PH_REFIT and
  * PH_SCREEN_RESTART). What it may do in one call is what its phase needs
  * in PLAN: a phase marked EVALUATES does one evaluation, or with GROUP the
- * group its *_group function names (up to PDT_VECTOR_LANES; the probe's
- * and the profile's points may also be fewer where some lie beyond the
- * bounds); a HEAVY phase does one preparation as costly as init (a cost
- * prepared again, a breeding, a block of the Fisher pass, an O(n) step
- * of the screen), and no evaluation; a phase that needs nothing does no
- * evaluation and no O(n) work but the two restarts that end PH_SCREEN's
- * call. A stage reads and writes its own part of pdt_ident_t and the
- * shared part: the configuration, the record and its cost, the gene
- * bounds lo and hi, best (every evaluation updates it), vote (the answers
- * kept; vote.base and vote.budget the running search's or polish's
- * budget, set through pdt_ident_polish_budget), start (the profile's
- * point for PH_REFINE_FROM), the answer (model, y0, fit, flags,
+ * group its *_group function names (up to PDT_VECTOR_LANES; fewer in the
+ * probe where some of its points lie beyond the bounds); a HEAVY phase
+ * does one preparation as costly as init (a cost prepared again, a
+ * breeding, a block of the Fisher pass, an O(n) step of the screen), and
+ * no evaluation; a phase that needs nothing is a decision or the
+ * preparation of the next stage's state, does no evaluation and runs in
+ * the call that reached it (PH_REFIT, the identification begun again,
+ * ends PH_SCREEN's call). A stage reads and writes its own part of
+ * pdt_ident_t and the shared part: the configuration, the record and its
+ * cost, the gene bounds lo and hi, best (every evaluation updates it),
+ * vote (the answers kept; vote.base and vote.budget the running search's
+ * or polish's budget, set through pdt_ident_polish_budget), start (the
+ * profile's point for PH_REFINE_FROM), the answer (model, y0, fit, flags,
  * evidence, std, extra) and the modes that say whose answer a polish
  * gives: coarse.stage, rest_stage and profile.stage.
  */
@@ -52,9 +53,9 @@
 #include "pdt_cost_engine.h"
 
 /* The sequencer's phases (pdt_ident_t.phase): the stage that runs next.
- * Where each leads is the table PLAN in pdt_ident.c (docs/ident-engine.md
- * draws it). A phase marked "decision" only chooses the next: it does no
- * evaluation and runs in the call that reached it. */
+ * What each needs and where each leads is the table PLAN in pdt_ident.c
+ * (docs/ident-engine.md draws it). A "decision" only chooses the next
+ * phase. */
 enum {
     PH_INIT_POP = 1,   /* evaluating the initial population */
     PH_BREED,          /* breeding a generation */
