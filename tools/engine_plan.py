@@ -66,8 +66,10 @@ def plan(text):
     body = re.search(r"static const plan_t PLAN\[PH_COUNT\] = \{(.*?)\n\};", text, re.S).group(1)
     body = re.sub(r"/\*.*?\*/", "", body, flags=re.S)
     rows = []
-    for m in re.finditer(r"\[(PH_\w+)\]\s*=\s*\{([^{}]*?),\s*\{([^{}]*)\}\s*\}", body):
-        nexts = re.findall(r"\[(OUT_\w+)\]\s*=\s*(PH_\w+)", m.group(3))
+    way = r"\{\s*OUT_\w+,\s*PH_\w+\s*\}"
+    row = r"\[(PH_\w+)\]\s*=\s*\{([^{},]*),\s*\{((?:\s*%s\s*,?)*)\}\s*\}" % way
+    for m in re.finditer(row, body):
+        nexts = re.findall(r"\{\s*(OUT_\w+),\s*(PH_\w+)\s*\}", m.group(3))
         rows.append((m.group(1), m.group(2).strip(), nexts))
     return rows
 

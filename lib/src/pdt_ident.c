@@ -857,88 +857,95 @@ static pdt_ident_outcome_t screen_restart(pdt_ident_t *c)
 #define NEEDS_GROUP (NEEDS_BUDGET | EVALUATES | GROUP)
 
 /* The plan: for each phase, what it needs and the phase that follows each
- * outcome its stage returns (0, no phase: an outcome it never returns).
- * docs/ident-engine.md draws it (tools/gen_engine_plan.py). */
+ * outcome its stage returns (none, 0: an outcome it never returns).
+ * docs/ident-engine.md draws it (tools/engine_plan.py). */
+#define PLAN_WAYS 4u /* outcomes a phase has at most */
+
+typedef struct plan_way {
+    uint8_t out;  /* an outcome of the phase's stage */
+    uint8_t next; /* the phase after it */
+} plan_way_t;
+
 typedef struct plan {
     uint8_t needs;
-    uint8_t next[OUT_COUNT];
+    plan_way_t way[PLAN_WAYS];
 } plan_t;
 
 static const plan_t PLAN[PH_COUNT] = {
     /* The population (pdt_ident_ga.c, pdt_ident_band.c). */
-    [PH_INIT_POP] =
-        {NEEDS_GROUP,
-         {[OUT_AGAIN] = PH_INIT_POP, [OUT_GENERATION] = PH_BREED, [OUT_DONE] = PH_GA_END}},
-    [PH_BREED] = {NEEDS_BUDGET | HEAVY, {[OUT_DONE] = PH_EVAL_OFF}},
-    [PH_EVAL_OFF] =
-        {NEEDS_GROUP,
-         {[OUT_AGAIN] = PH_EVAL_OFF, [OUT_GENERATION] = PH_BREED, [OUT_DONE] = PH_GA_END}},
-    [PH_TIME_POP] =
-        {NEEDS_GROUP,
-         {[OUT_AGAIN] = PH_TIME_POP, [OUT_GENERATION] = PH_TIME_BREED, [OUT_DONE] = PH_BAND}},
-    [PH_TIME_BREED] = {NEEDS_BUDGET | HEAVY, {[OUT_DONE] = PH_TIME_OFF}},
-    [PH_TIME_OFF] =
-        {NEEDS_GROUP,
-         {[OUT_AGAIN] = PH_TIME_OFF, [OUT_GENERATION] = PH_TIME_BREED, [OUT_DONE] = PH_BAND}},
-    [PH_GA_END] = {0u, {[OUT_RECENTRE] = PH_RECENTRE, [OUT_DONE] = PH_REFINE_START}},
-    [PH_GA_START] = {0u, {[OUT_DONE] = PH_INIT_POP, [OUT_TIME] = PH_TIME_POP}},
-    [PH_BAND] = {HEAVY, {[OUT_DONE] = PH_INIT_POP}},
+    [PH_INIT_POP] = {NEEDS_GROUP,
+                     {{OUT_AGAIN, PH_INIT_POP}, {OUT_GENERATION, PH_BREED}, {OUT_DONE, PH_GA_END}}},
+    [PH_BREED] = {NEEDS_BUDGET | HEAVY, {{OUT_DONE, PH_EVAL_OFF}}},
+    [PH_EVAL_OFF] = {NEEDS_GROUP,
+                     {{OUT_AGAIN, PH_EVAL_OFF}, {OUT_GENERATION, PH_BREED}, {OUT_DONE, PH_GA_END}}},
+    [PH_TIME_POP] = {NEEDS_GROUP,
+                     {{OUT_AGAIN, PH_TIME_POP},
+                      {OUT_GENERATION, PH_TIME_BREED},
+                      {OUT_DONE, PH_BAND}}},
+    [PH_TIME_BREED] = {NEEDS_BUDGET | HEAVY, {{OUT_DONE, PH_TIME_OFF}}},
+    [PH_TIME_OFF] = {NEEDS_GROUP,
+                     {{OUT_AGAIN, PH_TIME_OFF},
+                      {OUT_GENERATION, PH_TIME_BREED},
+                      {OUT_DONE, PH_BAND}}},
+    [PH_GA_END] = {0u, {{OUT_RECENTRE, PH_RECENTRE}, {OUT_DONE, PH_REFINE_START}}},
+    [PH_GA_START] = {0u, {{OUT_DONE, PH_INIT_POP}, {OUT_TIME, PH_TIME_POP}}},
+    [PH_BAND] = {HEAVY, {{OUT_DONE, PH_INIT_POP}}},
     /* The refinement and the polish (pdt_ident_refine.c,
      * pdt_ident_polish.c, pdt_ident_scan.c). */
-    [PH_RECENTRE] = {HEAVY, {[OUT_DONE] = PH_REFINE_START}},
-    [PH_REFINE_START] = {0u, {[OUT_DONE] = PH_REFINE}},
-    [PH_REFINE_FROM] = {0u, {[OUT_DONE] = PH_REFINE}},
-    [PH_REFINE] =
-        {NEEDS_GROUP,
-         {[OUT_AGAIN] = PH_REFINE, [OUT_POLISH] = PH_POLISH_BEGIN, [OUT_DONE] = PH_REFINE_END}},
-    [PH_NM_BEST] = {0u, {[OUT_DONE] = PH_REFINE, [OUT_SKIPPED] = PH_REFINE_END}},
-    [PH_POLISH_BEGIN] = {0u, {[OUT_DONE] = PH_POLISH}},
-    [PH_POLISH] =
-        {NEEDS_GROUP,
-         {[OUT_AGAIN] = PH_POLISH, [OUT_FALLBACK] = PH_NM_BEST, [OUT_DONE] = PH_REFINE_END}},
+    [PH_RECENTRE] = {HEAVY, {{OUT_DONE, PH_REFINE_START}}},
+    [PH_REFINE_START] = {0u, {{OUT_DONE, PH_REFINE}}},
+    [PH_REFINE_FROM] = {0u, {{OUT_DONE, PH_REFINE}}},
+    [PH_REFINE] = {NEEDS_GROUP,
+                   {{OUT_AGAIN, PH_REFINE},
+                    {OUT_POLISH, PH_POLISH_BEGIN},
+                    {OUT_DONE, PH_REFINE_END}}},
+    [PH_NM_BEST] = {0u, {{OUT_DONE, PH_REFINE}, {OUT_SKIPPED, PH_REFINE_END}}},
+    [PH_POLISH_BEGIN] = {0u, {{OUT_DONE, PH_POLISH}}},
+    [PH_POLISH] = {NEEDS_GROUP,
+                   {{OUT_AGAIN, PH_POLISH}, {OUT_FALLBACK, PH_NM_BEST}, {OUT_DONE, PH_REFINE_END}}},
     [PH_REFINE_END] = {0u,
-                       {[OUT_SCAN] = PH_SCAN_START,
-                        [OUT_KINK] = PH_POLISH,
-                        [OUT_PROBE] = PH_PROBE,
-                        [OUT_DONE] = PH_FINISH}},
-    [PH_PROBE] =
-        {NEEDS_GROUP,
-         {[OUT_AGAIN] = PH_PROBE, [OUT_POLISH] = PH_POLISH_BEGIN, [OUT_DONE] = PH_REFINE_END}},
-    [PH_SCAN_START] = {0u, {[OUT_DONE] = PH_DELAY_SCAN}},
-    [PH_DELAY_SCAN] = {NEEDS_EVAL, {[OUT_AGAIN] = PH_DELAY_SCAN, [OUT_DONE] = PH_DELAY_REFINE}},
-    [PH_DELAY_REFINE] = {NEEDS_EVAL, {[OUT_AGAIN] = PH_DELAY_REFINE, [OUT_DONE] = PH_FINISH}},
+                       {{OUT_SCAN, PH_SCAN_START},
+                        {OUT_KINK, PH_POLISH},
+                        {OUT_PROBE, PH_PROBE},
+                        {OUT_DONE, PH_FINISH}}},
+    [PH_PROBE] = {NEEDS_GROUP,
+                  {{OUT_AGAIN, PH_PROBE},
+                   {OUT_POLISH, PH_POLISH_BEGIN},
+                   {OUT_DONE, PH_REFINE_END}}},
+    [PH_SCAN_START] = {0u, {{OUT_DONE, PH_DELAY_SCAN}}},
+    [PH_DELAY_SCAN] = {NEEDS_EVAL, {{OUT_AGAIN, PH_DELAY_SCAN}, {OUT_DONE, PH_DELAY_REFINE}}},
+    [PH_DELAY_REFINE] = {NEEDS_EVAL, {{OUT_AGAIN, PH_DELAY_REFINE}, {OUT_DONE, PH_FINISH}}},
     /* The answers and the searches' vote (pdt_ident_vote.c,
      * pdt_ident_profile.c, pdt_ident_coarse.c, pdt_ident_rest.c). */
     [PH_FINISH] = {NEEDS_EVAL,
-                   {[OUT_DONE] = PH_SEARCH_END, [OUT_WHOLE] = PH_REST_CHECK, [OUT_REST] = PH_STD}},
-    [PH_SEARCH_END] = {0u, {[OUT_SEARCH] = PH_GA_START, [OUT_DONE] = PH_PROFILE_BEGIN}},
-    [PH_PROFILE_BEGIN] = {0u, {[OUT_DONE] = PH_PROFILE, [OUT_SKIPPED] = PH_CONCLUDE}},
-    [PH_PROFILE] =
-        {NEEDS_GROUP,
-         {[OUT_AGAIN] = PH_PROFILE, [OUT_POLISH] = PH_REFINE_FROM, [OUT_DONE] = PH_CONCLUDE}},
-    [PH_CONCLUDE] = {0u, {[OUT_DONE] = PH_COARSE_CHECK}},
-    [PH_COARSE_CHECK] = {0u, {[OUT_DONE] = PH_FINE, [OUT_SKIPPED] = PH_REST_CHECK}},
-    [PH_FINE] =
-        {HEAVY,
-         {[OUT_FAILED] = PH_DONE, [OUT_SEARCH] = PH_GA_START, [OUT_POLISH] = PH_POLISH_BEGIN}},
-    [PH_REST_CHECK] = {0u, {[OUT_DONE] = PH_REST, [OUT_SKIPPED] = PH_STD}},
-    [PH_REST] = {HEAVY, {[OUT_FAILED] = PH_STD, [OUT_POLISH] = PH_POLISH_BEGIN}},
+                   {{OUT_DONE, PH_SEARCH_END}, {OUT_WHOLE, PH_REST_CHECK}, {OUT_REST, PH_STD}}},
+    [PH_SEARCH_END] = {0u, {{OUT_SEARCH, PH_GA_START}, {OUT_DONE, PH_PROFILE_BEGIN}}},
+    [PH_PROFILE_BEGIN] = {0u, {{OUT_DONE, PH_PROFILE}, {OUT_SKIPPED, PH_CONCLUDE}}},
+    [PH_PROFILE] = {NEEDS_GROUP,
+                    {{OUT_AGAIN, PH_PROFILE},
+                     {OUT_POLISH, PH_REFINE_FROM},
+                     {OUT_DONE, PH_CONCLUDE}}},
+    [PH_CONCLUDE] = {0u, {{OUT_DONE, PH_COARSE_CHECK}}},
+    [PH_COARSE_CHECK] = {0u, {{OUT_DONE, PH_FINE}, {OUT_SKIPPED, PH_REST_CHECK}}},
+    [PH_FINE] = {HEAVY,
+                 {{OUT_FAILED, PH_DONE}, {OUT_SEARCH, PH_GA_START}, {OUT_POLISH, PH_POLISH_BEGIN}}},
+    [PH_REST_CHECK] = {0u, {{OUT_DONE, PH_REST}, {OUT_SKIPPED, PH_STD}}},
+    [PH_REST] = {HEAVY, {{OUT_FAILED, PH_STD}, {OUT_POLISH, PH_POLISH_BEGIN}}},
     /* The answer's uncertainty and evidence (pdt_ident_vote.c). */
-    [PH_STD] = {HEAVY,
-                {[OUT_BEGUN] = PH_STD_PASS, [OUT_DONE] = PH_SCREEN, [OUT_FAILED] = PH_SCREEN}},
-    [PH_STD_PASS] =
-        {HEAVY, {[OUT_AGAIN] = PH_STD_PASS, [OUT_DONE] = PH_EVIDENCE, [OUT_FAILED] = PH_SCREEN}},
-    [PH_EVIDENCE] = {HEAVY, {[OUT_DONE] = PH_SCREEN}},
+    [PH_STD] = {HEAVY, {{OUT_BEGUN, PH_STD_PASS}, {OUT_DONE, PH_SCREEN}, {OUT_FAILED, PH_SCREEN}}},
+    [PH_STD_PASS] = {HEAVY,
+                     {{OUT_AGAIN, PH_STD_PASS}, {OUT_DONE, PH_EVIDENCE}, {OUT_FAILED, PH_SCREEN}}},
+    [PH_EVIDENCE] = {HEAVY, {{OUT_DONE, PH_SCREEN}}},
     /* The screen for gross errors (pdt_ident_screen.c) and the rounds
      * begun again (here). */
     [PH_SCREEN] = {HEAVY,
-                   {[OUT_REFIT] = PH_REFIT, [OUT_SKIPPED] = PH_DONE, [OUT_DONE] = PH_SCREEN_HIGH}},
-    [PH_REFIT] = {0u, {[OUT_DONE] = PH_INIT_POP, [OUT_FAILED] = PH_DONE}},
-    [PH_SCREEN_HIGH] = {HEAVY, {[OUT_DONE] = PH_SCREEN_BOUND}},
+                   {{OUT_REFIT, PH_REFIT}, {OUT_SKIPPED, PH_DONE}, {OUT_DONE, PH_SCREEN_HIGH}}},
+    [PH_REFIT] = {0u, {{OUT_DONE, PH_INIT_POP}, {OUT_FAILED, PH_DONE}}},
+    [PH_SCREEN_HIGH] = {HEAVY, {{OUT_DONE, PH_SCREEN_BOUND}}},
     [PH_SCREEN_BOUND] =
-        {HEAVY, {[OUT_SKIPPED] = PH_DONE, [OUT_FAILED] = PH_DONE, [OUT_DONE] = PH_SCREEN_REFILL}},
-    [PH_SCREEN_REFILL] = {HEAVY, {[OUT_FAILED] = PH_DONE, [OUT_DONE] = PH_SCREEN_RESTART}},
-    [PH_SCREEN_RESTART] = {HEAVY, {[OUT_FAILED] = PH_DONE, [OUT_DONE] = PH_INIT_POP}},
+        {HEAVY, {{OUT_SKIPPED, PH_DONE}, {OUT_FAILED, PH_DONE}, {OUT_DONE, PH_SCREEN_REFILL}}},
+    [PH_SCREEN_REFILL] = {HEAVY, {{OUT_FAILED, PH_DONE}, {OUT_DONE, PH_SCREEN_RESTART}}},
+    [PH_SCREEN_RESTART] = {HEAVY, {{OUT_FAILED, PH_DONE}, {OUT_DONE, PH_INIT_POP}}},
 };
 
 /* What phase needs, and the phase after it when its stage returned out. */
@@ -949,7 +956,12 @@ static uint32_t needs_of(uint32_t phase)
 
 static uint32_t next_of(uint32_t phase, pdt_ident_outcome_t out)
 {
-    return PLAN[phase].next[out];
+    for (uint32_t i = 0u; i < PLAN_WAYS; i++) {
+        if (PLAN[phase].way[i].out == (uint8_t)out && PLAN[phase].way[i].next != 0u) {
+            return PLAN[phase].way[i].next;
+        }
+    }
+    return 0u;
 }
 
 /* The candidates a GROUP stage evaluates together. */
