@@ -623,7 +623,6 @@ static void screen_begin(pdt_ident_t *c, const pdt_ident_screen_t *screen, void 
  * is the screen's state to keep (a record with samples left out), or NULL.
  * cfg, data and screen may lie in *ctx. */
 static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc);
-static uint32_t next_of(uint32_t phase, pdt_ident_outcome_t out);
 
 static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
                           const pdt_ident_data_t *data, void *work, size_t work_len,
@@ -720,7 +719,9 @@ static void begin_search(pdt_ident_t *c, pdt_cost_config_t *cc)
                                 c->cost_work_len);
         }
     }
-    c->phase = next_of(PH_GA_START, pdt_ident_ga_begin(c));
+    /* The first population, on the cost the search begins on: PH_GA_START,
+     * which needs nothing, in the first call. */
+    c->phase = PH_GA_START;
     c->magic = IDENT_MAGIC;
 }
 
@@ -940,12 +941,12 @@ static const plan_t PLAN[PH_COUNT] = {
      * begun again (here). */
     [PH_SCREEN] = {HEAVY,
                    {{OUT_REFIT, PH_REFIT}, {OUT_SKIPPED, PH_DONE}, {OUT_DONE, PH_SCREEN_HIGH}}},
-    [PH_REFIT] = {0u, {{OUT_DONE, PH_INIT_POP}, {OUT_FAILED, PH_DONE}}},
+    [PH_REFIT] = {0u, {{OUT_DONE, PH_GA_START}, {OUT_FAILED, PH_DONE}}},
     [PH_SCREEN_HIGH] = {HEAVY, {{OUT_DONE, PH_SCREEN_BOUND}}},
     [PH_SCREEN_BOUND] =
         {HEAVY, {{OUT_SKIPPED, PH_DONE}, {OUT_FAILED, PH_DONE}, {OUT_DONE, PH_SCREEN_REFILL}}},
     [PH_SCREEN_REFILL] = {HEAVY, {{OUT_FAILED, PH_DONE}, {OUT_DONE, PH_SCREEN_RESTART}}},
-    [PH_SCREEN_RESTART] = {HEAVY, {{OUT_FAILED, PH_DONE}, {OUT_DONE, PH_INIT_POP}}},
+    [PH_SCREEN_RESTART] = {HEAVY, {{OUT_FAILED, PH_DONE}, {OUT_DONE, PH_GA_START}}},
 };
 
 /* What phase needs, and the phase after it when its stage returned out. */

@@ -64,7 +64,7 @@ enum {
     PH_TIME_BREED,     /* its generation bred */
     PH_TIME_OFF,       /* its offspring evaluated */
     PH_GA_END,         /* decision: the spectra or the refinement */
-    PH_GA_START,       /* another search's population (no evaluation) */
+    PH_GA_START,       /* a search's population drawn (init's first phase) */
     PH_BAND,           /* CONTROL weighting: the band from the time model */
     PH_RECENTRE,       /* COMBINED: the spectra on the estimated offset */
     PH_REFINE_START,   /* the refinement's starts */
