@@ -437,39 +437,6 @@ static void test_recover_criteria_pulse(void **state)
 
 /* ---- Steppable API, determinism, bounds -------------------------------- */
 
-static void assert_same_real(pdt_real_t a, pdt_real_t b, const char *what)
-{
-    if (memcmp(&a, &b, sizeof a) != 0) {
-        fail_msg("%s differs: %.17g vs %.17g", what, (double)a, (double)b);
-    }
-}
-
-/* Field by field, bit for bit (the structs may hold padding). */
-static void assert_same_result(const pdt_ident_result_t *a, const pdt_ident_result_t *b)
-{
-    assert_int_equal(a->model.kind, b->model.kind);
-    if (a->model.kind == PDT_MODEL_FOPDT) {
-        assert_same_real(a->model.p.fopdt.K, b->model.p.fopdt.K, "K");
-        assert_same_real(a->model.p.fopdt.tau, b->model.p.fopdt.tau, "tau");
-        assert_same_real(a->model.p.fopdt.Td, b->model.p.fopdt.Td, "Td");
-    } else {
-        assert_same_real(a->model.p.sopdt.k, b->model.p.sopdt.k, "k");
-        assert_same_real(a->model.p.sopdt.a, b->model.p.sopdt.a, "a");
-        assert_same_real(a->model.p.sopdt.b, b->model.p.sopdt.b, "b");
-        assert_same_real(a->model.p.sopdt.Td, b->model.p.sopdt.Td, "Td");
-    }
-    assert_same_real(a->u0, b->u0, "u0");
-    assert_same_real(a->y0, b->y0, "y0");
-    assert_same_real(a->cost, b->cost, "cost");
-    assert_same_real(a->fit, b->fit, "fit");
-    assert_int_equal(a->evaluations, b->evaluations);
-    assert_int_equal(a->generations, b->generations);
-    assert_same_real(a->f_band, b->f_band, "f_band");
-    assert_int_equal(a->flags, b->flags);
-    assert_same_real(a->evidence, b->evidence, "evidence");
-    assert_memory_equal(&a->std, &b->std, sizeof a->std);
-}
-
 /* Steps ctx to the end with calls of at most `bound` evaluations each,
  * checking the protocol on the way; returns the number of calls. */
 static size_t step_to_end(pdt_ident_t *ctx, uint32_t bound)
@@ -518,7 +485,7 @@ static pdt_ident_result_t stepping_matches_blocking(const pdt_ident_config_t *cf
     assert_int_equal(pdt_ident_init(&g_ctx2, cfg, &data, g_work2, need), PDT_OK);
     size_t calls = step_to_end(&g_ctx2, bound);
     assert_int_equal(pdt_ident_result(&g_ctx2, &stepped), PDT_OK);
-    assert_same_result(&blocking, &stepped);
+    assert_same_ident(&blocking, &stepped);
     assert_true(stepped.evaluations <= cfg->max_evaluations);
     if (bound == 1u) {
         /* One evaluation a call, or one group of the population. */
@@ -670,12 +637,12 @@ static void test_determinism(void **state)
     const pdt_model_t m = s.m;
     identify(&cfg, s.n, &a);
     identify(&cfg, s.n, &b);
-    assert_same_result(&a, &b);
+    assert_same_ident(&a, &b);
     /* A restart with the context's own settings: init reads them before
      * it writes the context. */
     size_t need = pdt_ident_workspace_size(&cfg, s.n);
     assert_int_equal(pdt_identify(&g_ctx, &g_ctx.cfg, &g_ctx.data, g_work, need, &b), PDT_OK);
-    assert_same_result(&a, &b);
+    assert_same_ident(&a, &b);
     for (uint64_t seed = 2u; seed < 6u; seed++) {
         cfg.seed = seed;
         identify(&cfg, s.n, &c);
@@ -839,7 +806,7 @@ static void test_control_band(void **state)
     /* AUTO is CONTROL for a FOPDT: the same search, bit for bit. */
     cfg.weight = PDT_IDENT_WEIGHT_AUTO;
     identify(&cfg, CB_N, &res_auto);
-    assert_same_result(&res, &res_auto);
+    assert_same_ident(&res, &res_auto);
 
     /* Stepped one evaluation at a time, the same as the blocking call. */
     cfg.weight = PDT_IDENT_WEIGHT_CONTROL;
@@ -889,10 +856,10 @@ static void test_control_band_off(void **state)
         assert_true(res_uniform.f_band == (pdt_real_t)0.0);
         cfg.weight = PDT_IDENT_WEIGHT_CONTROL;
         identify(&cfg, CB_N, &res);
-        assert_same_result(&res, &res_uniform);
+        assert_same_ident(&res, &res_uniform);
         cfg.weight = PDT_IDENT_WEIGHT_AUTO;
         identify(&cfg, CB_N, &res);
-        assert_same_result(&res, &res_uniform);
+        assert_same_ident(&res, &res_uniform);
     }
 
     /* AUTO is UNIFORM for a SOPDT. */
@@ -904,7 +871,7 @@ static void test_control_band_off(void **state)
     assert_true(res.f_band == (pdt_real_t)0.0);
     cfg.weight = PDT_IDENT_WEIGHT_UNIFORM;
     identify(&cfg, CB_N, &res_uniform);
-    assert_same_result(&res, &res_uniform);
+    assert_same_ident(&res, &res_uniform);
     /* CONTROL asked for explicitly bands a SOPDT too, from its own phase:
      * w Td + atan(w T1) + atan(w T2) = pi at w180 = 0.587963092662129
      * rad/s (scipy.optimize.brentq). The time-cost stage's SOPDT, not yet

@@ -50,4 +50,39 @@ static inline void assert_close_at(double got, double want, double rtol, double 
     }
 }
 
+/* Two reals bit for bit. */
+static inline void assert_same_real(pdt_real_t a, pdt_real_t b, const char *what)
+{
+    if (memcmp(&a, &b, sizeof a) != 0) {
+        fail_msg("%s differs: %.17g vs %.17g", what, (double)a, (double)b);
+    }
+}
+
+/* Two identifications' answers field by field, bit for bit (the structs
+ * may hold padding, which an assignment copies from wherever it was). */
+static inline void assert_same_ident(const pdt_ident_result_t *a, const pdt_ident_result_t *b)
+{
+    assert_int_equal(a->model.kind, b->model.kind);
+    if (a->model.kind == PDT_MODEL_FOPDT) {
+        assert_same_real(a->model.p.fopdt.K, b->model.p.fopdt.K, "K");
+        assert_same_real(a->model.p.fopdt.tau, b->model.p.fopdt.tau, "tau");
+        assert_same_real(a->model.p.fopdt.Td, b->model.p.fopdt.Td, "Td");
+    } else {
+        assert_same_real(a->model.p.sopdt.k, b->model.p.sopdt.k, "k");
+        assert_same_real(a->model.p.sopdt.a, b->model.p.sopdt.a, "a");
+        assert_same_real(a->model.p.sopdt.b, b->model.p.sopdt.b, "b");
+        assert_same_real(a->model.p.sopdt.Td, b->model.p.sopdt.Td, "Td");
+    }
+    assert_same_real(a->u0, b->u0, "u0");
+    assert_same_real(a->y0, b->y0, "y0");
+    assert_same_real(a->cost, b->cost, "cost");
+    assert_same_real(a->fit, b->fit, "fit");
+    assert_int_equal(a->evaluations, b->evaluations);
+    assert_int_equal(a->generations, b->generations);
+    assert_same_real(a->f_band, b->f_band, "f_band");
+    assert_int_equal(a->flags, b->flags);
+    assert_same_real(a->evidence, b->evidence, "evidence");
+    assert_memory_equal(&a->std, &b->std, sizeof a->std);
+}
+
 #endif /* PDT_TEST_UTIL_H */

@@ -11,7 +11,8 @@ Reads README.md, CHANGELOG.md's newest section and docs/*.md; in each
   sources (lib/, port/, tools/, tests/, examples/, docs/examples/), or be a
   CMake option or test name.
 Names the CHANGELOG gives as renamed from (before an arrow) are old names
-and are skipped. Exit status 1 with one line per missing name.
+and are skipped. docs/ident-engine.md's plan must be the one the code has
+(tools/engine_plan.py). Exit status 1 with one line per missing name.
 
     python3 tools/check_docs.py
 """
@@ -20,6 +21,8 @@ import re
 import subprocess
 import sys
 from pathlib import Path
+
+import engine_plan
 
 ROOT = Path(__file__).resolve().parent.parent
 EXT = (".c", ".h", ".py", ".md", ".sh", ".cmake", ".txt", ".json", ".yml", ".toml", ".st",
@@ -123,6 +126,7 @@ def check_design_table():
 
 
 def main():
+    stale_plan = engine_plan.stale()
     files = tracked()
     names = symbols(files)
     basenames = {f.name for f in files}
@@ -170,10 +174,12 @@ def main():
     for doc, word in missing:
         print("%s: `%s` names nothing in the tree" % (doc.relative_to(ROOT), word))
     table = check_design_table()
+    if stale_plan:
+        table.append(stale_plan)
     for line in table:
         print(line)
     if missing or table:
-        print("%d dangling name(s) in the documents, %d wrong module dependencies" %
+        print("%d dangling name(s) in the documents, %d wrong module dependencies or stale plans" %
               (len(missing), len(table)))
         return 1
     print("documents: every path and symbol they name exists")

@@ -202,10 +202,9 @@ static pdt_status_t gene_bounds(const pdt_ident_config_t *cfg, const bounds_t *b
 /* The least budget of one search: one population (two with the CONTROL
  * weighting, which scores it once per cost), one simplex and the late
  * reserve. */
-uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg)
+static uint64_t search_need(const pdt_ident_config_t *cfg)
 {
-    const uint64_t populations = pdt_ident_control_band(cfg) ? 2u : 1u;
-    return populations * population_of(cfg) + cfg->refine_evaluations + pdt_ident_late_reserve(cfg);
+    return pdt_ident_search_need(cfg, population_of(cfg));
 }
 
 /* Independent searches: the time criteria only (the frequency criteria
@@ -214,7 +213,7 @@ uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg)
  * the budget does not cover the searches asked for. */
 static uint32_t searches_of(const pdt_ident_config_t *cfg)
 {
-    const uint64_t need = pdt_ident_search_need(cfg);
+    const uint64_t need = search_need(cfg);
     if (pdt_ident_uses_frequency(cfg->cost)) {
         return cfg->max_evaluations >= need ? 1u : 0u;
     }
@@ -706,14 +705,13 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     return PDT_OK;
 }
 
-/* PH_PREPARE: the searches' budget, the coarse record and its cost, the
- * first population. */
-static void prepare_search(pdt_ident_t *c)
+/* PH_PREPARE: the searches' budget, the coarse record and its cost. */
+static pdt_ident_outcome_t prepare_search(pdt_ident_t *c)
 {
     c->vote.searches = searches_of(&c->cfg);
     c->vote.budget = c->cfg.max_evaluations / c->vote.searches;
     pdt_ident_coarse_start(c);
-    pdt_ident_ga_start(c);
+    return OUT_DONE;
 }
 
 /* Several records: the further records' costs prepared after the rest of
@@ -788,7 +786,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
     return start(ctx, cfg, &filled, work, work_len, &s);
 }
 
-pdt_status_t pdt_ident_restart(pdt_ident_t *c)
+/* The identification prepared again, as init does, on the screen's
+ * filled record, the screen's state kept; its status. */
+static pdt_status_t restart(pdt_ident_t *c)
 {
     /* start copies what it keeps before it writes *c. */
     c->screen.prior += c->evaluations;
@@ -809,102 +809,268 @@ size_t pdt_ident_outlier(const pdt_ident_t *ctx)
     return ctx->screen.first;
 }
 
-/* What a stage needs before it runs (STAGE_NEEDS of pdt_ident_step). */
+/* PH_REFIT: AUTO's at-rest test failed (auto_state set, initial still
+ * AUTO): the identification begun again with the state estimated. */
+static pdt_ident_outcome_t state_refit(pdt_ident_t *c)
+{
+    c->cfg.initial = PDT_IDENT_INITIAL_ESTIMATE;
+    const pdt_status_t st = restart(c);
+    c->auto_state = true;
+    if (st != PDT_OK) {
+        c->screen.status = st;
+        return OUT_FAILED;
+    }
+    return OUT_DONE;
+}
+
+/* PH_SCREEN_RESTART: the identification begun again on the record the
+ * screen filled. */
+static pdt_ident_outcome_t screen_restart(pdt_ident_t *c)
+{
+    const pdt_status_t st = restart(c);
+    if (st != PDT_OK) {
+        pdt_ident_screen_failed(c, st);
+        return OUT_FAILED;
+    }
+    return OUT_DONE;
+}
+
+/* What a phase needs before its stage runs (plan_t.needs); a phase that
+ * needs nothing is a decision or the rest of the stage before it, and
+ * runs in the call that reached it. */
 #define NEEDS_BUDGET 1u /* an evaluation left in this call */
 #define EVALUATES    2u /* uses them: one, or one per evaluation made */
 #define HEAVY        4u /* as costly as init: one per call */
 #define GROUP        8u /* evaluates a group of the population at once */
 
+#define NEEDS_EVAL  (NEEDS_BUDGET | EVALUATES)
+#define NEEDS_GROUP (NEEDS_BUDGET | EVALUATES | GROUP)
+
+/* The plan: for each phase, what it needs and the phase that follows each
+ * outcome its stage returns (none, 0: an outcome it never returns).
+ * docs/ident-engine.md draws it (tools/engine_plan.py). */
+#define PLAN_WAYS 4u /* outcomes a phase has at most */
+
+typedef struct plan_way {
+    uint8_t out;  /* an outcome of the phase's stage */
+    uint8_t next; /* the phase after it */
+} plan_way_t;
+
+typedef struct plan {
+    uint8_t needs;
+    plan_way_t way[PLAN_WAYS];
+} plan_t;
+
+static const plan_t PLAN[PH_COUNT] = {
+    /* The population (pdt_ident_ga.c, pdt_ident_band.c). */
+    [PH_INIT_POP] = {NEEDS_GROUP,
+                     {{OUT_AGAIN, PH_INIT_POP}, {OUT_GENERATION, PH_BREED}, {OUT_DONE, PH_GA_END}}},
+    [PH_BREED] = {NEEDS_BUDGET | HEAVY, {{OUT_DONE, PH_EVAL_OFF}}},
+    [PH_EVAL_OFF] = {NEEDS_GROUP,
+                     {{OUT_AGAIN, PH_EVAL_OFF}, {OUT_GENERATION, PH_BREED}, {OUT_DONE, PH_GA_END}}},
+    [PH_TIME_POP] = {NEEDS_GROUP,
+                     {{OUT_AGAIN, PH_TIME_POP},
+                      {OUT_GENERATION, PH_TIME_BREED},
+                      {OUT_DONE, PH_BAND}}},
+    [PH_TIME_BREED] = {NEEDS_BUDGET | HEAVY, {{OUT_DONE, PH_TIME_OFF}}},
+    [PH_TIME_OFF] = {NEEDS_GROUP,
+                     {{OUT_AGAIN, PH_TIME_OFF},
+                      {OUT_GENERATION, PH_TIME_BREED},
+                      {OUT_DONE, PH_BAND}}},
+    [PH_GA_END] = {0u, {{OUT_RECENTRE, PH_RECENTRE}, {OUT_DONE, PH_REFINE_START}}},
+    [PH_PREPARE] = {HEAVY, {{OUT_DONE, PH_GA_START}}},
+    [PH_GA_START] = {0u, {{OUT_DONE, PH_INIT_POP}, {OUT_TIME, PH_TIME_POP}}},
+    [PH_BAND] = {HEAVY, {{OUT_DONE, PH_INIT_POP}}},
+    /* The refinement and the polish (pdt_ident_refine.c,
+     * pdt_ident_polish.c, pdt_ident_scan.c). */
+    [PH_RECENTRE] = {HEAVY, {{OUT_DONE, PH_REFINE_START}}},
+    [PH_REFINE_START] = {0u, {{OUT_DONE, PH_REFINE}}},
+    [PH_REFINE_FROM] = {0u, {{OUT_DONE, PH_REFINE}}},
+    [PH_REFINE] = {NEEDS_GROUP,
+                   {{OUT_AGAIN, PH_REFINE},
+                    {OUT_POLISH, PH_POLISH_BEGIN},
+                    {OUT_DONE, PH_REFINE_END}}},
+    [PH_NM_BEST] = {0u, {{OUT_DONE, PH_REFINE}, {OUT_SKIPPED, PH_REFINE_END}}},
+    [PH_POLISH_BEGIN] = {0u, {{OUT_DONE, PH_POLISH}}},
+    [PH_POLISH] = {NEEDS_GROUP,
+                   {{OUT_AGAIN, PH_POLISH}, {OUT_FALLBACK, PH_NM_BEST}, {OUT_DONE, PH_REFINE_END}}},
+    [PH_REFINE_END] = {0u,
+                       {{OUT_SCAN, PH_SCAN_START},
+                        {OUT_KINK, PH_POLISH},
+                        {OUT_PROBE, PH_PROBE},
+                        {OUT_DONE, PH_FINISH}}},
+    [PH_PROBE] = {NEEDS_GROUP,
+                  {{OUT_AGAIN, PH_PROBE},
+                   {OUT_POLISH, PH_POLISH_BEGIN},
+                   {OUT_DONE, PH_REFINE_END}}},
+    [PH_SCAN_START] = {0u, {{OUT_DONE, PH_DELAY_SCAN}}},
+    [PH_DELAY_SCAN] = {NEEDS_EVAL, {{OUT_AGAIN, PH_DELAY_SCAN}, {OUT_DONE, PH_DELAY_REFINE}}},
+    [PH_DELAY_REFINE] = {NEEDS_EVAL, {{OUT_AGAIN, PH_DELAY_REFINE}, {OUT_DONE, PH_FINISH}}},
+    /* The answers and the searches' vote (pdt_ident_vote.c,
+     * pdt_ident_profile.c, pdt_ident_coarse.c, pdt_ident_rest.c). */
+    [PH_FINISH] = {NEEDS_EVAL,
+                   {{OUT_DONE, PH_SEARCH_END}, {OUT_WHOLE, PH_REST_CHECK}, {OUT_REST, PH_STD}}},
+    [PH_SEARCH_END] = {0u, {{OUT_SEARCH, PH_GA_START}, {OUT_DONE, PH_PROFILE_BEGIN}}},
+    [PH_PROFILE_BEGIN] = {0u, {{OUT_DONE, PH_PROFILE}, {OUT_SKIPPED, PH_CONCLUDE}}},
+    [PH_PROFILE] = {NEEDS_GROUP,
+                    {{OUT_AGAIN, PH_PROFILE},
+                     {OUT_POLISH, PH_REFINE_FROM},
+                     {OUT_DONE, PH_CONCLUDE}}},
+    [PH_CONCLUDE] = {0u, {{OUT_DONE, PH_COARSE_CHECK}}},
+    [PH_COARSE_CHECK] = {0u, {{OUT_DONE, PH_FINE}, {OUT_SKIPPED, PH_REST_CHECK}}},
+    [PH_FINE] = {HEAVY,
+                 {{OUT_FAILED, PH_DONE}, {OUT_SEARCH, PH_GA_START}, {OUT_POLISH, PH_POLISH_BEGIN}}},
+    [PH_REST_CHECK] = {0u, {{OUT_DONE, PH_REST}, {OUT_SKIPPED, PH_STD}}},
+    [PH_REST] = {HEAVY, {{OUT_FAILED, PH_STD}, {OUT_POLISH, PH_POLISH_BEGIN}}},
+    /* The answer's uncertainty and evidence (pdt_ident_vote.c). */
+    [PH_STD] = {HEAVY, {{OUT_BEGUN, PH_STD_PASS}, {OUT_DONE, PH_SCREEN}, {OUT_FAILED, PH_SCREEN}}},
+    [PH_STD_PASS] = {HEAVY,
+                     {{OUT_AGAIN, PH_STD_PASS}, {OUT_DONE, PH_EVIDENCE}, {OUT_FAILED, PH_SCREEN}}},
+    [PH_EVIDENCE] = {HEAVY, {{OUT_DONE, PH_SCREEN}}},
+    /* The screen for gross errors (pdt_ident_screen.c) and the rounds
+     * begun again (here). */
+    [PH_SCREEN] = {HEAVY,
+                   {{OUT_REFIT, PH_REFIT}, {OUT_SKIPPED, PH_DONE}, {OUT_DONE, PH_SCREEN_HIGH}}},
+    [PH_REFIT] = {0u, {{OUT_DONE, PH_PREPARE}, {OUT_FAILED, PH_DONE}}},
+    [PH_SCREEN_HIGH] = {HEAVY, {{OUT_DONE, PH_SCREEN_BOUND}}},
+    [PH_SCREEN_BOUND] =
+        {HEAVY, {{OUT_SKIPPED, PH_DONE}, {OUT_FAILED, PH_DONE}, {OUT_DONE, PH_SCREEN_REFILL}}},
+    [PH_SCREEN_REFILL] = {HEAVY, {{OUT_FAILED, PH_DONE}, {OUT_DONE, PH_SCREEN_RESTART}}},
+    [PH_SCREEN_RESTART] = {HEAVY, {{OUT_FAILED, PH_DONE}, {OUT_DONE, PH_PREPARE}}},
+};
+
+/* What phase needs, and the phase after it when its stage returned out. */
+static uint32_t needs_of(uint32_t phase)
+{
+    return PLAN[phase].needs;
+}
+
+static uint32_t next_of(uint32_t phase, pdt_ident_outcome_t out)
+{
+    for (uint32_t i = 0u; i < PLAN_WAYS; i++) {
+        if (PLAN[phase].way[i].out == (uint8_t)out && PLAN[phase].way[i].next != 0u) {
+            return PLAN[phase].way[i].next;
+        }
+    }
+    return 0u;
+}
+
 /* The candidates a GROUP stage evaluates together. */
 static uint32_t group_of(const pdt_ident_t *c)
 {
-    if (c->phase == PH_POLISH || c->phase == PH_PROBE) {
+    switch (c->phase) {
+    case PH_POLISH:
         return pdt_ident_polish_group(c);
-    }
-    if (c->phase == PH_PROFILE) {
+    case PH_PROBE:
+        return pdt_ident_probe_group(c);
+    case PH_PROFILE:
         return pdt_ident_profile_group(c);
+    case PH_REFINE:
+        return pdt_ident_refine_group(c);
+    default: /* PH_INIT_POP, PH_EVAL_OFF, PH_TIME_POP, PH_TIME_OFF */
+        return pdt_ident_ga_group(c);
     }
-    return c->phase == PH_REFINE ? pdt_ident_refine_group(c) : pdt_ident_ga_group(c);
+}
+
+/* The stages of the population, the refinement and the polish. */
+static pdt_ident_outcome_t run_search(pdt_ident_t *c)
+{
+    switch (c->phase) {
+    case PH_INIT_POP:
+        return pdt_ident_ga_eval_parent(c, false);
+    case PH_BREED:
+    case PH_TIME_BREED:
+        return pdt_ident_ga_breed(c);
+    case PH_EVAL_OFF:
+        return pdt_ident_ga_eval_offspring(c, false);
+    case PH_TIME_POP:
+        return pdt_ident_ga_eval_parent(c, true);
+    case PH_TIME_OFF:
+        return pdt_ident_ga_eval_offspring(c, true);
+    case PH_GA_END:
+        return pdt_ident_ga_end(c);
+    case PH_PREPARE:
+        return prepare_search(c);
+    case PH_GA_START:
+        return pdt_ident_ga_begin(c);
+    case PH_BAND:
+        return pdt_ident_band_start(c);
+    case PH_RECENTRE:
+        return pdt_ident_refine_recentre(c);
+    case PH_REFINE_START:
+        return pdt_ident_refine_begin(c);
+    case PH_REFINE_FROM:
+        return pdt_ident_refine_from(c);
+    case PH_REFINE:
+        return pdt_ident_refine_step(c);
+    case PH_NM_BEST:
+        return pdt_ident_refine_nm_best(c);
+    case PH_POLISH_BEGIN:
+        return pdt_ident_polish_begin(c);
+    case PH_POLISH:
+        return pdt_ident_polish_step(c);
+    case PH_REFINE_END:
+        return pdt_ident_polish_end(c);
+    case PH_PROBE:
+        return pdt_ident_polish_probe(c);
+    case PH_SCAN_START:
+        return pdt_ident_scan_start(c);
+    case PH_DELAY_SCAN:
+        return pdt_ident_scan_grid(c);
+    default: /* PH_DELAY_REFINE */
+        return pdt_ident_scan_golden(c);
+    }
+}
+
+/* The stages after a search's refinement: the answers, the uncertainty,
+ * the screen. */
+static pdt_ident_outcome_t run_answer(pdt_ident_t *c)
+{
+    switch (c->phase) {
+    case PH_FINISH:
+        return pdt_ident_finish(c);
+    case PH_SEARCH_END:
+        return pdt_ident_search_end(c);
+    case PH_PROFILE_BEGIN:
+        return pdt_ident_profile_begin(c);
+    case PH_PROFILE:
+        return pdt_ident_profile_step(c);
+    case PH_CONCLUDE:
+        return pdt_ident_conclude(c);
+    case PH_COARSE_CHECK:
+        return pdt_ident_coarse_pending(c);
+    case PH_FINE:
+        return pdt_ident_coarse_fine(c);
+    case PH_REST_CHECK:
+        return pdt_ident_rest_check(c);
+    case PH_REST:
+        return pdt_ident_rest_start(c);
+    case PH_STD:
+        return pdt_ident_std(c);
+    case PH_STD_PASS:
+        return pdt_ident_std_pass(c);
+    case PH_EVIDENCE:
+        return pdt_ident_std_evidence(c);
+    case PH_SCREEN:
+        return pdt_ident_screen_step(c);
+    case PH_REFIT:
+        return state_refit(c);
+    case PH_SCREEN_HIGH:
+        return pdt_ident_screen_high(c);
+    case PH_SCREEN_BOUND:
+        return pdt_ident_screen_bound(c);
+    case PH_SCREEN_REFILL:
+        return pdt_ident_screen_refill(c);
+    default: /* PH_SCREEN_RESTART */
+        return screen_restart(c);
+    }
 }
 
 /* A switch, not a table of function pointers: the call graph stays static,
  * so the stack bound stays provable (tools/stack_bound.py). */
-static void run_stage(pdt_ident_t *c)
+static pdt_ident_outcome_t run_stage(pdt_ident_t *c)
 {
-    switch (c->phase) {
-    case PH_PREPARE:
-        prepare_search(c);
-        break;
-    case PH_INIT_POP:
-        pdt_ident_ga_eval_parent(c);
-        break;
-    case PH_BREED:
-        pdt_ident_ga_breed(c);
-        break;
-    case PH_EVAL_OFF:
-        pdt_ident_ga_eval_offspring(c);
-        break;
-    case PH_BAND:
-        pdt_ident_band_start(c);
-        break;
-    case PH_RECENTRE:
-        pdt_ident_refine_recentre(c);
-        break;
-    case PH_REFINE_START:
-        pdt_ident_refine_begin(c);
-        break;
-    case PH_REFINE:
-        pdt_ident_refine_step(c);
-        break;
-    case PH_DELAY_SCAN:
-        pdt_ident_scan_grid(c);
-        break;
-    case PH_DELAY_REFINE:
-        pdt_ident_scan_golden(c);
-        break;
-    case PH_FINISH:
-        pdt_ident_finish(c);
-        break;
-    case PH_FINE:
-        pdt_ident_coarse_fine(c);
-        break;
-    case PH_REST:
-        pdt_ident_rest_start(c);
-        break;
-    case PH_POLISH:
-        pdt_ident_polish_step(c);
-        break;
-    case PH_PROBE:
-        pdt_ident_polish_probe(c);
-        break;
-    case PH_PROFILE:
-        pdt_ident_profile_step(c);
-        break;
-    case PH_STD:
-        pdt_ident_std(c);
-        break;
-    case PH_STD_PASS:
-        pdt_ident_std_pass(c);
-        break;
-    case PH_EVIDENCE:
-        pdt_ident_std_evidence(c);
-        break;
-    case PH_SCREEN_HIGH:
-        pdt_ident_screen_high(c);
-        break;
-    case PH_SCREEN_BOUND:
-        pdt_ident_screen_bound(c);
-        break;
-    case PH_SCREEN_REFILL:
-        pdt_ident_screen_refill(c);
-        break;
-    case PH_SCREEN_RESTART:
-        pdt_ident_screen_restart(c);
-        break;
-    default: /* PH_SCREEN */
-        pdt_ident_screen_step(c);
-        break;
-    }
+    return c->phase < PH_FINISH ? run_search(c) : run_answer(c);
 }
 
 pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
@@ -915,62 +1081,38 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
     if (ctx->magic != IDENT_MAGIC) {
         return PDT_ERR_STATE;
     }
-    static const uint8_t STAGE_NEEDS[PH_COUNT] = {
-        [PH_PREPARE] = HEAVY,
-        [PH_INIT_POP] = NEEDS_BUDGET | EVALUATES | GROUP,
-        [PH_BREED] = NEEDS_BUDGET | HEAVY,
-        [PH_EVAL_OFF] = NEEDS_BUDGET | EVALUATES | GROUP,
-        [PH_BAND] = HEAVY,
-        [PH_RECENTRE] = HEAVY,
-        [PH_REFINE_START] = 0u,
-        [PH_REFINE] = NEEDS_BUDGET | EVALUATES | GROUP,
-        [PH_DELAY_SCAN] = NEEDS_BUDGET | EVALUATES,
-        [PH_DELAY_REFINE] = NEEDS_BUDGET | EVALUATES,
-        [PH_FINISH] = NEEDS_BUDGET | EVALUATES,
-        [PH_FINE] = HEAVY,
-        [PH_REST] = HEAVY,
-        [PH_POLISH] = NEEDS_BUDGET | EVALUATES | GROUP,
-        [PH_PROBE] = NEEDS_BUDGET | EVALUATES | GROUP,
-        [PH_PROFILE] = NEEDS_BUDGET | EVALUATES | GROUP,
-        [PH_STD] = HEAVY,
-        [PH_STD_PASS] = HEAVY,
-        [PH_EVIDENCE] = HEAVY,
-        [PH_SCREEN] = HEAVY,
-        [PH_SCREEN_HIGH] = HEAVY,
-        [PH_SCREEN_BOUND] = HEAVY,
-        [PH_SCREEN_REFILL] = HEAVY,
-        [PH_SCREEN_RESTART] = HEAVY,
-    };
     /* The budget counts the samples the evaluations score: an evaluation
      * of a coarse record of n / D samples is a D-th of one of the whole. */
     const uint64_t cap = (uint64_t)max_evaluations * ctx->data.n;
     uint64_t budget = cap;
+    bool heavy = false;
     while (ctx->phase != PH_DONE) {
-        if (ctx->phase < PH_PREPARE || ctx->phase >= PH_DONE) {
+        if (ctx->phase < PH_INIT_POP || ctx->phase >= PH_DONE) {
             return PDT_ERR_STATE;
         }
-        const uint32_t needs = STAGE_NEEDS[ctx->phase];
+        const uint32_t phase = ctx->phase;
+        const uint32_t needs = needs_of(phase);
         const uint64_t one = ctx->cost.n;
         /* A population group needs the budget for all its members; one
          * larger than a whole call's budget still runs, alone. */
         uint64_t want = ((needs & GROUP) != 0u ? group_of(ctx) : 1u) * one;
         want = want < cap ? want : cap;
         /* A heavy stage has the call to itself: it runs only before any
-         * evaluation of the call, and the call ends after it. */
-        if (((needs & NEEDS_BUDGET) != 0u && budget < want) ||
+         * evaluation of the call, and the call ends after it and the
+         * phases that need nothing. */
+        if ((heavy && needs != 0u) || ((needs & NEEDS_BUDGET) != 0u && budget < want) ||
             ((needs & HEAVY) != 0u && budget < cap)) {
             return PDT_RUNNING;
         }
         const uint64_t before = ctx->samples;
-        run_stage(ctx);
+        const pdt_ident_outcome_t out = run_stage(ctx);
+        ctx->phase = next_of(phase, out);
         if ((needs & EVALUATES) != 0u) {
             const uint64_t used = ctx->samples - before;
             const uint64_t units = used > one ? used : one;
             budget = budget > units ? budget - units : 0u;
         }
-        if ((needs & HEAVY) != 0u && ctx->phase != PH_DONE) {
-            return PDT_RUNNING;
-        }
+        heavy = heavy || (needs & HEAVY) != 0u;
     }
     return ctx->screen.status;
 }

@@ -10,7 +10,7 @@
 #include "pdt_internal.h"
 #include "pdt_model_priv.h"
 
-void pdt_ident_band_start(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_band_start(pdt_ident_t *c)
 {
     pdt_model_t m;
     pdt_ident_shape(c, c->best.genes, &m);
@@ -44,10 +44,9 @@ void pdt_ident_band_start(pdt_ident_t *c)
         c->cost = nc;
         c->f_band = f;
     }
-    c->band_stage = 2u;
     c->best.cost = PDT_REAL_MAX;
     c->ga.best_history = PDT_REAL_MAX;
     c->ga.stall = 0u;
     c->ga.next = 0u;
-    c->phase = PH_INIT_POP;
+    return OUT_DONE;
 }

@@ -119,7 +119,7 @@ static size_t coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
     /* The searches on the coarse record leave the polish its share of
      * the budget: a budget too small for both searches the whole record. */
     const uint32_t each = (c->cfg.max_evaluations - c->cfg.refine_evaluations) / c->vote.searches;
-    const uint64_t need = pdt_ident_search_need(&c->cfg);
+    const uint64_t need = pdt_ident_search_need(&c->cfg, c->cfg.population);
     const size_t D = each >= need ? factor_of(c) : 1u;
     if (D < 2u) {
         return 0u;
@@ -183,13 +183,9 @@ void pdt_ident_coarse_start(pdt_ident_t *c)
     }
 }
 
-bool pdt_ident_coarse_pending(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_coarse_pending(const pdt_ident_t *c)
 {
-    if (c->coarse.stage != 1u) {
-        return false;
-    }
-    c->phase = PH_FINE;
-    return true;
+    return c->coarse.stage == 1u ? OUT_DONE : OUT_SKIPPED;
 }
 
 /* The answer's time scale, s: how fast its response moves. A FOPDT's
@@ -207,7 +203,7 @@ static pdt_real_t time_scale(const pdt_model_t *m)
     return a * a >= PDT_R(4.0) * b ? a / b : PDT_R(1.0) / pdt_sqrt(b);
 }
 
-void pdt_ident_coarse_fine(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_coarse_fine(pdt_ident_t *c)
 {
     const pdt_real_t period = c->cfg.Ts * (pdt_real_t)c->coarse.factor;
     /* The whole record's cost over the coarse one's, in the same
@@ -220,15 +216,14 @@ void pdt_ident_coarse_fine(pdt_ident_t *c)
         /* Should it fail all the same, the coarse answer stands, said to
          * be unconfirmed on the whole record. */
         c->flags |= PDT_IDENT_FLAG_UNCONFIRMED;
-        c->phase = PH_DONE;
-        return;
+        return OUT_FAILED;
     }
     c->best.cost = PDT_REAL_MAX;
     c->best.gain = PDT_R(0.0);
     c->best.offset = PDT_R(0.0);
     const uint32_t left =
         c->cfg.max_evaluations > c->evaluations ? c->cfg.max_evaluations - c->evaluations : 0u;
-    const uint64_t need = pdt_ident_search_need(&c->cfg);
+    const uint64_t need = pdt_ident_search_need(&c->cfg, c->cfg.population);
     if (!(time_scale(&c->model) >= COARSE_SCALE * period)) {
         if (left >= need) {
             /* Too fast for the coarse record: its basins may not be the
@@ -245,8 +240,7 @@ void pdt_ident_coarse_fine(pdt_ident_t *c)
             c->vote.budget = left / searches;
             c->flags = 0u;
             c->runner_up = PDT_R(0.0);
-            pdt_ident_ga_start(c);
-            return;
+            return OUT_SEARCH;
         }
         /* No budget left to search the whole record: the answer is
          * polished, but nothing on the whole record confirmed it. */
@@ -256,5 +250,6 @@ void pdt_ident_coarse_fine(pdt_ident_t *c)
     const uint32_t reserve = pdt_ident_late_reserve(&c->cfg);
     const uint32_t room = left > reserve ? left - reserve : 0u;
     const uint32_t budget = room < c->cfg.refine_evaluations ? room : c->cfg.refine_evaluations;
-    pdt_ident_refine_polish(c, budget > c->genes + 1u ? budget : c->genes + 1u);
+    pdt_ident_polish_budget(c, budget > c->genes + 1u ? budget : c->genes + 1u);
+    return OUT_POLISH;
 }

@@ -11,7 +11,7 @@
  * individual per stratum, strata paired across genes at random, so the
  * first generation covers every gene's range evenly; the offspring area
  * holds the permutation meanwhile), its random stream the search's own. */
-void pdt_ident_ga_start(pdt_ident_t *c)
+static void ga_start(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
     const size_t P = (size_t)c->cfg.population, G = (size_t)c->genes;
@@ -37,12 +37,19 @@ void pdt_ident_ga_start(pdt_ident_t *c)
     ga->best_history = PDT_REAL_MAX;
     c->vote.base = c->evaluations;
     c->best.cost = PDT_REAL_MAX;
-    c->band_stage = pdt_ident_control_band(&c->cfg) ? 1u : 0u;
-    c->phase = PH_INIT_POP;
 }
 
-/* After a generation: the stall bookkeeping, and the next stage. */
-static void generation_end(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_ga_begin(pdt_ident_t *c)
+{
+    ga_start(c);
+    /* The CONTROL weighting's first run: on the time cost, to find the
+     * band. */
+    return pdt_ident_control_band(&c->cfg) ? OUT_TIME : OUT_DONE;
+}
+
+/* After a generation: the stall bookkeeping; another generation, or the
+ * population's end. time: the CONTROL weighting's run on the time cost. */
+static pdt_ident_outcome_t generation_end(pdt_ident_t *c, bool time)
 {
     pdt_ident_ga_t *ga = &c->ga;
     c->generations++;
@@ -55,7 +62,7 @@ static void generation_end(pdt_ident_t *c)
     }
     uint32_t ga_budget =
         c->vote.budget - c->cfg.refine_evaluations - pdt_ident_late_reserve(&c->cfg);
-    if (c->band_stage == 1u) {
+    if (time) {
         /* The time-cost stage of the CONTROL weighting gets half. */
         ga_budget /= 2u;
     }
@@ -66,17 +73,20 @@ static void generation_end(pdt_ident_t *c)
      * searches run their course: on its records the early end saved 1 to
      * 3 % and let a second search settle in a dead-time basin a fraction
      * of a sample from the optimum's (docs/ident-engine.md). */
-    const bool caught_up = pdt_model_kind_lags(c->cfg.model) == 1u && c->band_stage == 0u &&
+    const bool caught_up = pdt_model_kind_lags(c->cfg.model) == 1u &&
+                           !pdt_ident_control_band(&c->cfg) &&
                            pdt_ident_used(c) >= c->cfg.stall_generations * c->cfg.population &&
                            pdt_ident_vote_caught_up(c);
     if (!caught_up && ga->stall < c->cfg.stall_generations &&
         pdt_ident_used(c) + c->cfg.population <= ga_budget) {
-        c->phase = PH_BREED;
-    } else if (c->band_stage == 1u) {
-        c->phase = PH_BAND;
-    } else {
-        c->phase = c->cost.cfg.kind == PDT_COST_COMBINED ? PH_RECENTRE : PH_REFINE_START;
+        return OUT_GENERATION;
     }
+    return OUT_DONE;
+}
+
+pdt_ident_outcome_t pdt_ident_ga_end(const pdt_ident_t *c)
+{
+    return c->cost.cfg.kind == PDT_COST_COMBINED ? OUT_RECENTRE : OUT_DONE;
 }
 
 uint32_t pdt_ident_ga_group(const pdt_ident_t *c)
@@ -99,13 +109,14 @@ static void eval_group(pdt_ident_t *c, pdt_real_t *genes, pdt_real_t *cost, pdt_
     c->ga.next += count;
 }
 
-void pdt_ident_ga_eval_parent(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_ga_eval_parent(pdt_ident_t *c, bool time)
 {
     pdt_ident_ga_t *ga = &c->ga;
     eval_group(c, ga->pop, ga->pop_cost, ga->pop_gain, ga->pop_offset);
     if (ga->next == c->cfg.population) {
-        generation_end(c);
+        return generation_end(c, time);
     }
+    return OUT_AGAIN;
 }
 
 static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
@@ -117,7 +128,7 @@ static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
 }
 
 /* One generation of offspring from the current population. */
-void pdt_ident_ga_breed(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_ga_breed(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
     const size_t P = (size_t)c->cfg.population, G = (size_t)c->genes;
@@ -153,7 +164,7 @@ void pdt_ident_ga_breed(pdt_ident_t *c)
         }
     }
     ga->next = 0u;
-    c->phase = PH_EVAL_OFF;
+    return OUT_DONE;
 }
 
 /* Elitism: the best `elite` parents replace the worst offspring when better,
@@ -194,12 +205,13 @@ static void survive(pdt_ident_t *c)
     }
 }
 
-void pdt_ident_ga_eval_offspring(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_ga_eval_offspring(pdt_ident_t *c, bool time)
 {
     pdt_ident_ga_t *ga = &c->ga;
     eval_group(c, ga->off, ga->off_cost, ga->off_gain, ga->off_offset);
     if (ga->next == c->cfg.population) {
         survive(c);
-        generation_end(c);
+        return generation_end(c, time);
     }
+    return OUT_AGAIN;
 }

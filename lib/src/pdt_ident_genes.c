@@ -36,6 +36,20 @@ uint32_t pdt_ident_late_reserve(const pdt_ident_config_t *cfg)
     return r;
 }
 
+uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg, uint32_t population)
+{
+    const uint64_t populations = pdt_ident_control_band(cfg) ? 2u : 1u;
+    return populations * population + cfg->refine_evaluations + pdt_ident_late_reserve(cfg);
+}
+
+void pdt_ident_polish_budget(pdt_ident_t *c, uint32_t budget)
+{
+    /* The polish of the best within budget: the running search's budget
+     * is set so that pdt_ident_left gives it. */
+    c->vote.base = c->evaluations;
+    c->vote.budget = budget + pdt_ident_late_reserve(&c->cfg);
+}
+
 void pdt_ident_counted(pdt_ident_t *c, uint32_t count, size_t n)
 {
     c->evaluations += count;

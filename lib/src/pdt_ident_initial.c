@@ -216,19 +216,9 @@ bool pdt_ident_want_state(const pdt_ident_t *c)
            c->cfg.cost == PDT_COST_SIMULATION;
 }
 
-bool pdt_ident_state_refit(pdt_ident_t *c)
+bool pdt_ident_refit_due(const pdt_ident_t *c)
 {
-    if (!c->auto_state || c->cfg.initial != PDT_IDENT_INITIAL_AUTO) {
-        return false;
-    }
-    c->cfg.initial = PDT_IDENT_INITIAL_ESTIMATE;
-    const pdt_status_t st = pdt_ident_restart(c);
-    c->auto_state = true;
-    if (st != PDT_OK) {
-        c->screen.status = st;
-        c->phase = PH_DONE;
-    }
-    return true;
+    return c->auto_state && c->cfg.initial == PDT_IDENT_INITIAL_AUTO;
 }
 
 /* AUTO's second test: the answer's shape fitted with its state at the

@@ -139,7 +139,7 @@ static bool stencil_fits(const pdt_ident_t *c)
     return true;
 }
 
-static void stencil_begin(pdt_ident_t *c);
+static pdt_ident_outcome_t stencil_begin(pdt_ident_t *c);
 
 /* Narrow differences from now on: their truncation error (the cost's
  * cubic terms across a rise of POLISH_RISE) leaves the Newton step a few
@@ -155,14 +155,13 @@ static void go_fine(pdt_ident_polish_t *p, uint32_t G)
 
 /* The centre stands at the wide differences' resolution: once more with
  * narrow ones, else the end. */
-static void settle(pdt_ident_t *c)
+static pdt_ident_outcome_t settle(pdt_ident_t *c)
 {
     if (c->nm.late.polish.fine) {
-        pdt_ident_refine_end(c);
-        return;
+        return OUT_DONE;
     }
     go_fine(&c->nm.late.polish, c->nm.late.polish.dims);
-    stencil_begin(c);
+    return stencil_begin(c);
 }
 
 /* Whether the dead time's whole samples are kinks of the cost polished:
@@ -200,13 +199,12 @@ static bool best_across(const pdt_ident_t *c)
  * only a try: the pinned one just ends (Nelder-Mead would move the dead
  * time off the kink), the one across the kink only hands over where it
  * made the best point its own. */
-static void fall_back(pdt_ident_t *c)
+static pdt_ident_outcome_t fall_back(const pdt_ident_t *c)
 {
     if (c->nm.kink == 1u || (c->nm.kink == 2u && !best_across(c))) {
-        pdt_ident_refine_end(c);
-        return;
+        return OUT_DONE;
     }
-    pdt_ident_refine_nm_best(c);
+    return OUT_FALLBACK;
 }
 
 /* The Newton step of the quadratic through the stencil, in units of each
@@ -267,7 +265,7 @@ static pdt_real_t next_width(const pdt_ident_polish_t *p, uint32_t j)
 }
 
 /* After the stencil: the trial point of the Newton step, or Nelder-Mead. */
-static void propose(pdt_ident_t *c)
+static pdt_ident_outcome_t propose(pdt_ident_t *c)
 {
     pdt_ident_polish_t *p = &c->nm.late.polish;
     const uint32_t G = p->dims;
@@ -286,12 +284,10 @@ static void propose(pdt_ident_t *c)
         for (uint32_t j = 0; j < G; j++) {
             p->w[j] = w[j];
         }
-        stencil_begin(c);
-        return;
+        return stencil_begin(c);
     }
     if (!newton_step(c, z, &gz) || pdt_ident_left(c) < 1u) {
-        fall_back(c);
-        return;
+        return fall_back(c);
     }
     /* Each gene goes at most POLISH_REACH of its wider difference step. */
     pdt_real_t scale = PDT_R(1.0);
@@ -319,6 +315,7 @@ static void propose(pdt_ident_t *c)
         p->trial[j] = p->x[j];
     }
     p->state = POLISH_TRIAL;
+    return OUT_AGAIN;
 }
 
 /* The dead time's differences kept (to 0.9 of the room) between the
@@ -348,20 +345,19 @@ static void keep_off_kinks(pdt_ident_t *c)
 }
 
 /* A stencil about the centre, or Nelder-Mead when it does not fit. */
-static void stencil_begin(pdt_ident_t *c)
+static pdt_ident_outcome_t stencil_begin(pdt_ident_t *c)
 {
     pdt_ident_polish_t *p = &c->nm.late.polish;
     if (p->iter >= POLISH_ITERATIONS || pdt_ident_left(c) < points_of(c) + 1u) {
-        pdt_ident_refine_end(c);
-        return;
+        return OUT_DONE;
     }
     keep_off_kinks(c);
     if (!stencil_fits(c)) {
-        fall_back(c);
-        return;
+        return fall_back(c);
     }
     p->next = 0u;
     p->state = POLISH_STENCIL;
+    return OUT_AGAIN;
 }
 
 /* The polish from the best of the first dims genes, the rest held. */
@@ -376,15 +372,15 @@ static void newton_start(pdt_ident_t *c, uint32_t dims)
     p->iter = 0u;
     p->fine = false;
     p->state = POLISH_CENTRE;
-    c->phase = PH_POLISH;
 }
 
-void pdt_ident_polish_begin(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_polish_begin(pdt_ident_t *c)
 {
     c->nm.kink = 0u;
     c->nm.near = false;
     c->nm.probe = 0u;
     newton_start(c, c->genes);
+    return OUT_DONE;
 }
 
 /* A kink pass from x (all genes; dims = genes - 1 holds the dead time).
@@ -427,15 +423,14 @@ static bool probe_begin(pdt_ident_t *c)
     for (uint32_t j = 0; j < c->genes; j++) {
         nm->probe_x[j] = c->best.genes[j];
     }
-    c->phase = PH_PROBE;
     return true;
 }
 
-void pdt_ident_polish_probe(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_polish_probe(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     const uint32_t G = c->genes;
-    const uint32_t count = pdt_ident_polish_group(c);
+    const uint32_t count = pdt_ident_probe_group(c);
     pdt_real_t pts[PDT_COST_MANY * 3u];
     pdt_real_t cost[PDT_COST_MANY], gains[PDT_COST_MANY], offsets[PDT_COST_MANY];
     uint32_t m = 0;
@@ -462,7 +457,7 @@ void pdt_ident_polish_probe(pdt_ident_t *c)
     }
     nm->probe += count;
     if (nm->probe <= 2u * PROBE_STEPS) {
-        return;
+        return OUT_AGAIN;
     }
     /* The evaluations kept the best. Where it is lower than the answer,
      * the answer's whole polish again from it (its kink passes and a
@@ -470,29 +465,38 @@ void pdt_ident_polish_probe(pdt_ident_t *c)
      * a probe, so the rounds end), else the answer stands. */
     if (!(c->best.cost < nm->probe_f)) {
         nm->kink = 2u; /* the kink passes are not taken again */
-        pdt_ident_refine_end(c);
-        return;
+        return OUT_DONE;
     }
-    pdt_ident_polish_begin(c);
+    return OUT_POLISH;
 }
 
-bool pdt_ident_polish_kinks(pdt_ident_t *c)
+/* The probe begun (OUT_PROBE), or nothing (OUT_DONE). */
+static pdt_ident_outcome_t probe_or_done(pdt_ident_t *c)
+{
+    return probe_begin(c) ? OUT_PROBE : OUT_DONE;
+}
+
+/* On the whole record's output error with a fractional dead time, after
+ * the answer's polish: the next of its two kink passes begun (OUT_KINK),
+ * after them the dead-time probe (OUT_PROBE); OUT_DONE, nothing begun,
+ * once the probe ran, where none applies or where the budget is spent. */
+static pdt_ident_outcome_t kinks(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     const uint32_t G = c->genes;
     pdt_real_t x[3];
     if (!has_kinks(c) || !(c->best.cost < PDT_REAL_MAX)) {
-        return false;
+        return OUT_DONE;
     }
     if (nm->kink >= 2u) {
-        return probe_begin(c);
+        return probe_or_done(c);
     }
     const pdt_real_t r = samples_of(c, c->best.genes[G - 1u]);
     if (nm->kink == 0u) {
         if (!nm->near) {
             /* The dead time's differences never reached a kink: the
              * polish saw a smooth cost. */
-            return probe_begin(c);
+            return probe_or_done(c);
         }
         nm->r = r;
     }
@@ -501,7 +505,7 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
         /* On the kink: the answer's minimum, or the pinned pass's (then no
          * ridge to look across). */
         nm->kink = 2u;
-        return probe_begin(c);
+        return probe_or_done(c);
     }
     for (uint32_t j = 0; j < G; j++) {
         x[j] = c->best.genes[j];
@@ -510,10 +514,10 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
         nm->kink = 2u; /* no pinned pass, nothing to look across from */
         x[G - 1u] = gene_at(c, whole);
         if (!kink_pass(c, G - 1u, x)) {
-            return probe_begin(c);
+            return probe_or_done(c);
         }
         nm->kink = 1u;
-        return true;
+        return OUT_KINK;
     }
     /* The pinned pass's centre is the valley's point on the kink (the
      * other genes follow the dead time along it): the answer's mirror
@@ -524,16 +528,26 @@ bool pdt_ident_polish_kinks(pdt_ident_t *c)
     for (uint32_t j = 0; j < G; j++) {
         x[j] = (PDT_R(2.0) * p->x[j]) - x[j];
     }
-    return kink_pass(c, G, x) || probe_begin(c);
+    return kink_pass(c, G, x) ? OUT_KINK : probe_or_done(c);
+}
+
+pdt_ident_outcome_t pdt_ident_polish_end(pdt_ident_t *c)
+{
+    if (c->cfg.cost == PDT_COST_FREQUENCY) {
+        return OUT_SCAN;
+    }
+    return kinks(c);
+}
+
+uint32_t pdt_ident_probe_group(const pdt_ident_t *c)
+{
+    const uint32_t rest = (2u * PROBE_STEPS) + 1u - c->nm.probe;
+    return rest < (uint32_t)PDT_VECTOR_LANES ? rest : (uint32_t)PDT_VECTOR_LANES;
 }
 
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c)
 {
     const pdt_ident_polish_t *p = &c->nm.late.polish;
-    if (c->phase == PH_PROBE) {
-        const uint32_t rest = (2u * PROBE_STEPS) + 1u - c->nm.probe;
-        return rest < (uint32_t)PDT_VECTOR_LANES ? rest : (uint32_t)PDT_VECTOR_LANES;
-    }
     if (p->state != POLISH_STENCIL) {
         return 1u;
     }
@@ -543,7 +557,7 @@ uint32_t pdt_ident_polish_group(const pdt_ident_t *c)
 
 /* The stencil's next group of points evaluated; the model proposed once
  * the stencil is complete. */
-static void stencil_group(pdt_ident_t *c)
+static pdt_ident_outcome_t stencil_group(pdt_ident_t *c)
 {
     pdt_ident_polish_t *p = &c->nm.late.polish;
     const uint32_t G = c->genes;
@@ -563,11 +577,12 @@ static void stencil_group(pdt_ident_t *c)
     }
     p->next += count;
     if (p->next == points_of(c)) {
-        propose(c);
+        return propose(c);
     }
+    return OUT_AGAIN;
 }
 
-void pdt_ident_polish_step(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c)
 {
     pdt_ident_polish_t *p = &c->nm.late.polish;
     const uint32_t G = c->genes;
@@ -579,15 +594,12 @@ void pdt_ident_polish_step(pdt_ident_t *c)
             /* A minimum across the kink needs the cost to fall away from
              * it along the valley: a mirror image no lower than the
              * valley's point on the kink ends that pass at once. */
-            fall_back(c);
-            return;
+            return fall_back(c);
         }
-        stencil_begin(c);
-        return;
+        return stencil_begin(c);
     }
     if (p->state == POLISH_STENCIL) {
-        stencil_group(c);
-        return;
+        return stencil_group(c);
     }
     /* POLISH_TRIAL */
     pdt_ident_evaluate(c, p->trial, &f, &gain, &offset);
@@ -599,8 +611,9 @@ void pdt_ident_polish_step(pdt_ident_t *c)
         if (p->len < POLISH_XTOL || (!p->rose && p->pred <= POLISH_FTOL * p->f0)) {
             /* At the resolution of the differences, or a decrease below
              * the cost's rounding: the centre stands. */
-            settle(c);
-        } else if (p->back < POLISH_BACKTRACK && pdt_ident_left(c) >= 1u) {
+            return settle(c);
+        }
+        if (p->back < POLISH_BACKTRACK && pdt_ident_left(c) >= 1u) {
             /* The model overshot: half the step. */
             for (uint32_t j = 0; j < G; j++) {
                 p->trial[j] = p->x[j] + PDT_R(0.5) * (p->trial[j] - p->x[j]);
@@ -608,10 +621,9 @@ void pdt_ident_polish_step(pdt_ident_t *c)
             p->len *= PDT_R(0.5);
             p->pred *= PDT_R(0.5);
             p->back++;
-        } else {
-            fall_back(c);
+            return OUT_AGAIN;
         }
-        return;
+        return fall_back(c);
     }
     p->iter++;
     for (uint32_t j = 0; j < G; j++) {
@@ -620,19 +632,17 @@ void pdt_ident_polish_step(pdt_ident_t *c)
     const pdt_real_t gain_f = p->f0 - f;
     p->f0 = f;
     if (p->len < POLISH_XTOL || gain_f <= POLISH_FTOL * (f + gain_f)) {
-        settle(c);
-        return;
+        return settle(c);
     }
     if (p->cut) {
         /* The model's minimum lies beyond the step's reach: a long valley
          * (a SOPDT's second lag vanishing towards its bound), which
          * Nelder-Mead follows in fewer evaluations than short Newton
          * steps. */
-        fall_back(c);
-        return;
+        return fall_back(c);
     }
     if (!p->fine) {
         go_fine(p, p->dims);
     }
-    stencil_begin(c);
+    return stencil_begin(c);
 }

@@ -1,10 +1,11 @@
 /*
  * The identification engine's stages, private to the library. pdt_ident.c
- * checks the configuration and sequences the stages by a table; each
- * stage lives in its own file and keeps its state in its own part of
- * pdt_ident_t:
+ * checks the configuration and sequences the stages by one const table,
+ * PLAN: for each phase, what its stage needs (an evaluation of this
+ * call's budget, a group of them, or a call of its own) and the phase
+ * after each outcome the stage returns (docs/ident-engine.md draws it).
+ * Each stage lives in its own file:
  *
- *   pdt_ident_genes.c   the gene coding and one candidate's evaluation
  *   pdt_ident_ga.c      the population: start, breeding, survival (ga)
  *   pdt_ident_band.c    the CONTROL weighting's band, between two GA runs
  *   pdt_ident_refine.c  Nelder-Mead from the best niches (nm)
@@ -15,11 +16,35 @@
  *   pdt_ident_rest.c    the output offset from the rest window (rest)
  *   pdt_ident_coarse.c  the searches' coarse record, the whole one after
  *   pdt_ident_screen.c  missing samples and gross errors left out (screen)
+ *
+ * and the helpers they share, which call no stage:
+ *
+ *   pdt_ident_genes.c   the gene coding, one candidate's evaluation, the
+ *                       budgets
+ *   pdt_ident_common.c  the answers kept: the best, one basin or two
  *   pdt_ident_initial.c whether the record started at rest
  *   pdt_ident_multi.c   several records: their costs, the joint profile
  *
- * A stage function does at most one evaluation, or one preparation as
- * costly as init, and sets c->phase to what comes next.
+ * The stage contract. A stage function returns an outcome and never
+ * writes pdt_ident_t.phase; it calls no function of another stage's file
+ * (the sequencer's file holds the two restarts, PH_REFIT and
+ * PH_SCREEN_RESTART). What it may do in one call is what its phase needs
+ * in PLAN: a phase marked EVALUATES does one evaluation, or with GROUP the
+ * group its *_group function names (up to PDT_VECTOR_LANES; fewer in the
+ * probe where some of its points lie beyond the bounds); a HEAVY phase
+ * does one preparation as costly as init (a cost prepared again, a
+ * breeding, a block of the Fisher pass, an O(n) step of the screen), and
+ * no evaluation; a phase that needs nothing is a decision or the
+ * preparation of the next stage's state, does no evaluation and runs in
+ * the call that reached it (PH_REFIT, the identification begun again,
+ * ends PH_SCREEN's call). A stage reads and writes its own part of
+ * pdt_ident_t and the shared part: the configuration, the record and its
+ * cost, the gene bounds lo and hi, best (every evaluation updates it),
+ * vote (the answers kept; vote.base and vote.budget the running search's
+ * or polish's budget, set through pdt_ident_polish_budget), start (the
+ * profile's point for PH_REFINE_FROM), the answer (model, y0, fit, flags,
+ * evidence, std, extra) and the modes that say whose answer a polish
+ * gives: coarse.stage, rest_stage and profile.stage.
  */
 #ifndef PDT_IDENT_PRIV_H
 #define PDT_IDENT_PRIV_H
@@ -28,28 +53,49 @@
 #include "pdt_cost_engine.h"
 #include "pdt_model_priv.h"
 
-/* The sequencer's stages (pdt_ident_t.phase). */
+/* The sequencer's phases (pdt_ident_t.phase): the stage that runs next.
+ * What each needs and where each leads is the table PLAN in pdt_ident.c
+ * (docs/ident-engine.md draws it). A "decision" only chooses the next
+ * phase. */
 enum {
-    PH_PREPARE = 1,    /* the searches' coarse record, its cost, the population */
-    PH_INIT_POP,       /* evaluating the initial population */
+    PH_INIT_POP = 1,   /* evaluating the initial population */
     PH_BREED,          /* breeding a generation */
     PH_EVAL_OFF,       /* evaluating offspring */
+    PH_TIME_POP,       /* CONTROL weighting: the population on the time cost */
+    PH_TIME_BREED,     /* its generation bred */
+    PH_TIME_OFF,       /* its offspring evaluated */
+    PH_GA_END,         /* decision: the spectra or the refinement */
+    PH_PREPARE,        /* init's first phase: the searches' budget, the
+                        * coarse record and its cost (a call of its own) */
+    PH_GA_START,       /* a search's population drawn */
     PH_BAND,           /* CONTROL weighting: the band from the time model */
     PH_RECENTRE,       /* COMBINED: the spectra on the estimated offset */
     PH_REFINE_START,   /* the refinement's starts */
+    PH_REFINE_FROM,    /* a refinement from pdt_ident_t.start alone */
     PH_REFINE,         /* Nelder-Mead */
+    PH_NM_BEST,        /* Nelder-Mead from the polish's best point begun */
+    PH_POLISH_BEGIN,   /* a Newton polish from the best begun */
+    PH_POLISH,         /* Newton polish of one answer */
+    PH_REFINE_END,     /* decision: the dead-time scan, a kink pass, the
+                        * dead-time probe or the search's answer */
+    PH_PROBE,          /* the dead time about a polished answer, shape held */
+    PH_SCAN_START,     /* frequency criterion: its dead-time scan begun */
     PH_DELAY_SCAN,     /* frequency criterion: dead time and sign from Ct */
     PH_DELAY_REFINE,   /* its golden section */
-    PH_FINISH,         /* a search's answer; may re-score once (an integrator) */
-    PH_FINE,           /* the whole record after the coarse one's searches */
-    PH_REST,           /* AUTO offset: the answer polished on the rest level */
-    PH_POLISH,         /* Newton polish of one answer (after PH_FINE, PH_REST) */
-    PH_PROBE,          /* the dead time about a polished answer, shape held */
+    PH_FINISH,         /* a polish's answer; may re-score once (an integrator) */
+    PH_SEARCH_END,     /* decision: the answer kept; another search or not */
+    PH_PROFILE_BEGIN,  /* decision: the dead-time profile or not */
     PH_PROFILE,        /* the searches' answer checked along the dead time */
+    PH_CONCLUDE,       /* the answer of all searches, its flags */
+    PH_COARSE_CHECK,   /* decision: the whole record after a coarse one */
+    PH_FINE,           /* the whole record after the coarse one's searches */
+    PH_REST_CHECK,     /* decision: the answer polished on the rest level */
+    PH_REST,           /* AUTO offset: the answer polished on the rest level */
     PH_STD,            /* the parameters' uncertainty: its pass begun */
     PH_STD_PASS,       /* its Fisher pass, a block of samples per step */
     PH_EVIDENCE,       /* the answer's evidence against the null model */
     PH_SCREEN,         /* gross errors: the answer's residual */
+    PH_REFIT,          /* AUTO initial state: the search again, state estimated */
     PH_SCREEN_HIGH,    /* its high pass */
     PH_SCREEN_BOUND,   /* the samples beyond the bound left out */
     PH_SCREEN_REFILL,  /* the record filled again */
@@ -57,6 +103,29 @@ enum {
     PH_DONE,
     PH_COUNT
 };
+
+/* What a stage function returns; PLAN gives the phase that follows each
+ * (an outcome a phase never returns leads nowhere: PDT_ERR_STATE). */
+typedef enum pdt_ident_outcome {
+    OUT_AGAIN = 0,  /* more of the stage's work: the phase runs again */
+    OUT_DONE,       /* the stage's work ended; a decision taken */
+    OUT_SKIPPED,    /* a decision not taken: nothing to do there */
+    OUT_FAILED,     /* a preparation or a pass failed */
+    OUT_BEGUN,      /* a pass in several steps begun: its steps next */
+    OUT_GENERATION, /* the population: another generation */
+    OUT_TIME,       /* CONTROL weighting: a search on the time cost first */
+    OUT_RECENTRE,   /* the population ended, COMBINED: its spectra */
+    OUT_POLISH,     /* a polish of one answer begins */
+    OUT_FALLBACK,   /* the polish hands over to Nelder-Mead */
+    OUT_SCAN,       /* frequency criterion: the dead-time scan */
+    OUT_KINK,       /* a kink pass begun */
+    OUT_PROBE,      /* the dead-time probe begun */
+    OUT_SEARCH,     /* another search */
+    OUT_WHOLE,      /* the coarse answer polished on the whole record */
+    OUT_REST,       /* the answer polished on the rest level */
+    OUT_REFIT,      /* the identification again with the state estimated */
+    OUT_COUNT
+} pdt_ident_outcome_t;
 
 /* The frequency criterion cannot see the dead time or the sign of the
  * gain; after its search, Td is scanned on a grid of SCAN_POINTS values of
@@ -86,9 +155,13 @@ uint32_t pdt_ident_used(const pdt_ident_t *c);
  * late reserve. */
 uint32_t pdt_ident_left(const pdt_ident_t *c);
 
-/* The least budget of one search (pdt_ident.c): one population (two with
- * the CONTROL weighting), one simplex and the late reserve. */
-uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg);
+/* The least budget of one search of the given population: one population
+ * (two with the CONTROL weighting), one simplex and the late reserve. */
+uint64_t pdt_ident_search_need(const pdt_ident_config_t *cfg, uint32_t population);
+
+/* The running search's budget set so that pdt_ident_left gives budget
+ * evaluations from now on (a polish of one answer, the profile's). */
+void pdt_ident_polish_budget(pdt_ident_t *c, uint32_t budget);
 
 /* Books count evaluations, each scoring a record of n samples: the
  * evaluations reported and the samples the step budget counts. */
@@ -139,47 +212,8 @@ void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, p
 void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count, pdt_real_t *cost,
                              pdt_real_t *gain, pdt_real_t *offset);
 
-/* ---- pdt_ident_ga.c */
+/* ---- pdt_ident_common.c: the answers kept */
 
-/* A search from scratch: a Latin hypercube population, the GA reset. */
-void pdt_ident_ga_start(pdt_ident_t *c);
-/* The individuals the next population stage evaluates together: up to
- * PDT_VECTOR_LANES from an index that is a multiple of it, fewer at the
- * population's end. Fixed by the index alone, so the answer does not
- * depend on how the work is split into calls. */
-uint32_t pdt_ident_ga_group(const pdt_ident_t *c);
-void pdt_ident_ga_eval_parent(pdt_ident_t *c);
-void pdt_ident_ga_breed(pdt_ident_t *c);
-void pdt_ident_ga_eval_offspring(pdt_ident_t *c);
-
-/* ---- pdt_ident_band.c */
-
-void pdt_ident_band_start(pdt_ident_t *c);
-
-/* ---- pdt_ident_refine.c */
-
-void pdt_ident_refine_recentre(pdt_ident_t *c);
-void pdt_ident_refine_begin(pdt_ident_t *c);
-void pdt_ident_refine_step(pdt_ident_t *c);
-/* A search's refinement from x0 alone (the profile's point): Nelder-Mead,
- * then the polish, with the running search's budget. */
-void pdt_ident_refine_from(pdt_ident_t *c, const pdt_real_t *x0);
-/* The points the next PH_REFINE step evaluates together: one of each
- * running niche run, up to PDT_VECTOR_LANES; 1 in the final polish. */
-uint32_t pdt_ident_refine_group(const pdt_ident_t *c);
-
-/* ---- pdt_ident_scan.c */
-
-void pdt_ident_scan_start(pdt_ident_t *c);
-void pdt_ident_scan_grid(pdt_ident_t *c);
-void pdt_ident_scan_golden(pdt_ident_t *c);
-
-/* ---- pdt_ident_vote.c */
-
-void pdt_ident_finish(pdt_ident_t *c);
-/* The answer of all searches (and of the profile's polish): the least
- * cost, confirmed or flagged, then the stage that follows. */
-void pdt_ident_conclude(pdt_ident_t *c);
 /* The answer kept with the least cost (done >= 1), and the searches among
  * the answers kept (the profile's is not one). */
 uint32_t pdt_ident_vote_best(const pdt_ident_t *c);
@@ -193,24 +227,94 @@ bool pdt_ident_vote_caught_up(const pdt_ident_t *c);
 /* Flags on the answer's genes (AT_BOUND) after the whole record's polish. */
 uint32_t pdt_ident_bound_flags(const pdt_ident_t *c);
 
+/* The same structure: the gain's sign and, for a SOPDT, whether it
+ * integrates. */
+bool pdt_ident_same_structure(const pdt_model_t *a, const pdt_model_t *b);
+/* Cost b within rtol of cost a (normalised costs). */
+bool pdt_ident_cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol);
+/* The running search's best as a model: the shape's gain unit times the
+ * multiplier found. */
+void pdt_ident_best_model(const pdt_ident_t *c, pdt_model_t *m);
+
+/* ---- pdt_ident_ga.c */
+
+/* PH_GA_START: a search from scratch, a Latin hypercube population, the
+ * GA reset; OUT_TIME where it begins on the CONTROL weighting's time
+ * cost. */
+pdt_ident_outcome_t pdt_ident_ga_begin(pdt_ident_t *c);
+/* The individuals the next population stage evaluates together: up to
+ * PDT_VECTOR_LANES from an index that is a multiple of it, fewer at the
+ * population's end. Fixed by the index alone, so the answer does not
+ * depend on how the work is split into calls. */
+uint32_t pdt_ident_ga_group(const pdt_ident_t *c);
+/* PH_INIT_POP, PH_EVAL_OFF (PH_TIME_POP, PH_TIME_OFF with time set: the
+ * CONTROL weighting's run on the time cost, on half the budget): a group
+ * evaluated; at the population's end another generation or the end. */
+pdt_ident_outcome_t pdt_ident_ga_eval_parent(pdt_ident_t *c, bool time);
+pdt_ident_outcome_t pdt_ident_ga_breed(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_ga_eval_offspring(pdt_ident_t *c, bool time);
+/* PH_GA_END: the spectra re-centred (COMBINED), else the refinement. */
+pdt_ident_outcome_t pdt_ident_ga_end(const pdt_ident_t *c);
+
+/* ---- pdt_ident_band.c */
+
+pdt_ident_outcome_t pdt_ident_band_start(pdt_ident_t *c);
+
+/* ---- pdt_ident_refine.c */
+
+pdt_ident_outcome_t pdt_ident_refine_recentre(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_refine_begin(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_refine_step(pdt_ident_t *c);
+/* PH_REFINE_FROM: a refinement from pdt_ident_t.start alone (the
+ * profile's point): Nelder-Mead, then the polish, with the running
+ * search's budget. */
+pdt_ident_outcome_t pdt_ident_refine_from(pdt_ident_t *c);
+/* PH_NM_BEST: Nelder-Mead from the best with what is left of the polish's
+ * budget; OUT_SKIPPED where no simplex fits. */
+pdt_ident_outcome_t pdt_ident_refine_nm_best(pdt_ident_t *c);
+/* The points the next PH_REFINE step evaluates together: one of each
+ * running niche run, up to PDT_VECTOR_LANES; 1 in the final polish. */
+uint32_t pdt_ident_refine_group(const pdt_ident_t *c);
+
+/* ---- pdt_ident_scan.c */
+
+pdt_ident_outcome_t pdt_ident_scan_start(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_scan_grid(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_scan_golden(pdt_ident_t *c);
+
+/* ---- pdt_ident_vote.c */
+
+/* PH_FINISH: the running polish's answer; OUT_WHOLE after the coarse
+ * answer's polish on the whole record, OUT_REST after the polish on the
+ * rest level, else OUT_DONE (a search's or the profile's answer). */
+pdt_ident_outcome_t pdt_ident_finish(pdt_ident_t *c);
+/* PH_SEARCH_END: the answer kept; another search (OUT_SEARCH) or not. */
+pdt_ident_outcome_t pdt_ident_search_end(pdt_ident_t *c);
+/* PH_CONCLUDE: the answer of all searches (and of the profile's polish):
+ * the least cost, confirmed or flagged. */
+pdt_ident_outcome_t pdt_ident_conclude(pdt_ident_t *c);
+
 /* ---- pdt_ident_profile.c */
 
-/* When the searches have ended: true when the profile begins (PH_PROFILE);
- * false once it ran, where it does not apply or where the budget cannot
- * pay for it, and when its polish has ended (its answer the last kept). */
-bool pdt_ident_profile_begin(pdt_ident_t *c);
-/* PH_PROFILE: the next group of grid points, then the polish of the far
- * point below the answer's neighbourhood, or the vote. */
-void pdt_ident_profile_step(pdt_ident_t *c);
+/* PH_PROFILE_BEGIN, when the searches have ended: OUT_DONE when the
+ * profile begins; OUT_SKIPPED once it ran, where it does not apply or
+ * where the budget cannot pay for it, and when its polish has ended (its
+ * answer the last kept). */
+pdt_ident_outcome_t pdt_ident_profile_begin(pdt_ident_t *c);
+/* PH_PROFILE: the next group of grid points, then the refinement of the
+ * far point below the answer's neighbourhood (OUT_POLISH, its start in
+ * pdt_ident_t.start), or the vote. */
+pdt_ident_outcome_t pdt_ident_profile_step(pdt_ident_t *c);
 /* The points the next PH_PROFILE step evaluates together. */
 uint32_t pdt_ident_profile_group(const pdt_ident_t *c);
 
 /* ---- pdt_ident_rest.c */
 
-/* After the searches concluded: PH_REST when the answer's fitted offset
- * disagrees with the rest window's level, else PH_STD. */
-void pdt_ident_rest_check(pdt_ident_t *c);
-void pdt_ident_rest_start(pdt_ident_t *c);
+/* PH_REST_CHECK, after the searches concluded: OUT_DONE when the
+ * answer's fitted offset disagrees with the rest window's level. */
+pdt_ident_outcome_t pdt_ident_rest_check(const pdt_ident_t *c);
+/* PH_REST: the cost on the rest level, the polish's budget set. */
+pdt_ident_outcome_t pdt_ident_rest_start(pdt_ident_t *c);
 
 /* ---- pdt_ident_coarse.c */
 
@@ -219,43 +323,42 @@ void pdt_ident_rest_start(pdt_ident_t *c);
  * whole one's; the whole record searched when D < 2 or that cost refuses
  * the coarse record (the whole one's prepared again). */
 void pdt_ident_coarse_start(pdt_ident_t *c);
-/* The searches concluded on the coarse record: PH_FINE. */
-bool pdt_ident_coarse_pending(pdt_ident_t *c);
-/* PH_FINE: the whole record's cost, then the answer polished on it, or
- * the searches run again on it when the answer is too fast for the
- * coarse record. */
-void pdt_ident_coarse_fine(pdt_ident_t *c);
+/* PH_COARSE_CHECK: OUT_DONE when the searches concluded on the coarse
+ * record. */
+pdt_ident_outcome_t pdt_ident_coarse_pending(const pdt_ident_t *c);
+/* PH_FINE: the whole record's cost, then the answer polished on it
+ * (OUT_POLISH), or the searches run again on it when the answer is too
+ * fast for the coarse record (OUT_SEARCH). */
+pdt_ident_outcome_t pdt_ident_coarse_fine(pdt_ident_t *c);
 
-/* ---- the polish of one answer (pdt_ident_refine.c, pdt_ident_polish.c) */
-/* The best polished within budget evaluations: Newton on differences
- * (PH_POLISH), Nelder-Mead where that cannot go on. */
-void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget);
-/* Nelder-Mead from the best with what is left of the polish's budget. */
-void pdt_ident_refine_nm_best(pdt_ident_t *c);
-/* What follows a refinement: the dead-time scan of the frequency
- * criterion, else the kink passes and the dead-time probe, else the
- * search's answer. */
-void pdt_ident_refine_end(pdt_ident_t *c);
-/* From the best. */
-void pdt_ident_polish_begin(pdt_ident_t *c);
-/* On the whole record's output error with a fractional dead time, after
- * the answer's polish: the next of its two kink passes (pdt_ident_polish.c)
- * begun, after them the dead-time probe (PH_PROBE). False, and nothing
- * begun, once the probe ran, where none applies or where the budget is
- * spent. */
-bool pdt_ident_polish_kinks(pdt_ident_t *c);
+/* ---- pdt_ident_polish.c: the polish of one answer */
+
+/* PH_POLISH_BEGIN: the Newton polish from the best (its budget set). */
+pdt_ident_outcome_t pdt_ident_polish_begin(pdt_ident_t *c);
+/* PH_POLISH: the next point or group of the Newton polish; OUT_FALLBACK
+ * where it hands over to Nelder-Mead, OUT_DONE at its end. */
+pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c);
+/* PH_REFINE_END, what follows a refinement: the dead-time scan of the
+ * frequency criterion (OUT_SCAN); on the whole record's output error with
+ * a fractional dead time, after the answer's polish, the next of its two
+ * kink passes (OUT_KINK), after them the dead-time probe (OUT_PROBE);
+ * else the answer (OUT_DONE). */
+pdt_ident_outcome_t pdt_ident_polish_end(pdt_ident_t *c);
 /* PH_PROBE: the next points of the dead-time probe (a group), then the
- * polish from the lowest where it is below the answer. */
-void pdt_ident_polish_probe(pdt_ident_t *c);
+ * polish from the lowest where it is below the answer (OUT_POLISH). */
+pdt_ident_outcome_t pdt_ident_polish_probe(pdt_ident_t *c);
 /* The points the next PH_POLISH or PH_PROBE step evaluates together. */
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c);
-void pdt_ident_polish_step(pdt_ident_t *c);
-/* The answer's uncertainty: PH_STD begins the Fisher pass, PH_STD_PASS
- * sums a block of PDT_FISHER_BLOCK samples per step, PH_EVIDENCE the
- * evidence against the null model. */
-void pdt_ident_std(pdt_ident_t *c);
-void pdt_ident_std_pass(pdt_ident_t *c);
-void pdt_ident_std_evidence(pdt_ident_t *c);
+uint32_t pdt_ident_probe_group(const pdt_ident_t *c);
+
+/* ---- pdt_ident_vote.c: the answer's uncertainty */
+
+/* PH_STD begins the Fisher pass (OUT_BEGUN), or does it whole (OUT_DONE);
+ * PH_STD_PASS sums a block of PDT_FISHER_BLOCK samples per step,
+ * PH_EVIDENCE the evidence against the null model. */
+pdt_ident_outcome_t pdt_ident_std(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_std_pass(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_std_evidence(pdt_ident_t *c);
 
 /* ---- pdt_ident_screen.c */
 
@@ -271,15 +374,19 @@ bool pdt_ident_screen_needed(const pdt_ident_config_t *cfg, const pdt_ident_data
 pdt_status_t pdt_ident_screen_prepare(pdt_ident_screen_t *s, const pdt_ident_config_t *cfg,
                                       const pdt_ident_data_t *d);
 /* The answer's residual screened, one O(n) step each: PH_SCREEN its
- * residual (or AUTO's identification with the state estimated begun),
- * PH_SCREEN_HIGH its high pass, PH_SCREEN_BOUND the samples left out
- * (PH_DONE where none are new), PH_SCREEN_REFILL the record filled again,
- * PH_SCREEN_RESTART the identification begun again on it. */
-void pdt_ident_screen_step(pdt_ident_t *c);
-void pdt_ident_screen_high(pdt_ident_t *c);
-void pdt_ident_screen_bound(pdt_ident_t *c);
-void pdt_ident_screen_refill(pdt_ident_t *c);
-void pdt_ident_screen_restart(pdt_ident_t *c);
+ * residual (OUT_REFIT: AUTO's identification with the state estimated
+ * first), PH_SCREEN_HIGH its high pass, PH_SCREEN_BOUND the samples left
+ * out (OUT_SKIPPED where none are new), PH_SCREEN_REFILL the record
+ * filled again; PH_SCREEN_RESTART (pdt_ident.c) begins the identification
+ * again on it. */
+pdt_ident_outcome_t pdt_ident_screen_step(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_screen_high(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_screen_bound(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_screen_refill(pdt_ident_t *c);
+/* The restart failed with st: the status kept, and where the cost
+ * refused the refilled record for a value orders of magnitude off, that
+ * sample named. */
+void pdt_ident_screen_failed(pdt_ident_t *c, pdt_status_t st);
 /* The result's excluded, missing and excluded_first. */
 void pdt_ident_screen_report(const pdt_ident_screen_t *s, size_t n, pdt_ident_result_t *r);
 
@@ -306,16 +413,10 @@ bool pdt_ident_want_state(const pdt_ident_t *c);
  * a tenth of its residual and more than chance explains (scratch
  * overwritten). */
 bool pdt_ident_state_matters(pdt_ident_t *c);
-/* PH_SCREEN's first duty: where AUTO's test asked for it (auto_state set
- * with initial still AUTO), the identification begun again with the
- * state estimated; true when it was. */
-bool pdt_ident_state_refit(pdt_ident_t *c);
-
-/* ---- pdt_ident.c */
-
-/* The identification prepared again, as init does, on the screen's
- * filled record, the screen's state kept; its status. */
-pdt_status_t pdt_ident_restart(pdt_ident_t *c);
+/* PH_SCREEN's first duty: whether AUTO's test asked for the
+ * identification again with the state estimated (auto_state set with
+ * initial still AUTO; PH_REFIT, pdt_ident.c, begins it). */
+bool pdt_ident_refit_due(const pdt_ident_t *c);
 
 /* ---- pdt_ident_multi.c: several records (pdt_ident_config_t.more) */
 

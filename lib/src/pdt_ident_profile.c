@@ -86,7 +86,7 @@ static uint32_t dead_times(const pdt_ident_profile_t *p)
     return p->fine + p->points;
 }
 
-bool pdt_ident_profile_begin(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_profile_begin(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
     if (p->stage == 2u || p->stage == 4u) {
@@ -110,20 +110,20 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
         c->vote.done = other ? c->vote.done : k;
         c->vote.profiled = other ? c->vote.done : 0u;
         p->stage = 3u;
-        return false;
+        return OUT_SKIPPED;
     }
     if (p->stage != 0u) {
-        return false;
+        return OUT_SKIPPED;
     }
     p->stage = 3u;
     /* The output error only: the searches of the other criteria do not
      * vote, and the frequency criterion scans its dead time already. */
     if (c->cfg.cost != PDT_COST_SIMULATION || c->vote.done == 0u) {
-        return false;
+        return OUT_SKIPPED;
     }
     p->td = pdt_ident_td_of_gene(c, c->vote.genes[pdt_ident_vote_best(c)][c->genes - 1u]);
     if (!grid_of(c)) {
-        return false;
+        return OUT_SKIPPED;
     }
     const uint32_t scan = dead_times(p) * PROFILE_SHAPES;
     /* On a coarse record, the whole record's polish (at least genes + 1,
@@ -132,9 +132,8 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
     const uint32_t need = scan + c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg) + fine;
     if (c->evaluations >= c->cfg.max_evaluations ||
         c->cfg.max_evaluations - c->evaluations < need) {
-        return false;
+        return OUT_SKIPPED;
     }
-    p->stage = 1u;
     p->next = 0u;
     for (uint32_t k = 0u; k < 2u; k++) {
         p->near[k] = PDT_REAL_MAX;
@@ -142,8 +141,7 @@ bool pdt_ident_profile_begin(pdt_ident_t *c)
     }
     c->vote.base = c->evaluations;
     c->vote.budget = scan;
-    c->phase = PH_PROFILE;
-    return true;
+    return OUT_DONE;
 }
 
 uint32_t pdt_ident_profile_group(const pdt_ident_t *c)
@@ -215,8 +213,9 @@ static bool across_begin(pdt_ident_t *c, pdt_real_t *x)
 
 /* The far point polished as a search's answer is, when it lies below the
  * near ones: the grid's first, else the window's; else the start across
- * the nearest kink with a share of that budget; else the vote. */
-static void scan_end(pdt_ident_t *c)
+ * the nearest kink with a share of that budget (OUT_POLISH, its start in
+ * c->start); else the vote (OUT_DONE). */
+static pdt_ident_outcome_t scan_end(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
     pdt_real_t x[3];
@@ -234,15 +233,16 @@ static void scan_end(pdt_ident_t *c)
         start = x;
     } else {
         p->stage = 3u;
-        pdt_ident_conclude(c);
-        return;
+        return OUT_DONE;
     }
-    c->vote.base = c->evaluations;
-    c->vote.budget = budget + pdt_ident_late_reserve(&c->cfg);
-    pdt_ident_refine_from(c, start);
+    pdt_ident_polish_budget(c, budget);
+    for (uint32_t j = 0; j < c->genes; j++) {
+        c->start[j] = start[j];
+    }
+    return OUT_POLISH;
 }
 
-void pdt_ident_profile_step(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_profile_step(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
     const uint32_t G = c->genes;
@@ -282,6 +282,7 @@ void pdt_ident_profile_step(pdt_ident_t *c)
     }
     p->next += count;
     if (p->next >= dead_times(p) * PROFILE_SHAPES) {
-        scan_end(c);
+        return scan_end(c);
     }
+    return OUT_AGAIN;
 }

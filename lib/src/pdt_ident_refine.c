@@ -41,7 +41,7 @@ static pdt_real_t step_of(const pdt_ident_t *c)
 
 /* COMBINED: the spectra re-centred on the output level the model
  * estimated, one more preparation of the cost in its own workspace. */
-void pdt_ident_refine_recentre(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_refine_recentre(pdt_ident_t *c)
 {
     pdt_cost_config_t cc = c->cost.cfg;
     pdt_cost_t nc;
@@ -50,7 +50,7 @@ void pdt_ident_refine_recentre(pdt_ident_t *c)
         PDT_OK) {
         c->cost = nc;
     }
-    c->phase = PH_REFINE_START;
+    return OUT_DONE;
 }
 
 /* Starting points of the refinement: the best individual, then the best of
@@ -156,13 +156,13 @@ static void refine_run(pdt_ident_t *c)
     c->nm.kink = 0u;
     c->nm.near = false;
     niches_start(c);
-    c->phase = PH_REFINE;
 }
 
-void pdt_ident_refine_begin(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_refine_begin(pdt_ident_t *c)
 {
     refine_starts(c);
     refine_run(c);
+    return OUT_DONE;
 }
 
 static void nm_order(pdt_ident_simplex_t *sx, size_t G)
@@ -374,25 +374,26 @@ static bool niches_running(const pdt_ident_t *c)
     return false;
 }
 
-void pdt_ident_refine_from(pdt_ident_t *c, const pdt_real_t *x0)
+pdt_ident_outcome_t pdt_ident_refine_from(pdt_ident_t *c)
 {
     for (uint32_t j = 0; j < c->genes; j++) {
-        c->nm.starts[0][j] = x0[j];
+        c->nm.starts[0][j] = c->start[j];
     }
     c->nm.nstarts = 1u;
     refine_run(c);
+    return OUT_DONE;
 }
 
 /* One evaluation (a group of the niche runs); when they end, the polish of
- * the best (start_i == nstarts) if a whole simplex still fits, then the
- * frequency criterion's dead-time scan or the answer. */
-void pdt_ident_refine_step(pdt_ident_t *c)
+ * the best (start_i == nstarts) if a whole simplex still fits (the Newton
+ * polish with the output error), else the refinement's end. */
+pdt_ident_outcome_t pdt_ident_refine_step(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     if (nm->start_i < nm->nstarts) {
         niches_step(c);
         if (niches_running(c)) {
-            return;
+            return OUT_AGAIN;
         }
         if (pdt_ident_left(c) >= c->genes + 1u) {
             if (c->cfg.cost == PDT_COST_SIMULATION) {
@@ -400,53 +401,27 @@ void pdt_ident_refine_step(pdt_ident_t *c)
                  * (pdt_ident_polish.c), which hand over to Nelder-Mead
                  * where it is not. */
                 nm->start_i = nm->nstarts;
-                pdt_ident_polish_begin(c);
-            } else {
-                polish_start(c);
+                return OUT_POLISH;
             }
-            return;
+            polish_start(c);
+            return OUT_AGAIN;
         }
-        pdt_ident_refine_end(c);
-        return;
+        return OUT_DONE;
     }
     pdt_ident_simplex_t *sx = &nm->run0;
     pdt_real_t f, gain, offset;
     pdt_ident_evaluate(c, nm_pending(sx), &f, &gain, &offset);
     nm_take(c, sx, f);
-    if (sx->state == NM_END) {
-        pdt_ident_refine_end(c);
-    }
+    return sx->state == NM_END ? OUT_DONE : OUT_AGAIN;
 }
 
-void pdt_ident_refine_end(pdt_ident_t *c)
-{
-    if (c->cfg.cost == PDT_COST_FREQUENCY) {
-        pdt_ident_scan_start(c);
-    } else if (!pdt_ident_polish_kinks(c)) {
-        c->phase = PH_FINISH;
-    } else {
-        /* A kink pass (PH_POLISH) or the probe (PH_PROBE) runs and ends
-         * here again. */
-    }
-}
-
-void pdt_ident_refine_polish(pdt_ident_t *c, uint32_t budget)
-{
-    /* The polish of the best (start_i == nstarts) within budget: the
-     * running search's budget is set so that pdt_ident_left gives it. */
-    c->vote.base = c->evaluations;
-    c->vote.budget = budget + pdt_ident_late_reserve(&c->cfg);
-    pdt_ident_polish_begin(c);
-}
-
-void pdt_ident_refine_nm_best(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_refine_nm_best(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     nm->nstarts = 0u;
     if (pdt_ident_left(c) < c->genes + 1u) {
-        pdt_ident_refine_end(c);
-        return;
+        return OUT_SKIPPED;
     }
     polish_start(c);
-    c->phase = PH_REFINE;
+    return OUT_DONE;
 }

@@ -28,22 +28,19 @@ static uint32_t polish_budget(const pdt_ident_t *c)
     return left < c->cfg.refine_evaluations ? left : c->cfg.refine_evaluations;
 }
 
-void pdt_ident_rest_check(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_rest_check(const pdt_ident_t *c)
 {
-    c->phase = PH_STD;
     if (c->rest == 0u || c->rest_stage != 0u || polish_budget(c) < c->genes + 1u) {
-        return;
+        return OUT_SKIPPED;
     }
     /* The residual's mean square (output units), over the window's
      * samples: the variance of the window's mean. */
     const pdt_real_t var = pdt_cost_units(&c->cost, c->best.cost) / (pdt_real_t)c->rest;
     const pdt_real_t d = c->y0 - c->cost.cfg.y0;
-    if (d * d > REST_SE * REST_SE * var) {
-        c->phase = PH_REST;
-    }
+    return (d * d > REST_SE * REST_SE * var) ? OUT_DONE : OUT_SKIPPED;
 }
 
-void pdt_ident_rest_start(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_rest_start(pdt_ident_t *c)
 {
     pdt_cost_config_t cc = c->cost.cfg;
     pdt_cost_t nc;
@@ -52,12 +49,12 @@ void pdt_ident_rest_start(pdt_ident_t *c)
      * the preparation failed all the same, the fitted offset stays. */
     if (pdt_cost_init(&nc, &cc, c->data.u, c->data.y, c->data.n, c->cost_work, c->cost_work_len) !=
         PDT_OK) {
-        c->phase = PH_STD;
-        return;
+        return OUT_FAILED;
     }
     c->cost = nc;
     c->rest_stage = 1u;
     c->best.cost = PDT_REAL_MAX;
     c->best.offset = PDT_R(0.0);
-    pdt_ident_refine_polish(c, polish_budget(c));
+    pdt_ident_polish_budget(c, polish_budget(c));
+    return OUT_POLISH;
 }

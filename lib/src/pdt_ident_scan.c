@@ -48,7 +48,7 @@ static void td_range(const pdt_ident_t *c, pdt_real_t *lo, pdt_real_t *hi)
     *hi = pdt_ident_td_of_gene(c, c->hi[dt]);
 }
 
-void pdt_ident_scan_start(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_scan_start(pdt_ident_t *c)
 {
     pdt_ident_scan_t *s = &c->scan;
     pdt_real_t lo, hi;
@@ -61,11 +61,11 @@ void pdt_ident_scan_start(pdt_ident_t *c)
     s->td = pdt_ident_td_of_gene(c, c->best.genes[c->genes - 1u]);
     s->gain = c->best.gain;
     s->offset = PDT_R(0.0);
-    c->phase = PH_DELAY_SCAN;
+    return OUT_DONE;
 }
 
 /* Point i / 2 of the grid, the gain's sign by the parity of i. */
-void pdt_ident_scan_grid(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_scan_grid(pdt_ident_t *c)
 {
     pdt_ident_scan_t *s = &c->scan;
     pdt_real_t td_lo, td_hi, off;
@@ -82,13 +82,14 @@ void pdt_ident_scan_grid(pdt_ident_t *c)
         s->x1 = s->b - GOLDEN * (s->b - s->a);
         s->x2 = s->a + GOLDEN * (s->b - s->a);
         s->i = 0u;
-        c->phase = PH_DELAY_REFINE;
+        return OUT_DONE;
     }
+    return OUT_AGAIN;
 }
 
 /* The first two calls evaluate x1 and x2, each later call the one new
  * interior point. */
-void pdt_ident_scan_golden(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_scan_golden(pdt_ident_t *c)
 {
     pdt_ident_scan_t *s = &c->scan;
     pdt_real_t off;
@@ -117,6 +118,7 @@ void pdt_ident_scan_golden(pdt_ident_t *c)
         c->best.genes[c->genes - 1u] = pdt_ident_gene_of_td(c, s->td);
         c->best.gain = s->gain;
         c->best.offset = s->offset;
-        c->phase = PH_FINISH;
+        return OUT_DONE;
     }
+    return OUT_AGAIN;
 }

@@ -498,36 +498,34 @@ static pdt_real_t *range_kept(const pdt_ident_t *c)
     return &c->ga.pop_cost[0];
 }
 
-void pdt_ident_screen_step(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_screen_step(pdt_ident_t *c)
 {
     pdt_ident_screen_t *s = &c->screen;
-    if (pdt_ident_state_refit(c)) {
-        return;
+    if (pdt_ident_refit_due(c)) {
+        return OUT_REFIT;
     }
-    c->phase = PH_DONE;
     /* Where no candidate scored (every gain the bounds allow costs beyond
      * the real type) there is no answer to screen with: the result refuses
      * it. */
     if (c->cfg.no_screen || s->rounds >= PDT_IDENT_SCREEN_ROUNDS || s->settled ||
         !(c->best.cost < PDT_REAL_MAX) || !residual(c, c->scratch, range_kept(c))) {
-        return;
+        return OUT_SKIPPED;
     }
-    c->phase = PH_SCREEN_HIGH;
+    return OUT_DONE;
 }
 
-void pdt_ident_screen_high(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_screen_high(pdt_ident_t *c)
 {
     high_pass(c->scratch, c->screen.mask, c->data.n);
     measured_h(&c->screen, c->scratch, c->data.n);
-    c->phase = PH_SCREEN_BOUND;
+    return OUT_DONE;
 }
 
-void pdt_ident_screen_bound(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_screen_bound(pdt_ident_t *c)
 {
     pdt_ident_screen_t *s = &c->screen;
     const size_t n = c->data.n;
     const pdt_real_t *h = c->scratch;
-    c->phase = PH_DONE;
     for (size_t k = 0u; k < (n + 7u) / 8u; k++) {
         s->fresh[k] = 0u;
     }
@@ -536,53 +534,48 @@ void pdt_ident_screen_bound(pdt_ident_t *c)
     const uint32_t back = restore(s, h, n, bound);
     const uint32_t added = mark(s, h, n, bound, grow);
     if (added == 0u && back == 0u && s->excluded == 0u) {
-        return;
+        return OUT_SKIPPED;
     }
     recount(s, n);
     if (s->excluded > s->limit) {
         s->status = PDT_ERR_OUTLIER;
-        return;
+        return OUT_FAILED;
     }
     /* Without new samples or ones taken back, this round only fills the
      * old ones with a model that did not see them: the next answer is the
      * last. */
     s->settled = added == 0u && back == 0u;
-    c->phase = PH_SCREEN_REFILL;
+    return OUT_DONE;
 }
 
-void pdt_ident_screen_refill(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_screen_refill(pdt_ident_t *c)
 {
     pdt_ident_screen_t *s = &c->screen;
     const size_t n = c->data.n;
     pdt_real_t *h = c->scratch;
     pdt_real_t range;
-    c->phase = PH_DONE;
     /* The answer's output again (h was overwritten), for the refill. */
     if (!residual(c, h, &range)) {
-        return;
+        return OUT_FAILED;
     }
     for (size_t k = 0u; k < n; k++) {
         h[k] = s->yfill[k] - h[k];
     }
     refill(s, h, n);
     s->rounds++;
-    c->phase = PH_SCREEN_RESTART;
+    return OUT_DONE;
 }
 
-void pdt_ident_screen_restart(pdt_ident_t *c)
+void pdt_ident_screen_failed(pdt_ident_t *c, pdt_status_t st)
 {
     pdt_ident_screen_t *s = &c->screen;
     const size_t n = c->data.n;
-    const pdt_status_t st = pdt_ident_restart(c);
-    if (st != PDT_OK) {
-        c->screen.status = st;
-        c->phase = PH_DONE;
-        /* The cost refused the refilled record for a value orders of
-         * magnitude off: that sample is the one to name. */
-        const size_t k = pdt_cost_outlier(s->yfill, n);
-        if (st == PDT_ERR_OUTLIER && k < n) {
-            s->first = k;
-        }
+    c->screen.status = st;
+    /* The cost refused the refilled record for a value orders of
+     * magnitude off: that sample is the one to name. */
+    const size_t k = pdt_cost_outlier(s->yfill, n);
+    if (st == PDT_ERR_OUTLIER && k < n) {
+        s->first = k;
     }
 }
 

@@ -8,115 +8,20 @@
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
 
-/* Costs closer than this (relative) are one basin; a different structure
- * this close is an ambiguity. */
-#define AGREE_RTOL     PDT_R(0.01)
+/* A different structure this close (relative) is an ambiguity. */
 #define AMBIGUOUS_RTOL PDT_R(0.05)
-/* Answers this close in normalised genes are one basin whatever their
- * costs (an exact fit's cost is all rounding, its ratios meaningless). */
-#define AGREE_GENES    PDT_R(0.01)
 /* 99 % quantile of chi-square with one degree of freedom. */
 #define CHI2_1_99      PDT_R(6.635)
 /* Normalised costs closer than this are the real type's rounding, not the
  * data's (float: an RMS of about 1e-4 of the record's range): a noise-free
  * integrator's fit is not beaten by a lag that fits its rounding. */
 #define COST_FLOOR     (PDT_REAL_EPS / PDT_R(8.0))
-/* A gene this close to its bound (normalised) lies on it. */
-#define BOUND_TOL      PDT_R(1e-3)
-
-static pdt_real_t model_gain(const pdt_model_t *m)
-{
-    return pdt_model_gain_numerator(m);
-}
-
-/* The same structure: the gain's sign and, for a SOPDT, whether it
- * integrates. */
-static bool same_structure(const pdt_model_t *a, const pdt_model_t *b)
-{
-    if ((model_gain(a) < PDT_R(0.0)) != (model_gain(b) < PDT_R(0.0))) {
-        return false;
-    }
-    return pdt_model_kind_lags(a->kind) != 2u ||
-           ((a->p.sopdt.b > PDT_R(0.0)) == (b->p.sopdt.b > PDT_R(0.0)));
-}
-
-/* Cost b within rtol of cost a (normalised costs: the record lies in
- * (-1, 1), so a few ulps of 1 are the floor of an exact fit). */
-static bool cost_close(pdt_real_t a, pdt_real_t b, pdt_real_t rtol)
-{
-    pdt_real_t lo = a < b ? a : b;
-    pdt_real_t d = a < b ? b - a : a - b;
-    return d <= rtol * lo + PDT_R(64.0) * PDT_REAL_EPS * PDT_REAL_EPS;
-}
-
-/* A model m with cost and genes g lies in the basin of answer i: the same
- * structure, and costs within 1 % or genes within AGREE_GENES. */
-static bool in_basin_of(const pdt_ident_t *c, uint32_t i, const pdt_model_t *m, pdt_real_t cost,
-                        const pdt_real_t *g)
-{
-    return same_structure(&c->vote.found[i], m) &&
-           (cost_close(c->vote.cost[i], cost, AGREE_RTOL) ||
-            pdt_ident_distance(c, c->vote.genes[i], g) < AGREE_GENES);
-}
-
-/* Searches i and j ended in one basin. */
-bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
-{
-    return in_basin_of(c, i, &c->vote.found[j], c->vote.cost[j], c->vote.genes[j]);
-}
-
-/* The running search's best as a model: the shape's gain unit times the
- * multiplier found. */
-static void best_model(const pdt_ident_t *c, pdt_model_t *m)
-{
-    pdt_ident_shape(c, c->best.genes, m);
-    if (pdt_model_kind_lags(m->kind) == 1u) {
-        m->p.fopdt.K *= c->best.gain;
-    } else {
-        m->p.sopdt.k *= c->best.gain;
-    }
-}
-
-bool pdt_ident_vote_caught_up(const pdt_ident_t *c)
-{
-    if (c->vote.done == 0u || !(c->best.cost < PDT_REAL_MAX)) {
-        return false;
-    }
-    pdt_model_t m;
-    best_model(c, &m);
-    return in_basin_of(c, pdt_ident_vote_best(c), &m, c->best.cost, c->best.genes);
-}
-
-static bool on_bound(const pdt_ident_t *c, const pdt_real_t *g)
-{
-    for (uint32_t j = 0; j < c->genes; j++) {
-        const pdt_real_t t = (g[j] - c->lo[j]) / (c->hi[j] - c->lo[j]);
-        /* Only the upper bounds: a time constant below a quarter sample
-         * (a lag too short to matter, or a SOPDT's second lag vanishing),
-         * no dead time and 1/zeta = 0 (an integrator) are answers. */
-        if (t > PDT_R(1.0) - BOUND_TOL) {
-            return true;
-        }
-    }
-    return false;
-}
-
-static bool gain_on_bound(const pdt_ident_t *c, pdt_real_t K)
-{
-    const pdt_real_t lo = c->cfg.K_min, hi = c->cfg.K_max;
-    if (!(hi > lo)) {
-        return false;
-    }
-    const pdt_real_t tol = BOUND_TOL * (hi - lo);
-    return K <= lo + tol || K >= hi - tol;
-}
-
 /* The answer of all searches: the least cost; confirmed by another search
  * in its basin, flagged otherwise, the runner-up basin's cost ratio. The
  * profile's answer confirms one in its basin, and stands on its own where
  * it is the least: the profile saw the whole dead-time range, and its
  * point lay below everything near the searches' answer. */
-void pdt_ident_conclude(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_conclude(pdt_ident_t *c)
 {
     const uint32_t best = pdt_ident_vote_best(c);
     const pdt_real_t cb = c->vote.cost[best];
@@ -127,12 +32,12 @@ void pdt_ident_conclude(pdt_ident_t *c)
         if (i == best) {
             continue;
         }
-        const bool same = same_structure(&c->vote.found[i], &c->vote.found[best]);
+        const bool same = pdt_ident_same_structure(&c->vote.found[i], &c->vote.found[best]);
         if (pdt_ident_vote_same_basin(c, i, best)) {
             confirmed = true;
             continue;
         }
-        if (!same && cost_close(cb, c->vote.cost[i], AMBIGUOUS_RTOL)) {
+        if (!same && pdt_ident_cost_close(cb, c->vote.cost[i], AMBIGUOUS_RTOL)) {
             flags |= PDT_IDENT_FLAG_AMBIGUOUS;
         }
         const pdt_real_t ratio = cb > PDT_R(0.0) ? c->vote.cost[i] / cb : PDT_REAL_MAX;
@@ -152,37 +57,13 @@ void pdt_ident_conclude(pdt_ident_t *c)
         c->best.genes[j] = c->vote.genes[best][j];
     }
     c->flags = flags | pdt_ident_bound_flags(c);
-    if (!pdt_ident_coarse_pending(c)) {
-        pdt_ident_rest_check(c);
-    }
+    return OUT_DONE;
 }
 
-uint32_t pdt_ident_vote_best(const pdt_ident_t *c)
-{
-    uint32_t best = 0u;
-    for (uint32_t i = 1u; i < c->vote.done; i++) {
-        if (c->vote.cost[i] < c->vote.cost[best]) {
-            best = i;
-        }
-    }
-    return best;
-}
-
-uint32_t pdt_ident_vote_searches(const pdt_ident_t *c)
-{
-    return c->vote.done - (c->vote.profiled != 0u ? 1u : 0u);
-}
-
-uint32_t pdt_ident_bound_flags(const pdt_ident_t *c)
-{
-    return (on_bound(c, c->best.genes) || gain_on_bound(c, model_gain(&c->model)))
-               ? PDT_IDENT_FLAG_AT_BOUND
-               : 0u;
-}
-
-/* A search ended: keep what it found, then another search or the answer.
- * The second always runs; the third only when the first two disagree. */
-static void search_end(pdt_ident_t *c)
+/* A search ended: keep what it found, then another search (OUT_SEARCH) or
+ * the answer (OUT_DONE). The second always runs; the third only when the
+ * first two disagree. */
+pdt_ident_outcome_t pdt_ident_search_end(pdt_ident_t *c)
 {
     const uint32_t k = c->vote.done;
     c->vote.found[k] = c->model;
@@ -197,22 +78,16 @@ static void search_end(pdt_ident_t *c)
     for (uint32_t i = 0u; i < k; i++) {
         agreed = agreed || pdt_ident_vote_same_basin(c, i, k);
     }
-    if (c->vote.done < c->vote.searches && (c->vote.done < 2u || !agreed)) {
-        pdt_ident_ga_start(c);
-        return;
-    }
-    if (pdt_ident_profile_begin(c)) {
-        return;
-    }
-    pdt_ident_conclude(c);
+    return (c->vote.done < c->vote.searches && (c->vote.done < 2u || !agreed)) ? OUT_SEARCH
+                                                                               : OUT_DONE;
 }
 
 /* The running search's answer: the model in engineering units, its
  * operating point and its fit. */
-void pdt_ident_finish(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_finish(pdt_ident_t *c)
 {
     pdt_model_t m;
-    best_model(c, &m);
+    pdt_ident_best_model(c, &m);
     if (pdt_model_kind_lags(m.kind) == 2u && c->cfg.integrating && m.p.sopdt.b > PDT_R(0.0)) {
         /* A lag a hundred records long may not be told from an integrator
          * in this record: then report the integrator (b = 0) rather than a
@@ -262,16 +137,14 @@ void pdt_ident_finish(pdt_ident_t *c)
          * searches' verdict stands, its bounds are the polish's. */
         c->coarse.stage = 3u;
         c->flags = (c->flags & ~PDT_IDENT_FLAG_AT_BOUND) | pdt_ident_bound_flags(c);
-        pdt_ident_rest_check(c);
-        return;
+        return OUT_WHOLE;
     }
     if (c->rest_stage == 1u) {
         /* The polish on the rest level: this is the answer. */
         c->rest_stage = 2u;
-        c->phase = PH_STD;
-        return;
+        return OUT_REST;
     }
-    search_end(c);
+    return OUT_DONE;
 }
 
 /* The covariance lives in the result's type: its size must be the Fisher
@@ -504,14 +377,14 @@ static std_run_t *std_run_of(const pdt_ident_t *c)
 }
 
 /* The uncertainty that could not be computed: count 0, no evidence. */
-static void std_failed(pdt_ident_t *c)
+static pdt_ident_outcome_t std_failed(pdt_ident_t *c)
 {
     c->evidence = PDT_R(0.0);
     c->flags |= (c->fit >= FIT_FLOOR) ? 0u : PDT_IDENT_FLAG_NO_RELATION;
-    c->phase = PH_SCREEN;
+    return OUT_FAILED;
 }
 
-void pdt_ident_std(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_std(pdt_ident_t *c)
 {
     c->std = (pdt_ident_std_t){0};
     std_run_t *const run = std_run_of(c);
@@ -519,19 +392,16 @@ void pdt_ident_std(pdt_ident_t *c)
         /* Several records: no uncertainty, their joint evidence, in one
          * step (docs/several-records.md). */
         pdt_ident_multi_std(c);
-        c->phase = PH_SCREEN;
-        return;
+        return OUT_DONE;
     }
     if (run == NULL) {
         pdt_fisher_sums_t fs;
         if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, c, &c->std, &fs) ==
             PDT_OK) {
             evidence(c, &fs);
-            c->phase = PH_SCREEN;
-        } else {
-            std_failed(c);
+            return OUT_DONE;
         }
-        return;
+        return std_failed(c);
     }
     pdt_real_t before = PDT_R(0.0);
     pdt_status_t st =
@@ -541,28 +411,26 @@ void pdt_ident_std(pdt_ident_t *c)
                               before, run->F);
     }
     if (st != PDT_OK) {
-        std_failed(c);
-        return;
+        return std_failed(c);
     }
-    c->phase = PH_STD_PASS;
+    return OUT_BEGUN;
 }
 
-void pdt_ident_std_pass(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_std_pass(pdt_ident_t *c)
 {
     std_run_t *const run = std_run_of(c);
     if (!pdt_fisher_block(&run->R)) {
-        return;
+        return OUT_AGAIN;
     }
     if (pdt_fisher_end(&run->R, &run->fs) != PDT_OK) {
-        std_failed(c);
-        return;
+        return std_failed(c);
     }
     uncertainty_end(run->F, &run->fs, c->data.n, c, &c->std);
-    c->phase = PH_EVIDENCE;
+    return OUT_DONE;
 }
 
-void pdt_ident_std_evidence(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_std_evidence(pdt_ident_t *c)
 {
     evidence(c, &std_run_of(c)->fs);
-    c->phase = PH_SCREEN;
+    return OUT_DONE;
 }

@@ -388,14 +388,13 @@ typedef struct pdt_ident {
     pdt_real_t lo[3]; /* gene bounds */
     pdt_real_t hi[3];
     pdt_real_t td_offset; /* c0 of the dead-time gene log(Td + c0), s */
-    uint32_t band_stage;  /* CONTROL weighting: 1 while the search runs on
-                           * the time cost, 2 after; 0 otherwise */
     pdt_real_t f_band;    /* CONTROL weighting: the band's edge, Hz */
     uint32_t rest;        /* AUTO offset: the rest window's samples, 0 when
                            * the record has none to use */
     uint32_t rest_stage;  /* 1 while the answer is polished on the rest
                            * level, 2 after */
     pdt_ident_best_t best;
+    pdt_real_t start[3]; /* the next refinement's start (PH_REFINE_FROM) */
     pdt_ident_ga_t ga;
     pdt_ident_refine_t nm; /* with the polish's state */
     pdt_ident_scan_t scan;

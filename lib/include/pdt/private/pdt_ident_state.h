@@ -114,8 +114,9 @@ typedef struct pdt_ident_vote {
 } pdt_ident_vote_t;
 
 typedef struct pdt_ident_profile {
-    uint32_t stage;      /* 0 not begun, 1 scanning, 2 polishing its point, 3 done,
-                          * 4 searching across the answer's nearest kink */
+    uint32_t stage;      /* 0 not begun, 2 polishing its point, 4 searching
+                          * across the answer's nearest kink, else 3 (the
+                          * scan itself is the phase PH_PROFILE) */
     uint32_t next;       /* next grid point: dead-time index * shapes + shape */
     uint32_t points;     /* dead times on the grid over the whole range */
     uint32_t fine;       /* dead times of the window about the answer, 0: none */
