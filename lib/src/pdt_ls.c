@@ -86,7 +86,7 @@ static void acc_end(ls_acc_t *a)
 
 static unsigned order_of(const pdt_ls_t *c)
 {
-    return pdt_model_kind_lags(c->cfg.model);
+    return (unsigned)pdt_model_kind_lags(c->cfg.model);
 }
 
 /* Input deviation u(k - lag) - u0; the input is at rest before sample 0. */
@@ -506,7 +506,7 @@ pdt_status_t pdt_ls_init(pdt_ls_t *ctx, const pdt_ls_config_t *cfg, const pdt_re
     if (cfg->method != PDT_LS_ELMS && cfg->method != PDT_LS_EIV) {
         return PDT_ERR_ARG;
     }
-    const size_t order = pdt_model_kind_lags(cfg->model);
+    const size_t order = (size_t)pdt_model_kind_lags(cfg->model);
     const size_t dmax = pdt_delay_bound(n, cfg->delay_max);
     if (dmax >= n) {
         return PDT_ERR_TOO_SHORT;

@@ -292,7 +292,7 @@ pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant, const pdt_red
         return PDT_ERR_LENGTH;
     }
     const size_t n = plant->n_lags;
-    const size_t order = pdt_model_kind_lags(c.model);
+    const size_t order = (size_t)pdt_model_kind_lags(c.model);
     size_t zero[PDT_REDUCE_MAX_LAGS];
     pdt_real_t eff[PDT_REDUCE_MAX_LAGS];
     if (!pair_zeros(plant, zero)) {
