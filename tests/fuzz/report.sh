@@ -64,8 +64,10 @@ for name in $(grep -Eo '^fuzz_[a-z]+-empty' "$check/seed${seeds[0]}.txt" | sed '
 done
 
 mkdir -p "$(dirname "$out")"
+# The campaign's commits in order, each once: two calls running side by
+# side on one WORK_DIR may both have added it.
 awk -v ct="$campaign_table" -v qt="$quota_table" -v kt="$check_table" \
-    -v cc="$(paste -sd, "$camp/commit" | sed 's/,/, then /g')" -v kc="$(cat "$check/commit")" -v m="$machine" \
+    -v cc="$(awk '!seen[$0]++' "$camp/commit" | paste -sd, | sed 's/,/, then /g')" -v kc="$(cat "$check/commit")" -v m="$machine" \
     -v tot="$total" -v sec="$seconds" -v cs="$secs" '
     { gsub(/@CAMPAIGN_COMMIT@/, cc); gsub(/@CHECK_COMMIT@/, kc); gsub(/@MACHINE@/, m)
       gsub(/@CAMPAIGN_TOTAL@/, tot); gsub(/@CAMPAIGN_SECONDS@/, sec); gsub(/@CHECK_SECONDS@/, cs) }
