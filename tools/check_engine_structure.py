@@ -21,6 +21,11 @@ The figures:
                one, in lib/src's sources and headers and lib/include's
                headers; and in the layer, a `default:` label, which would
                keep -Wswitch from naming a switch a new kind must fill
+  lag_branches places outside the layer that branch on a kind's lag or
+               parameter count (`pdt_model_kind_lags(k) == 1u` and the
+               like): where the branch then reads one form of the model's
+               union it is a kind test by another name, which -Wswitch
+               cannot see either, and that code belongs behind the layer
   stage_state  structs of the engine's stage state defined in the public
                header lib/include/pdt/pdt_ident.h: those no prototype names,
                directly or through a struct it holds (they belong in
@@ -157,6 +162,17 @@ def kind_tests(root=ROOT):
     return out
 
 
+LAG_BRANCH = re.compile(r"\bpdt_model_kind_(?:lags|params)\s*\([^()]*\)\s*[!=]=")
+
+
+def lag_branches(root=ROOT):
+    """{file: count} of the branches on a kind's lag or parameter count
+    outside the layer."""
+    src = root / "lib" / "src"
+    return grep_counts(LAG_BRANCH, [f for f in sorted(src.glob("*.[ch]"))
+                                    if f.name not in KIND_LAYER])
+
+
 def stage_structs():
     """Structs pdt_ident.h defines that only the context holds: not named
     by a prototype, nor held by a struct a prototype names (the config,
@@ -183,14 +199,17 @@ def measure(cc):
     files = sorted(SRC.glob("*.c"))
     phase = grep_counts(PHASE_WRITE, [f for f in files if f.name != SEQUENCER])
     kind = kind_tests()
+    lags = lag_branches()
     structs = stage_structs()
     figures = {"cycles": len(comps), "cycle_files": sum(len(c) for c in comps),
                "phase_writes": sum(phase.values()),
-               "kind_tests": sum(kind.values()), "stage_state": len(structs)}
+               "kind_tests": sum(kind.values()), "lag_branches": sum(lags.values()),
+               "stage_state": len(structs)}
     detail = {"cycles": [" <-> ".join(c) for c in comps], "cycle_files": [],
               "phase_writes": ["%s: %d" % kv for kv in sorted(phase.items())],
               "kind_tests": ["outside the layer " + ", ".join(KIND_LAYER)] +
                             ["%s: %d" % kv for kv in sorted(kind.items())],
+              "lag_branches": ["%s: %d" % kv for kv in sorted(lags.items())],
               "stage_state": structs}
     return figures, detail
 
