@@ -15,16 +15,11 @@
 /* A gene this close to its bound (normalised) lies on it. */
 #define BOUND_TOL   PDT_R(1e-3)
 
-static pdt_real_t model_gain(const pdt_model_t *m)
-{
-    return pdt_model_gain_numerator(m);
-}
-
 /* The same structure: the gain's sign and, for a SOPDT, whether it
  * integrates. */
 bool pdt_ident_same_structure(const pdt_model_t *a, const pdt_model_t *b)
 {
-    if ((model_gain(a) < PDT_R(0.0)) != (model_gain(b) < PDT_R(0.0))) {
+    if ((pdt_model_gain_numerator(a) < PDT_R(0.0)) != (pdt_model_gain_numerator(b) < PDT_R(0.0))) {
         return false;
     }
     return pdt_model_kind_lags(a->kind) != 2u ||
@@ -120,7 +115,7 @@ uint32_t pdt_ident_vote_searches(const pdt_ident_t *c)
 
 uint32_t pdt_ident_bound_flags(const pdt_ident_t *c)
 {
-    return (on_bound(c, c->best.genes) || gain_on_bound(c, model_gain(&c->model)))
+    return (on_bound(c, c->best.genes) || gain_on_bound(c, pdt_model_gain_numerator(&c->model)))
                ? PDT_IDENT_FLAG_AT_BOUND
                : 0u;
 }
