@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Draws the identification engine's plan in docs/ident-engine.md from the
 code: the table PLAN of lib/src/pdt_ident.c (for each phase, what it needs
-and the phase after each outcome of its stage), the phases' and the
+and the phase after each outcome of its stage, and where a way begins a
+search or a polish, the phase its end returns to), the phases' and the
 outcomes' comments in lib/src/pdt_ident_priv.h, and the stage each phase
 runs (the sequencer's switch). The section lies between the markers
 BEGIN and END below; nothing outside it changes.
@@ -27,6 +28,9 @@ FLAGS = {"NEEDS_BUDGET": "budget", "EVALUATES": "evaluates", "HEAVY": "heavy",
          "GROUP": "group"}
 # A phase that needs nothing: a decision or a preparation, no evaluation.
 FREE = "nothing"
+# Not a phase: the way to the phase that the way into the running search or
+# polish named.
+RETURN = "PH_RETURN"
 
 
 def enum_comments(text, prefix):
@@ -63,15 +67,32 @@ def needs_words(expr, defs):
 
 def plan(text):
     """[(phase, needs expression, [(outcome, next)])] of PLAN, in order."""
+    return [(ph, needs, [(o, n) for o, n, _ in ways]) for ph, needs, ways in plan_ways(text)]
+
+
+def plan_ways(text):
+    """[(phase, needs expression, [(outcome, next, then)])] of PLAN, in
+    order; then is the phase PH_RETURN leads to after the search or polish
+    the way begins, "" where the way names none."""
     body = re.search(r"static const plan_t PLAN\[PH_COUNT\] = \{(.*?)\n\};", text, re.S).group(1)
     body = re.sub(r"/\*.*?\*/", "", body, flags=re.S)
     rows = []
-    way = r"\{\s*OUT_\w+,\s*PH_\w+\s*\}"
+    way = r"\{\s*OUT_\w+,\s*PH_\w+\s*(?:,\s*PH_\w+\s*)?\}"
     row = r"\[(PH_\w+)\]\s*=\s*\{([^{},]*),\s*\{((?:\s*%s\s*,?)*)\}\s*\}" % way
     for m in re.finditer(row, body):
-        nexts = re.findall(r"\{\s*(OUT_\w+),\s*(PH_\w+)\s*\}", m.group(3))
-        rows.append((m.group(1), m.group(2).strip(), nexts))
+        ways = re.findall(r"\{\s*(OUT_\w+),\s*(PH_\w+)\s*(?:,\s*(PH_\w+)\s*)?\}", m.group(3))
+        rows.append((m.group(1), m.group(2).strip(), ways))
     return rows
+
+
+def returns(rows):
+    """The phases PH_RETURN leads to: those the ways name, in order."""
+    out = []
+    for _, _, ways in rows:
+        for _, _, then in ways:
+            if then and then not in out:
+                out.append(then)
+    return out
 
 
 def stages(text):
@@ -96,7 +117,7 @@ def section():
     outcomes = enum_comments(priv, "OUT_")
     defs = macros(code)
     fns = stages(code)
-    rows = plan(code)
+    rows = plan_ways(code)
     lines = [BEGIN, "",
              "| phase | what | needs | stage | outcome → next phase |",
              "|---|---|---|---|---|"]
@@ -107,9 +128,14 @@ def section():
             fn = "`%s`%s" % (name, " " + arg if arg else "")
         else:
             fn = "%s (`lib/src/pdt_ident.c`)" % fn
-        arrows = "; ".join("%s → `%s`" % (short(o, "OUT_"), n) for o, n in nexts)
+        arrows = "; ".join("%s → `%s`%s" % (short(o, "OUT_"), n,
+                                             " (returning to `%s`)" % t if t else "")
+                           for o, n, t in nexts)
         lines.append("| `%s` | %s | %s | %s | %s |" % (ph, phases.get(ph, ""),
                                                        needs_words(needs, defs), fn, arrows))
+    lines += ["", "`PH_RETURN` is the phase that the way into the running search or polish "
+              "named (`pdt_ident_t.resume`, which only the sequencer writes): %s." %
+              ", ".join("`%s`" % t for t in returns(rows))]
     lines += ["", "The outcomes:", ""]
     lines += ["- %s: %s" % (short(o, "OUT_"), what) for o, what in outcomes if o != "OUT_COUNT"]
     lines += ["", "```mermaid", "flowchart TD"]
@@ -117,9 +143,14 @@ def section():
         shape = "(%s)" if needs_words(needs, defs) == FREE else "[%s]"
         lines.append("    %s%s" % (short(ph, "PH_"), shape % short(ph, "PH_")))
     for ph, _, nexts in rows:
-        for o, n in nexts:
-            lines.append("    %s -->|%s| %s" % (short(ph, "PH_"), short(o, "OUT_"),
-                                                short(n, "PH_")))
+        for o, n, _ in nexts:
+            if n == RETURN:
+                for t in returns(rows):
+                    lines.append("    %s -.->|%s| %s" % (short(ph, "PH_"), short(o, "OUT_"),
+                                                         short(t, "PH_")))
+            else:
+                lines.append("    %s -->|%s| %s" % (short(ph, "PH_"), short(o, "OUT_"),
+                                                    short(n, "PH_")))
     lines += ["```", "", END]
     return "\n".join(lines)
 

@@ -847,13 +847,16 @@ static pdt_ident_outcome_t screen_restart(pdt_ident_t *c)
 #define NEEDS_GROUP (NEEDS_BUDGET | EVALUATES | GROUP)
 
 /* The plan: for each phase, what it needs and the phase that follows each
- * outcome its stage returns (none, 0: an outcome it never returns).
- * docs/ident-engine.md draws it (tools/engine_plan.py). */
+ * outcome its stage returns (none, 0: an outcome it never returns). A way
+ * into a search or a polish names the phase its PH_FINISH returns to
+ * (then; PH_RETURN leads there). docs/ident-engine.md draws it
+ * (tools/engine_plan.py). */
 #define PLAN_WAYS 4u /* outcomes a phase has at most */
 
 typedef struct plan_way {
     uint8_t out;  /* an outcome of the phase's stage */
     uint8_t next; /* the phase after it */
+    uint8_t then; /* 0, or the phase PH_RETURN leads to from now on */
 } plan_way_t;
 
 typedef struct plan {
@@ -878,7 +881,7 @@ static const plan_t PLAN[PH_COUNT] = {
                       {OUT_GENERATION, PH_TIME_BREED},
                       {OUT_DONE, PH_BAND}}},
     [PH_GA_END] = {0u, {{OUT_RECENTRE, PH_RECENTRE}, {OUT_DONE, PH_REFINE_START}}},
-    [PH_PREPARE] = {HEAVY, {{OUT_DONE, PH_GA_START}}},
+    [PH_PREPARE] = {HEAVY, {{OUT_DONE, PH_GA_START, PH_SEARCH_END}}},
     [PH_GA_START] = {0u, {{OUT_DONE, PH_INIT_POP}, {OUT_TIME, PH_TIME_POP}}},
     [PH_BAND] = {HEAVY, {{OUT_DONE, PH_INIT_POP}}},
     /* The refinement and the polish (pdt_ident_refine.c,
@@ -896,32 +899,55 @@ static const plan_t PLAN[PH_COUNT] = {
                    {{OUT_AGAIN, PH_POLISH}, {OUT_FALLBACK, PH_NM_BEST}, {OUT_DONE, PH_REFINE_END}}},
     [PH_REFINE_END] = {0u,
                        {{OUT_SCAN, PH_SCAN_START},
-                        {OUT_KINK, PH_POLISH},
+                        {OUT_KINK, PH_KINK_PINNED},
                         {OUT_PROBE, PH_PROBE},
                         {OUT_DONE, PH_FINISH}}},
+    [PH_KINK_PINNED] = {NEEDS_GROUP,
+                        {{OUT_AGAIN, PH_KINK_PINNED},
+                         {OUT_FALLBACK, PH_KINK_MIRROR},
+                         {OUT_DONE, PH_KINK_MIRROR}}},
+    [PH_KINK_MIRROR] = {0u,
+                        {{OUT_KINK, PH_KINK_ACROSS}, {OUT_PROBE, PH_PROBE}, {OUT_DONE, PH_FINISH}}},
+    [PH_KINK_ACROSS] = {NEEDS_GROUP,
+                        {{OUT_AGAIN, PH_KINK_ACROSS},
+                         {OUT_FALLBACK, PH_KINK_HANDOVER},
+                         {OUT_DONE, PH_PROBE_BEGIN}}},
+    [PH_KINK_HANDOVER] = {0u, {{OUT_DONE, PH_KINK_NM}, {OUT_SKIPPED, PH_PROBE_BEGIN}}},
+    [PH_KINK_NM] = {0u, {{OUT_DONE, PH_KINK_REFINE}, {OUT_SKIPPED, PH_PROBE_BEGIN}}},
+    [PH_KINK_REFINE] = {NEEDS_GROUP, {{OUT_AGAIN, PH_KINK_REFINE}, {OUT_DONE, PH_PROBE_BEGIN}}},
+    [PH_PROBE_BEGIN] = {0u, {{OUT_PROBE, PH_PROBE}, {OUT_DONE, PH_FINISH}}},
     [PH_PROBE] = {NEEDS_GROUP,
-                  {{OUT_AGAIN, PH_PROBE},
-                   {OUT_POLISH, PH_POLISH_BEGIN},
-                   {OUT_DONE, PH_REFINE_END}}},
+                  {{OUT_AGAIN, PH_PROBE}, {OUT_POLISH, PH_POLISH_BEGIN}, {OUT_DONE, PH_FINISH}}},
     [PH_SCAN_START] = {0u, {{OUT_DONE, PH_DELAY_SCAN}}},
     [PH_DELAY_SCAN] = {NEEDS_EVAL, {{OUT_AGAIN, PH_DELAY_SCAN}, {OUT_DONE, PH_DELAY_REFINE}}},
     [PH_DELAY_REFINE] = {NEEDS_EVAL, {{OUT_AGAIN, PH_DELAY_REFINE}, {OUT_DONE, PH_FINISH}}},
     /* The answers and the searches' vote (pdt_ident_vote.c,
      * pdt_ident_profile.c, pdt_ident_coarse.c, pdt_ident_rest.c). */
-    [PH_FINISH] = {NEEDS_EVAL,
-                   {{OUT_DONE, PH_SEARCH_END}, {OUT_WHOLE, PH_REST_CHECK}, {OUT_REST, PH_STD}}},
-    [PH_SEARCH_END] = {0u, {{OUT_SEARCH, PH_GA_START}, {OUT_DONE, PH_PROFILE_BEGIN}}},
+    [PH_FINISH] = {NEEDS_EVAL, {{OUT_DONE, PH_RETURN}}},
+    [PH_SEARCH_END] = {0u,
+                       {{OUT_SEARCH, PH_GA_START, PH_SEARCH_END}, {OUT_DONE, PH_PROFILE_BEGIN}}},
     [PH_PROFILE_BEGIN] = {0u, {{OUT_DONE, PH_PROFILE}, {OUT_SKIPPED, PH_CONCLUDE}}},
     [PH_PROFILE] = {NEEDS_GROUP,
                     {{OUT_AGAIN, PH_PROFILE},
-                     {OUT_POLISH, PH_REFINE_FROM},
+                     {OUT_POLISH, PH_REFINE_FROM, PH_PROFILE_KEEP},
+                     {OUT_KINK, PH_REFINE_FROM, PH_INTERVAL_KEEP},
                      {OUT_DONE, PH_CONCLUDE}}},
+    [PH_PROFILE_KEEP] = {0u,
+                         {{OUT_SEARCH, PH_GA_START, PH_PROFILE_KEEP}, {OUT_DONE, PH_PROFILE_END}}},
+    [PH_PROFILE_END] = {0u, {{OUT_DONE, PH_CONCLUDE}}},
+    [PH_INTERVAL_KEEP] = {0u,
+                          {{OUT_SEARCH, PH_GA_START, PH_INTERVAL_KEEP},
+                           {OUT_DONE, PH_INTERVAL_END}}},
+    [PH_INTERVAL_END] = {0u, {{OUT_DONE, PH_CONCLUDE}}},
     [PH_CONCLUDE] = {0u, {{OUT_DONE, PH_COARSE_CHECK}}},
     [PH_COARSE_CHECK] = {0u, {{OUT_DONE, PH_FINE}, {OUT_SKIPPED, PH_REST_CHECK}}},
     [PH_FINE] = {HEAVY,
-                 {{OUT_FAILED, PH_DONE}, {OUT_SEARCH, PH_GA_START}, {OUT_POLISH, PH_POLISH_BEGIN}}},
+                 {{OUT_FAILED, PH_DONE},
+                  {OUT_SEARCH, PH_GA_START, PH_SEARCH_END},
+                  {OUT_POLISH, PH_POLISH_BEGIN, PH_WHOLE_END}}},
+    [PH_WHOLE_END] = {0u, {{OUT_DONE, PH_REST_CHECK}}},
     [PH_REST_CHECK] = {0u, {{OUT_DONE, PH_REST}, {OUT_SKIPPED, PH_STD}}},
-    [PH_REST] = {HEAVY, {{OUT_FAILED, PH_STD}, {OUT_POLISH, PH_POLISH_BEGIN}}},
+    [PH_REST] = {HEAVY, {{OUT_FAILED, PH_STD}, {OUT_POLISH, PH_POLISH_BEGIN, PH_STD}}},
     /* The answer's uncertainty and evidence (pdt_ident_vote.c). */
     [PH_STD] = {HEAVY, {{OUT_BEGUN, PH_STD_PASS}, {OUT_DONE, PH_SCREEN}, {OUT_FAILED, PH_SCREEN}}},
     [PH_STD_PASS] = {HEAVY,
@@ -939,17 +965,22 @@ static const plan_t PLAN[PH_COUNT] = {
     [PH_SCREEN_RESTART] = {HEAVY, {{OUT_FAILED, PH_DONE}, {OUT_DONE, PH_PREPARE}}},
 };
 
-/* What phase needs, and the phase after it when its stage returned out. */
+/* What phase needs, and the phase after it when its stage returned out
+ * (PH_RETURN resolved; 0 where it has no way for out); a way that names
+ * the phase to return to sets it. */
 static uint32_t needs_of(uint32_t phase)
 {
     return PLAN[phase].needs;
 }
 
-static uint32_t next_of(uint32_t phase, pdt_ident_outcome_t out)
+static uint32_t next_of(pdt_ident_t *c, uint32_t phase, pdt_ident_outcome_t out)
 {
     for (uint32_t i = 0u; i < PLAN_WAYS; i++) {
-        if (PLAN[phase].way[i].out == (uint8_t)out && PLAN[phase].way[i].next != 0u) {
-            return PLAN[phase].way[i].next;
+        const plan_way_t *w = &PLAN[phase].way[i];
+        if (w->out == (uint8_t)out && w->next != 0u) {
+            const uint32_t next = (w->next == (uint8_t)PH_RETURN) ? c->resume : w->next;
+            c->resume = (w->then != 0u) ? w->then : c->resume;
+            return next;
         }
     }
     return 0u;
@@ -960,12 +991,15 @@ static uint32_t group_of(const pdt_ident_t *c)
 {
     switch (c->phase) {
     case PH_POLISH:
+    case PH_KINK_PINNED:
+    case PH_KINK_ACROSS:
         return pdt_ident_polish_group(c);
     case PH_PROBE:
         return pdt_ident_probe_group(c);
     case PH_PROFILE:
         return pdt_ident_profile_group(c);
     case PH_REFINE:
+    case PH_KINK_REFINE:
         return pdt_ident_refine_group(c);
     default: /* PH_INIT_POP, PH_EVAL_OFF, PH_TIME_POP, PH_TIME_OFF */
         return pdt_ident_ga_group(c);
@@ -1002,15 +1036,26 @@ static pdt_ident_outcome_t run_search(pdt_ident_t *c)
     case PH_REFINE_FROM:
         return pdt_ident_refine_from(c);
     case PH_REFINE:
+    case PH_KINK_REFINE:
         return pdt_ident_refine_step(c);
     case PH_NM_BEST:
+    case PH_KINK_NM:
         return pdt_ident_refine_nm_best(c);
     case PH_POLISH_BEGIN:
         return pdt_ident_polish_begin(c);
     case PH_POLISH:
-        return pdt_ident_polish_step(c);
+    case PH_KINK_PINNED:
+        return pdt_ident_polish_step(c, false);
     case PH_REFINE_END:
         return pdt_ident_polish_end(c);
+    case PH_KINK_MIRROR:
+        return pdt_ident_polish_mirror(c);
+    case PH_KINK_ACROSS:
+        return pdt_ident_polish_step(c, true);
+    case PH_KINK_HANDOVER:
+        return pdt_ident_polish_handover(c);
+    case PH_PROBE_BEGIN:
+        return pdt_ident_polish_probe_begin(c);
     case PH_PROBE:
         return pdt_ident_polish_probe(c);
     case PH_SCAN_START:
@@ -1030,17 +1075,25 @@ static pdt_ident_outcome_t run_answer(pdt_ident_t *c)
     case PH_FINISH:
         return pdt_ident_finish(c);
     case PH_SEARCH_END:
+    case PH_PROFILE_KEEP:
+    case PH_INTERVAL_KEEP:
         return pdt_ident_search_end(c);
     case PH_PROFILE_BEGIN:
         return pdt_ident_profile_begin(c);
     case PH_PROFILE:
         return pdt_ident_profile_step(c);
+    case PH_PROFILE_END:
+        return pdt_ident_profile_end(c, false);
+    case PH_INTERVAL_END:
+        return pdt_ident_profile_end(c, true);
     case PH_CONCLUDE:
         return pdt_ident_conclude(c);
     case PH_COARSE_CHECK:
         return pdt_ident_coarse_pending(c);
     case PH_FINE:
         return pdt_ident_coarse_fine(c);
+    case PH_WHOLE_END:
+        return pdt_ident_coarse_whole(c);
     case PH_REST_CHECK:
         return pdt_ident_rest_check(c);
     case PH_REST:
@@ -1106,7 +1159,7 @@ pdt_status_t pdt_ident_step(pdt_ident_t *ctx, uint32_t max_evaluations)
         }
         const uint64_t before = ctx->samples;
         const pdt_ident_outcome_t out = run_stage(ctx);
-        ctx->phase = next_of(phase, out);
+        ctx->phase = next_of(ctx, phase, out);
         if ((needs & EVALUATES) != 0u) {
             const uint64_t used = ctx->samples - before;
             const uint64_t units = used > one ? used : one;

@@ -114,7 +114,7 @@ static size_t factor_of(const pdt_ident_t *c)
 static size_t coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
 {
     c->coarse.factor = 1u;
-    c->coarse.stage = 0u;
+    c->coarse.whole = false;
     c->coarse.delay_max = (uint32_t)cc->delay_max;
     /* The searches on the coarse record leave the polish its share of
      * the budget: a budget too small for both searches the whole record. */
@@ -156,7 +156,6 @@ static void coarse_begin(pdt_ident_t *c, bool prepared, pdt_cost_config_t *cc)
         cc->delay_max = (size_t)c->coarse.delay_max;
         return;
     }
-    c->coarse.stage = 1u;
     c->vote.budget = (c->cfg.max_evaluations - c->cfg.refine_evaluations) / c->vote.searches;
 }
 
@@ -185,7 +184,7 @@ void pdt_ident_coarse_start(pdt_ident_t *c)
 
 pdt_ident_outcome_t pdt_ident_coarse_pending(const pdt_ident_t *c)
 {
-    return c->coarse.stage == 1u ? OUT_DONE : OUT_SKIPPED;
+    return c->cost.n < c->data.n ? OUT_DONE : OUT_SKIPPED;
 }
 
 /* The answer's time scale, s: how fast its response moves. A FOPDT's
@@ -232,11 +231,9 @@ pdt_ident_outcome_t pdt_ident_coarse_fine(pdt_ident_t *c)
             uint32_t searches = (uint32_t)(left / need);
             searches = searches < c->vote.searches ? searches : c->vote.searches;
             c->coarse.factor = 1u;
-            c->coarse.stage = 0u;
             c->vote.searches = searches;
             c->vote.done = 0u;
             c->vote.profiled = 0u;
-            c->profile.stage = 0u;
             c->vote.budget = left / searches;
             c->flags = 0u;
             c->runner_up = PDT_R(0.0);
@@ -246,10 +243,17 @@ pdt_ident_outcome_t pdt_ident_coarse_fine(pdt_ident_t *c)
          * polished, but nothing on the whole record confirmed it. */
         c->flags |= PDT_IDENT_FLAG_UNCONFIRMED;
     }
-    c->coarse.stage = 2u;
+    c->coarse.whole = true;
     const uint32_t reserve = pdt_ident_late_reserve(&c->cfg);
     const uint32_t room = left > reserve ? left - reserve : 0u;
     const uint32_t budget = room < c->cfg.refine_evaluations ? room : c->cfg.refine_evaluations;
     pdt_ident_polish_budget(c, budget > c->genes + 1u ? budget : c->genes + 1u);
     return OUT_POLISH;
+}
+
+pdt_ident_outcome_t pdt_ident_coarse_whole(pdt_ident_t *c)
+{
+    c->coarse.whole = false;
+    c->flags = (c->flags & ~PDT_IDENT_FLAG_AT_BOUND) | pdt_ident_bound_flags(c);
+    return OUT_DONE;
 }

@@ -165,11 +165,12 @@ static pdt_ident_outcome_t settle(pdt_ident_t *c)
 }
 
 /* Whether the dead time's whole samples are kinks of the cost polished:
- * the whole record's output error with a fractional dead time. */
+ * the whole record's output error with a fractional dead time (the
+ * searches' coarse record's cost is shorter). */
 static bool has_kinks(const pdt_ident_t *c)
 {
     return c->cfg.cost == PDT_COST_SIMULATION && c->cfg.delay_mode == PDT_DELAY_FRACTIONAL &&
-           c->coarse.stage != 1u;
+           c->cost.n == c->data.n;
 }
 
 /* The dead time of gene value g, in samples. */
@@ -197,14 +198,11 @@ static bool best_across(const pdt_ident_t *c)
 
 /* Nelder-Mead from the best point seen, with what is left. A kink pass is
  * only a try: the pinned one just ends (Nelder-Mead would move the dead
- * time off the kink), the one across the kink only hands over where it
- * made the best point its own. */
-static pdt_ident_outcome_t fall_back(const pdt_ident_t *c)
+ * time off the kink: PLAN), the one across the kink only hands over where
+ * it made the best point its own. */
+pdt_ident_outcome_t pdt_ident_polish_handover(const pdt_ident_t *c)
 {
-    if (c->nm.kink == 1u || (c->nm.kink == 2u && !best_across(c))) {
-        return OUT_DONE;
-    }
-    return OUT_FALLBACK;
+    return best_across(c) ? OUT_DONE : OUT_SKIPPED;
 }
 
 /* The Newton step of the quadratic through the stencil, in units of each
@@ -287,7 +285,7 @@ static pdt_ident_outcome_t propose(pdt_ident_t *c)
         return stencil_begin(c);
     }
     if (!newton_step(c, z, &gz) || pdt_ident_left(c) < 1u) {
-        return fall_back(c);
+        return OUT_FALLBACK;
     }
     /* Each gene goes at most POLISH_REACH of its wider difference step. */
     pdt_real_t scale = PDT_R(1.0);
@@ -353,7 +351,7 @@ static pdt_ident_outcome_t stencil_begin(pdt_ident_t *c)
     }
     keep_off_kinks(c);
     if (!stencil_fits(c)) {
-        return fall_back(c);
+        return OUT_FALLBACK;
     }
     p->next = 0u;
     p->state = POLISH_STENCIL;
@@ -376,9 +374,7 @@ static void newton_start(pdt_ident_t *c, uint32_t dims)
 
 pdt_ident_outcome_t pdt_ident_polish_begin(pdt_ident_t *c)
 {
-    c->nm.kink = 0u;
     c->nm.near = false;
-    c->nm.probe = 0u;
     newton_start(c, c->genes);
     return OUT_DONE;
 }
@@ -414,8 +410,7 @@ static bool kink_pass(pdt_ident_t *c, uint32_t dims, const pdt_real_t *x)
 static bool probe_begin(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
-    if (nm->probe != 0u ||
-        pdt_ident_left(c) < (2u * PROBE_STEPS) + (c->genes * (c->genes + 1u)) + 2u) {
+    if (pdt_ident_left(c) < (2u * PROBE_STEPS) + (c->genes * (c->genes + 1u)) + 2u) {
         return false;
     }
     nm->probe = 1u;
@@ -464,79 +459,77 @@ pdt_ident_outcome_t pdt_ident_polish_probe(pdt_ident_t *c)
      * probe included: each round needs a lower point and the budget for
      * a probe, so the rounds end), else the answer stands. */
     if (!(c->best.cost < nm->probe_f)) {
-        nm->kink = 2u; /* the kink passes are not taken again */
         return OUT_DONE;
     }
     return OUT_POLISH;
 }
 
-/* The probe begun (OUT_PROBE), or nothing (OUT_DONE). */
-static pdt_ident_outcome_t probe_or_done(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_polish_probe_begin(pdt_ident_t *c)
 {
     return probe_begin(c) ? OUT_PROBE : OUT_DONE;
 }
 
+/* Whether the best point r samples of dead time lies on the kink nearest
+ * nm.r (closer than PDT_IDENT_ON_KINK): the answer's minimum, or the
+ * pinned pass's (then no ridge to look across). */
+static bool on_kink(const pdt_ident_t *c, pdt_real_t r)
+{
+    const pdt_real_t whole = pdt_ident_nearest_whole(c->nm.r);
+    return !(pdt_fabs(r - whole) >= PDT_IDENT_ON_KINK);
+}
+
 /* On the whole record's output error with a fractional dead time, after
- * the answer's polish: the next of its two kink passes begun (OUT_KINK),
- * after them the dead-time probe (OUT_PROBE); OUT_DONE, nothing begun,
- * once the probe ran, where none applies or where the budget is spent. */
-static pdt_ident_outcome_t kinks(pdt_ident_t *c)
+ * the answer's polish whose dead time's differences reached a kink: the
+ * pinned pass on the kink begun (OUT_KINK), else the dead-time probe
+ * (OUT_PROBE); OUT_DONE, nothing begun, where none applies or where the
+ * budget is spent. */
+pdt_ident_outcome_t pdt_ident_polish_end(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     const uint32_t G = c->genes;
     pdt_real_t x[3];
+    if (c->cfg.cost == PDT_COST_FREQUENCY) {
+        return OUT_SCAN;
+    }
     if (!has_kinks(c) || !(c->best.cost < PDT_REAL_MAX)) {
         return OUT_DONE;
     }
-    if (nm->kink >= 2u) {
-        return probe_or_done(c);
+    if (!nm->near) {
+        /* The dead time's differences never reached a kink: the polish
+         * saw a smooth cost. */
+        return pdt_ident_polish_probe_begin(c);
     }
-    const pdt_real_t r = samples_of(c, c->best.genes[G - 1u]);
-    if (nm->kink == 0u) {
-        if (!nm->near) {
-            /* The dead time's differences never reached a kink: the
-             * polish saw a smooth cost. */
-            return probe_or_done(c);
-        }
-        nm->r = r;
-    }
-    const pdt_real_t whole = pdt_ident_nearest_whole(nm->r);
-    if (!(pdt_fabs(r - whole) >= PDT_IDENT_ON_KINK)) {
-        /* On the kink: the answer's minimum, or the pinned pass's (then no
-         * ridge to look across). */
-        nm->kink = 2u;
-        return probe_or_done(c);
+    nm->r = samples_of(c, c->best.genes[G - 1u]);
+    if (on_kink(c, nm->r)) {
+        return pdt_ident_polish_probe_begin(c);
     }
     for (uint32_t j = 0; j < G; j++) {
         x[j] = c->best.genes[j];
     }
-    if (nm->kink == 0u) {
-        nm->kink = 2u; /* no pinned pass, nothing to look across from */
-        x[G - 1u] = gene_at(c, whole);
-        if (!kink_pass(c, G - 1u, x)) {
-            return probe_or_done(c);
-        }
-        nm->kink = 1u;
-        return OUT_KINK;
+    x[G - 1u] = gene_at(c, pdt_ident_nearest_whole(nm->r));
+    return kink_pass(c, G - 1u, x) ? OUT_KINK : pdt_ident_polish_probe_begin(c);
+}
+
+pdt_ident_outcome_t pdt_ident_polish_mirror(pdt_ident_t *c)
+{
+    pdt_ident_refine_t *nm = &c->nm;
+    const uint32_t G = c->genes;
+    pdt_real_t x[3];
+    if (!(c->best.cost < PDT_REAL_MAX)) {
+        return OUT_DONE;
+    }
+    if (on_kink(c, samples_of(c, c->best.genes[G - 1u]))) {
+        return pdt_ident_polish_probe_begin(c);
     }
     /* The pinned pass's centre is the valley's point on the kink (the
      * other genes follow the dead time along it): the answer's mirror
      * image through it lies in the valley across the kink. */
     const pdt_ident_polish_t *p = &nm->late.polish;
-    nm->kink = 2u;
     nm->f_kink = p->f0;
     for (uint32_t j = 0; j < G; j++) {
-        x[j] = (PDT_R(2.0) * p->x[j]) - x[j];
+        x[j] = (PDT_R(2.0) * p->x[j]) - c->best.genes[j];
     }
-    return kink_pass(c, G, x) ? OUT_KINK : probe_or_done(c);
-}
-
-pdt_ident_outcome_t pdt_ident_polish_end(pdt_ident_t *c)
-{
-    if (c->cfg.cost == PDT_COST_FREQUENCY) {
-        return OUT_SCAN;
-    }
-    return kinks(c);
+    return kink_pass(c, G, x) ? OUT_KINK : pdt_ident_polish_probe_begin(c);
 }
 
 uint32_t pdt_ident_probe_group(const pdt_ident_t *c)
@@ -582,7 +575,7 @@ static pdt_ident_outcome_t stencil_group(pdt_ident_t *c)
     return OUT_AGAIN;
 }
 
-pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c)
+pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c, bool across)
 {
     pdt_ident_polish_t *p = &c->nm.late.polish;
     const uint32_t G = c->genes;
@@ -590,11 +583,11 @@ pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c)
     if (p->state == POLISH_CENTRE) {
         pdt_ident_evaluate(c, p->x, &f, &gain, &offset);
         p->f0 = f;
-        if (!(f < PDT_REAL_MAX) || (c->nm.kink == 2u && !(f < c->nm.f_kink))) {
+        if (!(f < PDT_REAL_MAX) || (across && !(f < c->nm.f_kink))) {
             /* A minimum across the kink needs the cost to fall away from
              * it along the valley: a mirror image no lower than the
              * valley's point on the kink ends that pass at once. */
-            return fall_back(c);
+            return OUT_FALLBACK;
         }
         return stencil_begin(c);
     }
@@ -623,7 +616,7 @@ pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c)
             p->back++;
             return OUT_AGAIN;
         }
-        return fall_back(c);
+        return OUT_FALLBACK;
     }
     p->iter++;
     for (uint32_t j = 0; j < G; j++) {
@@ -639,7 +632,7 @@ pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c)
          * (a SOPDT's second lag vanishing towards its bound), which
          * Nelder-Mead follows in fewer evaluations than short Newton
          * steps. */
-        return fall_back(c);
+        return OUT_FALLBACK;
     }
     if (!p->fine) {
         go_fine(p, p->dims);

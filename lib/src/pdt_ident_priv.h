@@ -43,8 +43,11 @@
  * vote (the answers kept; vote.base and vote.budget the running search's
  * or polish's budget, set through pdt_ident_polish_budget), start (the
  * profile's point for PH_REFINE_FROM), the answer (model, y0, fit, flags,
- * evidence, std, extra) and the modes that say whose answer a polish
- * gives: coarse.stage, rest_stage and profile.stage.
+ * evidence, std, extra) and coarse.whole (the coarse answer's polish on
+ * the whole record runs: Nelder-Mead's smaller steps). Which answer a
+ * polish gives is no stage's state: the way into a search or a polish
+ * names in PLAN the phase its PH_FINISH returns to (pdt_ident_t.resume,
+ * which only the sequencer writes).
  */
 #ifndef PDT_IDENT_PRIV_H
 #define PDT_IDENT_PRIV_H
@@ -76,8 +79,16 @@ enum {
     PH_NM_BEST,        /* Nelder-Mead from the polish's best point begun */
     PH_POLISH_BEGIN,   /* a Newton polish from the best begun */
     PH_POLISH,         /* Newton polish of one answer */
-    PH_REFINE_END,     /* decision: the dead-time scan, a kink pass, the
-                        * dead-time probe or the search's answer */
+    PH_REFINE_END,     /* decision: the dead-time scan, the pinned kink pass,
+                        * the dead-time probe or the answer */
+    PH_KINK_PINNED,    /* the kink pass with the dead time pinned on the kink */
+    PH_KINK_MIRROR,    /* decision: the kink pass across the kink, the probe
+                        * or the answer */
+    PH_KINK_ACROSS,    /* the kink pass from the mirror image across it */
+    PH_KINK_HANDOVER,  /* decision: Nelder-Mead after it, or the probe */
+    PH_KINK_NM,        /* Nelder-Mead from its best point begun */
+    PH_KINK_REFINE,    /* that Nelder-Mead */
+    PH_PROBE_BEGIN,    /* decision: the dead-time probe or the answer */
     PH_PROBE,          /* the dead time about a polished answer, shape held */
     PH_SCAN_START,     /* frequency criterion: its dead-time scan begun */
     PH_DELAY_SCAN,     /* frequency criterion: dead time and sign from Ct */
@@ -86,9 +97,14 @@ enum {
     PH_SEARCH_END,     /* decision: the answer kept; another search or not */
     PH_PROFILE_BEGIN,  /* decision: the dead-time profile or not */
     PH_PROFILE,        /* the searches' answer checked along the dead time */
+    PH_PROFILE_KEEP,   /* the polish of its far point kept as an answer */
+    PH_PROFILE_END,    /* and put to the vote, or dropped */
+    PH_INTERVAL_KEEP,  /* the search across the answer's kink kept */
+    PH_INTERVAL_END,   /* and put to the vote, or dropped */
     PH_CONCLUDE,       /* the answer of all searches, its flags */
     PH_COARSE_CHECK,   /* decision: the whole record after a coarse one */
     PH_FINE,           /* the whole record after the coarse one's searches */
+    PH_WHOLE_END,      /* the coarse answer polished on it: its bound flags */
     PH_REST_CHECK,     /* decision: the answer polished on the rest level */
     PH_REST,           /* AUTO offset: the answer polished on the rest level */
     PH_STD,            /* the parameters' uncertainty: its pass begun */
@@ -101,6 +117,8 @@ enum {
     PH_SCREEN_REFILL,  /* the record filled again */
     PH_SCREEN_RESTART, /* and the search run again on it */
     PH_DONE,
+    PH_RETURN, /* not a phase: in PLAN, the phase that the way into the
+                * running search or polish named (pdt_ident_t.resume) */
     PH_COUNT
 };
 
@@ -118,11 +136,10 @@ typedef enum pdt_ident_outcome {
     OUT_POLISH,     /* a polish of one answer begins */
     OUT_FALLBACK,   /* the polish hands over to Nelder-Mead */
     OUT_SCAN,       /* frequency criterion: the dead-time scan */
-    OUT_KINK,       /* a kink pass begun */
+    OUT_KINK,       /* a kink pass begun; the profile: the search across
+                     * the answer's nearest kink */
     OUT_PROBE,      /* the dead-time probe begun */
     OUT_SEARCH,     /* another search */
-    OUT_WHOLE,      /* the coarse answer polished on the whole record */
-    OUT_REST,       /* the answer polished on the rest level */
     OUT_REFIT,      /* the identification again with the state estimated */
     OUT_COUNT
 } pdt_ident_outcome_t;
@@ -269,8 +286,8 @@ pdt_ident_outcome_t pdt_ident_refine_step(pdt_ident_t *c);
  * profile's point): Nelder-Mead, then the polish, with the running
  * search's budget. */
 pdt_ident_outcome_t pdt_ident_refine_from(pdt_ident_t *c);
-/* PH_NM_BEST: Nelder-Mead from the best with what is left of the polish's
- * budget; OUT_SKIPPED where no simplex fits. */
+/* PH_NM_BEST, PH_KINK_NM: Nelder-Mead from the best with what is left of
+ * the polish's budget; OUT_SKIPPED where no simplex fits. */
 pdt_ident_outcome_t pdt_ident_refine_nm_best(pdt_ident_t *c);
 /* The points the next PH_REFINE step evaluates together: one of each
  * running niche run, up to PDT_VECTOR_LANES; 1 in the final polish. */
@@ -284,11 +301,11 @@ pdt_ident_outcome_t pdt_ident_scan_golden(pdt_ident_t *c);
 
 /* ---- pdt_ident_vote.c */
 
-/* PH_FINISH: the running polish's answer; OUT_WHOLE after the coarse
- * answer's polish on the whole record, OUT_REST after the polish on the
- * rest level, else OUT_DONE (a search's or the profile's answer). */
+/* PH_FINISH: the running search's or polish's answer (PLAN returns to
+ * the phase that began it). */
 pdt_ident_outcome_t pdt_ident_finish(pdt_ident_t *c);
-/* PH_SEARCH_END: the answer kept; another search (OUT_SEARCH) or not. */
+/* PH_SEARCH_END (PH_PROFILE_KEEP, PH_INTERVAL_KEEP: the profile's
+ * answer): the answer kept; another search (OUT_SEARCH) or not. */
 pdt_ident_outcome_t pdt_ident_search_end(pdt_ident_t *c);
 /* PH_CONCLUDE: the answer of all searches (and of the profile's polish):
  * the least cost, confirmed or flagged. */
@@ -297,21 +314,27 @@ pdt_ident_outcome_t pdt_ident_conclude(pdt_ident_t *c);
 /* ---- pdt_ident_profile.c */
 
 /* PH_PROFILE_BEGIN, when the searches have ended: OUT_DONE when the
- * profile begins; OUT_SKIPPED once it ran, where it does not apply or
- * where the budget cannot pay for it, and when its polish has ended (its
- * answer the last kept). */
+ * profile begins; OUT_SKIPPED where it does not apply or where the budget
+ * cannot pay for it. */
 pdt_ident_outcome_t pdt_ident_profile_begin(pdt_ident_t *c);
 /* PH_PROFILE: the next group of grid points, then the refinement of the
- * far point below the answer's neighbourhood (OUT_POLISH, its start in
- * pdt_ident_t.start), or the vote. */
+ * far point below the answer's neighbourhood (OUT_POLISH) or the search
+ * across the answer's nearest kink (OUT_KINK), its start in
+ * pdt_ident_t.start, or the vote. */
 pdt_ident_outcome_t pdt_ident_profile_step(pdt_ident_t *c);
+/* PH_PROFILE_END, PH_INTERVAL_END (across: the search across the kink,
+ * the dead-time bounds it narrowed given back): the last answer kept is
+ * the profile's; it stays only in another basin (across: below the
+ * searches' answers too). */
+pdt_ident_outcome_t pdt_ident_profile_end(pdt_ident_t *c, bool across);
 /* The points the next PH_PROFILE step evaluates together. */
 uint32_t pdt_ident_profile_group(const pdt_ident_t *c);
 
 /* ---- pdt_ident_rest.c */
 
 /* PH_REST_CHECK, after the searches concluded: OUT_DONE when the
- * answer's fitted offset disagrees with the rest window's level. */
+ * answer's fitted offset disagrees with the rest window's level (once:
+ * the polish on that level returns to PH_STD). */
 pdt_ident_outcome_t pdt_ident_rest_check(const pdt_ident_t *c);
 /* PH_REST: the cost on the rest level, the polish's budget set. */
 pdt_ident_outcome_t pdt_ident_rest_start(pdt_ident_t *c);
@@ -324,30 +347,48 @@ pdt_ident_outcome_t pdt_ident_rest_start(pdt_ident_t *c);
  * the coarse record (the whole one's prepared again). */
 void pdt_ident_coarse_start(pdt_ident_t *c);
 /* PH_COARSE_CHECK: OUT_DONE when the searches concluded on the coarse
- * record. */
+ * record (the cost's is shorter than the whole one). */
 pdt_ident_outcome_t pdt_ident_coarse_pending(const pdt_ident_t *c);
 /* PH_FINE: the whole record's cost, then the answer polished on it
  * (OUT_POLISH), or the searches run again on it when the answer is too
  * fast for the coarse record (OUT_SEARCH). */
 pdt_ident_outcome_t pdt_ident_coarse_fine(pdt_ident_t *c);
+/* PH_WHOLE_END: the coarse answer polished on the whole record; the
+ * searches' verdict stands, its bound flags are the polish's. */
+pdt_ident_outcome_t pdt_ident_coarse_whole(pdt_ident_t *c);
 
 /* ---- pdt_ident_polish.c: the polish of one answer */
 
 /* PH_POLISH_BEGIN: the Newton polish from the best (its budget set). */
 pdt_ident_outcome_t pdt_ident_polish_begin(pdt_ident_t *c);
-/* PH_POLISH: the next point or group of the Newton polish; OUT_FALLBACK
- * where it hands over to Nelder-Mead, OUT_DONE at its end. */
-pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c);
+/* PH_POLISH, PH_KINK_PINNED, PH_KINK_ACROSS (across set: the pass across
+ * the kink, which ends at once, OUT_FALLBACK, at a centre no lower than
+ * the pinned pass's): the next point or group of the Newton polish;
+ * OUT_FALLBACK where Nelder-Mead would take over (PLAN: the answer's
+ * polish hands over, the pinned pass just ends, the pass across asks
+ * PH_KINK_HANDOVER), OUT_DONE at its end. */
+pdt_ident_outcome_t pdt_ident_polish_step(pdt_ident_t *c, bool across);
+/* PH_KINK_HANDOVER: Nelder-Mead after the pass across the kink (OUT_DONE)
+ * only where its best point lies across the kink, else OUT_SKIPPED. */
+pdt_ident_outcome_t pdt_ident_polish_handover(const pdt_ident_t *c);
 /* PH_REFINE_END, what follows a refinement: the dead-time scan of the
  * frequency criterion (OUT_SCAN); on the whole record's output error with
- * a fractional dead time, after the answer's polish, the next of its two
- * kink passes (OUT_KINK), after them the dead-time probe (OUT_PROBE);
- * else the answer (OUT_DONE). */
+ * a fractional dead time, after the answer's polish, the pinned kink pass
+ * (OUT_KINK) where its dead time's differences reached a kink, else the
+ * dead-time probe (OUT_PROBE); else the answer (OUT_DONE). */
 pdt_ident_outcome_t pdt_ident_polish_end(pdt_ident_t *c);
+/* PH_KINK_MIRROR, after the pinned pass: the pass across the kink from
+ * the answer's mirror image through the pinned pass's point (OUT_KINK),
+ * else the probe (OUT_PROBE) or the answer (OUT_DONE). */
+pdt_ident_outcome_t pdt_ident_polish_mirror(pdt_ident_t *c);
+/* PH_PROBE_BEGIN: the probe begun (OUT_PROBE), or the answer (OUT_DONE)
+ * where the budget does not cover it. */
+pdt_ident_outcome_t pdt_ident_polish_probe_begin(pdt_ident_t *c);
 /* PH_PROBE: the next points of the dead-time probe (a group), then the
  * polish from the lowest where it is below the answer (OUT_POLISH). */
 pdt_ident_outcome_t pdt_ident_polish_probe(pdt_ident_t *c);
-/* The points the next PH_POLISH or PH_PROBE step evaluates together. */
+/* The points the next Newton polish or PH_PROBE step evaluates
+ * together. */
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c);
 uint32_t pdt_ident_probe_group(const pdt_ident_t *c);
 

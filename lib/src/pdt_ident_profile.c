@@ -86,36 +86,34 @@ static uint32_t dead_times(const pdt_ident_profile_t *p)
     return p->fine + p->points;
 }
 
+pdt_ident_outcome_t pdt_ident_profile_end(pdt_ident_t *c, bool across)
+{
+    const pdt_ident_profile_t *p = &c->profile;
+    if (across) {
+        c->lo[c->genes - 1u] = p->bounds[0];
+        c->hi[c->genes - 1u] = p->bounds[1];
+    }
+    /* Its point's polish ended: the last answer kept is the profile's.
+     * It only counts in another basin: back in the searches' basin it
+     * found nothing they had not, and their answer, polished on the way
+     * they took, stands. The search across the kink only counts below the
+     * searches' answers: confined to its interval, it may end on the
+     * interval's edge, no basin of the whole range to put to the vote as
+     * a rival. */
+    const uint32_t k = c->vote.done - 1u;
+    bool other = true;
+    for (uint32_t i = 0u; i < k; i++) {
+        other = other && !pdt_ident_vote_same_basin(c, i, k) &&
+                (!across || c->vote.cost[k] < c->vote.cost[i]);
+    }
+    c->vote.done = other ? c->vote.done : k;
+    c->vote.profiled = other ? c->vote.done : 0u;
+    return OUT_DONE;
+}
+
 pdt_ident_outcome_t pdt_ident_profile_begin(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
-    if (p->stage == 2u || p->stage == 4u) {
-        if (p->stage == 4u) {
-            c->lo[c->genes - 1u] = p->bounds[0];
-            c->hi[c->genes - 1u] = p->bounds[1];
-        }
-        /* Its point's polish ended: the last answer kept is the profile's.
-         * It only counts in another basin: back in the searches' basin it
-         * found nothing they had not, and their answer, polished on the
-         * way they took, stands. The search across the kink only counts
-         * below the searches' answers: confined to its interval, it may
-         * end on the interval's edge, no basin of the whole range to put
-         * to the vote as a rival. */
-        const uint32_t k = c->vote.done - 1u;
-        bool other = true;
-        for (uint32_t i = 0u; i < k; i++) {
-            other = other && !pdt_ident_vote_same_basin(c, i, k) &&
-                    (p->stage == 2u || c->vote.cost[k] < c->vote.cost[i]);
-        }
-        c->vote.done = other ? c->vote.done : k;
-        c->vote.profiled = other ? c->vote.done : 0u;
-        p->stage = 3u;
-        return OUT_SKIPPED;
-    }
-    if (p->stage != 0u) {
-        return OUT_SKIPPED;
-    }
-    p->stage = 3u;
     /* The output error only: the searches of the other criteria do not
      * vote, and the frequency criterion scans its dead time already. */
     if (c->cfg.cost != PDT_COST_SIMULATION || c->vote.done == 0u) {
@@ -128,7 +126,7 @@ pdt_ident_outcome_t pdt_ident_profile_begin(pdt_ident_t *c)
     const uint32_t scan = dead_times(p) * PROFILE_SHAPES;
     /* On a coarse record, the whole record's polish (at least genes + 1,
      * pdt_ident_coarse_fine) comes after it. */
-    const uint32_t fine = c->coarse.stage == 1u ? c->genes + 1u : 0u;
+    const uint32_t fine = c->cost.n < c->data.n ? c->genes + 1u : 0u;
     const uint32_t need = scan + c->cfg.refine_evaluations + pdt_ident_late_reserve(&c->cfg) + fine;
     if (c->evaluations >= c->cfg.max_evaluations ||
         c->cfg.max_evaluations - c->evaluations < need) {
@@ -212,9 +210,9 @@ static bool across_begin(pdt_ident_t *c, pdt_real_t *x)
 }
 
 /* The far point polished as a search's answer is, when it lies below the
- * near ones: the grid's first, else the window's; else the start across
- * the nearest kink with a share of that budget (OUT_POLISH, its start in
- * c->start); else the vote (OUT_DONE). */
+ * near ones: the grid's first, else the window's (OUT_POLISH); else the
+ * start across the nearest kink with a share of that budget (OUT_KINK);
+ * the start in c->start; else the vote (OUT_DONE). */
 static pdt_ident_outcome_t scan_end(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
@@ -225,21 +223,21 @@ static pdt_ident_outcome_t scan_end(pdt_ident_t *c)
     }
     const pdt_real_t *start = p->far_x[k];
     uint32_t budget = c->cfg.refine_evaluations;
+    pdt_ident_outcome_t out = OUT_POLISH;
     if (p->far[k] < p->near[k]) {
-        p->stage = 2u;
+        /* The far point's polish. */
     } else if (budget / PROFILE_ACROSS_SHARE >= c->genes + 1u && across_begin(c, x)) {
-        p->stage = 4u;
+        out = OUT_KINK;
         budget /= PROFILE_ACROSS_SHARE;
         start = x;
     } else {
-        p->stage = 3u;
         return OUT_DONE;
     }
     pdt_ident_polish_budget(c, budget);
     for (uint32_t j = 0; j < c->genes; j++) {
         c->start[j] = start[j];
     }
-    return OUT_POLISH;
+    return out;
 }
 
 pdt_ident_outcome_t pdt_ident_profile_step(pdt_ident_t *c)

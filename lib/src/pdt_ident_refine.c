@@ -36,7 +36,7 @@ static const pdt_ident_simplex_t *run_at(const pdt_ident_refine_t *nm, uint32_t 
 
 static pdt_real_t step_of(const pdt_ident_t *c)
 {
-    return c->coarse.stage == 2u ? NM_STEP_WHOLE : NM_STEP;
+    return c->coarse.whole ? NM_STEP_WHOLE : NM_STEP;
 }
 
 /* COMBINED: the spectra re-centred on the output level the model
@@ -153,7 +153,6 @@ static void polish_start(pdt_ident_t *c)
 static void refine_run(pdt_ident_t *c)
 {
     c->best.cost = PDT_REAL_MAX;
-    c->nm.kink = 0u;
     c->nm.near = false;
     niches_start(c);
 }

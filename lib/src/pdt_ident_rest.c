@@ -30,7 +30,7 @@ static uint32_t polish_budget(const pdt_ident_t *c)
 
 pdt_ident_outcome_t pdt_ident_rest_check(const pdt_ident_t *c)
 {
-    if (c->rest == 0u || c->rest_stage != 0u || polish_budget(c) < c->genes + 1u) {
+    if (c->rest == 0u || polish_budget(c) < c->genes + 1u) {
         return OUT_SKIPPED;
     }
     /* The residual's mean square (output units), over the window's
@@ -52,7 +52,6 @@ pdt_ident_outcome_t pdt_ident_rest_start(pdt_ident_t *c)
         return OUT_FAILED;
     }
     c->cost = nc;
-    c->rest_stage = 1u;
     c->best.cost = PDT_REAL_MAX;
     c->best.offset = PDT_R(0.0);
     pdt_ident_polish_budget(c, polish_budget(c));

@@ -132,18 +132,6 @@ pdt_ident_outcome_t pdt_ident_finish(pdt_ident_t *c)
         c->fit = PDT_R(0.0);
     }
     pdt_ident_extra_finish(c, &m);
-    if (c->coarse.stage == 2u) {
-        /* The coarse searches' answer polished on the whole record: the
-         * searches' verdict stands, its bounds are the polish's. */
-        c->coarse.stage = 3u;
-        c->flags = (c->flags & ~PDT_IDENT_FLAG_AT_BOUND) | pdt_ident_bound_flags(c);
-        return OUT_WHOLE;
-    }
-    if (c->rest_stage == 1u) {
-        /* The polish on the rest level: this is the answer. */
-        c->rest_stage = 2u;
-        return OUT_REST;
-    }
     return OUT_DONE;
 }
 

@@ -391,8 +391,8 @@ typedef struct pdt_ident {
     pdt_real_t f_band;    /* CONTROL weighting: the band's edge, Hz */
     uint32_t rest;        /* AUTO offset: the rest window's samples, 0 when
                            * the record has none to use */
-    uint32_t rest_stage;  /* 1 while the answer is polished on the rest
-                           * level, 2 after */
+    uint32_t resume;      /* the phase the running search or polish returns
+                           * to: the sequencer's, from its plan */
     pdt_ident_best_t best;
     pdt_real_t start[3]; /* the next refinement's start (PH_REFINE_FROM) */
     pdt_ident_ga_t ga;

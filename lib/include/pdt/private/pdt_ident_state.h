@@ -76,15 +76,12 @@ typedef struct pdt_ident_refine {
     } late;
     pdt_real_t starts[3][3]; /* the best of up to 3 niches */
     uint32_t nstarts;
-    uint32_t start_i;  /* nstarts: the final polish of the best */
-    uint32_t next;     /* the niche run whose point comes next */
-    uint32_t kink;     /* kink passes begun after the answer's polish (0-2) */
-    pdt_real_t r;      /* that polish's dead time, samples */
-    pdt_real_t f_kink; /* the pinned pass's least cost */
-    bool near;         /* its dead time's differences reached a kink */
-    /* The dead-time probe: 0 not begun, then its next point
-     * (1 .. 2 PROBE_STEPS), past them done. */
-    uint32_t probe;
+    uint32_t start_i;      /* nstarts: the final polish of the best */
+    uint32_t next;         /* the niche run whose point comes next */
+    pdt_real_t r;          /* that polish's dead time, samples */
+    pdt_real_t f_kink;     /* the pinned pass's least cost */
+    bool near;             /* its dead time's differences reached a kink */
+    uint32_t probe;        /* the dead-time probe's next point, from 1 */
     pdt_real_t probe_x[3]; /* its centre: the answer polished */
     pdt_real_t probe_f;    /* and its cost */
 } pdt_ident_refine_t;
@@ -114,9 +111,6 @@ typedef struct pdt_ident_vote {
 } pdt_ident_vote_t;
 
 typedef struct pdt_ident_profile {
-    uint32_t stage;      /* 0 not begun, 2 polishing its point, 4 searching
-                          * across the answer's nearest kink, else 3 (the
-                          * scan itself is the phase PH_PROFILE) */
     uint32_t next;       /* next grid point: dead-time index * shapes + shape */
     uint32_t points;     /* dead times on the grid over the whole range */
     uint32_t fine;       /* dead times of the window about the answer, 0: none */
@@ -129,13 +123,15 @@ typedef struct pdt_ident_profile {
     pdt_real_t near[2]; /* least cost near td */
     pdt_real_t far[2];  /* least cost beyond, at far_x */
     pdt_real_t far_x[2][3];
-    pdt_real_t bounds[2]; /* the dead-time gene's, while stage 4 narrows them */
+    pdt_real_t bounds[2]; /* the dead-time gene's, while the search across
+                           * the kink narrows them */
 } pdt_ident_profile_t;
 
 typedef struct pdt_ident_coarse {
     uint32_t factor;    /* D of the searches' record, 1: the whole */
-    uint32_t stage;     /* 1 searching coarse, 2 polishing whole, 3 done */
     uint32_t delay_max; /* the whole record's cost's */
+    bool whole;         /* the coarse answer's polish on the whole record
+                         * runs (Nelder-Mead's smaller steps) */
 } pdt_ident_coarse_t;
 
 typedef struct pdt_ident_screen {
