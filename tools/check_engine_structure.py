@@ -30,6 +30,12 @@ The figures:
                header lib/include/pdt/pdt_ident.h: those no prototype names,
                directly or through a struct it holds (they belong in
                pdt/private/pdt_ident_state.h)
+  state_phases comparisons (== or !=) of a member of the engine's state
+               with a whole literal other than 0 in the stage files
+               (lib/src/pdt_ident_*.c), the configuration's aside: a field
+               whose value 1, 2, ... says which code runs next is a phase
+               hidden from the plan (`c->x.stage == 2u`). A heuristic:
+               a loop's index tested for its first steps counts too
 
 Each limit is the figure the code has; the engine's rules ask for 0. A
 change that lowers a figure lowers its limit with --write-limits, so the
@@ -173,6 +179,19 @@ def lag_branches(root=ROOT):
                                     if f.name not in KIND_LAYER])
 
 
+# A member (x->a, x.a.b) == or != a whole literal from 1 up, the literal a
+# whole operand (not `2u * n`), the configuration's members aside.
+STATE_PHASE = re.compile(r"\b(?!cfg\b)\w+(?:\s*(?:->|\.)\s*(?!cfg\b)\w+)+\s*[!=]=\s*[1-9][0-9]*[uU]?\b"
+                         r"(?!\s*[-+*/%.])")
+
+
+def state_phases(root=ROOT):
+    """{file: count} of the comparisons of a state member with a literal
+    from 1 up in the engine's stage files."""
+    src = root / "lib" / "src"
+    return grep_counts(STATE_PHASE, sorted(src.glob("pdt_ident_*.c")))
+
+
 def stage_structs():
     """Structs pdt_ident.h defines that only the context holds: not named
     by a prototype, nor held by a struct a prototype names (the config,
@@ -201,16 +220,18 @@ def measure(cc):
     kind = kind_tests()
     lags = lag_branches()
     structs = stage_structs()
+    hidden = state_phases()
     figures = {"cycles": len(comps), "cycle_files": sum(len(c) for c in comps),
                "phase_writes": sum(phase.values()),
                "kind_tests": sum(kind.values()), "lag_branches": sum(lags.values()),
-               "stage_state": len(structs)}
+               "stage_state": len(structs), "state_phases": sum(hidden.values())}
     detail = {"cycles": [" <-> ".join(c) for c in comps], "cycle_files": [],
               "phase_writes": ["%s: %d" % kv for kv in sorted(phase.items())],
               "kind_tests": ["outside the layer " + ", ".join(KIND_LAYER)] +
                             ["%s: %d" % kv for kv in sorted(kind.items())],
               "lag_branches": ["%s: %d" % kv for kv in sorted(lags.items())],
-              "stage_state": structs}
+              "stage_state": structs,
+              "state_phases": ["%s: %d" % kv for kv in sorted(hidden.items())]}
     return figures, detail
 
 

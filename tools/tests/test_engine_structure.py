@@ -70,3 +70,14 @@ def test_wswitch_names_every_layer_switch(tmp_path):
     switches = sum(len(re.findall(r"\bswitch\s*\(", ces.strip_comments((src.parent / f).read_text())))
                    for f in ces.KIND_LAYER)
     assert switches > 0 and len(named) == switches
+
+
+def test_state_phase_pattern():
+    pat = ces.STATE_PHASE
+    counted = ["c->coarse.stage == 2u", "if (p->stage != 4u) {", "nm->kink == 1u ||",
+               "c->rest_stage == 1u)", "s.mode == 3"]
+    ignored = ["c->cfg.coarse == 1u", "cfg->coarse == 1u", "c->vote.done == 0u",
+               "++s->i == 2u * PDT_IDENT_SCAN_POINTS", "k == 1u", "x->f == 1.5",
+               "c->nm.start_i >= c->nm.nstarts"]
+    assert [len(pat.findall(s)) for s in counted] == [1] * len(counted)
+    assert [len(pat.findall(s)) for s in ignored] == [0] * len(ignored)
