@@ -65,8 +65,8 @@ static inline bool pdt_model_kind_known(pdt_model_kind_t kind)
 /* The kind's lags, the poles beside the dead time: 1 for a FOPDT, 2 for a
  * SOPDT (0 for no kind). The discretisation's pole count, the LS
  * regression's order, the initial states a cost estimates, the reduction's
- * order. A kind of one lag holds its parameters in p.fopdt, a kind of two
- * in p.sopdt: the code that reads the union by the lag count relies on it. */
+ * order: a number, never a way to pick a member of the union (the code
+ * that computes by the lag count reads pdt_model_view). */
 static inline uint32_t pdt_model_kind_lags(pdt_model_kind_t kind)
 {
     switch (kind) {
