@@ -180,8 +180,10 @@ def lag_branches(root=ROOT):
 
 
 # A member (x->a, x.a.b) == or != a whole literal from 1 up, the literal a
-# whole operand (not `2u * n`), the configuration's members aside.
-STATE_PHASE = re.compile(r"\b(?!cfg\b)\w+(?:\s*(?:->|\.)\s*(?!cfg\b)\w+)+\s*[!=]=\s*[1-9][0-9]*[uU]?\b"
+# whole operand (not `2u * n`), the configuration's members aside, and a
+# model view's `lags` (pdt_model_view: which of its two forms the view
+# holds, data of the model, not a phase of the engine).
+STATE_PHASE = re.compile(r"\b(?!cfg\b)\w+(?:\s*(?:->|\.)\s*(?!cfg\b)\w+)+(?<!\blags)\s*[!=]=\s*[1-9][0-9]*[uU]?\b"
                          r"(?!\s*[-+*/%.])")
 
 

@@ -749,24 +749,18 @@ pdt_status_t pdt_cost_simulation(const pdt_cost_t *c, const pdt_discrete_t *d, p
 static pdt_real_t frequency_cost(const pdt_cost_t *c, const pdt_model_t *m)
 {
     const pdt_real_t ratio = unit_ratio(c);
-    pdt_real_t gain;
-    pdt_real_t tau = PDT_R(0.0);
-    pdt_real_t a = PDT_R(0.0);
-    pdt_real_t b = PDT_R(0.0);
-    bool first_order = (pdt_model_kind_lags(m->kind) == 1u);
+    pdt_model_view_t v;
+    pdt_model_view(m, &v);
+    const bool first_order = (v.lags == 1u);
+    const pdt_real_t gain = pdt_fabs(v.K) * ratio;
+    const pdt_real_t tau = v.tau;
+    const pdt_real_t a = v.a;
+    const pdt_real_t b = v.b;
     pdt_real_t s = PDT_R(0.0);
     pdt_real_t blk = PDT_R(0.0);
     unsigned fill = 0u;
     size_t k;
 
-    if (first_order) {
-        gain = pdt_fabs(m->p.fopdt.K) * ratio;
-        tau = m->p.fopdt.tau;
-    } else {
-        gain = pdt_fabs(m->p.sopdt.k) * ratio;
-        a = m->p.sopdt.a;
-        b = m->p.sopdt.b;
-    }
     for (k = c->k_first; k <= c->k_last; k++) {
         pdt_real_t w = (pdt_real_t)k * c->w_step;
         pdt_real_t g;

@@ -45,8 +45,8 @@ static pdt_real_t exp_from_expm1(pdt_real_t x, pdt_real_t em)
     return x < PDT_R(0.5) ? PDT_R(1.0) + em : pdt_exp(-x);
 }
 
-/* FOPDT: alpha = e^{-Ts/tau}, b0 = K (1 - alpha^m), b1 = K alpha^m (1 - alpha^f). */
-static void zoh_fopdt(const pdt_model_fopdt_t *p, pdt_real_t Ts, pdt_real_t f, pdt_discrete_t *out)
+/* One lag: alpha = e^{-Ts/tau}, b0 = K (1 - alpha^m), b1 = K alpha^m (1 - alpha^f). */
+static void zoh_lag(const pdt_model_view_t *p, pdt_real_t Ts, pdt_real_t f, pdt_discrete_t *out)
 {
     pdt_real_t x = Ts / p->tau;
     pdt_real_t m = PDT_R(1.0) - f;
@@ -62,8 +62,8 @@ static void zoh_fopdt(const pdt_model_fopdt_t *p, pdt_real_t Ts, pdt_real_t f, p
     out->b[2] = PDT_R(0.0);
 }
 
-/* SOPDT, any pole pair. Poles at -(sigma +/- sqrt(sigma^2 - b)). */
-static void zoh_sopdt(const pdt_model_sopdt_t *p, pdt_real_t Ts, pdt_real_t f, pdt_discrete_t *out)
+/* Two lags, any pole pair. Poles at -(sigma +/- sqrt(sigma^2 - b)). */
+static void zoh_pair(const pdt_model_view_t *p, pdt_real_t Ts, pdt_real_t f, pdt_discrete_t *out)
 {
     pdt_real_t sigma = PDT_R(0.5) * p->a;
     pdt_real_t disc = sigma * sigma - p->b;
@@ -103,7 +103,7 @@ static void zoh_sopdt(const pdt_model_sopdt_t *p, pdt_real_t Ts, pdt_real_t f, p
     pdt_real_t m = PDT_R(1.0) - f;
     pdt_real_t h[3];
     for (size_t i = 0; i < 3u; i++) {
-        h[i] = p->k * pdt_model_sopdt_unit_step(p->a, p->b, ((pdt_real_t)i + m) * Ts);
+        h[i] = p->K * pdt_model_sopdt_unit_step(p->a, p->b, ((pdt_real_t)i + m) * Ts);
     }
     pdt_real_t g1 = h[0];
     pdt_real_t g2 = h[1] - h[0];
@@ -123,11 +123,13 @@ static pdt_status_t zoh(const pdt_model_t *m, pdt_real_t Ts, size_t l, pdt_real_
                         pdt_discrete_t *out)
 {
     pdt_discrete_t r;
+    pdt_model_view_t v;
+    pdt_model_view(m, &v);
     r.delay = l;
-    if (pdt_model_kind_lags(m->kind) == 1u) {
-        zoh_fopdt(&m->p.fopdt, Ts, f, &r);
+    if (v.lags == 1u) {
+        zoh_lag(&v, Ts, f, &r);
     } else {
-        zoh_sopdt(&m->p.sopdt, Ts, f, &r);
+        zoh_pair(&v, Ts, f, &r);
     }
     for (size_t i = 0; i < 3u; i++) {
         if (!pdt_finite(r.b[i])) {

@@ -15,15 +15,13 @@
 /* A gene this close to its bound (normalised) lies on it. */
 #define BOUND_TOL   PDT_R(1e-3)
 
-/* The same structure: the gain's sign and, for a SOPDT, whether it
- * integrates. */
+/* The same structure: the gain's sign and whether it integrates. */
 bool pdt_ident_same_structure(const pdt_model_t *a, const pdt_model_t *b)
 {
     if ((pdt_model_gain_numerator(a) < PDT_R(0.0)) != (pdt_model_gain_numerator(b) < PDT_R(0.0))) {
         return false;
     }
-    return pdt_model_kind_lags(a->kind) != 2u ||
-           ((a->p.sopdt.b > PDT_R(0.0)) == (b->p.sopdt.b > PDT_R(0.0)));
+    return pdt_model_integrates(a) == pdt_model_integrates(b);
 }
 
 /* Cost b within rtol of cost a (normalised costs: the record lies in
@@ -56,11 +54,7 @@ bool pdt_ident_vote_same_basin(const pdt_ident_t *c, uint32_t i, uint32_t j)
 void pdt_ident_best_model(const pdt_ident_t *c, pdt_model_t *m)
 {
     pdt_ident_shape(c, c->best.genes, m);
-    if (pdt_model_kind_lags(m->kind) == 1u) {
-        m->p.fopdt.K *= c->best.gain;
-    } else {
-        m->p.sopdt.k *= c->best.gain;
-    }
+    pdt_model_scale_gain(m, c->best.gain);
 }
 
 bool pdt_ident_vote_caught_up(const pdt_ident_t *c)

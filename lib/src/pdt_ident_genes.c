@@ -30,7 +30,7 @@ bool pdt_ident_control_band(const pdt_ident_config_t *cfg)
 uint32_t pdt_ident_late_reserve(const pdt_ident_config_t *cfg)
 {
     uint32_t r = cfg->cost == PDT_COST_FREQUENCY ? PDT_IDENT_SCAN_EVALUATIONS : 0u;
-    if (pdt_model_kind_lags(cfg->model) == 2u && cfg->integrating) {
+    if (pdt_model_kind_integrates(cfg->model) && cfg->integrating) {
         r += 1u;
     }
     return r;
@@ -149,47 +149,48 @@ static pdt_real_t tau_of_gene(const pdt_ident_t *c, pdt_real_t g)
     return tau < c->cfg.tau_min ? c->cfg.tau_min : (tau > c->cfg.tau_max ? c->cfg.tau_max : tau);
 }
 
+/* A two-lag shape's gain unit (pdt_ident_sopdt_unit). */
+static pdt_real_t unit_of(const pdt_ident_t *c, pdt_real_t a, pdt_real_t b)
+{
+    return b + a / (c->cfg.Ts * (pdt_real_t)c->data.n);
+}
+
 void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
 {
     pdt_real_t Td = pdt_ident_td_of_gene(c, g[c->genes - 1u]);
     if (c->cfg.delay_mode == PDT_DELAY_INTEGER) {
         Td = pdt_ident_whole_td(Td, c->cfg.Ts, c->cfg.Td_min, td_upper(c));
     }
-    if (pdt_model_kind_lags(c->cfg.model) == 1u) {
-        m->kind = PDT_MODEL_FOPDT;
-        m->p.fopdt.K = PDT_R(1.0);
-        m->p.fopdt.tau = tau_of_gene(c, g[0]);
-        m->p.fopdt.Td = Td;
+    /* The genes by the lag count: one lag, log tau; two, log(1/a) and the
+     * damping gene (gene_bounds, pdt_ident.c). */
+    pdt_model_view_t v = {
+        pdt_model_kind_lags(c->cfg.model), PDT_R(1.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), Td};
+    if (v.lags == 1u) {
+        v.tau = tau_of_gene(c, g[0]);
     } else {
         pdt_real_t a = pdt_exp(-g[0]);
         pdt_real_t h = PDT_R(0.5) * a * g[1] * g[1] / c->cfg.zeta_min;
-        m->kind = PDT_MODEL_SOPDT;
-        m->p.sopdt.a = a;
-        m->p.sopdt.b = h * h;
-        m->p.sopdt.k = pdt_ident_sopdt_unit(c, &m->p.sopdt);
-        m->p.sopdt.Td = Td;
+        v.a = a;
+        v.b = h * h;
+        v.K = unit_of(c, v.a, v.b);
     }
+    pdt_model_from_view(c->cfg.model, &v, m);
 }
 
 pdt_real_t pdt_ident_sopdt_unit(const pdt_ident_t *c, const pdt_model_sopdt_t *p)
 {
-    return p->b + p->a / (c->cfg.Ts * (pdt_real_t)c->data.n);
+    return unit_of(c, p->a, p->b);
 }
 
 void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
                            pdt_real_t *hi)
 {
-    pdt_real_t scale = PDT_R(1.0);
     if (c->cfg.K_min == PDT_R(0.0) && c->cfg.K_max == PDT_R(0.0)) {
         *lo = PDT_R(0.0);
         *hi = PDT_R(0.0);
         return;
     }
-    if (pdt_model_kind_lags(shape->kind) == 2u) {
-        /* K = k / b, or Ki = k / a for an integrator, k = gain unit. */
-        scale = (shape->p.sopdt.b > PDT_R(0.0) ? shape->p.sopdt.b : shape->p.sopdt.a) /
-                shape->p.sopdt.k;
-    }
+    const pdt_real_t scale = pdt_model_static_gain_scale(shape);
     *lo = c->cfg.K_min * scale;
     *hi = c->cfg.K_max * scale;
     if (*lo == PDT_R(0.0) && *hi == PDT_R(0.0)) {

@@ -20,7 +20,7 @@ static void set_row(pdt_ident_printed_t *p, pdt_ident_par_t i)
     p->have |= (uint32_t)1u << (uint32_t)i;
 }
 
-static void fopdt_rows(pdt_ident_printed_t *p, jacobian_t J)
+static void lag_rows(pdt_ident_printed_t *p, jacobian_t J)
 {
     set_row(p, PDT_IDENT_PAR_K);
     set_row(p, PDT_IDENT_PAR_TAU);
@@ -34,7 +34,7 @@ static void fopdt_rows(pdt_ident_printed_t *p, jacobian_t J)
 /* tau1 (the slow pole's time constant) and tau2 of a real pair, as
  * pdt_model_sopdt_to_tc gives them, with their derivatives by a and b;
  * none at a double pole, where they have none. */
-static void real_pair_rows(const pdt_model_sopdt_t *s, pdt_ident_printed_t *p, jacobian_t J)
+static void real_pair_rows(const pdt_model_view_t *s, pdt_ident_printed_t *p, jacobian_t J)
 {
     const pdt_real_t sigma = PDT_R(0.5) * s->a;
     const pdt_real_t d = (sigma * sigma) - s->b;
@@ -58,7 +58,7 @@ static void real_pair_rows(const pdt_model_sopdt_t *s, pdt_ident_printed_t *p, j
     J[PDT_IDENT_PAR_TAU2][2] = -dfb / (fast * fast);
 }
 
-static void sopdt_rows(const pdt_model_sopdt_t *s, pdt_ident_printed_t *p, jacobian_t J)
+static void pair_rows(const pdt_model_view_t *s, pdt_ident_printed_t *p, jacobian_t J)
 {
     set_row(p, PDT_IDENT_PAR_TD);
     set_row(p, PDT_IDENT_PAR_A);
@@ -73,7 +73,7 @@ static void sopdt_rows(const pdt_model_sopdt_t *s, pdt_ident_printed_t *p, jacob
         set_row(p, PDT_IDENT_PAR_WN);
         set_row(p, PDT_IDENT_PAR_ZETA);
         J[PDT_IDENT_PAR_K][0] = PDT_R(1.0) / s->b;
-        J[PDT_IDENT_PAR_K][2] = -s->k / (s->b * s->b);
+        J[PDT_IDENT_PAR_K][2] = -s->K / (s->b * s->b);
         J[PDT_IDENT_PAR_WN][2] = PDT_R(0.5) / wn;
         J[PDT_IDENT_PAR_ZETA][1] = PDT_R(0.5) / wn;
         J[PDT_IDENT_PAR_ZETA][2] = -s->a / (PDT_R(4.0) * s->b * wn);
@@ -84,7 +84,7 @@ static void sopdt_rows(const pdt_model_sopdt_t *s, pdt_ident_printed_t *p, jacob
         set_row(p, PDT_IDENT_PAR_WN);
         set_row(p, PDT_IDENT_PAR_TAU2);
         J[PDT_IDENT_PAR_KI][0] = PDT_R(1.0) / s->a;
-        J[PDT_IDENT_PAR_KI][1] = -s->k / (s->a * s->a);
+        J[PDT_IDENT_PAR_KI][1] = -s->K / (s->a * s->a);
         J[PDT_IDENT_PAR_TAU2][1] = PDT_R(-1.0) / (s->a * s->a);
     }
 }
@@ -137,11 +137,7 @@ pdt_status_t pdt_ident_std_printed(const pdt_model_t *m, const pdt_ident_std_t *
     if ((m == NULL) || (s == NULL) || (out == NULL) || (pdt_model_check(m) != PDT_OK)) {
         return PDT_ERR_ARG;
     }
-    uint32_t need = 5u;
-    if (pdt_model_kind_lags(m->kind) == 1u) {
-        need = 4u;
-    }
-    if (s->count != need) {
+    if (s->count != pdt_model_kind_params(m->kind) + 1u) { /* and y0 */
         return PDT_ERR_ARG;
     }
     /* Nothing can fail from here: *out is built in place. */
@@ -153,10 +149,12 @@ pdt_status_t pdt_ident_std_printed(const pdt_model_t *m, const pdt_ident_std_t *
         }
     }
     jacobian_t J = {{0}};
-    if (pdt_model_kind_lags(m->kind) == 1u) {
-        fopdt_rows(out, J);
+    pdt_model_view_t v;
+    pdt_model_view(m, &v);
+    if (v.lags == 1u) {
+        lag_rows(out, J);
     } else {
-        sopdt_rows(&m->p.sopdt, out, J);
+        pair_rows(&v, out, J);
     }
     set_row(out, PDT_IDENT_PAR_Y0);
     propagate(J, s, out);

@@ -386,7 +386,9 @@ static bool ls_form(const pdt_ls_t *c, size_t l, const pdt_real_t *m, const pdt_
     if (!(p < PDT_R(0.0))) {
         return false;
     }
-    o.model.kind = c->cfg.model;
+    /* The continuous model by its lags, made of the configured kind. */
+    pdt_model_view_t v = {order_of(c), PDT_R(0.0), PDT_R(0.0),
+                          PDT_R(0.0),  PDT_R(0.0), (pdt_real_t)l * Ts};
     o.dmodel.delay = l;
     o.dmodel.b[2] = PDT_R(0.0);
     o.u0 = c->u[0];
@@ -398,9 +400,8 @@ static bool ls_form(const pdt_ls_t *c, size_t l, const pdt_real_t *m, const pdt_
         if (!(p > PDT_R(-1.0))) {
             return false;
         }
-        o.model.p.fopdt.tau = -Ts / pdt_log1p(p);
-        o.model.p.fopdt.K = -th[1] / p;
-        o.model.p.fopdt.Td = (pdt_real_t)l * Ts;
+        v.tau = -Ts / pdt_log1p(p);
+        v.K = -th[1] / p;
         o.dmodel.order = 1u;
         o.dmodel.a[0] = -(PDT_R(1.0) + p);
         o.dmodel.a[1] = PDT_R(0.0);
@@ -415,10 +416,9 @@ static bool ls_form(const pdt_ls_t *c, size_t l, const pdt_real_t *m, const pdt_
         if (!ls_poles(Ts, p, q, &a, &b)) {
             return false;
         }
-        o.model.p.sopdt.a = a;
-        o.model.p.sopdt.b = b;
-        o.model.p.sopdt.k = (-th[2] / p) * b;
-        o.model.p.sopdt.Td = (pdt_real_t)l * Ts;
+        v.a = a;
+        v.b = b;
+        v.K = (-th[2] / p) * b;
         o.dmodel.order = 2u;
         o.dmodel.a[0] = a1;
         o.dmodel.a[1] = q;
@@ -427,6 +427,7 @@ static bool ls_form(const pdt_ls_t *c, size_t l, const pdt_real_t *m, const pdt_
         o.dmodel.d[0] = PDT_R(1.0) - p - q;
         o.dmodel.d[1] = -p;
     }
+    pdt_model_from_view(c->cfg.model, &v, &o.model);
     if (pdt_model_check(&o.model) != PDT_OK || !pdt_finite(o.y0)) {
         return false;
     }

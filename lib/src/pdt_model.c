@@ -597,3 +597,37 @@ void pdt_model_add_dead_time(pdt_model_t *m, pdt_real_t dTd)
         break;
     }
 }
+
+void pdt_model_scale_gain(pdt_model_t *m, pdt_real_t g)
+{
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        m->p.fopdt.K *= g;
+        break;
+    case PDT_MODEL_SOPDT:
+        m->p.sopdt.k *= g;
+        break;
+    }
+}
+
+bool pdt_model_integrates(const pdt_model_t *m)
+{
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        return false;
+    case PDT_MODEL_SOPDT:
+        return !(m->p.sopdt.b > PDT_R(0.0));
+    }
+    return false;
+}
+
+pdt_real_t pdt_model_static_gain_scale(const pdt_model_t *m)
+{
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        return PDT_R(1.0);
+    case PDT_MODEL_SOPDT:
+        return (m->p.sopdt.b > PDT_R(0.0) ? m->p.sopdt.b : m->p.sopdt.a) / m->p.sopdt.k;
+    }
+    return PDT_R(1.0);
+}

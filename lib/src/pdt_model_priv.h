@@ -15,6 +15,7 @@
 #define PDT_MODEL_PRIV_H
 
 #include "pdt/pdt_model.h"
+#include "pdt_internal.h"
 
 /* |G(j w)|, dead time and gain sign aside (|K| / |den|); +infinity for an
  * integrating SOPDT at w = 0 (0 when k = 0). */
@@ -64,8 +65,8 @@ static inline bool pdt_model_kind_known(pdt_model_kind_t kind)
 /* The kind's lags, the poles beside the dead time: 1 for a FOPDT, 2 for a
  * SOPDT (0 for no kind). The discretisation's pole count, the LS
  * regression's order, the initial states a cost estimates, the reduction's
- * order. A kind of one lag holds its parameters in p.fopdt, a kind of two
- * in p.sopdt: the code that reads the union by the lag count relies on it. */
+ * order: a number, never a way to pick a member of the union (the code
+ * that computes by the lag count reads pdt_model_view). */
 static inline uint32_t pdt_model_kind_lags(pdt_model_kind_t kind)
 {
     switch (kind) {
@@ -109,5 +110,101 @@ pdt_real_t pdt_model_gain_numerator(const pdt_model_t *m);
 
 /* Adds dTd to the model's dead time (no checks). */
 void pdt_model_add_dead_time(pdt_model_t *m, pdt_real_t dTd);
+
+/* Multiplies the model's gain numerator by g (no checks): a shape of unit
+ * gain numerator scaled to the gain a cost profiled. */
+void pdt_model_scale_gain(pdt_model_t *m, pdt_real_t g);
+
+/* Whether the model integrates: no DC gain, a pole at s = 0 (a SOPDT with
+ * b = 0). */
+bool pdt_model_integrates(const pdt_model_t *m);
+
+/* The factor that turns a static gain into the model's gain numerator:
+ * the numerator per unit of DC gain, or of integrating gain Ki for a
+ * model that integrates, divided by the numerator itself. 1 for a FOPDT
+ * (K is its DC gain), (b, or a for an integrator) / k for a SOPDT
+ * (K = k / b, Ki = k / a). Gain bounds given as static gains times it
+ * bound the multiplier of a shape's numerator. */
+pdt_real_t pdt_model_static_gain_scale(const pdt_model_t *m);
+
+/* Whether a model of the kind can integrate (a SOPDT with b = 0): the
+ * identification's integrating check applies to it. */
+static inline bool pdt_model_kind_integrates(pdt_model_kind_t kind)
+{
+    switch (kind) {
+    case PDT_MODEL_FOPDT:
+        return false;
+    case PDT_MODEL_SOPDT:
+        return true;
+    }
+    return false;
+}
+
+/* A model's transfer function in neutral terms, by its lags: one lag,
+ * K e^{-Td s} / (tau s + 1); two lags, K e^{-Td s} / (s^2 + a s + b).
+ * The code whose algorithm depends on the lag count reads this view and
+ * never the union pdt_model_t.p: the discretisation's ZOH, the frequency
+ * cost, the tuning's loop and rules, the validation's margin, the
+ * reduction, the uncertainty's rows and the identification's gene coding.
+ * A kind fills it in pdt_model_view and is made from it in
+ * pdt_model_from_view; a kind the view cannot describe (a zero, a third
+ * lag) extends the view and each of its readers. */
+typedef struct pdt_model_view {
+    uint32_t lags;  /* 1 or 2 (pdt_model_kind_lags) */
+    pdt_real_t K;   /* the gain numerator (pdt_model_gain_numerator) */
+    pdt_real_t tau; /* one lag: its time constant, s; 0 for two */
+    pdt_real_t a;   /* two lags: s^2 + a s + b; 0 for one */
+    pdt_real_t b;
+    pdt_real_t Td; /* the dead time, s */
+} pdt_model_view_t;
+
+/* The model's view (no checks; inline: the ZOH and the frequency cost ask
+ * once per evaluation). */
+static inline void pdt_model_view(const pdt_model_t *m, pdt_model_view_t *v)
+{
+    v->lags = 0u;
+    v->K = PDT_R(0.0);
+    v->tau = PDT_R(0.0);
+    v->a = PDT_R(0.0);
+    v->b = PDT_R(0.0);
+    v->Td = PDT_R(0.0);
+    switch (m->kind) {
+    case PDT_MODEL_FOPDT:
+        v->lags = 1u;
+        v->K = m->p.fopdt.K;
+        v->tau = m->p.fopdt.tau;
+        v->Td = m->p.fopdt.Td;
+        break;
+    case PDT_MODEL_SOPDT:
+        v->lags = 2u;
+        v->K = m->p.sopdt.k;
+        v->a = m->p.sopdt.a;
+        v->b = m->p.sopdt.b;
+        v->Td = m->p.sopdt.Td;
+        break;
+    }
+}
+
+/* The model of the given kind from its view, whose lag count is the
+ * kind's (no checks; inline: the identification decodes a model per
+ * evaluation). */
+static inline void pdt_model_from_view(pdt_model_kind_t kind, const pdt_model_view_t *v,
+                                       pdt_model_t *m)
+{
+    m->kind = kind;
+    switch (kind) {
+    case PDT_MODEL_FOPDT:
+        m->p.fopdt.K = v->K;
+        m->p.fopdt.tau = v->tau;
+        m->p.fopdt.Td = v->Td;
+        break;
+    case PDT_MODEL_SOPDT:
+        m->p.sopdt.k = v->K;
+        m->p.sopdt.a = v->a;
+        m->p.sopdt.b = v->b;
+        m->p.sopdt.Td = v->Td;
+        break;
+    }
+}
 
 #endif /* PDT_MODEL_PRIV_H */

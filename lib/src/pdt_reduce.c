@@ -248,28 +248,31 @@ static pdt_real_t half_pass(const pdt_reduce_plant_t *plant, const size_t zero[]
     return gain;
 }
 
-/* The model of the given order from the half rule's gain, time constants
- * and dead time; false when it is no valid model. */
-static bool half_model(size_t order, pdt_real_t gain, const pdt_real_t t[2], pdt_real_t theta,
-                       pdt_model_t *m)
+/* The model of the kind (of order lags) from the half rule's gain, time
+ * constants and dead time; false when it is no valid model. */
+static bool half_model(pdt_model_kind_t kind, size_t order, pdt_real_t gain, const pdt_real_t t[2],
+                       pdt_real_t theta, pdt_model_t *m)
 {
-    if (order == 1u) {
-        m->kind = PDT_MODEL_FOPDT;
-        m->p.fopdt.K = gain;
-        m->p.fopdt.tau = t[0];
-        m->p.fopdt.Td = theta;
-    } else {
+    pdt_model_view_t v = {1u, gain, t[0], PDT_R(0.0), PDT_R(0.0), theta};
+    if (order != 1u) {
         pdt_model_tc_t tc;
+        pdt_model_sopdt_t two;
         tc.K = gain;
         tc.T1 = t[0];
         tc.T2 = t[1];
         tc.complex = false;
         tc.Td = theta;
-        m->kind = PDT_MODEL_SOPDT;
-        if (pdt_model_sopdt_from_tc(&tc, &m->p.sopdt) != PDT_OK) {
+        if (pdt_model_sopdt_from_tc(&tc, &two) != PDT_OK) {
             return false;
         }
+        v.lags = 2u;
+        v.K = two.k;
+        v.tau = PDT_R(0.0);
+        v.a = two.a;
+        v.b = two.b;
+        v.Td = two.Td;
     }
+    pdt_model_from_view(kind, &v, m);
     return pdt_model_check(m) == PDT_OK;
 }
 
@@ -326,7 +329,7 @@ pdt_status_t pdt_reduce_half_rule(const pdt_reduce_plant_t *plant, const pdt_red
     if (n_eff < order) {
         return PDT_ERR_NO_FORM;
     }
-    if (!half_model(order, gain, t, theta, &m)) {
+    if (!half_model(c.model, order, gain, t, theta, &m)) {
         return PDT_ERR_ARG;
     }
     *out = m;
@@ -501,10 +504,11 @@ static void sung_sums(const pdt_reduce_plant_t *plant, uint32_t n_freq, pdt_real
     S->r2 = r2;
 }
 
-/* The SOPDT of the two-column fit into *m; false, *m untouched, when the
- * fit gives none (the caller keeps the FOPDT). */
-static bool sung_sopdt(const pdt_reduce_plant_t *plant, pdt_real_t w_u, const sung_sums_t *S,
-                       pdt_model_t *m)
+/* The model of the kind (of two lags) from the two-column fit into *m;
+ * false, *m untouched, when the fit gives none (the caller keeps the
+ * FOPDT). */
+static bool sung_pair(const pdt_reduce_plant_t *plant, pdt_real_t w_u, const sung_sums_t *S,
+                      pdt_model_kind_t kind, pdt_model_t *m)
 {
     pdt_real_t det = S->s11 * S->s22 - S->s12 * S->s12;
     pdt_real_t q1 = (S->r1 * S->s22 - S->r2 * S->s12) / det;
@@ -524,12 +528,12 @@ static bool sung_sopdt(const pdt_reduce_plant_t *plant, pdt_real_t w_u, const su
     nat.wn = w_u / v;
     nat.zeta = zeta;
     nat.Td = (PDT_PI - pdt_atan2(PDT_R(2.0) * zeta * v, PDT_R(1.0) - v2)) / w_u;
-    pdt_model_t s;
-    s.kind = PDT_MODEL_SOPDT;
-    if (pdt_model_sopdt_from_natural(&nat, &s.p.sopdt) != PDT_OK) {
+    pdt_model_sopdt_t two;
+    if (pdt_model_sopdt_from_natural(&nat, &two) != PDT_OK) {
         return false;
     }
-    *m = s;
+    const pdt_model_view_t pair = {2u, two.k, PDT_R(0.0), two.a, two.b, two.Td};
+    pdt_model_from_view(kind, &pair, m);
     return true;
 }
 
@@ -545,7 +549,8 @@ pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_c
     if (st != PDT_OK) {
         return st;
     }
-    if (out == NULL || (pdt_model_kind_lags(c.model) == 2u && c.n_freq < 2u)) {
+    /* A fit of two lags needs two frequencies. */
+    if (out == NULL || c.n_freq < pdt_model_kind_lags(c.model)) {
         return PDT_ERR_ARG;
     }
     if (c.n_freq > PDT_REDUCE_MAX_FREQ) {
@@ -572,8 +577,8 @@ pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_c
     m.p.fopdt.tau = u / w_u;
     m.p.fopdt.Td = (PDT_PI - pdt_atan(u)) / w_u;
     bool fallback = false;
-    if (pdt_model_kind_lags(c.model) == 2u) {
-        fallback = !sung_sopdt(plant, w_u, &S, &m);
+    if (pdt_model_kind_lags(c.model) > 1u) {
+        fallback = !sung_pair(plant, w_u, &S, c.model, &m);
     }
     if (pdt_model_check(&m) != PDT_OK) {
         return PDT_ERR_ARG;

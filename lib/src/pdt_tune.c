@@ -28,12 +28,7 @@ typedef struct tune_cplx {
 
 /* The loop C G, flattened for evaluation. */
 typedef struct tune_loop {
-    bool sopdt;
-    pdt_real_t K;   /* FOPDT K, SOPDT k */
-    pdt_real_t tau; /* FOPDT */
-    pdt_real_t a;   /* SOPDT */
-    pdt_real_t b;
-    pdt_real_t Td;
+    pdt_model_view_t p; /* the plant */
     pdt_real_t Kc;
     pdt_real_t tauI;
     pdt_real_t tauD;
@@ -69,17 +64,18 @@ static tune_cplx_t cmul(tune_cplx_t x, tune_cplx_t y)
 static tune_cplx_t loop_eval(const tune_loop_t *lp, pdt_real_t w)
 {
     tune_cplx_t g;
-    if (lp->sopdt) {
-        g = cinv(lp->b - w * w, lp->a * w);
+    const pdt_model_view_t *p = &lp->p;
+    if (p->lags == 1u) {
+        g = cinv(PDT_R(1.0), w * p->tau);
     } else {
-        g = cinv(PDT_R(1.0), w * lp->tau);
+        g = cinv(p->b - w * w, p->a * w);
     }
-    g.re *= lp->K;
-    g.im *= lp->K;
-    if (lp->Td > PDT_R(0.0)) {
+    g.re *= p->K;
+    g.im *= p->K;
+    if (p->Td > PDT_R(0.0)) {
         tune_cplx_t dly;
-        dly.re = pdt_cos(w * lp->Td);
-        dly.im = -pdt_sin(w * lp->Td);
+        dly.re = pdt_cos(w * p->Td);
+        dly.im = -pdt_sin(w * p->Td);
         g = cmul(g, dly);
     }
     tune_cplx_t c;
@@ -365,34 +361,24 @@ static void rob_loop(const pdt_model_t *m, const pdt_tune_gains_t *g, tune_loop_
     lp->tauI = g->tauI;
     lp->tauD = g->tauD;
     lp->Tf = g->tauD > PDT_R(0.0) ? g->Tf : PDT_R(0.0);
-    if (pdt_model_kind_lags(m->kind) == 1u) {
-        lp->sopdt = false;
-        lp->K = m->p.fopdt.K;
-        lp->tau = m->p.fopdt.tau;
-        lp->a = PDT_R(0.0);
-        lp->b = PDT_R(0.0);
-        lp->Td = m->p.fopdt.Td;
-        k->kdc = lp->K;
-        scale_add(lp->tau, &k->tmin, &k->tmax);
+    pdt_model_view(m, &lp->p);
+    const pdt_model_view_t *p = &lp->p;
+    if (p->lags == 1u) {
+        k->kdc = p->K;
+        scale_add(p->tau, &k->tmin, &k->tmax);
         if (lp->tauD > PDT_R(0.0) && lp->Tf == PDT_R(0.0)) {
-            k->r = pdt_fabs(lp->Kc * lp->K * lp->tauD / lp->tau);
+            k->r = pdt_fabs(lp->Kc * p->K * lp->tauD / p->tau);
         }
     } else {
-        lp->sopdt = true;
-        lp->K = m->p.sopdt.k;
-        lp->tau = PDT_R(0.0);
-        lp->a = m->p.sopdt.a;
-        lp->b = m->p.sopdt.b;
-        lp->Td = m->p.sopdt.Td;
-        if (lp->b > PDT_R(0.0)) {
-            k->kdc = lp->K / lp->b;
-            scale_add(lp->a / lp->b, &k->tmin, &k->tmax);
-            scale_add(PDT_R(1.0) / pdt_sqrt(lp->b), &k->tmin, &k->tmax);
+        if (p->b > PDT_R(0.0)) {
+            k->kdc = p->K / p->b;
+            scale_add(p->a / p->b, &k->tmin, &k->tmax);
+            scale_add(PDT_R(1.0) / pdt_sqrt(p->b), &k->tmin, &k->tmax);
         } else {
-            k->kdc = lp->K / lp->a;
+            k->kdc = p->K / p->a;
             k->n0 = 2;
         }
-        scale_add(PDT_R(1.0) / lp->a, &k->tmin, &k->tmax);
+        scale_add(PDT_R(1.0) / p->a, &k->tmin, &k->tmax);
     }
 }
 
@@ -457,7 +443,7 @@ static pdt_status_t rob_begin(const pdt_model_t *m, const pdt_tune_gains_t *g, t
     if (k.kdc * lp->Kc < PDT_R(0.0) || k.r >= PDT_R(1.0)) {
         return PDT_ERR_UNSTABLE;
     }
-    scale_add(lp->Td, &k.tmin, &k.tmax);
+    scale_add(lp->p.Td, &k.tmin, &k.tmax);
     scale_add(lp->tauI, &k.tmin, &k.tmax);
     scale_add(lp->tauD, &k.tmin, &k.tmax);
     scale_add(lp->Tf, &k.tmin, &k.tmax);
@@ -513,7 +499,7 @@ static pdt_status_t rob_grid(tune_rob_t *R, uint32_t budget)
             /* The dead time turns L by (wa - wb) Td over the interval,
              * which the principal arguments below cannot see past 2 pi. */
             const pdt_real_t eighth = PDT_R(0.25) * PDT_PI;
-            pdt_real_t turn_d = (wa - wb) * lp->Td;
+            pdt_real_t turn_d = (wa - wb) * lp->p.Td;
             pdt_real_t turn_l = pdt_fabs(wrap_pi(arg_of(Lb) - arg_of(La)));
             pdt_real_t turn_s = pdt_fabs(wrap_pi(arg_1p(Lb) - arg_1p(La)));
             if (!(turn_d <= (pdt_real_t)TUNE_SPLIT_MAX * eighth)) {
@@ -752,15 +738,19 @@ typedef struct tune_view {
 
 static void view_of(const pdt_model_t *m, tune_view_t *v)
 {
+    pdt_model_view_t mv;
+    pdt_model_view(m, &mv);
     v->T1 = v->T2 = v->a = v->b = v->k = PDT_R(0.0);
-    if (pdt_model_kind_lags(m->kind) == 1u) {
+    if (mv.lags == 1u) {
         v->shape = SHAPE_FIRST;
-        v->K = m->p.fopdt.K;
-        v->tau = m->p.fopdt.tau;
-        v->Td = v->theta = m->p.fopdt.Td;
+        v->K = mv.K;
+        v->tau = mv.tau;
+        v->Td = v->theta = mv.Td;
         return;
     }
-    const pdt_model_sopdt_t *p = &m->p.sopdt;
+    /* Two lags: form (2), whose time constants the model module gives. */
+    const pdt_model_sopdt_t two = {mv.K, mv.a, mv.b, mv.Td};
+    const pdt_model_sopdt_t *p = &two;
     v->a = p->a;
     v->b = p->b;
     v->k = p->k;

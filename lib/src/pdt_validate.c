@@ -424,23 +424,27 @@ static bool determined(const pdt_validate_result_t *v)
 pdt_status_t pdt_ident_select_order(const pdt_validate_result_t *fo,
                                     const pdt_validate_result_t *so, pdt_model_kind_t *kind)
 {
-    if (fo == NULL || so == NULL || kind == NULL || pdt_model_kind_lags(fo->model.kind) != 1u ||
-        pdt_model_kind_lags(so->model.kind) != 2u) {
+    /* fo of fewer lags than so: the choice is between a lower and a
+     * higher order. */
+    if (fo == NULL || so == NULL || kind == NULL || !pdt_model_kind_known(fo->model.kind) ||
+        !(pdt_model_kind_lags(fo->model.kind) < pdt_model_kind_lags(so->model.kind))) {
         return PDT_ERR_ARG;
     }
+    const pdt_model_kind_t lower = fo->model.kind;
+    const pdt_model_kind_t higher = so->model.kind;
     /* A model whose gain the data do not determine, or whose covariance is
      * unusable, loses to one whose are. */
     bool fo_det = determined(fo);
     bool so_det = determined(so);
     if (fo_det != so_det) {
-        *kind = fo_det ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+        *kind = fo_det ? lower : higher;
         return PDT_OK;
     }
     if (fo->independent != so->independent) {
-        *kind = fo->independent ? PDT_MODEL_FOPDT : PDT_MODEL_SOPDT;
+        *kind = fo->independent ? lower : higher;
         return PDT_OK;
     }
-    *kind = so->bic < fo->bic - PDT_R(2.0) ? PDT_MODEL_SOPDT : PDT_MODEL_FOPDT;
+    *kind = so->bic < fo->bic - PDT_R(2.0) ? higher : lower;
     return PDT_OK;
 }
 
@@ -481,14 +485,11 @@ static bool margin_args_ok(const pdt_validate_result_t *v, pdt_real_t dTd,
 
 /* The grid's lowest frequency and its step in log w: from a thousandth of
  * the slowest of the loop's time scales up to the Nyquist frequency. */
-static pdt_real_t margin_grid(const pdt_validate_result_t *v, bool fo, const pdt_tune_gains_t *g,
-                              pdt_real_t Td, pdt_real_t *lr)
+static pdt_real_t margin_grid(const pdt_validate_result_t *v, const pdt_model_view_t *p,
+                              const pdt_tune_gains_t *g, pdt_real_t Td, pdt_real_t *lr)
 {
-    const pdt_model_t *m = &v->model;
     pdt_real_t T = g->tauI;
-    pdt_real_t tm = fo ? m->p.fopdt.tau
-                       : m->p.sopdt.a / (m->p.sopdt.b > PDT_R(0.0) ? m->p.sopdt.b
-                                                                   : m->p.sopdt.a * m->p.sopdt.a);
+    pdt_real_t tm = p->lags == 1u ? p->tau : p->a / (p->b > PDT_R(0.0) ? p->b : p->a * p->a);
     if (tm > T) {
         T = tm;
     }
@@ -518,24 +519,22 @@ static bool margin_cov_ok(const pdt_validate_result_t *v, uint32_t np)
     return std_ok;
 }
 
-/* G(jw) of model m (a FOPDT if fo) with dead time Td, and in dg its derivatives by the
- * parameters: gain G / K; FOPDT tau -s G / (tau s + 1); SOPDT a -s G / D,
- * b -G / D; dead time -s G. */
-static val_c_t margin_plant(const pdt_model_t *m, bool fo, pdt_real_t w, pdt_real_t Td,
-                            val_c_t dg[4])
+/* G(jw) of the model p with dead time Td, and in dg its derivatives by the
+ * parameters: gain G / K; one lag's tau -s G / (tau s + 1); two lags' a
+ * -s G / D, b -G / D; dead time -s G. */
+static val_c_t margin_plant(const pdt_model_view_t *p, pdt_real_t w, pdt_real_t Td, val_c_t dg[4])
 {
+    const bool fo = p->lags == 1u;
     val_c_t s = {PDT_R(0.0), w};
     val_c_t dly = {pdt_cos(w * Td), -pdt_sin(w * Td)};
     val_c_t den;
-    pdt_real_t gain;
+    const pdt_real_t gain = p->K;
     if (fo) {
         den.re = PDT_R(1.0);
-        den.im = w * m->p.fopdt.tau;
-        gain = m->p.fopdt.K;
+        den.im = w * p->tau;
     } else {
-        den.re = m->p.sopdt.b - w * w;
-        den.im = m->p.sopdt.a * w;
-        gain = m->p.sopdt.k;
+        den.re = p->b - w * w;
+        den.im = p->a * w;
     }
     val_c_t one = {gain, PDT_R(0.0)};
     val_c_t G = c_mul(c_div(one, den), dly);
@@ -612,15 +611,16 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
         return PDT_ERR_ARG;
     }
     const pdt_model_t *m = &v->model;
-    const bool fo = pdt_model_kind_lags(m->kind) == 1u;
+    pdt_model_view_t p;
+    pdt_model_view(m, &p);
     /* An integrator's b is bounded below by 0: its one-sided uncertainty
      * only turns the integration into a slow pole, which the controller's
      * own integral covers; the first-order bound would instead grow without
      * limit at low frequency. */
-    const bool integ = !fo && m->p.sopdt.b == PDT_R(0.0);
+    const bool integ = pdt_model_integrates(m);
     pdt_real_t Td = pdt_model_dead_time(m) + dTd;
     pdt_real_t lr;
-    pdt_real_t w_lo = margin_grid(v, fo, g, Td, &lr);
+    pdt_real_t w_lo = margin_grid(v, &p, g, Td, &lr);
     const uint32_t np = v->std.count - 1u; /* without y0 */
     bool std_ok = margin_cov_ok(v, np);
     pdt_real_t best = PDT_R(1.0);
@@ -628,7 +628,7 @@ pdt_status_t pdt_validate_margin(const pdt_validate_result_t *v, pdt_real_t dTd,
     for (uint32_t i = 0; i < VAL_GRID; i++) {
         pdt_real_t w = w_lo * pdt_exp(lr * (pdt_real_t)i);
         val_c_t dg[4];
-        val_c_t G = margin_plant(m, fo, w, Td, dg);
+        val_c_t G = margin_plant(&p, w, Td, dg);
         pdt_real_t dpar = std_ok ? margin_dpar(v, dg, np, integ) : PDT_R(0.0);
         pdt_real_t dfir = v->independent ? PDT_R(0.0) : margin_dfir(v, w);
         val_c_t C = margin_controller(g, w);

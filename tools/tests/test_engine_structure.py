@@ -78,6 +78,6 @@ def test_state_phase_pattern():
                "c->rest_stage == 1u)", "s.mode == 3"]
     ignored = ["c->cfg.coarse == 1u", "cfg->coarse == 1u", "c->vote.done == 0u",
                "++s->i == 2u * PDT_IDENT_SCAN_POINTS", "k == 1u", "x->f == 1.5",
-               "c->nm.start_i >= c->nm.nstarts"]
+               "c->nm.start_i >= c->nm.nstarts", "v.lags == 1u", "view->lags != 2u"]
     assert [len(pat.findall(s)) for s in counted] == [1] * len(counted)
     assert [len(pat.findall(s)) for s in ignored] == [0] * len(ignored)
