@@ -192,10 +192,12 @@ pdt_ident_outcome_t pdt_ident_coarse_pending(const pdt_ident_t *c)
  * underdamped, its lag 1 / a when it integrates. */
 static pdt_real_t time_scale(const pdt_model_t *m)
 {
-    if (pdt_model_kind_lags(m->kind) == 1u) {
-        return m->p.fopdt.tau;
+    pdt_model_view_t v;
+    pdt_model_view(m, &v);
+    if (v.lags == 1u) {
+        return v.tau;
     }
-    const pdt_real_t a = m->p.sopdt.a, b = m->p.sopdt.b;
+    const pdt_real_t a = v.a, b = v.b;
     if (!(b > PDT_R(0.0))) {
         return PDT_R(1.0) / a;
     }

@@ -149,8 +149,7 @@ static pdt_real_t tau_of_gene(const pdt_ident_t *c, pdt_real_t g)
     return tau < c->cfg.tau_min ? c->cfg.tau_min : (tau > c->cfg.tau_max ? c->cfg.tau_max : tau);
 }
 
-/* A two-lag shape's gain unit (pdt_ident_sopdt_unit). */
-static pdt_real_t unit_of(const pdt_ident_t *c, pdt_real_t a, pdt_real_t b)
+pdt_real_t pdt_ident_lags_unit(const pdt_ident_t *c, pdt_real_t a, pdt_real_t b)
 {
     return b + a / (c->cfg.Ts * (pdt_real_t)c->data.n);
 }
@@ -172,14 +171,9 @@ void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
         pdt_real_t h = PDT_R(0.5) * a * g[1] * g[1] / c->cfg.zeta_min;
         v.a = a;
         v.b = h * h;
-        v.K = unit_of(c, v.a, v.b);
+        v.K = pdt_ident_lags_unit(c, v.a, v.b);
     }
     pdt_model_from_view(c->cfg.model, &v, m);
-}
-
-pdt_real_t pdt_ident_sopdt_unit(const pdt_ident_t *c, const pdt_model_sopdt_t *p)
-{
-    return unit_of(c, p->a, p->b);
 }
 
 void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,

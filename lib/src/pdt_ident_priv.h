@@ -213,10 +213,11 @@ void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m);
 void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
                            pdt_real_t *hi);
 
-/* A SOPDT shape's gain unit k = b + a / T (T the record's length): it moves
- * smoothly from a lag's DC gain to an integrator's, so one gain multiplier
- * suits every shape near the best (the cost's reference fit). */
-pdt_real_t pdt_ident_sopdt_unit(const pdt_ident_t *c, const pdt_model_sopdt_t *p);
+/* A two-lag shape's gain unit (the view's K of s^2 + a s + b): k = b + a / T
+ * (T the record's length). It moves smoothly from a lag's DC gain to an
+ * integrator's, so one gain multiplier suits every shape near the best
+ * (the cost's reference fit). */
+pdt_real_t pdt_ident_lags_unit(const pdt_ident_t *c, pdt_real_t a, pdt_real_t b);
 
 /* One evaluation of a genome: its cost (PDT_REAL_MAX when it cannot be
  * scored), gain multiplier and offset; the search's best follows it. */
