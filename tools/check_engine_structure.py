@@ -26,6 +26,11 @@ The figures:
                like): where the branch then reads one form of the model's
                union it is a kind test by another name, which -Wswitch
                cannot see either, and that code belongs behind the layer
+  union_members
+               the members of the model's union (`p.fopdt`, `p.sopdt`)
+               named outside the layer in lib/src: code outside it reads
+               and builds a model through pdt_model_view_t, so that a kind
+               the view describes needs no code there
   stage_state  structs of the engine's stage state defined in the public
                header lib/include/pdt/pdt_ident.h: those no prototype names,
                directly or through a struct it holds (they belong in
@@ -179,6 +184,16 @@ def lag_branches(root=ROOT):
                                     if f.name not in KIND_LAYER])
 
 
+UNION_MEMBER = re.compile(r"\bp\s*\.\s*(?:fopdt|sopdt)\b")
+
+
+def union_members(root=ROOT):
+    """{file: count} of the union's members named outside the layer."""
+    src = root / "lib" / "src"
+    return grep_counts(UNION_MEMBER, [f for f in sorted(src.glob("*.[ch]"))
+                                      if f.name not in KIND_LAYER])
+
+
 # A member (x->a, x.a.b) == or != a whole literal from 1 up, the literal a
 # whole operand (not `2u * n`), the configuration's members aside, and a
 # model view's `lags` (pdt_model_view: which of its two forms the view
@@ -221,17 +236,20 @@ def measure(cc):
     phase = grep_counts(PHASE_WRITE, [f for f in files if f.name != SEQUENCER])
     kind = kind_tests()
     lags = lag_branches()
+    members = union_members()
     structs = stage_structs()
     hidden = state_phases()
     figures = {"cycles": len(comps), "cycle_files": sum(len(c) for c in comps),
                "phase_writes": sum(phase.values()),
                "kind_tests": sum(kind.values()), "lag_branches": sum(lags.values()),
+               "union_members": sum(members.values()),
                "stage_state": len(structs), "state_phases": sum(hidden.values())}
     detail = {"cycles": [" <-> ".join(c) for c in comps], "cycle_files": [],
               "phase_writes": ["%s: %d" % kv for kv in sorted(phase.items())],
               "kind_tests": ["outside the layer " + ", ".join(KIND_LAYER)] +
                             ["%s: %d" % kv for kv in sorted(kind.items())],
               "lag_branches": ["%s: %d" % kv for kv in sorted(lags.items())],
+              "union_members": ["%s: %d" % kv for kv in sorted(members.items())],
               "stage_state": structs,
               "state_phases": ["%s: %d" % kv for kv in sorted(hidden.items())]}
     return figures, detail

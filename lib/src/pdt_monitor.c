@@ -11,6 +11,7 @@
 
 #include "pdt/pdt_tune.h"
 #include "pdt_internal.h"
+#include "pdt_model_priv.h"
 
 #define MON_MAGIC PDT_MAGIC('P', 'D', 'M', 'O')
 
@@ -40,10 +41,8 @@ void pdt_monitor_config_default(pdt_monitor_config_t *cfg)
     cfg->horizon = 3000u;
     cfg->min_samples = 400u;
     cfg->has_model = false;
-    cfg->model.kind = PDT_MODEL_FOPDT;
-    cfg->model.p.fopdt.K = PDT_R(1.0);
-    cfg->model.p.fopdt.tau = PDT_R(1.0);
-    cfg->model.p.fopdt.Td = PDT_R(0.0);
+    const pdt_model_view_t unit = {1u, PDT_R(1.0), PDT_R(1.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    pdt_model_from_view(PDT_MODEL_FOPDT, &unit, &cfg->model);
     cfg->u_min = PDT_R(0.0);
     cfg->u_max = PDT_R(0.0);
     cfg->sat_band = PDT_R(0.005);

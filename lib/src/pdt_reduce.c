@@ -571,11 +571,12 @@ pdt_status_t pdt_reduce_sung(const pdt_reduce_plant_t *plant, const pdt_reduce_c
         return PDT_ERR_NO_FORM;
     }
     pdt_real_t u = pdt_sqrt(u2);
+    /* The first-order fit, the answer when the kind asked has one lag and
+     * the fallback when a two-lag pair is not found. */
+    const pdt_model_view_t fo = {1u,         plant->k,   u / w_u,
+                                 PDT_R(0.0), PDT_R(0.0), (PDT_PI - pdt_atan(u)) / w_u};
     pdt_model_t m;
-    m.kind = PDT_MODEL_FOPDT;
-    m.p.fopdt.K = plant->k;
-    m.p.fopdt.tau = u / w_u;
-    m.p.fopdt.Td = (PDT_PI - pdt_atan(u)) / w_u;
+    pdt_model_from_view(PDT_MODEL_FOPDT, &fo, &m);
     bool fallback = false;
     if (pdt_model_kind_lags(c.model) > 1u) {
         fallback = !sung_pair(plant, w_u, &S, c.model, &m);

@@ -81,3 +81,11 @@ def test_state_phase_pattern():
                "c->nm.start_i >= c->nm.nstarts", "v.lags == 1u", "view->lags != 2u"]
     assert [len(pat.findall(s)) for s in counted] == [1] * len(counted)
     assert [len(pat.findall(s)) for s in ignored] == [0] * len(ignored)
+
+
+def test_union_member_pattern():
+    pat = ces.UNION_MEMBER
+    counted = ["m->p.fopdt.tau", "m.p.sopdt.b = 0", "x->model.p . sopdt"]
+    ignored = ["p.fopdt_like", "v.tau", "map.sopdt", "pdt_model_fopdt_t"]
+    assert [len(pat.findall(s)) for s in counted] == [1] * len(counted)
+    assert [len(pat.findall(s)) for s in ignored] == [0] * len(ignored)
