@@ -73,15 +73,17 @@ def plan(text):
 def plan_ways(text):
     """[(phase, needs expression, [(outcome, next, then)])] of PLAN, in
     order; then is the phase PH_RETURN leads to after the search or polish
-    the way begins, "" where the way names none."""
-    body = re.search(r"static const plan_t PLAN\[PH_COUNT\] = \{(.*?)\n\};", text, re.S).group(1)
+    the way begins, "" where the way names none (0u in the table)."""
+    body = re.search(r"static const plan_t PLAN\[PH_COUNT\](?: PDT_ROM)? = \{(.*?)\n\};",
+                     text, re.S).group(1)
     body = re.sub(r"/\*.*?\*/", "", body, flags=re.S)
     rows = []
-    way = r"\{\s*OUT_\w+,\s*PH_\w+\s*(?:,\s*PH_\w+\s*)?\}"
+    way = r"\{\s*OUT_\w+,\s*PH_\w+\s*(?:,\s*(?:PH_\w+|0u)\s*)?\}"
     row = r"\[(PH_\w+)\]\s*=\s*\{([^{},]*),\s*\{((?:\s*%s\s*,?)*)\}\s*\}" % way
     for m in re.finditer(row, body):
-        ways = re.findall(r"\{\s*(OUT_\w+),\s*(PH_\w+)\s*(?:,\s*(PH_\w+)\s*)?\}", m.group(3))
-        rows.append((m.group(1), m.group(2).strip(), ways))
+        ways = re.findall(r"\{\s*(OUT_\w+),\s*(PH_\w+)\s*(?:,\s*(PH_\w+|0u)\s*)?\}", m.group(3))
+        rows.append((m.group(1), m.group(2).strip(),
+                     [(o, n, "" if then == "0u" else then) for o, n, then in ways]))
     return rows
 
 

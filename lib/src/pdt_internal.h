@@ -52,6 +52,21 @@
 
 #define PDT_PI PDT_R(3.14159265358979323846)
 
+/* Constant tables of bytes that the library reads often and the caller
+ * never sees (the identification's plan). On AVR, a Harvard core, const
+ * data is copied into the 8 KiB of RAM at start-up unless it is placed in
+ * flash and read with the program-memory load: PDT_ROM places a table
+ * there, PDT_ROM_U8 reads one of its bytes. Elsewhere const data already
+ * stays in flash, and both are plain. */
+#if defined(__AVR__)
+#include <avr/pgmspace.h>
+#define PDT_ROM       PROGMEM
+#define PDT_ROM_U8(p) ((uint8_t)pgm_read_byte(p))
+#else
+#define PDT_ROM
+#define PDT_ROM_U8(p) (*(p))
+#endif
+
 /* expm1 and log1p in the real type: the C library's, or with
  * PDT_MATH_FALLBACK (pdt_config.h) the library's own (pdt_math.c). */
 pdt_real_t pdt_math_expm1(pdt_real_t x);
