@@ -1090,16 +1090,17 @@ static void square_record(pdt_model_t m, size_t n, size_t bit, double snr_db, ui
  * every sample: between two whole samples of dead time the output error
  * has two minima, at 4.3 and near 5 s, a fraction of a sample apart, far
  * inside the niches' sharing radius (docs/ident-engine.md). On this
- * record (noise and search seed 341) both searches ended near 5 s, at 6
- * times the cost, until the polish probed the dead time about the answer
- * in tenths of a sample (2 such answers in 1200 seeds before, 0 after). */
+ * record (noise and search seed 167) both searches ended near 5 s (fit
+ * 92.0 % for 96.9 %) without the polish's probe of the dead time about the
+ * answer in tenths of a sample (3 such answers in 1200 seeds without it, 0
+ * with it). */
 static void test_dead_time_probe(void **state)
 {
     pdt_ident_result_t res;
     (void)state;
-    square_record(model_sopdt_tc(1.5, 4.0, 4.0 / 3.0, 4.3), 1200u, 1u, 30.0, 341u);
+    square_record(model_sopdt_tc(1.5, 4.0, 4.0 / 3.0, 4.3), 1200u, 1u, 30.0, 167u);
     pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)1.0);
-    cfg.seed = 341u;
+    cfg.seed = 167u;
     identify(&cfg, 1200u, &res);
     print_message("    one-sample input: Td %.4f s (4.3), fit %.2f %%, %u evaluations\n",
                   (double)res.model.p.sopdt.Td, (double)res.fit, (unsigned)res.evaluations);

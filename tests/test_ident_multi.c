@@ -148,7 +148,9 @@ static void record(size_t slot, const pdt_model_t *m, size_t n, pdt_real_t Ts, d
 {
     pdt_discrete_t d;
     pdt_real_t dev[NMAX];
-    sim_rng64_t r = sim_rng64_seed(seed);
+    /* Seeds 2^32 draws apart: sim_rng64_seed(s + 1) is the stream of s a
+     * draw later, and the records of nearby seeds would share it. */
+    sim_rng64_t r = sim_rng64_seed((uint64_t)seed << 32);
     double level = amp;
     for (size_t k = 0; k < n; k++) {
         if (k >= 20u && (k % 6u) == 0u && sim_rng64_coin(&r) != 0) {

@@ -29,7 +29,9 @@ static pdt_ident_t g_ctx;
 static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t hold, uint32_t seed)
 {
     pdt_discrete_t d;
-    sim_rng64_t r = sim_rng64_seed(seed);
+    /* Seeds 2^32 draws apart: sim_rng64_seed(s + 1) is the stream of s a
+     * draw later, and the records of seeds 1, 2, 3 would share it. */
+    sim_rng64_t r = sim_rng64_seed((uint64_t)seed << 32);
     pdt_real_t level = (pdt_real_t)1.0;
     for (size_t k = 0; k < n; k++) {
         if (k >= 10u && (k - 10u) % hold == 0u && sim_rng64_coin(&r) != 0) {
