@@ -241,10 +241,10 @@ static void test_vectors_eval(void **state)
 /* Deterministic input: steps held 5..14 samples at pseudo-random levels. */
 static void make_input(pdt_real_t *u, size_t n, pdt_real_t u0, uint32_t seed)
 {
-    sim_rng_t x = sim_rng_seed(seed);
+    sim_rng64_t x = sim_rng64_seed(seed);
     size_t k = 0;
     while (k < n) {
-        const uint32_t v = sim_rng_next(&x);
+        const uint64_t v = sim_rng64_next(&x);
         size_t hold = 5u + (size_t)((v >> 16) % 10u);
         pdt_real_t level = u0 + (pdt_real_t)((int)((v >> 8) & 0xFFu) - 128) / ((pdt_real_t)16.0);
         for (size_t j = 0; j < hold && k < n; j++, k++) {
@@ -408,7 +408,7 @@ static void test_long_record_accuracy(void **state)
     const pdt_real_t y0 = (pdt_real_t)1000.0;
     const size_t lu = 50;
     pdt_discrete_t models[2];
-    sim_rng_t x = sim_rng_seed(777u);
+    sim_rng64_t x = sim_rng64_seed(777u);
     double worst = 0.0;
     (void)state;
     models[0] = fopdt_dmodel(2.5, 4.0, 0.1, 7);
@@ -420,7 +420,7 @@ static void test_long_record_accuracy(void **state)
         pdt_cost_config_t cfg;
         simulate_ref(&truth, g_ubig, u0, y0, COST_NBIG, g_ybig);
         for (size_t k = 0; k < COST_NBIG; k++) {
-            g_ybig[k] += (pdt_real_t)(sim_rng_uniform(&x) - 0.5) * (pdt_real_t)0.02;
+            g_ybig[k] += (pdt_real_t)(sim_rng64_uniform(&x) - 0.5) * (pdt_real_t)0.02;
         }
         off.b[0] *= (pdt_real_t)1.05;
         pdt_cost_config_default(&cfg);

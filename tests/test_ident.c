@@ -38,17 +38,32 @@ static pdt_ident_t g_ctx2;
  * probability 1/2 at each change. */
 static void make_prbs(pdt_real_t *u, size_t n, size_t quiet, size_t hold, uint32_t seed)
 {
-    sim_rng_t r = seed;
+    /* 2^32 draws from the noise's stream of the same small seed:
+     * sim_rng64_seed(s + 1) is the stream of s a draw later, so an input
+     * and a noise of nearby seeds would share draws. */
+    sim_rng64_t r = sim_rng64_seed((uint64_t)seed << 32);
     pdt_real_t level = (pdt_real_t)1.0;
     for (size_t k = 0; k < n; k++) {
         if (k < quiet) {
             u[k] = (pdt_real_t)0.0;
             continue;
         }
-        if ((k - quiet) % hold == 0u && (sim_rng_next(&r) >> 31) != 0u) {
+        if ((k - quiet) % hold == 0u && sim_rng64_coin(&r) != 0) {
             level = -level;
         }
         u[k] = level;
+    }
+}
+
+/* The input of a record made to end at rest, as the frequency criteria
+ * need (pdt_ident.c ends_at_rest: the last twentieth's means within a fifth
+ * of the ranges): u back at 0 over its last `tail` samples, long enough for
+ * the response to settle. A random binary signal alone ends at rest by
+ * chance only (29 of seeds 1 to 60 of the 400-sample one below do). */
+static void settle_tail(pdt_real_t *u, size_t n, size_t tail)
+{
+    for (size_t k = n - tail; k < n; k++) {
+        u[k] = (pdt_real_t)0.0;
     }
 }
 
@@ -109,9 +124,9 @@ static double make_record(const record_spec_t *s)
     }
     double sd = s->snr_db > 0.0 ? sqrt(var / (double)s->n) * pow(10.0, -s->snr_db / 20.0) : 0.0;
     double q = 0.01 * (hi - lo);
-    sim_rng_t r = s->noise_seed;
+    sim_rng64_t r = sim_rng64_seed(s->noise_seed);
     for (size_t k = 0; k < s->n; k++) {
-        double y = s->y0 + (double)g_sim[k] + sd * sim_rng_normal(&r);
+        double y = s->y0 + (double)g_sim[k] + sd * sim_rng64_normal(&r);
         if (s->quantise) {
             y = floor(y / q + 0.5) * q;
         }
@@ -333,9 +348,12 @@ static void test_recover_integrating(void **state)
     pdt_model_integ_t g;
     (void)state;
     /* Integrator with a lag: a symmetric random binary input keeps the
-     * output bounded. */
+     * output bounded. At 30 dB the lag and the dead time trade against
+     * each other: over 60 noise realisations (seeds 7919 i) Ki stays within
+     * 0.4 %, T within 5 % of 3 in 54 (at worst 8.0 %), Td within 0.1 s in
+     * 47, both in 47. Noise seed 2000 is a typical one (T 3.07, Td 2.70). */
     pdt_model_t m = model_integ(0.05, 3.0, 2.7);
-    record_spec_t s = {m, (pdt_real_t)0.5, 1000u, 10.0, 50.0, 2.0, 30.0, false, 5u};
+    record_spec_t s = {m, (pdt_real_t)0.5, 1000u, 10.0, 50.0, 2.0, 30.0, false, 2000u};
     make_prbs(g_dev, s.n, 10u, 12u, 11u);
     make_record(&s);
     identify(&cfg, s.n, &res);
@@ -500,6 +518,7 @@ static void test_stepping(void **state)
     pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
     record_spec_t s = {m, (pdt_real_t)1.0, 400u, 40.0, 350.0, 5.0, 30.0, false, 99u};
     make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    settle_tail(g_dev, s.n, 60u);
     make_record(&s);
     static const pdt_cost_kind_t kinds[] = {PDT_COST_SIMULATION, PDT_COST_PREDICTION,
                                             PDT_COST_COMBINED, PDT_COST_FREQUENCY};
@@ -570,6 +589,7 @@ static void test_budget(void **state)
     pdt_model_t m = model_fopdt(2.0, 12.0, 4.37);
     record_spec_t s = {m, (pdt_real_t)1.0, 400u, 0.0, 0.0, 1.0, 30.0, false, 99u};
     make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    settle_tail(g_dev, s.n, 60u);
     make_record(&s);
     for (int model = 1; model <= 2; model++) {
         for (int kind = 0; kind < 4; kind++) {
@@ -1016,9 +1036,10 @@ static void test_whole_sample_delay(void **state)
     (void)state;
     /* The noise realisation puts the minimum on the kink (most put it a
      * few hundredths of a sample off, where the differences now stay on
-     * its side of the kink). */
+     * its side of the kink): of noise seeds 1000, 2000, ..., 32000, 16000,
+     * 20000 and 27000 do, and on 16000 the answer is the kink's. */
     record_spec_t s = {
-        model_fopdt(2.0, 12.0, 4.0), (pdt_real_t)0.1, KINK_N, 0.0, 0.0, 1.0, 30.0, false, 7u};
+        model_fopdt(2.0, 12.0, 4.0), (pdt_real_t)0.1, KINK_N, 0.0, 0.0, 1.0, 30.0, false, 16000u};
     make_prbs(g_dev, s.n, 20u, 40u, 11u);
     make_record(&s);
     pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
@@ -1071,16 +1092,17 @@ static void square_record(pdt_model_t m, size_t n, size_t bit, double snr_db, ui
  * every sample: between two whole samples of dead time the output error
  * has two minima, at 4.3 and near 5 s, a fraction of a sample apart, far
  * inside the niches' sharing radius (docs/ident-engine.md). On this
- * record (noise and search seed 341) both searches ended near 5 s, at 6
- * times the cost, until the polish probed the dead time about the answer
- * in tenths of a sample (2 such answers in 1200 seeds before, 0 after). */
+ * record (noise and search seed 167) both searches ended near 5 s (fit
+ * 92.0 % for 96.9 %) without the polish's probe of the dead time about the
+ * answer in tenths of a sample (3 such answers in 1200 seeds without it, 0
+ * with it). */
 static void test_dead_time_probe(void **state)
 {
     pdt_ident_result_t res;
     (void)state;
-    square_record(model_sopdt_tc(1.5, 4.0, 4.0 / 3.0, 4.3), 1200u, 1u, 30.0, 341u);
+    square_record(model_sopdt_tc(1.5, 4.0, 4.0 / 3.0, 4.3), 1200u, 1u, 30.0, 167u);
     pdt_ident_config_t cfg = base_config(PDT_MODEL_SOPDT, (pdt_real_t)1.0);
-    cfg.seed = 341u;
+    cfg.seed = 167u;
     identify(&cfg, 1200u, &res);
     print_message("    one-sample input: Td %.4f s (4.3), fit %.2f %%, %u evaluations\n",
                   (double)res.model.p.sopdt.Td, (double)res.fit, (unsigned)res.evaluations);
@@ -1092,13 +1114,13 @@ static void test_dead_time_probe(void **state)
  * at 10 dB: the cost along the dead time repeats with the input's period,
  * and a long lag one period early, or a short one a period late, is a
  * basin of 1.2 times the optimum's cost, a few samples from the right one.
- * On these records (noise and search seeds 217 and 1153) both searches
- * ended in it and agreed (5 such answers in 3000 seeds, 0 with the
- * profile); the dead-time profile finds the lower basin and its polish
- * becomes the answer. */
+ * On these records (noise and search seeds 175 and 768, one of each) both
+ * searches ended in it and agreed without the profile (10 such answers in
+ * 3000 seeds, 0 with the profile); the dead-time profile finds the lower
+ * basin and its polish becomes the answer. */
 static void test_dead_time_profile(void **state)
 {
-    static const uint32_t seeds[] = {217u, 1153u};
+    static const uint32_t seeds[] = {175u, 768u};
     (void)state;
     for (size_t i = 0; i < 2u; i++) {
         pdt_ident_result_t res;
@@ -1141,14 +1163,14 @@ static void long_square_check(const char *what, uint32_t seed, bool unflagged)
  * samples, so the profile's grid steps 11 of them, and the input's period
  * of 2 samples puts a basin of 1.05 times the optimum's cost 1.6 samples
  * early (Td 2.7 s for 4.3), near the answer on that grid. On these records
- * (seeds 377 and 447) both searches ended there and agreed (2 such answers
- * in 600 seeds, 0 with the window); the profile's window of whole samples
- * about the answer finds the right basin. */
+ * (seeds 46 and 159) both searches ended there and agreed without the
+ * window (4 such answers in 600 seeds, 0 with the window); the profile's
+ * window of whole samples about the answer finds the right basin. */
 static void test_dead_time_profile_window(void **state)
 {
     (void)state;
-    long_square_check("long record", 377u, true);
-    long_square_check("long record", 447u, true);
+    long_square_check("long record", 46u, true);
+    long_square_check("long record", 159u, true);
 }
 
 /* The same records: between whole samples of dead time the cost holds a
@@ -1156,15 +1178,13 @@ static void test_dead_time_profile_window(void **state)
  * the profile (whole samples, near the answer) and the probe (shape held)
  * all missed the right one at 4.3 s, 1.6 % lower, status OK. The search
  * across the answer's nearest kink, confined to that interval, finds it
- * (6 such answers in 600 seeds before, 0 after). In double the searches
- * themselves end at 4.3 s on these records, without agreeing (flagged):
- * the flag is only asserted of the float build. */
+ * (on seeds 8 and 19 among them: 9 such answers in 600 seeds without it, 8
+ * with status OK and no flag, 0 with it). */
 static void test_dead_time_across_kink(void **state)
 {
-    const bool single = sizeof(pdt_real_t) == sizeof(float);
     (void)state;
-    long_square_check("across the kink", 11u, single);
-    long_square_check("across the kink", 553u, single);
+    long_square_check("across the kink", 8u, true);
+    long_square_check("across the kink", 19u, true);
 }
 
 static void test_control_band_no_dead_time(void **state)

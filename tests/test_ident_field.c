@@ -32,10 +32,10 @@ static pdt_ident_t g_ctx;
 static void record_until(const pdt_model_t *m, double sd, uint32_t seed, size_t quiet)
 {
     pdt_discrete_t d;
-    sim_rng_t r = seed;
+    sim_rng64_t r = sim_rng64_seed(seed);
     pdt_real_t level = (pdt_real_t)10.0;
     for (size_t k = 0; k < N; k++) {
-        if (k >= 30u && (k % 8u) == 0u && (sim_rng_next(&r) >> 31) != 0u) {
+        if (k >= 30u && (k % 8u) == 0u && sim_rng64_coin(&r) != 0) {
             level = -level;
         }
         g_u[k] = (pdt_real_t)(k < 30u || k >= quiet ? 0.0 : (double)level);
@@ -44,7 +44,7 @@ static void record_until(const pdt_model_t *m, double sd, uint32_t seed, size_t 
     assert_int_equal(pdt_discrete_simulate(&d, g_u, N, g_dev), PDT_OK);
     for (size_t k = 0; k < N; k++) {
         g_u[k] = (pdt_real_t)(40.0 + (double)g_u[k]);
-        g_y[k] = (pdt_real_t)(350.0 + (double)g_dev[k] + sd * sim_rng_normal(&r));
+        g_y[k] = (pdt_real_t)(350.0 + (double)g_dev[k] + sd * sim_rng64_normal(&r));
         g_clean[k] = g_y[k];
     }
 }
@@ -304,9 +304,9 @@ static void test_no_relation(void **state)
         assert_int_equal(run(KINDS[m], NULL, &r), PDT_OK);
         assert_int_equal(r.flags & PDT_IDENT_FLAG_NO_RELATION, 0u);
         assert_true(r.evidence > (pdt_real_t)PDT_IDENT_EVIDENCE_MIN);
-        sim_rng_t rng = 77u;
+        sim_rng64_t rng = sim_rng64_seed(77u);
         for (size_t k = 0; k < N; k++) {
-            g_y[k] = (pdt_real_t)(350.0 + sim_rng_normal(&rng));
+            g_y[k] = (pdt_real_t)(350.0 + sim_rng64_normal(&rng));
         }
         assert_int_equal(run(KINDS[m], NULL, &r), PDT_OK);
         print_message("  unrelated output: evidence %.2f, fit %.2f %%, flags 0x%x\n",
@@ -327,7 +327,7 @@ static void test_u_before(void **state)
         pdt_discrete_t d;
         pdt_ident_result_t r;
         pdt_ident_config_t cfg;
-        sim_rng_t rng = 21u;
+        sim_rng64_t rng = sim_rng64_seed(21u);
         for (size_t k = 0; k < N; k++) {
             g_dev[k] = (pdt_real_t)10.0;
         }
@@ -335,7 +335,7 @@ static void test_u_before(void **state)
         assert_int_equal(pdt_discrete_simulate(&d, g_dev, N, g_y), PDT_OK);
         for (size_t k = 0; k < N; k++) {
             g_u[k] = (pdt_real_t)50.0;
-            g_y[k] = (pdt_real_t)(20.0 + (double)g_y[k] + 0.02 * sim_rng_normal(&rng));
+            g_y[k] = (pdt_real_t)(20.0 + (double)g_y[k] + 0.02 * sim_rng64_normal(&rng));
         }
         assert_int_equal(run(KINDS[m], NULL, &r), PDT_ERR_NO_EXCITATION);
         pdt_ident_config_default(&cfg);
@@ -369,7 +369,7 @@ static void test_mid_transient(void **state)
     const pdt_model_t t = model_fopdt(0.8, 150.0, 14.0);
     static pdt_real_t u_all[N + 200u], y_all[N + 200u];
     pdt_discrete_t d;
-    sim_rng_t rng = 31u;
+    sim_rng64_t rng = sim_rng64_seed(31u);
     for (size_t k = 0; k < N + 200u; k++) {
         u_all[k] = (pdt_real_t)(50.0 + 20.0 * sin(2.0 * 3.14159265358979 * (double)k / 300.0));
     }
@@ -380,7 +380,7 @@ static void test_mid_transient(void **state)
         pdt_ident_config_t cfg;
         for (size_t k = 0; k < N; k++) {
             g_u[k] = u_all[cut + k];
-            g_y[k] = (pdt_real_t)(24.0 + (double)y_all[cut + k] + 0.1 * sim_rng_normal(&rng));
+            g_y[k] = (pdt_real_t)(24.0 + (double)y_all[cut + k] + 0.1 * sim_rng64_normal(&rng));
         }
         pdt_ident_config_default(&cfg);
         cfg.u_before_given = cut == 0u;
@@ -430,7 +430,7 @@ static void test_mid_transient(void **state)
         pdt_ident_result_t r;
         for (size_t k = 0; k < N; k++) {
             g_u[k] = u_all[200u + k];
-            g_y[k] = (pdt_real_t)(23.0 + (double)y_all[200u + k] + 0.1 * sim_rng_normal(&rng));
+            g_y[k] = (pdt_real_t)(23.0 + (double)y_all[200u + k] + 0.1 * sim_rng64_normal(&rng));
         }
         pdt_ident_config_t cfg;
         assert_int_equal(run(PDT_MODEL_FOPDT, NULL, &r), PDT_OK);
@@ -460,7 +460,7 @@ static void test_mid_transient(void **state)
     record(&f, 0.0, 17u);
     double v = 0.0;
     for (size_t k = 0; k < N; k++) {
-        v = 0.98 * v + 0.1 * sim_rng_normal(&rng);
+        v = 0.98 * v + 0.1 * sim_rng64_normal(&rng);
         g_y[k] = (pdt_real_t)((double)g_y[k] + v);
     }
     assert_int_equal(run(PDT_MODEL_FOPDT, NULL, &r), PDT_OK);

@@ -148,10 +148,12 @@ static void record(size_t slot, const pdt_model_t *m, size_t n, pdt_real_t Ts, d
 {
     pdt_discrete_t d;
     pdt_real_t dev[NMAX];
-    sim_rng_t r = seed;
+    /* Seeds 2^32 draws apart: sim_rng64_seed(s + 1) is the stream of s a
+     * draw later, and the records of nearby seeds would share it. */
+    sim_rng64_t r = sim_rng64_seed((uint64_t)seed << 32);
     double level = amp;
     for (size_t k = 0; k < n; k++) {
-        if (k >= 20u && (k % 6u) == 0u && (sim_rng_next(&r) >> 31) != 0u) {
+        if (k >= 20u && (k % 6u) == 0u && sim_rng64_coin(&r) != 0) {
             level = -level;
         }
         g_ru[slot][k] = (pdt_real_t)(k < 20u ? 0.0 : level);
@@ -160,7 +162,7 @@ static void record(size_t slot, const pdt_model_t *m, size_t n, pdt_real_t Ts, d
     assert_int_equal(pdt_discrete_simulate(&d, g_ru[slot], n, dev), PDT_OK);
     for (size_t k = 0; k < n; k++) {
         g_ru[slot][k] = (pdt_real_t)(u0 + (double)g_ru[slot][k]);
-        g_ry[slot][k] = (pdt_real_t)(y0 + (double)dev[k] + sd * sim_rng_normal(&r));
+        g_ry[slot][k] = (pdt_real_t)(y0 + (double)dev[k] + sd * sim_rng64_normal(&r));
     }
 }
 

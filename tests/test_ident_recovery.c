@@ -29,10 +29,12 @@ static pdt_ident_t g_ctx;
 static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t hold, uint32_t seed)
 {
     pdt_discrete_t d;
-    uint32_t r = seed * 7919u + 1u;
+    /* Seeds 2^32 draws apart: sim_rng64_seed(s + 1) is the stream of s a
+     * draw later, and the records of seeds 1, 2, 3 would share it. */
+    sim_rng64_t r = sim_rng64_seed((uint64_t)seed << 32);
     pdt_real_t level = (pdt_real_t)1.0;
     for (size_t k = 0; k < n; k++) {
-        if (k >= 10u && (k - 10u) % hold == 0u && (sim_rng_next(&r) >> 31) != 0u) {
+        if (k >= 10u && (k - 10u) % hold == 0u && sim_rng64_coin(&r) != 0) {
             level = -level;
         }
         g_dev[k] = k < 10u ? (pdt_real_t)0.0 : level;
@@ -50,7 +52,7 @@ static void make_record(const pdt_model_t *m, pdt_real_t Ts, size_t n, size_t ho
     double sd = sqrt(var / (double)n) * pow(10.0, -30.0 / 20.0);
     for (size_t k = 0; k < n; k++) {
         g_u[k] = (pdt_real_t)(10.0 + (double)g_dev[k]);
-        g_y[k] = (pdt_real_t)(20.0 + (double)g_sim[k] + sd * sim_rng_normal(&r));
+        g_y[k] = (pdt_real_t)(20.0 + (double)g_sim[k] + sd * sim_rng64_normal(&r));
     }
 }
 

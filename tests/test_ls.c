@@ -554,7 +554,7 @@ static void test_no_model(void **state)
     (void)state;
     pdt_ls_config_t cfg;
     const size_t n = 200u;
-    sim_rng_t s = sim_rng_seed(12345u);
+    sim_rng64_t s = sim_rng64_seed(12345u);
     pdt_ls_config_default(&cfg);
     cfg.Ts = (pdt_real_t)1;
     cfg.delay_max = 8u;
@@ -564,7 +564,7 @@ static void test_no_model(void **state)
     g_u[0] = (pdt_real_t)0;
     g_y[0] = (pdt_real_t)0;
     for (size_t k = 1; k < n; k++) {
-        const int coin = sim_rng_coin(&s);
+        const int coin = sim_rng64_coin(&s);
         g_u[k] = (k % 10u == 0u) ? (coin ? (pdt_real_t)1 : (pdt_real_t)-1) : g_u[k - 1u];
         g_y[k] = (pdt_real_t)1.02 * g_y[k - 1u] + (k >= 3u ? g_u[k - 3u] : (pdt_real_t)0);
     }

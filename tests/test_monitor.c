@@ -237,12 +237,12 @@ static void test_decimation_is_block_average(void **state)
     assert_int_equal(pdt_monitor_init(&m3, &c3), PDT_OK);
     assert_int_equal(pdt_monitor_init(&m1, &c1), PDT_OK);
     assert_int_equal(pdt_monitor_init(&mb, &c3), PDT_OK);
-    sim_rng_t rng = sim_rng_seed(3u);
+    sim_rng64_t rng = sim_rng64_seed(3u);
     static pdt_real_t sp[1200], pv[1200], u[1200];
     for (size_t k = 0; k < 1200u; k++) {
         sp[k] = R(1.0);
-        pv[k] = (pdt_real_t)(1.0 + 0.3 * sin((double)k * 0.2) + 0.05 * sim_rng_normal(&rng));
-        u[k] = (pdt_real_t)(2.0 + 0.1 * sim_rng_normal(&rng));
+        pv[k] = (pdt_real_t)(1.0 + 0.3 * sin((double)k * 0.2) + 0.05 * sim_rng64_normal(&rng));
+        u[k] = (pdt_real_t)(2.0 + 0.1 * sim_rng64_normal(&rng));
         assert_int_equal(pdt_monitor_scan(&m3, sp[k], pv[k], u[k]), PDT_OK);
     }
     for (size_t k = 0; k < 1200u; k += 3u) {

@@ -38,7 +38,7 @@ typedef struct plant {
     sim_plant_t sim;
     double hist[64]; /* the simulator's input history */
     double load;     /* disturbance added to the plant's input */
-    sim_rng_t rng;
+    sim_rng64_t rng;
 } plant_t;
 
 /* At rest with the output held at u_rest. */
@@ -49,13 +49,14 @@ static void plant_init(plant_t *p, double u_rest)
     assert_int_equal(
         sim_plant_init(&p->sim, &d, SCAN, u_rest, PLANT_PV0 + PLANT_K * u_rest, p->hist, 64u), 0);
     p->load = 0.0;
-    p->rng = sim_rng_seed(12345u);
+    p->rng = sim_rng64_seed(12345u);
 }
 
 /* pv read in this cycle, with noise uniform in [-NOISE, NOISE). */
 static pdt_real_t plant_pv(plant_t *p)
 {
-    return (pdt_real_t)(sim_plant_output(&p->sim) + NOISE * (2.0 * sim_rng_uniform(&p->rng) - 1.0));
+    return (pdt_real_t)(sim_plant_output(&p->sim) +
+                        NOISE * (2.0 * sim_rng64_uniform(&p->rng) - 1.0));
 }
 
 /* The output u applied from this cycle to the next. */

@@ -39,12 +39,12 @@ static void make_record(void)
     const sim_plant_desc_t d = sim_plant_desc_lags(SC_K, lag, 1u, SC_TD);
     sim_plant_t p;
     assert_int_equal(sim_plant_init(&p, &d, SC_TS, SC_U0, SC_Y0, hist, 64u), 0);
-    sim_rng_t r = sim_rng_seed(12345u);
+    sim_rng64_t r = sim_rng64_seed(12345u);
     for (size_t k = 0; k < SC_N; k++) {
         g_ud[k] = SC_U0 + (((k / 47u) + (k / 83u)) % 2u == 0u ? 0.0 : 1.0);
     }
     for (size_t k = 0; k < SC_N; k++) {
-        g_yd[k] = sim_plant_output(&p) + 0.02 * (sim_rng_uniform(&r) - 0.5);
+        g_yd[k] = sim_plant_output(&p) + 0.02 * (sim_rng64_uniform(&r) - 0.5);
         sim_plant_apply(&p, g_ud[k]);
     }
 }

@@ -23,10 +23,10 @@ static unsigned char g_idwork[PDT_IDENT_WORKSPACE_SIZE(N, PDT_IDENT_POPULATION_S
  * at rest for the first 10 samples. */
 static void make_input(uint64_t seed)
 {
-    sim_rng_t r = (sim_rng_t)(seed * 0x9E3779B97F4A7C15ull + 1u);
+    sim_rng64_t r = sim_rng64_seed(seed);
     pdt_real_t level = (pdt_real_t)1.0;
     for (size_t k = 0; k < N; k++) {
-        if (k >= 10u && (k - 10u) % 8u == 0u && sim_rng_uniform(&r) < 0.5) {
+        if (k >= 10u && (k - 10u) % 8u == 0u && sim_rng64_uniform(&r) < 0.5) {
             level = -level;
         }
         g_dev[k] = k < 10u ? (pdt_real_t)0.0 : level;
@@ -41,9 +41,9 @@ static void make_output(const pdt_model_t *m, double sd, uint64_t seed)
     pdt_discrete_t d;
     assert_int_equal(pdt_discrete_init(m, (pdt_real_t)TS, &d), PDT_OK);
     assert_int_equal(pdt_discrete_simulate(&d, g_dev, N, g_clean), PDT_OK);
-    sim_rng_t r = (sim_rng_t)(seed * 0xD1B54A32D192ED03ull + 7u);
+    sim_rng64_t r = sim_rng64_seed(~seed); /* a stream apart from the input's */
     for (size_t k = 0; k < N; k++) {
-        g_y[k] = (pdt_real_t)(5.0 + (double)g_clean[k] + sd * sim_rng_normal(&r));
+        g_y[k] = (pdt_real_t)(5.0 + (double)g_clean[k] + sd * sim_rng64_normal(&r));
     }
 }
 
@@ -96,9 +96,10 @@ static void test_wrong_model_rejected(void **state)
     make_output(&a, 0.0, 1u);
     memcpy(ya, g_clean, sizeof ya);
     make_output(&b, 0.0, 1u);
-    sim_rng_t r = (sim_rng_t)(99u);
+    sim_rng64_t r = sim_rng64_seed(99u);
     for (size_t k = 0; k < N; k++) {
-        g_y[k] = (pdt_real_t)(5.0 + (double)ya[k] + (double)g_clean[k] + 0.01 * sim_rng_normal(&r));
+        g_y[k] =
+            (pdt_real_t)(5.0 + (double)ya[k] + (double)g_clean[k] + 0.01 * sim_rng64_normal(&r));
     }
     /* The FOPDT a least-squares fit would give is close to this one. */
     pdt_model_t m = model_fopdt(1.0, 3.0, 0.6);

@@ -31,14 +31,14 @@
 static void make_prbs(pdt_real_t *g_dev, size_t n, size_t quiet, size_t hold, uint32_t seed,
                       double amp)
 {
-    uint32_t s = seed;
+    sim_rng64_t s = sim_rng64_seed(seed);
     double level = 1.0;
     for (size_t k = 0; k < n; k++) {
         if (k < quiet) {
             g_dev[k] = (pdt_real_t)0.0;
             continue;
         }
-        if ((k - quiet) % hold == 0u && (sim_rng_next(&s) >> 31) != 0u) {
+        if ((k - quiet) % hold == 0u && sim_rng64_coin(&s) != 0) {
             level = -level;
         }
         g_dev[k] = (pdt_real_t)(amp * level);
@@ -78,10 +78,10 @@ static bool make_record(record_t *r, pdt_real_t *g_u, pdt_real_t *g_y)
     }
     double sd = r->snr_db > 0.0 ? sqrt(var / (double)r->n) * pow(10.0, -r->snr_db / 20.0) : 0.0;
     r->noise_sd = sd;
-    uint32_t s = r->noise_seed;
+    sim_rng64_t s = sim_rng64_seed(r->noise_seed);
     for (size_t k = 0; k < r->n; k++) {
         g_u[k] = (pdt_real_t)(r->u0 + (double)g_dev[k]);
-        g_y[k] = (pdt_real_t)(r->y0 + (double)g_sim[k] + sd * sim_rng_normal(&s));
+        g_y[k] = (pdt_real_t)(r->y0 + (double)g_sim[k] + sd * sim_rng64_normal(&s));
     }
     return true;
 }

@@ -125,7 +125,7 @@ static void read_noise(noise_t *z, long *max_scans)
     if (rd(&z->std) || rdl(&seed) || rdl(max_scans) || z->std < 0.0 || *max_scans < 1) {
         die("noise");
     }
-    z->rng = sim_rng64_seed((uint64_t)seed * 0x9E3779B97F4A7C15ull + 0x2545F4914F6CDD1Dull);
+    z->rng = sim_rng64_seed((uint64_t)seed);
 }
 
 static void print_gains(const char *tag, const pdt_tune_gains_t *g)

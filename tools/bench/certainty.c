@@ -210,7 +210,7 @@ static double make_record(const bcase_t *c, uint64_t seed, double *u, double *y,
     mean /= (double)c->n;
     for (size_t k = 0; k < c->n; k++) var += (yc[k] - mean) * (yc[k] - mean);
     const double sigma = sqrt(var / (double)c->n) / pow(10.0, SNR_DB / 20.0);
-    sim_rng64_t rng = sim_rng64_seed(0x5DEECE66Dull * (seed + 1u) + 0x2545F4914F6CDD1Dull);
+    sim_rng64_t rng = {0x5DEECE66Dull * (seed + 1u) + 0x2545F4914F6CDD1Dull}; /* its own state */
     loop_record(c, &p, Ts, sigma, &rng, u, y, yc, du);
     return Ts;
 }

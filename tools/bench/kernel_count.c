@@ -39,7 +39,7 @@ static pdt_cost_t g_cost;
 static void make_record(void)
 {
     const pdt_real_t a = (pdt_real_t)0.951229424500714; /* exp(-1/20) */
-    sim_rng_t r = sim_rng_seed(2463534242u);
+    sim_rng64_t r = sim_rng64_seed(2463534242u);
     pdt_real_t x = 0, x1 = 0;
     for (size_t k = 0; k < KB_N; k++) {
         g_u[k] = (pdt_real_t)(((k / 61u) + (k / 97u)) % 2u == 0u ? 2.0 : 3.0);
@@ -49,7 +49,7 @@ static void make_record(void)
         pdt_real_t u1 = (k >= 6u) ? g_u[k - 6u] - (pdt_real_t)2.0 : 0;
         pdt_real_t u2 = (k >= 7u) ? g_u[k - 7u] - (pdt_real_t)2.0 : 0;
         x = a * x + (pdt_real_t)1.5 * (1 - a) * (pdt_real_t)0.5 * (u1 + u2);
-        x1 = (pdt_real_t)(0.08 * (sim_rng_uniform(&r) - 0.5));
+        x1 = (pdt_real_t)(0.08 * (sim_rng64_uniform(&r) - 0.5));
         g_y[k] = (pdt_real_t)7.0 + x + x1;
     }
 }

@@ -3,7 +3,7 @@
  * (tools/bench/monitor_report.py): mc_scans runs pdt_monitor_scan over a
  * synthetic closed-loop-like record with a FOPDT model (every part of the
  * monitor active), mc_result computes the verdict once. The record is
- * deterministic (the LCG of tools/sim/sim_rng.h), its content does not
+ * deterministic (the generator of tools/sim/sim_rng.h), its content does not
  * change the work per scan.
  * Argument: the decimation (default 1; Ts is 0.5 s over it).
  */
@@ -18,15 +18,15 @@
 
 static pdt_monitor_t mon;
 
-static pdt_real_t noise(sim_rng_t *s)
+static pdt_real_t noise(sim_rng64_t *s)
 {
-    return (pdt_real_t)(sim_rng_uniform(s) - 0.5);
+    return (pdt_real_t)(sim_rng64_uniform(s) - 0.5);
 }
 
 __attribute__((noinline)) void mc_scans(void);
 __attribute__((noinline)) void mc_scans(void)
 {
-    sim_rng_t s = sim_rng_seed(1u);
+    sim_rng64_t s = sim_rng64_seed(1u);
     for (int k = 0; k < N; k++) {
         const pdt_real_t sp = (pdt_real_t)((k / 500) % 2);
         const pdt_real_t pv = sp + (pdt_real_t)(0.3 * sin(0.3 * k)) + (pdt_real_t)0.05 * noise(&s);

@@ -323,7 +323,7 @@ static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, sim_
                      FILE *tf)
 {
     /* The sensor noise: the shared generator, its stream picked by --seed. */
-    sim_rng_t ng = sim_rng_seed((uint32_t)(a->seed ^ (a->seed >> 32)) * 2654435761u + 1u);
+    sim_rng64_t ng = sim_rng64_seed(a->seed);
     /* Scans can only end the experiment (capacity, relay) and the search
      * (its evaluations); this bound only guards the host against a bug. */
     const uint64_t guard = 4ull * a->capacity * a->decimation + 10000000ull;
@@ -334,7 +334,7 @@ static void run_loop(const at_args_t *a, at_run_t *run, pdt_autotune_t *at, sim_
     for (;;) {
         const double t = (double)run->scans * a->Ts, y = sim_plant_output(plant);
         double pv = y;
-        if (a->noise > 0.0) pv += a->noise * sim_rng_normal(&ng);
+        if (a->noise > 0.0) pv += a->noise * sim_rng64_normal(&ng);
         pv = fault_sensor(&a->fault, pv, t);
         pdt_autotune_phase_t ph = pdt_autotune_phase(at);
         if (ph >= PDT_AUTOTUNE_SETTLE && ph <= PDT_AUTOTUNE_TUNE) run->phase_scans[ph - 1]++;

@@ -116,7 +116,7 @@ static int one_run(const pdt_ident_config_t *cfg, const pdt_real_t *u, pdt_real_
                    const pdt_real_t *ysim, double sd, double phi, unsigned b, void *work,
                    size_t work_len, pdt_ident_t *ctx, double v[PDT_IDENT_PAR_COUNT], uint32_t *have)
 {
-    sim_rng64_t rng = sim_rng64_seed(cfg->seed * 0x9E3779B97F4A7C15ull + 7919u * (b + 1u));
+    sim_rng64_t rng = {cfg->seed * 0x9E3779B97F4A7C15ull + 7919u * (b + 1u)}; /* its own state */
     double e = sd * sim_rng64_normal(&rng);
     const double w = sd * sqrt(1.0 - phi * phi);
     for (size_t k = 0; k < n; k++) {

@@ -47,11 +47,13 @@ static double true_step[1501];
 static pdt_ident_t ident;
 static pdt_real_t work[PDT_IDENT_WORKSPACE_SIZE(NMAX, 64) / sizeof(pdt_real_t) + 1];
 
-/* The sensor noise: the shared generator (tools/sim/sim_rng.h). */
-static sim_rng_t rng = 0x2545F491u;
+/* The sensor noise: the shared generator (tools/sim/sim_rng.h), seeded
+ * with DEMO_SEED in main (tools/repro/system17.py draws the same stream). */
+#define DEMO_SEED 0x2545F491u
+static sim_rng64_t rng;
 static double gauss(void)
 {
-    return sim_rng_normal(&rng);
+    return sim_rng64_normal(&rng);
 }
 
 enum excitation { CHIRP, PULSE1, PULSE2 };
@@ -186,6 +188,7 @@ static void header(const char *title, bool second)
 
 int main(void)
 {
+    rng = sim_rng64_seed(DEMO_SEED);
     printf("pdtfit %s: the experiment of Yang & Seested (2013) on their system (17)\n",
            PDT_VERSION_STRING);
     printf("float build: pdt_real_t is %s\n", sizeof(pdt_real_t) == 4 ? "float" : "double");

@@ -5,23 +5,25 @@ merit every model is judged by.
 
 The records are those of tools/demo/pdt_demo.c: sampled at 20 Hz behind a
 zero-order hold around u0 = 40, y0 = 55, with white Gaussian sensor noise of
-std 0.02 drawn as the demo draws it (the shared generator's 32-bit LCG from
-the demo's seed, twelve uniforms a normal: pdtsupport.rng.Lcg32.normal12,
-sim_rng_normal in tools/sim/sim_rng.h), one stream shared by the records in
-the order the demo makes them (chirp for Table 1, chirp again for Table 2,
-pulse-1, pulse-2). The sampled response is exact here as in the demo (the
+std 0.02 drawn as the demo draws it (the shared generator, splitmix64 from
+the demo's seed, a Box-Muller normal from each two uniforms:
+pdtsupport.rng.SplitMix64 here, sim_rng64_normal of tools/sim/sim_rng.h
+there), one stream shared by the records in the order the demo makes them
+(chirp for Table 1, chirp again for Table 2, pulse-1, pulse-2). The sampled response is exact here as in the demo (the
 matrix exponential of a zero-order hold: pdtsupport.plant's here, the
 shared simulator of tools/sim there), so the two agree to rounding.
 """
+import math
+
 import numpy as np
 
 from pdtsupport import plant
-from pdtsupport.rng import Lcg32
+from pdtsupport.rng import SplitMix64
 
 FS = 20.0
 TS = 1.0 / FS
 NOISE_STD = 0.02
-DEMO_SEED = 0x2545F491  # the demo's generator state (tools/demo/pdt_demo.c)
+DEMO_SEED = 0x2545F491  # the demo's generator seed (tools/demo/pdt_demo.c)
 U0, Y0 = 40.0, 55.0
 
 LAGS17 = [2.0, 1.0, 0.4, 0.2, 0.05, 0.05, 0.05]
@@ -83,10 +85,19 @@ def simulate17(ud):
     return plant.simulate(*tf17(), 0.0, ud, TS, sub=1)
 
 
+def demo_normal(rng):
+    """One standard normal as sim_rng64_normal draws it: Box-Muller on two
+    uniforms in turn, with the C library's log and cos (numpy's vectorised
+    ones may differ in the last bit)."""
+    u1 = 1.0 - rng.uniform()  # (0, 1]
+    u2 = rng.uniform()
+    return math.sqrt(-2.0 * math.log(u1)) * math.cos(6.283185307179586 * u2)
+
+
 def records():
     """The demo's four records, in its order: {key: (t, u, y)} with keys
     'chirp' (Table 1), 'chirp-2' (Table 2), 'pulse-1', 'pulse-2'."""
-    rng = Lcg32(DEMO_SEED)  # the demo's noise: its seed, twelve uniforms a normal
+    rng = SplitMix64(DEMO_SEED)  # the demo's noise, from its seed
     out = {}
     for key, exc in (("chirp", "chirp"), ("chirp-2", "chirp"), ("pulse-1", "pulse-1"),
                      ("pulse-2", "pulse-2")):
@@ -94,7 +105,7 @@ def records():
         t = np.arange(n) * TS
         ud = excitation(exc, t)
         yd = simulate17(ud)
-        noise = np.array([rng.normal12() for _ in range(n)])
+        noise = np.array([demo_normal(rng) for _ in range(n)])
         out[key] = (t, U0 + ud, Y0 + yd + NOISE_STD * noise)
     return out
 

@@ -111,7 +111,7 @@ typedef struct sim_process {
     sim_plant_t plant;
     double hist[SIM_PROCESS_HIST];
     double noise_sd; /* the sensor's white noise, output units */
-    sim_rng_t rng;
+    sim_rng64_t rng;
 } sim_process_t;
 
 /* Prepares p at rest: pv y0 (plus noise) with the output held at u0; the
@@ -125,7 +125,7 @@ static inline int sim_process_init(sim_process_t *p, const pdt_model_t *m, doubl
     double lag;
     memset(p, 0, sizeof *p);
     p->noise_sd = noise_sd;
-    p->rng = sim_rng_seed(seed);
+    p->rng = sim_rng64_seed(seed);
     if (sim_desc_of_model(m, &lag, &d) != 0) {
         return -1;
     }
@@ -135,7 +135,7 @@ static inline int sim_process_init(sim_process_t *p, const pdt_model_t *m, doubl
 /* The process value read at this scan. */
 static inline pdt_real_t sim_process_pv(sim_process_t *p)
 {
-    const double n = p->noise_sd > 0.0 ? p->noise_sd * sim_rng_normal(&p->rng) : 0.0;
+    const double n = p->noise_sd > 0.0 ? p->noise_sd * sim_rng64_normal(&p->rng) : 0.0;
     return (pdt_real_t)(sim_plant_output(&p->plant) + n);
 }
 

@@ -1,15 +1,10 @@
 /*
- * The random generators of pdtfit's tests, benchmarks, demo and command
- * line; their streams never change with a compiler or a library version,
- * so records made from a seed are the same on the host and the target.
- * Not for the library (which has its own PCG32).
- *
- * - sim_rng_*: Numerical Recipes' 32-bit LCG, the tests' and the demo's
- *   (tools/pdtsupport/rng.py Lcg32 is the same stream in Python).
- * - sim_rng64_*: splitmix64 with Box-Muller normals, for the benchmarks,
- *   whose statistics over thousands of records need more than a 32-bit
- *   state and twelve-uniform normals give (tools/pdtsupport/rng.py
- *   SplitMix64 is the same generator).
+ * The random generator of pdtfit's tests, benchmarks, demo and command
+ * line: splitmix64, 53-bit uniforms, Box-Muller normals. Its stream never
+ * changes with a compiler or a library version, so records made from a
+ * seed are the same on the host and the target, and
+ * tools/pdtsupport/rng.py SplitMix64 is the same stream in Python. Not for
+ * the library, whose own PCG32 is part of the GA's results.
  */
 #ifndef SIM_RNG_H
 #define SIM_RNG_H
@@ -18,54 +13,18 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* The state: the seed is any value, its stream the LCG's from there. */
-typedef uint32_t sim_rng_t;
-
-static inline sim_rng_t sim_rng_seed(uint32_t seed)
-{
-    return seed;
-}
-
-static inline uint32_t sim_rng_next(sim_rng_t *r)
-{
-    *r = *r * 1664525u + 1013904223u;
-    return *r;
-}
-
-/* Uniform in [0, 1) from the top 24 bits (the low bits of an LCG are
- * poor). */
-static inline double sim_rng_uniform(sim_rng_t *r)
-{
-    return (double)(sim_rng_next(r) >> 8) / 16777216.0;
-}
-
-/* Approximately standard normal: twelve uniforms, centred (variance 1,
- * tails cut at 6, which a noise model of sensors does not miss). */
-static inline double sim_rng_normal(sim_rng_t *r)
-{
-    double sum = 0.0;
-    for (int i = 0; i < 12; i++) {
-        sum += sim_rng_uniform(r);
-    }
-    return sum - 6.0;
-}
-
-/* A fair coin from the top bit. */
-static inline int sim_rng_coin(sim_rng_t *r)
-{
-    return (int)(sim_rng_next(r) >> 31);
-}
-
-/* The 64-bit stream's state: any value, its stream splitmix64's from
- * there (callers scramble small seeds into it as they like). */
+/* The state: any value, its stream splitmix64's from there. A caller that
+ * keeps a stream from a state of its own sets s directly. */
 typedef struct sim_rng64 {
     uint64_t s;
 } sim_rng64_t;
 
-static inline sim_rng64_t sim_rng64_seed(uint64_t state)
+/* The stream of a seed, any small integer included: the state is the seed
+ * scrambled as pdtsupport.rng.SplitMix64(seed) scrambles it. */
+static inline sim_rng64_t sim_rng64_seed(uint64_t seed)
 {
     sim_rng64_t r;
-    r.s = state;
+    r.s = seed * 0x9E3779B97F4A7C15ull + 0x2545F4914F6CDD1Dull;
     return r;
 }
 
@@ -81,6 +40,13 @@ static inline uint64_t sim_rng64_next(sim_rng64_t *r)
 static inline double sim_rng64_uniform(sim_rng64_t *r)
 {
     return (double)(sim_rng64_next(r) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* A fair coin: the top bit, 1 exactly when sim_rng64_uniform would have
+ * given at least 0.5. */
+static inline int sim_rng64_coin(sim_rng64_t *r)
+{
+    return (int)(sim_rng64_next(r) >> 63);
 }
 
 /* Standard normal by Box-Muller, one of the pair (two draws a value). */

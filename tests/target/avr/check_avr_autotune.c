@@ -31,9 +31,9 @@ typedef struct at_run {
 } at_run_t;
 
 /* The plant read through a sensor with white noise of 0.05. */
-static pdt_real_t read_pv(const sim_plant_t *p, sim_rng_t *rng)
+static pdt_real_t read_pv(const sim_plant_t *p, sim_rng64_t *rng)
 {
-    return (pdt_real_t)(sim_plant_output(p) + 0.05 * sim_rng_normal(rng));
+    return (pdt_real_t)(sim_plant_output(p) + 0.05 * sim_rng64_normal(rng));
 }
 
 /* The configuration of the run, as the Cortex-M4F check's but for the
@@ -84,7 +84,7 @@ static bool at_run(at_run_t *r)
     pdt_autotune_t *at = &g_avr_arena.autotune.at;
     sim_plant_t *plant = &g_avr_arena.autotune.plant;
     memset(r, 0, sizeof *r);
-    sim_rng_t rng = sim_rng_seed(23u);
+    sim_rng64_t rng = sim_rng64_seed(23u);
     if (!at_start()) {
         return false;
     }

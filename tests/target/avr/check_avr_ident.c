@@ -31,10 +31,10 @@
 static bool make_record(pdt_real_t *u, pdt_real_t *y)
 {
     const pdt_model_t m = model_fopdt(TRUE_K, TRUE_TAU, TRUE_TD);
-    uint32_t s = 7u;
+    sim_rng64_t s = sim_rng64_seed(7u);
     double level = 1.0;
     for (size_t k = 0; k < AVR_IDENT_N; k++) {
-        if (k >= 10u && (k - 10u) % 8u == 0u && (sim_rng_next(&s) >> 31) != 0u) {
+        if (k >= 10u && (k - 10u) % 8u == 0u && sim_rng64_coin(&s) != 0) {
             level = -level;
         }
         u[k] = (pdt_real_t)(k < 10u ? 0.0 : level);
@@ -54,10 +54,10 @@ static bool make_record(pdt_real_t *u, pdt_real_t *y)
         var += ((double)y[k] - mean) * ((double)y[k] - mean);
     }
     const double sd = sqrt(var / (double)AVR_IDENT_N) * pow(10.0, -30.0 / 20.0);
-    uint32_t ns = 99u;
+    sim_rng64_t ns = sim_rng64_seed(99u);
     for (size_t k = 0; k < AVR_IDENT_N; k++) {
         u[k] = (pdt_real_t)(U0 + (double)u[k]);
-        y[k] = (pdt_real_t)(Y0 + (double)y[k] + sd * sim_rng_normal(&ns));
+        y[k] = (pdt_real_t)(Y0 + (double)y[k] + sd * sim_rng64_normal(&ns));
     }
     return true;
 }
