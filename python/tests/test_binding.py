@@ -10,6 +10,7 @@ import pytest
 
 import pdtfit
 from pdtsupport import cli, plant, status
+from pdtsupport.rng import SplitMix64
 
 cli_test = pytest.mark.cli
 
@@ -265,15 +266,14 @@ def _fopdt_response(u, Ts, u0):
     """20 + the response of 2 e^(-1.3 s) / (5 s + 1), at rest at u0 before
     the record, to u (zero-order hold, whole-sample dead time)."""
     y = plant.first_order(2.0, math.exp(-Ts / 5.0), np.asarray(u) - u0, int(round(1.3 / Ts)) + 1)
-    return 20.0 + y + np.random.default_rng(5).normal(0.0, 0.01, len(u))
+    return 20.0 + y + 0.01 * SplitMix64.keyed(5).normal(len(u))
 
 
 def test_missing_samples_and_u_before():
     """A NaN in y is left out of the fit and counted (missing="refuse":
     refused); a record that begins at the step needs u_before."""
-    rng = np.random.default_rng(3)
     n, Ts = 600, 0.1
-    u = np.where(np.repeat(rng.random(n // 20 + 1) < 0.5, 20)[:n], 55.0, 45.0)
+    u = 50.0 + 5.0 * SplitMix64.keyed(3).signs(n, 20)
     u[:30] = 50.0
     y = _fopdt_response(u, Ts, 50.0)
     ref = pdtfit.identify(u, y, Ts=Ts)
@@ -298,9 +298,8 @@ def test_initial_estimate_and_drift():
     """A record cut mid-transient: initial="estimate" finds the whole
     record's gain; a ramp on the output: drift=True finds the ramp-free model and
     the slope. Both need the output error."""
-    rng = np.random.default_rng(7)
     n, Ts, cut = 900, 0.1, 150
-    u = np.where(np.repeat(rng.random(n // 25 + 1) < 0.5, 25)[:n], 55.0, 45.0)
+    u = 50.0 + 5.0 * SplitMix64.keyed(7).signs(n, 25)
     u[:30] = 50.0
     y = _fopdt_response(u, Ts, 50.0)
     whole = pdtfit.identify(u, y, Ts=Ts)

@@ -41,6 +41,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 from pdtsupport import provenance  # noqa: E402
 from pdtsupport.plant import simulate  # noqa: E402
+from pdtsupport.rng import SplitMix64  # noqa: E402
 
 PDTFIT = pathlib.Path(os.environ.get("PDTFIT_BIN", ROOT / "build" / "bench" / "tools" / "pdtfit"))
 N = 1200
@@ -70,16 +71,16 @@ def excitation(kind, tau, rng, n=N):
     else:
         lo = hi = max(1, int(round(tau / 3)))
     while k < n:
-        hold = int(rng.integers(lo, hi + 1))
-        u[k:k + hold] = level * (0.5 + 0.5 * rng.random()) if kind == "steps" else level
-        level = -level if kind == "prbs" or rng.random() < 0.7 else level
+        hold = rng.integers(lo, hi + 1)
+        u[k:k + hold] = level * (0.5 + 0.5 * rng.uniform()) if kind == "steps" else level
+        level = -level if kind == "prbs" or rng.uniform() < 0.7 else level
         k += hold
     return u
 
 
 def record(model, tau, kind, snr, seed, n=N):
-    rng = np.random.default_rng([seed, int(tau * 10), snr, EXCITATIONS.index(kind),
-                                 MODELS.index(model)])
+    rng = SplitMix64.keyed(seed, int(tau * 10), snr, EXCITATIONS.index(kind),
+                           MODELS.index(model))
     u = excitation(kind, tau, rng, n)
     # A dead time of half the time constant plus 2.3 samples, on the
     # simulator's grid of a twentieth of a sample.
@@ -91,7 +92,7 @@ def record(model, tau, kind, snr, seed, n=N):
         num = [1.5]
     y = simulate(num, den, Td, u, TS)
     sd = np.std(y) * 10 ** (-snr / 20)
-    return 40.0 + u, 350.0 + y + sd * rng.standard_normal(n)
+    return 40.0 + u, 350.0 + y + sd * rng.normal(n)
 
 
 def identify(path, model, extra):

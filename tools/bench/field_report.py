@@ -32,8 +32,8 @@ def scales(j):
 def faults(n, seed):
     out = [(f"marker {v:g}", [(150, v), (420, v)]) for v in MARKERS]
     out += [("dropout to 0", [(p + i, 0.0) for i in range(10)]) for p in (60, 250, 480)]
-    rng = np.random.default_rng(seed)
-    out.append(("1 % at -9999", [(int(p), -9999.0) for p in rng.choice(n, n // 100, False)]))
+    picks = B.Rng.keyed(seed).choice(n, n // 100)
+    out.append(("1 % at -9999", [(int(p), -9999.0) for p in picks]))
     return out
 
 
@@ -75,9 +75,9 @@ def null_rows(binary, seeds):
         flagged = total = 0
         top = 0.0
         for n, model, seed in itertools.product((100, 400, 1500), ("fopdt", "sopdt"), seeds):
-            rng = np.random.default_rng(seed * 7 + n)
-            u = np.where(np.repeat(rng.random(n // 5 + 1) < 0.5, 5)[:n], 45.0, 35.0)
-            y = 20 + lfilter([1.0], [1.0, -pole], rng.normal(size=n))
+            rng = B.Rng.keyed(seed, n)
+            u = 40.0 + 5.0 * rng.signs(n, 5)
+            y = 20 + lfilter([1.0], [1.0, -pole], rng.normal(n))
             j = B.run_pdtfit(binary, u, y, 1.0, model, seed=seed)
             total += 1
             flagged += "error" not in j and "no_relation" in j["flags"]

@@ -42,8 +42,7 @@ def make_record(num, den, Td, n, Ts, u0, y0, amp, noise, seed):
     behind a zero-order hold around y0, white noise of std `noise`."""
     u = records.multistep_input(n, u0, amp, 15, 45, 10, seed)
     y = y0 + plant.simulate(num, den, Td, u - u0, Ts)
-    rng = np.random.default_rng(seed)
-    return u, y + noise * rng.standard_normal(n), 1.0 / Ts
+    return u, y + records.noise(n, noise, seed), 1.0 / Ts
 
 
 def plant_records(name, seed):

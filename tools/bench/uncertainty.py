@@ -27,6 +27,7 @@ import tempfile
 import numpy as np
 
 from pdtsupport.plant import simulate
+from pdtsupport.rng import SplitMix64
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 TEMPLATE = pathlib.Path(__file__).with_name("uncertainty_template.md")
@@ -51,7 +52,7 @@ def excitation(kind, rng):
     else:  # PRBS: holds of 2 to 6 s after a rest
         k, level = N // 20, 1.0
         while k < N:
-            hold = int(rng.integers(20, 61))
+            hold = rng.integers(20, 61)
             u[k:k + hold] = level
             level = 1.0 - level
             k += hold
@@ -60,11 +61,10 @@ def excitation(kind, rng):
 
 def record(plant, exc, colour, seed):
     _, num, den, Td, _ = PLANTS[plant]
-    rng = np.random.default_rng(1000 + seed)
-    u = excitation(exc, np.random.default_rng(7))  # the same input for every seed
+    u = excitation(exc, SplitMix64.keyed(7))  # the same input for every seed
     y = simulate(num, den, Td, u, TS)
     span = np.ptp(y)
-    w = rng.standard_normal(N)
+    w = SplitMix64.keyed(1000 + seed).normal(N)
     if colour == "coloured":
         e = np.zeros(N)
         e[0] = w[0]

@@ -10,7 +10,7 @@ import numpy as np
 import scipy.signal as ss
 
 from pdtsupport.plant import Fine
-from pdtsupport.rng import Lcg64
+from pdtsupport.rng import SplitMix64
 
 
 @dataclass
@@ -110,11 +110,12 @@ class Scenario:
                                                    # at level from k0 to k1
 
 
-def _disturbances(sc, plant, rnd, rng):
+def _disturbances(sc, plant, rng):
     """Per-sample load (u units), set-point (deviation) and noise."""
     n = sc.n
     a = np.exp(-plant.Ts / sc.load_tau)
-    white = rng.standard_normal(n) * sc.load_std * np.sqrt(1 - a * a)
+    rnd = rng.uniform
+    white = rng.normal(n) * sc.load_std * np.sqrt(1 - a * a)
     load = ss.lfilter([1.0], [1.0, -a], white)
     for _ in range(sc.load_steps):
         k = int(rnd() * n)
@@ -129,14 +130,12 @@ def _disturbances(sc, plant, rnd, rng):
     if sc.sp_ramp:
         k0, k1, level = sc.sp_ramp
         sp[k0:k1] = level
-    return load, sp, sc.noise * rng.standard_normal(n)
+    return load, sp, sc.noise * rng.normal(n)
 
 
 def simulate(plant, sc, seed, sub=4):
     """One record: dict of arrays t, sp, pv, u (absolute units)."""
-    rnd = Lcg64(seed).uniform
-    rng = np.random.default_rng(seed)
-    load, sp, noise = _disturbances(sc, plant, rnd, rng)
+    load, sp, noise = _disturbances(sc, plant, SplitMix64.keyed(seed))
     h = plant.Ts / sub
     sim = Fine(*plant.tf(plant.K * sc.gain_factor), h, int(round(plant.Td / h)))
     u = np.zeros(sc.n)
@@ -174,7 +173,7 @@ EXPECTED = {"well": "ok", "aggressive": "oscillating", "timid": "sluggish",
 def scenario(kind, plant, seed, n=4000):
     """The loop of a record of one kind on plant, its disturbances drawn
     from seed: noise 1-5 % of the set-point step, load noise and steps."""
-    rnd = Lcg64(seed + 7919).uniform
+    rnd = SplitMix64.keyed(seed, 1).uniform
     Kc, Ti = simc_pi(plant)
     u_unit = 1.0 / plant.K  # output move that moves pv by one unit
     sc = Scenario(Kc=Kc, Ti=Ti, n=n, noise=0.01 + 0.04 * rnd(),

@@ -5,13 +5,13 @@ import numpy as np
 import pytest
 
 from pdtsupport.cli import FOPDT_KEYS
-from pdtsupport.rng import Lcg64
+from pdtsupport.rng import SplitMix64
 
 
 def multistep_input(n, u0, amp, hold_min, hold_max, rest, seed):
     """Steps between random levels around u0 after `rest` samples at u0;
-    a small LCG keeps the record the same on every numpy version."""
-    rnd = Lcg64(seed).uniform
+    splitmix64 keeps the record the same on every numpy version."""
+    rnd = SplitMix64.keyed(seed).uniform
     u = np.full(n, float(u0))
     k, sign = rest, 1.0
     while k < n:
@@ -23,7 +23,9 @@ def multistep_input(n, u0, amp, hold_min, hold_max, rest, seed):
 
 
 def noise(n, std, seed):
-    return std * np.random.default_rng(seed).standard_normal(n)
+    """n normal draws of std `std`, from another stream than the input of
+    the same seed (SplitMix64.keyed(seed, 1))."""
+    return std * SplitMix64.keyed(seed, 1).normal(n)
 
 
 TS = 0.1

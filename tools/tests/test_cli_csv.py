@@ -14,6 +14,7 @@ import pytest
 from pdtsupport.cli import FOPDT_KEYS, assert_usage_error, run
 from pdtsupport.plant import simulate
 from pdtsupport.records import N, TS, U0, Y0, check_fopdt, multistep_input, noise
+from pdtsupport.rng import SplitMix64
 
 pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 
@@ -174,8 +175,7 @@ def test_epoch_milliseconds(tmp_path, rec):
 
 def test_jitter_30ms_at_1s(tmp_path, rec):
     _, u, y = rec
-    rng = np.random.default_rng(5)
-    t = np.arange(N) * 1.0 + rng.uniform(-0.03, 0.03, N)
+    t = np.arange(N) * 1.0 + SplitMix64.keyed(5).uniform(N, lo=-0.03, hi=0.03)
     path = write(tmp_path / "jit.csv", "t,u,y", cells(t, u, y))
     out = ok(run([*MODEL, path]), warn="median")
     fopdt(out, Ts=out["Ts"], scale=1.0 / TS)

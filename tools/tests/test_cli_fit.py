@@ -200,7 +200,7 @@ def test_ls_nonsense_on_a_step_test_warned(tmp_path):
     n = 400
     u = np.full(n, 50.0)
     u[20:] = 55.0
-    y = 20 + simulate([2.0], [30.0, 1.0], 5.0, u - 50, 1.0) + noise(n, 1.0, 2)
+    y = 20 + simulate([2.0], [30.0, 1.0], 5.0, u - 50, 1.0) + noise(n, 1.0, 1)
     path = write_csv(tmp_path / "step.csv", {"t": np.arange(n) * 1.0, "u": u, "y": y})
     for method in ("elms", "eiv"):
         res = run(["identify", "--model", "fopdt", "--method", method, path])

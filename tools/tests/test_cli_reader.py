@@ -13,6 +13,7 @@ import pytest
 from pdtsupport.cli import assert_usage_error, run
 from pdtsupport.plant import simulate
 from pdtsupport.records import N, TS, U0, Y0, multistep_input, noise
+from pdtsupport.rng import SplitMix64
 
 pytestmark = pytest.mark.cli  # skipped or failed without a binary: conftest.py
 
@@ -306,9 +307,9 @@ def test_t_before_time_and_clock_times_beside_fs(tmp_path, rec):
 def test_pipe_keeps_no_relation(tmp_path):
     """A PRBS input with an unrelated output: identify flags no_relation
     (exit 3), and tune --from refuses the gains naming it (exit 3)."""
-    rng = np.random.default_rng(3)
-    u = U0 + 5.0 * np.repeat(np.sign(rng.standard_normal(N // 10)), 10)
-    y = Y0 + 0.5 * rng.standard_normal(N)
+    rng = SplitMix64.keyed(3)
+    u = U0 + 5.0 * rng.signs(N, 10)
+    y = Y0 + 0.5 * rng.normal(N)
     path = write(tmp_path / "noise.csv", "t,u,y", rows(np.arange(N) * TS, u, y))
     res = run([*MODEL, path])
     assert res.returncode == 3 and "no_relation" in json.loads(res.stdout)["flags"]

@@ -9,7 +9,7 @@ import pytest
 from scipy import optimize, signal
 
 from pdtref import cost as ref
-from pdtsupport.rng import Lcg32
+from pdtsupport.rng import SplitMix64 as Rng
 from vectorgen import cost as base
 from vectorgen import cost_profile as gen
 
@@ -234,8 +234,8 @@ def test_exact_recovery_on_clean_data(order):
     """Data made by a discrete model with gain 2.5 and an output offset:
     the profile of the unit-gain shape returns both, at zero cost."""
     n, Ts, u0, y0, true_off = 300, 0.1, 5.0, 40.0, 0.75
-    lcg = Lcg32(99)
-    u = u0 + 2.0 * lcg.bits(n, 6)
+    rng = Rng.keyed(99)
+    u = u0 + 2.0 * rng.signs(n, 6)
     m = base.Fopdt(1.0, 1.5, 0.63) if order == 1 else base.Sopdt(1.0, 1.2, 0.8, 0.63)
     dm = base.zoh(m, Ts)
     y = y0 + true_off + 2.5 * signal.lfilter(_bpoly(dm), _apoly(dm), u - u0)

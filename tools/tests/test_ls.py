@@ -8,7 +8,7 @@ import pytest
 from scipy import signal
 
 from pdtref import ls as ref
-from pdtsupport.rng import Lcg32
+from pdtsupport.rng import SplitMix64 as Rng
 from vectorgen import ls as gen
 
 
@@ -81,9 +81,9 @@ def test_eiv_less_biased_over_seeds():
     Ts, n, truth, delay = 1.0, 600, ("fopdt", 2.0, 10.0), 4
     err = {"elms": [], "eiv": []}
     for seed in range(10):
-        u = 40.0 + 5.0 * Lcg32(0x2000 + seed).bits(n, 12)
+        u = 40.0 + 5.0 * Rng.keyed(0x2000 + seed).signs(n, 12)
         y = gen.quantise(350.0 + gen.simulate(truth, delay, u, Ts)
-                         + Lcg32(0x3000 + seed).noise(2.0, n))
+                         + Rng.keyed(0x3000 + seed).noise(2.0, n))
         for method in err:
             _, best = ref.scan(u, y, Ts, 1, method, 0, 20)
             m = best["model"]

@@ -13,12 +13,13 @@ from scipy import signal
 from pdtref import models as M
 from pdtref import pid as P
 from pdtref import tune as T
+from pdtsupport.rng import SplitMix64
 
 
 def _inputs(n, seed=3):
-    rng = np.random.default_rng(seed)
-    sp = np.repeat(rng.uniform(-2, 2, n // 10 + 1), 10)[:n]
-    pv = np.cumsum(rng.uniform(-0.3, 0.3, n))
+    rng = SplitMix64.keyed(seed)
+    sp = np.repeat(rng.uniform(n // 10 + 1, lo=-2.0, hi=2.0), 10)[:n]
+    pv = np.cumsum(rng.uniform(n, lo=-0.3, hi=0.3))
     return sp, pv
 
 

@@ -1,13 +1,12 @@
 """pdtsupport.plant, the tools' plant simulator, against closed forms and
 against itself by its other ways (lsim, the fractional form, the
-first-order recursion), and pdtsupport.rng.Xorshift32's published stream."""
+first-order recursion)."""
 import math
 
 import numpy as np
 import pytest
 
 from pdtsupport import plant
-from pdtsupport.rng import Xorshift32
 
 
 def fine_samples(num, den, L, Ts, sub, u):
@@ -67,10 +66,3 @@ def test_first_order_is_the_fine_fopdt():
     y = plant.first_order(K, math.exp(-Ts / tau), u, l)
     assert np.max(np.abs(y - fine_samples([K], [tau, 1.0], l * Ts, Ts, 1, u))) < 1e-12
 
-
-def test_xorshift32_stream():
-    """Marsaglia (2003): from 2463534242 the first state is 723471715."""
-    r = Xorshift32(2463534242)
-    assert next(r) == (723471715 >> 8) / 2.0 ** 24
-    assert r.state == 723471715
-    assert next(Xorshift32(0)) == next(Xorshift32(1))  # a zero seed is 1

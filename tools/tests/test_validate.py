@@ -9,17 +9,18 @@ from pdtref import discrete as D
 from pdtref import models as M
 from pdtref import tune as T
 from pdtref import validate as V
+from pdtsupport.rng import SplitMix64
 
 
 def record(m, noise, seed, n=400, Ts=0.5):
-    rng = np.random.default_rng(seed)
+    rng = SplitMix64.keyed(seed)
     u = np.zeros(n)
     level = 1.0
     for k in range(10, n):
-        if (k - 10) % 8 == 0 and rng.random() < 0.5:
+        if (k - 10) % 8 == 0 and rng.uniform() < 0.5:
             level = -level
         u[k] = level
-    y = 5.0 + D.simulate(D.zoh(m, Ts), u) + noise * rng.standard_normal(n)
+    y = 5.0 + D.simulate(D.zoh(m, Ts), u) + noise * rng.normal(n)
     return 10.0 + u, y
 
 

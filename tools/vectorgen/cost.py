@@ -24,7 +24,7 @@ import numpy as np
 
 
 from pdtref import cost as ref
-from pdtsupport.rng import Lcg32 as Lcg
+from pdtsupport.rng import SplitMix64 as Rng
 
 from . import _emit
 
@@ -111,9 +111,9 @@ def quantise(x):
 
 
 def _record(name, truth, Ts, n, u0, y0, u, noise, seed, delay_min, delay_max, cands):
-    lcg = Lcg(seed)
+    rng = Rng.keyed(seed)
     u = quantise(u)
-    y = quantise(y0 + simulate_exact(truth, u, u0, Ts) + lcg.noise(noise, n))
+    y = quantise(y0 + simulate_exact(truth, u, u0, Ts) + rng.noise(noise, n))
     return dict(name=name, Ts=Ts, n=n, u0=u0, y0=y0, u=u, y=y,
                 delay_min=delay_min, delay_max=delay_max, cands=cands)
 
@@ -123,9 +123,9 @@ def records():
 
     # FOPDT, step at 1 s then PRBS from 15 s; Td = 12.3 samples.
     n, Ts = 300, 0.1
-    lcg = Lcg(0xC0570001)
+    rng = Rng.keyed(0xC0570001)
     t = np.arange(n)
-    u = 50.0 + np.where(t >= 10, 4.0, 0.0) + np.where(t >= 150, 3.0 * lcg.bits(n, 7), 0.0)
+    u = 50.0 + np.where(t >= 10, 4.0, 0.0) + np.where(t >= 150, 3.0 * rng.signs(n, 7), 0.0)
     truth = Fopdt(2.0, 3.0, 1.23)
     cands = [truth, Fopdt(2.2, 2.4, 1.53), Fopdt(1.8, 3.6, 0.91), Fopdt(2.0, 3.0, 1.2),
              Sopdt(2.0 / 2.5, 1.5 / 2.5 + 0.0, 1.0 / 2.5, 0.87), Fopdt(-1.0, 1.0, 3.02)]
@@ -157,8 +157,8 @@ def records():
 
     # Reverse-acting FOPDT, K = -0.8, tau 5 s, Td 2 s = 4 samples.
     n, Ts = 256, 0.5
-    lcg = Lcg(0xC0570005)
-    u = 30.0 + 5.0 * lcg.bits(n, 9)
+    rng = Rng.keyed(0xC0570005)
+    u = 30.0 + 5.0 * rng.signs(n, 9)
     truth = Fopdt(-0.8, 5.0, 2.0)
     cands = [truth, Fopdt(-0.7, 6.0, 2.3), Fopdt(0.8, 5.0, 2.0),
              Sopdt(-0.8 / 4.0, 1.2 / 4.0 + 0.0, 1.0 / 4.0, 1.6)]

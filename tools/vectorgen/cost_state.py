@@ -44,12 +44,12 @@ DELAY_MAX = 20
 
 
 def _input(n, u0, seed):
-    rng = np.random.default_rng(seed)
+    rng = base.Rng.keyed(seed)
     u = np.full(n, u0)
     k = 0
     while k < n:
-        hold = int(rng.integers(6, 25))
-        u[k:k + hold] = u0 + rng.uniform(-1.0, 1.0)
+        hold = rng.integers(6, 25)
+        u[k:k + hold] = u0 + rng.uniform(lo=-1.0, hi=1.0)
         k += hold
     return base.quantise(u)
 
@@ -59,9 +59,9 @@ def record(entry):
     u_all = _input(CUT + n, u0, seed)
     u_all[:5] = u0
     y_all = base.simulate_exact(truth, u_all, u0, Ts)
-    lcg = base.Lcg(seed)
+    rng = base.Rng.keyed(seed)
     t = np.arange(n) * Ts
-    y = base.quantise(y0 + y_all[CUT:] + ramp * t + lcg.noise(noise, n))
+    y = base.quantise(y0 + y_all[CUT:] + ramp * t + rng.noise(noise, n))
     return dict(name=name, Ts=Ts, n=n, u0=float(u_all[CUT]), y0=y0, u=u_all[CUT:], y=y,
                 shapes=shapes)
 

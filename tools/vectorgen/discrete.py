@@ -17,8 +17,8 @@ The header stores, per case i (DISC_VEC_COUNT of them):
 
 And for simulation and prediction, DISC_SIM_CASES cases (``disc_sim_case``
 indexes the cases above) over DISC_SIM_N samples: ``disc_u`` (pseudo-random
-steps from an integer LCG, in units of 1/64), ``disc_ymeas`` (the simulated
-output plus LCG noise, rounded to float32), ``disc_ysim`` (simulate) and
+steps from splitmix64 integers, in units of 1/64), ``disc_ymeas`` (the simulated
+output plus integer noise, rounded to float32), ``disc_ysim`` (simulate) and
 ``disc_yhat`` (predict from disc_u, disc_ymeas), all computed by the
 reference from the reference coefficients rounded to float32 (the C test
 uses the same rounded coefficients, so it checks simulate/predict alone).
@@ -27,7 +27,7 @@ import numpy as np
 
 from pdtref import discrete as D
 from pdtref import models as M
-from pdtsupport.rng import Lcg32
+from pdtsupport.rng import SplitMix64 as Rng
 
 from . import _emit
 from .model import sweep
@@ -42,9 +42,9 @@ def f32(x):
     return float(np.float32(x))
 
 
-def lcg(seed, count):
-    """`count` integers in [-64, 63] from a 32-bit LCG, top bits of the state."""
-    return Lcg32(seed).ints(count, 25, 64)
+def draws(seed, count):
+    """`count` integers in [-64, 63]: the top 7 bits of splitmix64, less 64."""
+    return Rng.keyed(seed).bits(7, count, 64)
 
 
 def with_td(m, Td):
@@ -97,11 +97,11 @@ def generate():
         d = discs[ci]
         d32 = D.Discrete(d.delay, d.order, tuple(f32(v) for v in d.a),
                          tuple(f32(v) for v in d.b))
-        u = np.array(lcg(0xD15C0000 + n_case, SIM_N), dtype=float) / 64.0
+        u = np.array(draws(0xD15C0000 + n_case, SIM_N), dtype=float) / 64.0
         # hold each value for 8 samples so the output moves
         u = np.repeat(u[::8], 8)[:SIM_N]
         ysim = D.simulate(d32, u)
-        noise = np.array(lcg(0xA0153000 + n_case, SIM_N), dtype=float) / 64.0
+        noise = np.array(draws(0xA0153000 + n_case, SIM_N), dtype=float) / 64.0
         scale = max(np.max(np.abs(ysim)), 1e-3)
         ymeas = np.array([f32(v) for v in ysim + 0.01 * scale * noise])
         yhat = D.predict(d32, u, ymeas)

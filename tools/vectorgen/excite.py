@@ -12,7 +12,7 @@ pdt_excite_length returns). The relay cases also have ``exc_relay`` rows
 (one clamped), a pulse train, the paper's chirp (0 to 0.5 Hz at 20 Hz) and a
 clamped chirp, PRBS of 5, 9 (clamped) and 31 bits, two relays (reverse
 acting with hysteresis; direct acting with bias and a clamped level) on
-process values from an integer LCG on a 1/64 grid so that every switching
+process values from splitmix64 integers on a 1/64 grid so that every switching
 comparison is exact in float and double.
 
 excite_record_vectors.h, REC_CASES recorder cases: ``rec_par`` rows, scan
@@ -30,7 +30,7 @@ import numpy as np
 
 from pdtref import excite as E
 from pdtsupport import plant
-from pdtsupport.rng import Lcg32
+from pdtsupport.rng import SplitMix64 as Rng
 
 from . import _emit
 
@@ -46,9 +46,9 @@ REC_FIELDS = ["decimation", "settle", "settle_band", "u_min", "u_max", "pv_min",
 BIG = 1e30  # stands for "no limit" in the vectors (finite, fits a float)
 
 
-def lcg(seed, count):
-    """`count` integers in [0, 255] from a 32-bit LCG (top byte of the state)."""
-    return Lcg32(seed).ints(count, 24)
+def draws(seed, count):
+    """`count` integers in [0, 255]: the top byte of splitmix64."""
+    return Rng.keyed(seed).bits(8, count)
 
 
 def grid(x):
@@ -79,7 +79,7 @@ def exc_cases():
     # reverse-acting relay: pv oscillates around 20 with period 37 samples
     n = 400
     k = np.arange(n)
-    noise = (np.array(lcg(0x5E1A0001, n)) - 127.5) / 128.0
+    noise = (np.array(draws(0x5E1A0001, n)) - 127.5) / 128.0
     pv = grid(20.0 + 1.5 * np.sin(2 * math.pi * k / 37.0 + 0.3) + 0.1 * noise)
     cs.append((C(kind=E.RELAY, Ts=0.25, u0=50.0, d=10.0, eps=0.25, setpoint=20.0, pre=1.0,
                  u_min=0.0, u_max=100.0), n, pv))
@@ -87,7 +87,7 @@ def exc_cases():
     n = 300
     k = np.arange(n)
     tri = 2.0 * np.abs(((k + 5) % 29) / 29.0 - 0.5) - 0.5
-    noise = (np.array(lcg(0x5E1A0002, n)) - 127.5) / 128.0
+    noise = (np.array(draws(0x5E1A0002, n)) - 127.5) / 128.0
     pv = grid(-3.0 + 4.0 * tri + 0.05 * noise)
     cs.append((C(kind=E.RELAY, Ts=2.0, u0=50.0, bias=5.0, d=30.0, eps=0.125, setpoint=-3.0,
                  action=E.DIRECT, u_min=0.0, u_max=80.0, clamp=True, relay_skip=0,
@@ -117,7 +117,7 @@ def rec_cases():
         """Scans of a first-order response to a step of u at scan k_step."""
         u = np.where(np.arange(m) >= k_step, u1, u0)
         y = y0 + plant.first_order(gain, math.exp(-1.0 / 15.0), u - u0)
-        nz = (np.array(lcg(seed, m)) - 127.5) / 128.0
+        nz = (np.array(draws(seed, m)) - 127.5) / 128.0
         return u, grid(y + noise * nz)
 
     # 0: decimation 4, settle 5, full record of 30 samples; stream goes on
@@ -128,7 +128,7 @@ def rec_cases():
     # 1: settle window restarts while pv drifts, then steadies
     m = 80
     drift = np.concatenate([np.linspace(5.0, 6.0, 20), np.full(m - 20, 6.0)])
-    nz = (np.array(lcg(0x5EC00001, m)) - 127.5) / 128.0
+    nz = (np.array(draws(0x5EC00001, m)) - 127.5) / 128.0
     y = grid(drift + 0.02 * nz)
     u = np.full(m, 12.0)
     u[50:] = 14.0

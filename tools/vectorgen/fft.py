@@ -1,7 +1,7 @@
 """Test vectors of the real FFT (lib/src/pdt_fft.c) from numpy.fft.rfft.
 
 For each size in SIZES the input is n pseudo-random integers q in
-[-4096, 4095] from the LCG below, and the signal is x = q / 4096: exactly
+[-4096, 4095] from splitmix64 (draws below), and the signal is x = q / 4096: exactly
 representable in float, so both C builds transform the same numbers numpy
 does. The header stores
 
@@ -16,7 +16,7 @@ sizes, 8192 included), so the C test needs no copy of the generator.
 """
 import numpy as np
 
-from pdtsupport.rng import Lcg32
+from pdtsupport.rng import SplitMix64 as Rng
 
 from . import _emit
 
@@ -25,11 +25,10 @@ DENOM = 4096
 FILE = "fft_vectors.h"
 
 
-def lcg(seed, count):
-    """`count` integers in [-4096, 4095] from a 32-bit LCG (Numerical
-    Recipes constants), taking the 13 top bits of each state. Plain Python
-    integers, so the stream never depends on the numpy version."""
-    return Lcg32(seed).ints(count, 19, DENOM)
+def draws(seed, count):
+    """`count` integers in [-4096, 4095]: the 13 top bits of splitmix64
+    (pdtsupport.rng), less 4096."""
+    return Rng.keyed(seed).bits(13, count, DENOM)
 
 
 def seed_for(n):
@@ -39,7 +38,7 @@ def seed_for(n):
 
 def signal(n):
     """The integers q and the float64 signal q / DENOM for size n."""
-    q = lcg(seed_for(n), n)
+    q = draws(seed_for(n), n)
     return q, np.asarray(q, dtype=np.float64) / DENOM
 
 
@@ -73,7 +72,7 @@ def generate():
     for n in SIZES:
         q, x = signal(n)
         spectrum = np.fft.rfft(x)
-        body.append(f"/* n = {n}, LCG seed {seed_for(n):#x} */\n")
+        body.append(f"/* n = {n}, seed {seed_for(n):#x} */\n")
         body.append(_emit.int_array("int16_t", f"fft_q_{n}", q))
         body.append(_emit.array("double", f"fft_spec_{n}", pack(spectrum)))
         body.append(_emit.array("double", f"fft_mag_{n}", np.abs(spectrum)))

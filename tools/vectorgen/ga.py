@@ -19,7 +19,7 @@ are the reference's float64 results. The header stores
 import numpy as np
 
 from pdtref import ga
-from pdtsupport.rng import Xorshift32
+from pdtsupport.rng import SplitMix64
 
 from . import _emit
 
@@ -94,6 +94,13 @@ def float_bounds():
     return [(f32(lo), f32(hi)) for lo, hi in BOUNDS]
 
 
+def uniforms24(seed):
+    """An endless iterator of uniform floats in [0, 1) from the top 24 bits
+    of splitmix64: exact in float32, so a rounded draw never reaches 1."""
+    rng = SplitMix64.keyed(seed)
+    return iter(lambda: rng.bits(24) / float(1 << 24), None)
+
+
 def sbx_part():
     bounds = float_bounds()
     p1s, p2s, grid = [], [], []
@@ -106,7 +113,7 @@ def sbx_part():
                 c1, c2 = ga.sbx(p1, p2, lo, hi, eta, np.array(U_GRID))
                 for x1, x2 in zip(c1, c2):
                     grid += [x1, x2]
-    rand = Xorshift32(0x5B7)
+    rand = uniforms24(0x5B7)
     rows = []
     for _ in range(RANDOM_CASES):
         lo = f32(-10 + 10 * next(rand))
@@ -142,7 +149,7 @@ def mutation_part():
             xs.append(x)
             for eta in ETAS:
                 grid += [float(v) for v in ga.mutate(x, lo, hi, eta, np.array(MUT_U))]
-    rand = Xorshift32(0xA11CE)
+    rand = uniforms24(0xA11CE)
     rows = []
     for _ in range(RANDOM_CASES):
         lo = f32(-10 + 10 * next(rand))
@@ -170,7 +177,7 @@ SHARE_CASES = ((1, 2, 0.3, 1.0, "rand"), (2, 1, 0.5, 1.0, "same"), (5, 3, 0.4, 1
 
 
 def share_part():
-    rand = Xorshift32(0x5A4E)
+    rand = uniforms24(0x5A4E)
     genes, los, his, costs, shared = [], [], [], [], []
     for n, g, sigma, alpha, layout in SHARE_CASES:
         lo = np.array([f32(-3 + 3 * next(rand)) for _ in range(g)])

@@ -29,7 +29,7 @@ from pdtref import pid as P
 from pdtref import tune as T
 
 from . import _emit
-from pdtsupport.rng import Lcg32 as Lcg
+from pdtsupport.rng import SplitMix64 as Rng
 
 FILE = "pid_vectors.h"
 STEPS = 80
@@ -50,13 +50,13 @@ def cfg32(**kw):
 
 def scenarios():
     """(name, cfg, cfg2, u0, ops); ops a list of (op, sp, pv, u)."""
-    lcg = Lcg(20240611)
+    rng = Rng.keyed(20240611)
     out = []
 
     def walk(n, scale, start=0.0):
         x, v = start, []
         for _ in range(n):
-            x += scale * (lcg.uniform() - 0.5)
+            x += scale * (rng.uniform() - 0.5)
             v.append(f32(x))
         return v
 

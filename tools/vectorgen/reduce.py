@@ -6,7 +6,7 @@ pole pair, are outside the reduction's input form of real lags); cases
 built to take each left-half-plane zero rule (T1, T1a, T1b, T2, T3 with and
 without the 5 theta clamp) for a FOPDT and a SOPDT; models that have no
 result (a SOPDT from one lag, a zero without a lag to cancel, no phase
-crossover); and pseudo-random models from a small LCG. Every number is
+crossover); and pseudo-random models from splitmix64. Every number is
 rounded to float32 first so that both C builds see what the reference saw;
 random cases whose rule comparisons come within 1e-3 of a tie are skipped, so
 float and double rounding take the same branches.
@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from pdtref import reduce as R
-from pdtsupport.rng import Lcg32
+from pdtsupport.rng import SplitMix64 as Rng
 
 from . import _emit
 
@@ -46,15 +46,15 @@ def plant(k, lags, zeros=(), theta0=0.0):
                    f32(theta0))
 
 
-def lcg(seed):
-    """Numerical Recipes 32-bit LCG: uniform floats in [0, 1)."""
-    rng = Lcg32(seed)
+def uniforms(seed):
+    """splitmix64 uniform floats in [0, 1)."""
+    rng = Rng.keyed(seed)
     while True:
         yield rng.uniform()
 
 
 def random_cases(count, seed=12345):
-    rnd = lcg(seed)
+    rnd = uniforms(seed)
     out = []
     while len(out) < count:
         n = 2 + int(next(rnd) * 5)

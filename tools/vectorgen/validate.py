@@ -20,7 +20,7 @@ from pdtref import tune as T
 from pdtref import validate as V
 
 from . import _emit
-from pdtsupport.rng import Lcg32 as Lcg
+from pdtsupport.rng import SplitMix64 as Rng
 
 FILE = "validate_vectors.h"
 N = 300
@@ -33,8 +33,8 @@ def f32(x):
 
 
 def record(seed, plants, noise):
-    r = Lcg(seed)
-    u = np.concatenate([np.zeros(10), r.bits(N - 10, 8)])
+    r = Rng.keyed(seed)
+    u = np.concatenate([np.zeros(10), r.signs(N - 10, 8)])
     u = f32(10.0 + u)
     du = u - u[0]
     y = 5.0 + sum(D.simulate(D.zoh(p, TS), du) for p in plants) + r.noise(noise, N)

@@ -36,8 +36,7 @@ def driver():
 
 
 def input_signal():
-    rng = np.random.default_rng(3)
-    return np.concatenate([np.zeros(20), rng.choice([-1.0, 1.0], 150).repeat(3)])
+    return np.concatenate([np.zeros(20), bl.Rng.keyed(3).signs(450, 3)])
 
 
 @pytest.mark.parametrize("tau", [0.03, 0.5, 3.0, 200.0])
@@ -113,7 +112,7 @@ def test_verdict_tells_a_wrong_basin():
     du = input_signal()
     truth = models.Fopdt(2.0, 3.0, 1.23)
     u = 40.0 + 10.0 * du
-    y = 350.0 + bl.simulate(truth, Ts, 10.0 * du) + 0.05 * np.random.default_rng(1).standard_normal(du.size)
+    y = 350.0 + bl.simulate(truth, Ts, 10.0 * du) + 0.05 * bl.Rng.keyed(1).normal(du.size)
     right = {"seed": 1, "status": 0, "flags": 0, "model": "fopdt", "K": 2.0, "tau": 3.0,
              "Td": 1.23, "fit": 99.0, "evaluations": 1000}
     wrong = dict(right, tau=30.0, Td=0.2)
@@ -132,7 +131,7 @@ def test_reference_of_a_previous_run():
     du = input_signal()
     truth = models.Fopdt(2.0, 3.0, 1.23)
     u = 40.0 + 10.0 * du
-    y = 350.0 + bl.simulate(truth, Ts, 10.0 * du) + 0.05 * np.random.default_rng(1).standard_normal(du.size)
+    y = 350.0 + bl.simulate(truth, Ts, 10.0 * du) + 0.05 * bl.Rng.keyed(1).normal(du.size)
     right = {"seed": 1, "status": 0, "flags": 0, "model": "fopdt", "K": 2.0, "tau": 3.0,
              "Td": 1.23, "fit": 99.0, "evaluations": 1000}
     key = ("bench", 0, 1)
@@ -167,7 +166,7 @@ def test_reference_cache(tmp_path, monkeypatch):
     du = input_signal()
     truth = models.Fopdt(2.0, 3.0, 1.23)
     u = 40.0 + 10.0 * du
-    y = 350.0 + bl.simulate(truth, Ts, 10.0 * du) + 0.05 * np.random.default_rng(1).standard_normal(du.size)
+    y = 350.0 + bl.simulate(truth, Ts, 10.0 * du) + 0.05 * bl.Rng.keyed(1).normal(du.size)
     first = bl.Reference(u, y, Ts, "fopdt")
     fitted = first.fit()
     assert len(list(tmp_path.glob("*/*.json"))) == 1
