@@ -10,6 +10,7 @@
  * and every bad-input status with outputs left untouched.
  */
 #include "pdt_cost_engine.h"
+#include "sim_rng.h"
 #include "test_util.h"
 
 #include "cost_accuracy_vectors.h"
@@ -401,24 +402,17 @@ static pdt_real_t g_ay[CAV_NMAX];
 static pdt_real_t g_awork[2u * CAV_NMAX];
 static pdt_real_t g_ascratch[CAV_NMAX];
 
-/* The next state of the stream tools/vectorgen/cost_accuracy.py made the
- * references' records with (pdtsupport.rng.Lcg32, Numerical Recipes' 32-bit
- * LCG): the C side of the vectors' generator, which changes with it. */
-static uint32_t cav_next(uint32_t *st)
-{
-    *st = *st * 1664525u + 1013904223u;
-    return *st;
-}
-
 /* The record of a case, rebuilt with the generator's double arithmetic. */
 static void cav_record(const cav_case_t *v)
 {
-    uint32_t st = v->seed;
+    /* The stream tools/vectorgen/cost_accuracy.py made the references'
+     * records with. */
+    sim_rng64_t st = sim_rng64_seed(v->seed);
     double x = 0.0;
     static double ud[CAV_NMAX];
     assert_true(v->n <= CAV_NMAX);
     for (size_t k = 0; k < v->n; k += v->hold) {
-        double level = ((double)cav_next(&st) / 4294967296.0 < 0.5) ? 1.0 : -1.0;
+        double level = (sim_rng64_uniform(&st) < 0.5) ? 1.0 : -1.0;
         for (size_t j = k; j < k + v->hold && j < v->n; j++) {
             ud[j] = level;
         }
@@ -426,7 +420,7 @@ static void cav_record(const cav_case_t *v)
     for (size_t k = 0; k < v->n; k++) {
         double sum = 0.0;
         for (int i = 0; i < 4; i++) {
-            sum += (double)cav_next(&st) / 4294967296.0;
+            sum += sim_rng64_uniform(&st);
         }
         double noise = v->amp * (sum - 2.0);
         double uin = (k >= 1u + CAV_PLANT_L) ? ud[k - 1u - CAV_PLANT_L] : 0.0;

@@ -8,15 +8,11 @@ version.
 The state after k draws is seed + k * GAMMA mod 2^64, each output a mix
 of it; an array of n draws is therefore computed at once, and equals n
 scalar draws (tools/tests/test_rng.py).
-
-Lcg32, sim_rng_*'s 32-bit LCG, remains only for the two records a C
-program rebuilds with that stream (see its docstring).
 """
 import math
 
 import numpy as np
 
-MASK32 = 0xFFFFFFFF
 MASK64 = 2 ** 64 - 1
 GAMMA = 0x9E3779B97F4A7C15
 MIX1 = 0xBF58476D1CE4E5B9
@@ -113,46 +109,3 @@ class SplitMix64:
         amp (std amp / sqrt(3), never beyond 2 amp)."""
         u = self.uniform(4 * count).reshape(count, 4)
         return amp * (u[:, 0] + u[:, 1] + u[:, 2] + u[:, 3] - 2.0)
-
-
-class Lcg32:
-    """The 32-bit LCG of sim_rng_* (state <- 1664525 state + 1013904223 mod
-    2^32), kept only for the two records whose C side rebuilds them with it:
-    the paper reproduction's demo noise (tools/repro/system17.py) and the
-    cost accuracy vectors (tools/vectorgen/cost_accuracy.py)."""
-
-    def __init__(self, seed):
-        self.state = seed & MASK32
-
-    def next(self):
-        """The next state, an integer in [0, 2^32)."""
-        self.state = (1664525 * self.state + 1013904223) & MASK32
-        return self.state
-
-    def uniform(self):
-        """In [0, 1): the state over 2^32."""
-        return self.next() / 4294967296.0
-
-    def uniform24(self):
-        """In [0, 1): the top 24 bits (sim_rng_uniform)."""
-        return (self.next() >> 8) / 16777216.0
-
-    def normal12(self):
-        """Approximately standard normal: twelve uniform24 draws, centred
-        (sim_rng_normal)."""
-        total = 0.0
-        for _ in range(12):
-            total += self.uniform24()
-        return total - 6.0
-
-    def noise(self, amp, count):
-        """Sums of four uniforms, centred: bell-shaped, std amp / sqrt(3)."""
-        return np.array([amp * (sum(self.uniform() for _ in range(4)) - 2.0)
-                         for _ in range(count)])
-
-    def bits(self, count, hold):
-        """+-1 PRBS-like sequence, each level held for `hold` samples."""
-        out = []
-        while len(out) < count:
-            out.extend([1.0 if self.uniform() < 0.5 else -1.0] * hold)
-        return np.array(out[:count])

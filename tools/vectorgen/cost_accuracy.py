@@ -4,10 +4,10 @@ pdtref.cost, over record lengths up to 10^4 samples and data scales from
 1e-30 to 1e30.
 
 The records are not stored: each is rebuilt by the C test from a few
-numbers with the same double arithmetic (no fused operations): an LCG
-(pdtsupport.rng.Lcg32) draws a +-1 input held `hold` samples, a first-order
-plant x(k) = a x(k-1) + b u(k-1-l) runs on it in double, LCG noise (sums
-of four uniforms) is added, and both signals are mapped to su u + uoff and
+numbers with the same double arithmetic (no fused operations): splitmix64
+(pdtsupport.rng.SplitMix64, sim_rng64 in C) draws a +-1 input held `hold`
+samples, a first-order plant x(k) = a x(k-1) + b u(k-1-l) runs on it in
+double, noise (sums of four uniforms) is added, and both signals are mapped to su u + uoff and
 sy y + yoff and rounded to float32. The reference works on those float32
 values, so what is measured is the arithmetic of the float build, not the
 rounding of its data. Per record three unit-gain shapes are profiled: a
@@ -20,7 +20,7 @@ from pdtref import cost as ref
 
 from . import _emit
 from pdtsupport import plant
-from pdtsupport.rng import Lcg32 as Lcg
+from pdtsupport.rng import SplitMix64
 from . import cost as base
 
 FILE = "cost_accuracy_vectors.h"
@@ -30,20 +30,22 @@ PLANT_TAU = 6.0
 PLANT_L = 3
 PLANT_K = 1.7
 
-# n, seed, hold, noise amplitude, su, sy, uoff/su, yoff/sy
+# n, seed, hold, noise amplitude, su, sy, uoff/su, yoff/sy. The seeds are
+# 10^6 apart: the stream of seed s + 1 is that of s one draw on, and a
+# record draws at most about 41 000.
 CASES = (
-    (300, 11, 17, 0.02, 1.0, 1.0, 3.0, -2.0),
-    (2000, 12, 37, 0.02, 1.0, 1.0, 3.0, 5.0),
-    (10000, 13, 53, 0.005, 1.0, 1.0, 0.5, 20.0),
-    (2000, 14, 29, 1e-4, 1.0, 1.0, 1.0, 1.0),
-    (2000, 15, 37, 0.02, 1e-30, 1e-30, 3.0, 5.0),
-    (2000, 16, 37, 0.02, 1e-12, 1e-12, 3.0, 5.0),
-    (2000, 17, 37, 0.02, 1e12, 1e12, 3.0, 5.0),
-    (2000, 18, 37, 0.02, 1e30, 1e30, 3.0, 5.0),
-    (10000, 19, 53, 0.005, 1e-30, 1e-30, 0.5, 20.0),
-    (10000, 20, 53, 0.005, 1e30, 1e30, 0.5, 20.0),
-    (2000, 21, 37, 0.02, 1e-10, 1e10, 3.0, 5.0),
-    (2000, 22, 37, 0.02, 1e10, 1e-10, 3.0, 5.0),
+    (300, 11000000, 17, 0.02, 1.0, 1.0, 3.0, -2.0),
+    (2000, 12000000, 37, 0.02, 1.0, 1.0, 3.0, 5.0),
+    (10000, 13000000, 53, 0.005, 1.0, 1.0, 0.5, 20.0),
+    (2000, 14000000, 29, 1e-4, 1.0, 1.0, 1.0, 1.0),
+    (2000, 15000000, 37, 0.02, 1e-30, 1e-30, 3.0, 5.0),
+    (2000, 16000000, 37, 0.02, 1e-12, 1e-12, 3.0, 5.0),
+    (2000, 17000000, 37, 0.02, 1e12, 1e12, 3.0, 5.0),
+    (2000, 18000000, 37, 0.02, 1e30, 1e30, 3.0, 5.0),
+    (10000, 19000000, 53, 0.005, 1e-30, 1e-30, 0.5, 20.0),
+    (10000, 20000000, 53, 0.005, 1e30, 1e30, 0.5, 20.0),
+    (2000, 21000000, 37, 0.02, 1e-10, 1e10, 3.0, 5.0),
+    (2000, 22000000, 37, 0.02, 1e10, 1e-10, 3.0, 5.0),
 )
 
 SHAPES = (
@@ -58,8 +60,8 @@ def record(n, seed, hold, amp, su, sy, uoff, yoff):
     double, then scaled and rounded)."""
     a = float(np.exp(-TS / PLANT_TAU))
     b = PLANT_K * (1.0 - a)
-    rng = Lcg(seed)
-    u = rng.bits(n, hold)
+    rng = SplitMix64(seed)
+    u = rng.signs(n, hold)
     noise = rng.noise(amp, n)
     y = plant.first_order(PLANT_K, a, u, PLANT_L) + noise
     us = np.float32(su * u + uoff * su).astype(np.float64)
