@@ -74,9 +74,11 @@ def host_counts(tree, defs, work):
 def cm4_counts(tree, defs, work):
     elf = work / "kernel_cm4.elf"
     port = ROOT / "port" / "cm4-mps2"
+    common = ROOT / "port" / "common"  # the target ports' shared report and stack paint
     subprocess.run(["arm-none-eabi-gcc", *CM4, "-Os", "-std=c99", *defs, *includes(tree),
-                    "-I" + str(port), *sources(tree), str(port / "startup_mps2_an386.c"),
-                    str(port / "pdt_port_cm4.c"), str(PROGRAM), "-T" + str(port / "mps2_an386.ld"),
+                    "-I" + str(port), "-I" + str(common), *sources(tree),
+                    str(port / "startup_mps2_an386.c"), str(port / "pdt_port_cm4.c"),
+                    *sorted(str(f) for f in common.glob("*.c")), str(PROGRAM), "-T" + str(port / "mps2_an386.ld"),
                     "-L" + str(port), "-nostartfiles", "--specs=nano.specs", "-Wl,--gc-sections",
                     "-lm", "-o", str(elf)], check=True)
     run = subprocess.run([*QEMU, str(elf)], capture_output=True, text=True, timeout=600)

@@ -17,7 +17,9 @@
 #include <stdint.h>
 
 #include "pdt/pdt.h"
+#ifndef KB_BASELINE /* the baseline predates the engine's private header */
 #include "pdt_cost_engine.h"
+#endif
 #include "pdt_port.h"
 #include "sim_rng.h"
 

@@ -92,26 +92,33 @@ def generate():
               "    double cost[CAV_NSHAPE];  /* reference, engineering units */",
               "    double gain[CAV_NSHAPE];",
               "    double offset[CAV_NSHAPE];",
+              "    double gain_scale[CAV_NSHAPE]; /* max |y - y0| / max |unit-gain shape's output| */",
               "    double yrange;            /* max |y - y0|, the scale of offsets */",
               "} cav_case_t;", "",
               f"static const cav_case_t cav_cases[{len(CASES)}] = {{"]
     for n, seed, hold, amp, su, sy, uo, yo in CASES:
         a, b, u, y = record(n, seed, hold, amp, su, sy, uo, yo)
         u0, y0 = float(u[0]), float(y[0])
-        res = []
+        yrange = float(np.max(np.abs(y - y0)))
+        res, scales = [], []
         for m in SHAPES:
             dm = base.zoh(m, TS)
             r = ref.profile(u, y, m, dm, TS, "simulation", u0=u0, y0=y0, delay_max=DELAY_MAX,
                             estimate_offset=True, whole_record=True)
             res.append(r)
+            # The gain that spans the output range with this shape: a
+            # gain's error is measured against it (or the gain, if larger),
+            # as the offset's against the range: a shape that does not fit
+            # gets a gain near 0, whose relative error means nothing.
+            scales.append(yrange / float(np.max(np.abs(ref.simulation_output(u, dm, u0)))))
         num = _emit.num
         lines.append(
             f"    {{{n}u, {seed}u, {hold}u, {num(amp)}, {num(su)}, {num(sy)}, {num(uo * su)}, "
             f"{num(yo * sy)}, {num(a)}, {num(b)}, {num(u0)}, {num(y0)},\n"
             f"     {{{', '.join(num(r['cost']) for r in res)}}},\n"
             f"     {{{', '.join(num(r['gain']) for r in res)}}},\n"
-            f"     {{{', '.join(num(r['offset']) for r in res)}}}, "
-            f"{num(float(np.max(np.abs(y - y0))))}}},")
+            f"     {{{', '.join(num(r['offset']) for r in res)}}},\n"
+            f"     {{{', '.join(num(s) for s in scales)}}}, {num(yrange)}}},")
     lines.append("};")
     body = "\n".join(lines) + "\n"
     return {FILE: _emit.header(FILE, body, "tools/vectorgen/cost_accuracy.py")}
