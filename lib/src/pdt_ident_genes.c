@@ -176,6 +176,21 @@ void pdt_ident_shape(const pdt_ident_t *c, const pdt_real_t *g, pdt_model_t *m)
     pdt_model_from_view(c->cfg.model, &v, m);
 }
 
+/* K times the shape's static gain scale num / den. Where num / den falls
+ * below the normal range (a SOPDT shape whose b is tiny beside its
+ * numerator) it keeps a few digits only, and the bound with them: then
+ * the quotient is formed 2^64 times larger, and the product scaled back,
+ * exactly unless it is itself below the normal range. */
+static pdt_real_t gain_bound(pdt_real_t K, pdt_real_t num, pdt_real_t den)
+{
+    const pdt_real_t q = num / den;
+    if (!(pdt_fabs(q) < PDT_REAL_MIN_NORMAL)) {
+        return K * q;
+    }
+    const pdt_real_t up = PDT_R(18446744073709551616.0); /* 2^64 */
+    return (K * ((num * up) / den)) / up;
+}
+
 void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t *lo,
                            pdt_real_t *hi)
 {
@@ -184,9 +199,10 @@ void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_r
         *hi = PDT_R(0.0);
         return;
     }
-    const pdt_real_t scale = pdt_model_static_gain_scale(shape);
-    *lo = c->cfg.K_min * scale;
-    *hi = c->cfg.K_max * scale;
+    pdt_real_t num, den;
+    pdt_model_static_gain_ratio(shape, &num, &den);
+    *lo = gain_bound(c->cfg.K_min, num, den);
+    *hi = gain_bound(c->cfg.K_max, num, den);
     if (*lo == PDT_R(0.0) && *hi == PDT_R(0.0)) {
         /* Bounds the shape's gain unit scales below the real type's range
          * (a SOPDT whose b underflows): 0, 0 would tell the cost there is

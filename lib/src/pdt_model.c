@@ -621,13 +621,16 @@ bool pdt_model_integrates(const pdt_model_t *m)
     return false;
 }
 
-pdt_real_t pdt_model_static_gain_scale(const pdt_model_t *m)
+void pdt_model_static_gain_ratio(const pdt_model_t *m, pdt_real_t *num, pdt_real_t *den)
 {
+    *num = PDT_R(1.0);
+    *den = PDT_R(1.0);
     switch (m->kind) {
     case PDT_MODEL_FOPDT:
-        return PDT_R(1.0);
+        break;
     case PDT_MODEL_SOPDT:
-        return (m->p.sopdt.b > PDT_R(0.0) ? m->p.sopdt.b : m->p.sopdt.a) / m->p.sopdt.k;
+        *num = m->p.sopdt.b > PDT_R(0.0) ? m->p.sopdt.b : m->p.sopdt.a;
+        *den = m->p.sopdt.k;
+        break;
     }
-    return PDT_R(1.0);
 }

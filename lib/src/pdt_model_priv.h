@@ -119,13 +119,15 @@ void pdt_model_scale_gain(pdt_model_t *m, pdt_real_t g);
  * b = 0). */
 bool pdt_model_integrates(const pdt_model_t *m);
 
-/* The factor that turns a static gain into the model's gain numerator:
- * the numerator per unit of DC gain, or of integrating gain Ki for a
- * model that integrates, divided by the numerator itself. 1 for a FOPDT
- * (K is its DC gain), (b, or a for an integrator) / k for a SOPDT
- * (K = k / b, Ki = k / a). Gain bounds given as static gains times it
- * bound the multiplier of a shape's numerator. */
-pdt_real_t pdt_model_static_gain_scale(const pdt_model_t *m);
+/* The factor num / den that turns a static gain into the multiplier of
+ * the model's gain numerator: the numerator per unit of DC gain, or of
+ * integrating gain Ki for a model that integrates, over the numerator
+ * itself. 1 / 1 for a FOPDT (K is its DC gain), (b, or a for an
+ * integrator) / k for a SOPDT (K = k / b, Ki = k / a). Gain bounds given as
+ * static gains times it bound the multiplier of a shape's numerator; the
+ * two parts come apart so that the caller can keep the quotient within
+ * the real type's normal range. */
+void pdt_model_static_gain_ratio(const pdt_model_t *m, pdt_real_t *num, pdt_real_t *den);
 
 /* Whether a model of the kind can integrate (a SOPDT with b = 0): the
  * identification's integrating check applies to it. */

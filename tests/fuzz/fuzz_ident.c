@@ -205,9 +205,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     if (cfg.model == PDT_MODEL_SOPDT && r.model.p.sopdt.b > (pdt_real_t)0.0) {
         /* zeta = a / (2 sqrt(b)) at least zeta_min, where b is a normal
-         * number (below, b = h h has lost the digits that tell). */
+         * number of the real type (below, b = h h has lost the digits that
+         * tell; a float's subnormal is a normal double, so the test is on
+         * the real type itself). */
         const pdt_model_sopdt_t *p = &r.model.p.sopdt;
-        if (isnormal((double)p->b) && isnormal((double)p->a)) {
+        if (isnormal(p->b) && isnormal(p->a)) {
             const double zeta = (double)p->a / (2.0 * sqrt((double)p->b));
             FZ_CHECK(zeta >= (double)cfg.zeta_min * (1.0 - 1e-6));
         }
