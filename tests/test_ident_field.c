@@ -5,7 +5,8 @@
  * historian's bad-value marker at two places and a ten-sample dropout to
  * 0, in FOPDT and SOPDT records with noise, leave the model within 2 % in
  * the gain and 5 % in the time constant of the clean record's; 1 % of
- * isolated bad samples too; more than the bound is refused with
+ * isolated bad samples too, whether or not the population's part of the
+ * workspace holds the screen's state; more than the bound is refused with
  * PDT_ERR_OUTLIER naming the first; a clean record's answer is the same
  * with and without the screen, bit for bit; the CONTROL weighting finds
  * its band again after the screen's restart.
@@ -154,6 +155,36 @@ static void test_isolated_share(void **state)
         assert_near_clean("1 % isolated", &clean, &r);
         for (size_t i = 0; i < 6u; i++) {
             assert_int_equal(r.excluded_first[i], at[i]);
+        }
+        memcpy(g_y, g_clean, sizeof g_y);
+    }
+}
+
+/* The screen's running median and median run in blocks whose state lies
+ * in the population's part of the workspace; a population too small to
+ * hold it (4) runs each whole in one step. Both leave out the same
+ * isolated markers. */
+static void test_screen_state_room(void **state)
+{
+    static const size_t at[] = {41u, 97u, 188u, 305u, 444u, 570u};
+    static const uint32_t pops[] = {4u, 40u};
+    (void)state;
+    for (size_t m = 0; m < 2u; m++) {
+        const pdt_model_t t = truth(KINDS[m]);
+        record(&t, 0.05, 12u);
+        for (size_t i = 0; i < 6u; i++) {
+            g_y[at[i]] = (pdt_real_t)(i % 2u == 0u ? 9999.0 : -50.0);
+        }
+        for (size_t p = 0; p < 2u; p++) {
+            pdt_ident_config_t cfg;
+            pdt_ident_result_t r;
+            pdt_ident_config_default(&cfg);
+            cfg.population = pops[p];
+            assert_int_equal(run(KINDS[m], &cfg, &r), PDT_OK);
+            assert_int_equal(r.excluded, 6u);
+            for (size_t i = 0; i < 6u; i++) {
+                assert_int_equal(r.excluded_first[i], at[i]);
+            }
         }
         memcpy(g_y, g_clean, sizeof g_y);
     }
@@ -527,6 +558,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_markers_and_dropout),
         cmocka_unit_test(test_isolated_share),
+        cmocka_unit_test(test_screen_state_room),
         cmocka_unit_test(test_missing),
         cmocka_unit_test(test_control_after_restart),
         cmocka_unit_test(test_beyond_bound),

@@ -979,7 +979,9 @@ static const plan_t PLAN[PH_COUNT] PDT_ROM = {
                     {OUT_SKIPPED, PH_DONE, 0u},
                     {OUT_DONE, PH_SCREEN_HIGH, 0u}}},
     [PH_REFIT] = {0u, {{OUT_DONE, PH_PREPARE, 0u}, {OUT_FAILED, PH_DONE, 0u}}},
-    [PH_SCREEN_HIGH] = {HEAVY, {{OUT_DONE, PH_SCREEN_BOUND, 0u}}},
+    [PH_SCREEN_HIGH] = {HEAVY, {{OUT_AGAIN, PH_SCREEN_HIGH, 0u}, {OUT_DONE, PH_SCREEN_MEDIAN, 0u}}},
+    [PH_SCREEN_MEDIAN] = {HEAVY,
+                          {{OUT_AGAIN, PH_SCREEN_MEDIAN, 0u}, {OUT_DONE, PH_SCREEN_BOUND, 0u}}},
     [PH_SCREEN_BOUND] = {HEAVY,
                          {{OUT_SKIPPED, PH_DONE, 0u},
                           {OUT_FAILED, PH_DONE, 0u},
@@ -1136,6 +1138,8 @@ static pdt_ident_outcome_t run_answer(pdt_ident_t *c)
         return state_refit(c);
     case PH_SCREEN_HIGH:
         return pdt_ident_screen_high(c);
+    case PH_SCREEN_MEDIAN:
+        return pdt_ident_screen_median(c);
     case PH_SCREEN_BOUND:
         return pdt_ident_screen_bound(c);
     case PH_SCREEN_REFILL:

@@ -112,7 +112,8 @@ enum {
     PH_EVIDENCE,       /* the answer's evidence against the null model */
     PH_SCREEN,         /* gross errors: the answer's residual */
     PH_REFIT,          /* AUTO initial state: the search again, state estimated */
-    PH_SCREEN_HIGH,    /* its high pass */
+    PH_SCREEN_HIGH,    /* its high pass, a block of samples per step */
+    PH_SCREEN_MEDIAN,  /* the median of its magnitude, in passes */
     PH_SCREEN_BOUND,   /* the samples beyond the bound left out */
     PH_SCREEN_REFILL,  /* the record filled again */
     PH_SCREEN_RESTART, /* and the search run again on it */
@@ -415,14 +416,16 @@ bool pdt_ident_screen_needed(const pdt_ident_config_t *cfg, const pdt_ident_data
  * PDT_ERR_OUTLIER when more than the limit are. */
 pdt_status_t pdt_ident_screen_prepare(pdt_ident_screen_t *s, const pdt_ident_config_t *cfg,
                                       const pdt_ident_data_t *d);
-/* The answer's residual screened, one O(n) step each: PH_SCREEN its
+/* The answer's residual screened in steps of O(n) or less: PH_SCREEN its
  * residual (OUT_REFIT: AUTO's identification with the state estimated
- * first), PH_SCREEN_HIGH its high pass, PH_SCREEN_BOUND the samples left
- * out (OUT_SKIPPED where none are new), PH_SCREEN_REFILL the record
- * filled again; PH_SCREEN_RESTART (pdt_ident.c) begins the identification
- * again on it. */
+ * first), PH_SCREEN_HIGH its high pass (OUT_AGAIN for the next block),
+ * PH_SCREEN_MEDIAN the median of its magnitude (OUT_AGAIN for the next
+ * passes), PH_SCREEN_BOUND the samples left out (OUT_SKIPPED where none
+ * are new), PH_SCREEN_REFILL the record filled again; PH_SCREEN_RESTART
+ * (pdt_ident.c) begins the identification again on it. */
 pdt_ident_outcome_t pdt_ident_screen_step(pdt_ident_t *c);
 pdt_ident_outcome_t pdt_ident_screen_high(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_screen_median(pdt_ident_t *c);
 pdt_ident_outcome_t pdt_ident_screen_bound(pdt_ident_t *c);
 pdt_ident_outcome_t pdt_ident_screen_refill(pdt_ident_t *c);
 /* The restart failed with st: the status kept, and where the cost

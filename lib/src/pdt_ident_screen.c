@@ -45,6 +45,8 @@
 #define MEDIAN_NEAR   32u
 
 #define SCREEN_WINDOW (2u * PDT_IDENT_SCREEN_HALF + 1u)
+/* Samples high-passed a step: some 50 000 instructions on a Cortex-M4F. */
+#define SCREEN_BLOCK  128u
 
 static bool is_out(const uint8_t *m, size_t k)
 {
@@ -266,109 +268,167 @@ static pdt_real_t window_mid(const sorted_window_t *w)
     return (m % 2u) != 0u ? w->v[m / 2u] : PDT_R(0.5) * (w->v[m / 2u - 1u] + w->v[m / 2u]);
 }
 
+/* The high pass's state between its blocks. */
+typedef struct {
+    sorted_window_t w;
+    pdt_real_t ring[SCREEN_WINDOW]; /* the window's samples overwritten */
+    size_t k;                       /* the next sample */
+    size_t s;                       /* the window's first sample */
+    bool finite;                    /* e finite: the window kept sorted */
+} high_run_t;
+
 /* e high-passed in place: e - its running median over the kept samples.
  * The window slides by one sample at a time, so its sorted values are
- * kept from one sample to the next: O(n W). Where e is not finite (a
- * NaN has no place in the order) the median is sorted afresh at each
- * sample: O(n W^2 / 4). Both give the same medians bit for bit. */
-static void high_pass(pdt_real_t *e, const uint8_t *mask, size_t n)
+ * kept from one sample to the next: O(W) a sample. Where e is not finite
+ * (a NaN has no place in the order) the median is sorted afresh at each
+ * sample: O(W^2 / 4). Both give the same medians bit for bit. The
+ * beginning: O(n). */
+static void high_begin(high_run_t *r, const pdt_real_t *e, const uint8_t *mask, size_t n)
 {
-    pdt_real_t ring[SCREEN_WINDOW];
     bool finite = true;
     for (size_t k = 0u; k < n; k++) {
         finite = finite && pdt_finite(e[k]);
     }
-    if (!finite) {
-        for (size_t k = 0u; k < n; k++) {
-            const pdt_real_t med = window_median(e, ring, mask, n, k);
-            ring[k % SCREEN_WINDOW] = e[k];
-            e[k] -= med;
-        }
-        return;
-    }
+    r->finite = finite;
+    r->k = 0u;
+    r->s = 0u;
+    r->w.kept = 0u;
     const size_t len = n < SCREEN_WINDOW ? n : SCREEN_WINDOW;
-    sorted_window_t w;
-    w.kept = 0u;
-    for (size_t j = 0u; j < len; j++) {
+    for (size_t j = 0u; finite && j < len; j++) {
         if (!is_out(mask, j)) {
-            window_add(&w, e[j], j);
+            window_add(&r->w, e[j], j);
         }
-    }
-    size_t s = 0u; /* the window's first sample */
-    for (size_t k = 0u; k < n; k++) {
-        size_t want = k > PDT_IDENT_SCREEN_HALF ? k - PDT_IDENT_SCREEN_HALF : 0u;
-        want = (want + len > n) ? n - len : want;
-        if (want != s) {
-            /* want == s + 1: the first sample leaves (its value is in
-             * ring: e[s] was overwritten), the one after the last
-             * enters. */
-            const pdt_real_t gone = ring[s % SCREEN_WINDOW];
-            const bool drop = !is_out(mask, s), add = !is_out(mask, s + len);
-            if (drop && add) {
-                window_swap(&w, window_find(&w, gone, s), e[s + len], s + len);
-            } else if (drop) {
-                window_drop(&w, gone, s);
-            } else if (add) {
-                window_add(&w, e[s + len], s + len);
-            } else {
-                /* neither is kept: the window's values stay */
-            }
-            s = want;
-        }
-        ring[k % SCREEN_WINDOW] = e[k];
-        e[k] -= window_mid(&w);
     }
 }
 
-/* The median of |h| over the kept samples, by bisection of [0, top].
- * Once at most MEDIAN_NEAR samples lie in the interval (lo, hi], they
- * are copied aside and the bisection goes on over them, the count at or
- * below lo added: the same steps, the same answer. */
-static pdt_real_t median_abs(const pdt_real_t *h, const uint8_t *m, size_t n, pdt_real_t top)
+/* The next SCREEN_BLOCK samples high-passed; true at the
+ * record's end. */
+static bool high_block(high_run_t *r, pdt_real_t *e, const uint8_t *mask, size_t n)
 {
-    size_t kept = 0u, at_lo = 0u, at_hi = 0u;
+    const size_t len = n < SCREEN_WINDOW ? n : SCREEN_WINDOW;
+    const size_t end = (n - r->k > SCREEN_BLOCK) ? r->k + SCREEN_BLOCK : n;
+    for (size_t k = r->k; k < end; k++) {
+        if (!r->finite) {
+            const pdt_real_t med = window_median(e, r->ring, mask, n, k);
+            r->ring[k % SCREEN_WINDOW] = e[k];
+            e[k] -= med;
+            continue;
+        }
+        size_t want = k > PDT_IDENT_SCREEN_HALF ? k - PDT_IDENT_SCREEN_HALF : 0u;
+        want = (want + len > n) ? n - len : want;
+        if (want != r->s) {
+            /* want == s + 1: the first sample leaves (its value is in
+             * ring: e[s] was overwritten), the one after the last
+             * enters. */
+            const size_t s = r->s;
+            const pdt_real_t gone = r->ring[s % SCREEN_WINDOW];
+            const bool drop = !is_out(mask, s), add = !is_out(mask, s + len);
+            if (drop && add) {
+                window_swap(&r->w, window_find(&r->w, gone, s), e[s + len], s + len);
+            } else if (drop) {
+                window_drop(&r->w, gone, s);
+            } else if (add) {
+                window_add(&r->w, e[s + len], s + len);
+            } else {
+                /* neither is kept: the window's values stay */
+            }
+            r->s = want;
+        }
+        r->ring[k % SCREEN_WINDOW] = e[k];
+        e[k] -= window_mid(&r->w);
+    }
+    r->k = end;
+    return end == n;
+}
+
+/* The median of |h| over the kept samples, by bisection of [0, top]
+ * (top: the largest kept |h|), in steps. Once at most MEDIAN_NEAR samples
+ * lie in the interval (lo, hi], they are copied aside and the bisection
+ * goes on over them, the count at or below lo added: the same steps, the
+ * same answer. */
+typedef struct {
+    pdt_real_t near[MEDIAN_NEAR];
+    pdt_real_t lo, hi, top;
+    size_t kept, at_lo, at_hi; /* the kept samples, those at or below lo, hi */
+    size_t base;               /* the count at or below lo when set aside */
+    size_t n_near;
+    uint32_t step;
+    bool aside;
+} median_run_t;
+
+/* The largest kept |h| and the counts: two passes over the record. A top
+ * not finite leaves no step to take (the bound is then the real type's
+ * largest). */
+static void median_begin(median_run_t *r, const pdt_real_t *h, const uint8_t *m, size_t n)
+{
+    pdt_real_t top = PDT_R(0.0);
     for (size_t k = 0u; k < n; k++) {
+        const pdt_real_t a = is_out(m, k) ? PDT_R(0.0) : pdt_fabs(h[k]);
+        top = a > top ? a : top;
+    }
+    r->top = top;
+    r->lo = PDT_R(0.0);
+    r->hi = top;
+    r->n_near = 0u;
+    r->base = 0u;
+    r->aside = false;
+    r->step = 0u;
+    const bool finite = pdt_finite(top);
+    size_t kept = 0u, at_lo = 0u, at_hi = 0u;
+    for (size_t k = 0u; finite && k < n; k++) {
         const bool in = !is_out(m, k);
         kept += in ? 1u : 0u;
         at_lo += (in && pdt_fabs(h[k]) <= PDT_R(0.0)) ? 1u : 0u;
         at_hi += (in && pdt_fabs(h[k]) <= top) ? 1u : 0u;
     }
-    pdt_real_t near[MEDIAN_NEAR];
-    size_t n_near = 0u, base = 0u; /* base: the count at or below lo then */
-    bool aside = false;
-    pdt_real_t lo = PDT_R(0.0), hi = top;
-    for (uint32_t i = 0u; i < MEDIAN_STEPS; i++) {
-        if (!aside && at_hi - at_lo <= MEDIAN_NEAR) {
+    r->kept = kept;
+    r->at_lo = at_lo;
+    r->at_hi = at_hi;
+}
+
+/* The median's bisection steps, at most `passes` of them over the whole
+ * record (the steps over the samples set aside are not counted: O(1)
+ * each); true when all MEDIAN_STEPS are taken (the median is r->hi). */
+static bool median_steps(median_run_t *r, const pdt_real_t *h, const uint8_t *m, size_t n,
+                         uint32_t passes)
+{
+    uint32_t used = 0u;
+    const bool finite = pdt_finite(r->top);
+    while (finite && r->step < MEDIAN_STEPS && (r->aside || used < passes)) {
+        if (!r->aside && r->at_hi - r->at_lo <= MEDIAN_NEAR) {
             for (size_t k = 0u; k < n; k++) {
                 const pdt_real_t a = pdt_fabs(h[k]);
-                if (!is_out(m, k) && a > lo && a <= hi && n_near < MEDIAN_NEAR) {
-                    near[n_near] = a;
-                    n_near++;
+                if (!is_out(m, k) && a > r->lo && a <= r->hi && r->n_near < MEDIAN_NEAR) {
+                    r->near[r->n_near] = a;
+                    r->n_near++;
                 }
             }
-            base = at_lo;
-            aside = true;
+            r->base = r->at_lo;
+            r->aside = true;
+            used++;
         }
-        const pdt_real_t mid = PDT_R(0.5) * (lo + hi);
-        size_t below = base;
-        if (aside) {
-            for (size_t k = 0u; k < n_near; k++) {
-                below += (near[k] <= mid) ? 1u : 0u;
+        const pdt_real_t mid = PDT_R(0.5) * (r->lo + r->hi);
+        size_t below = r->base;
+        if (r->aside) {
+            for (size_t k = 0u; k < r->n_near; k++) {
+                below += (r->near[k] <= mid) ? 1u : 0u;
             }
         } else {
             for (size_t k = 0u; k < n; k++) {
                 below += (!is_out(m, k) && pdt_fabs(h[k]) <= mid) ? 1u : 0u;
             }
+            used++;
         }
-        if (2u * below >= kept) {
-            hi = mid;
-            at_hi = below;
+        if (2u * below >= r->kept) {
+            r->hi = mid;
+            r->at_hi = below;
         } else {
-            lo = mid;
-            at_lo = below;
+            r->lo = mid;
+            r->at_lo = below;
         }
+        r->step++;
     }
-    return hi;
+    return !finite || r->step >= MEDIAN_STEPS;
 }
 
 /* The answer's output error into e (n reals) and the range of its
@@ -420,25 +480,20 @@ static uint32_t mark(pdt_ident_screen_t *s, const pdt_real_t *h, size_t n, pdt_r
     return added;
 }
 
-/* The bound of this round: an error no model plus noise explains
+/* The bound of this round (top: the largest kept |h|, median: the
+ * median of the kept |h|): an error no model plus noise explains
  * (SCREEN_SIGMAS), large enough to move the model (SCREEN_RANGE), and
  * among the largest (SCREEN_TOP): a model that a gross error bent makes
  * errors of its own, smaller ones, which the next round sees without it.
  * *grow: the bound is the first two's, so a run's edges go with it (with
  * a bent model they wait for the next round). */
-static pdt_real_t bound_of(const pdt_ident_screen_t *s, const pdt_real_t *h, size_t n,
-                           pdt_real_t range, bool *grow)
+static pdt_real_t bound_of(pdt_real_t top, pdt_real_t median, pdt_real_t range, bool *grow)
 {
-    pdt_real_t top = PDT_R(0.0);
-    for (size_t k = 0u; k < n; k++) {
-        const pdt_real_t a = is_out(s->mask, k) ? PDT_R(0.0) : pdt_fabs(h[k]);
-        top = a > top ? a : top;
-    }
     if (!pdt_finite(top)) {
         *grow = false;
         return PDT_REAL_MAX;
     }
-    const pdt_real_t sigma = MAD_TO_SIGMA * median_abs(h, s->mask, n, top);
+    const pdt_real_t sigma = MAD_TO_SIGMA * median;
     pdt_real_t bound = SCREEN_SIGMAS * sigma;
     bound = SCREEN_RANGE * range > bound ? SCREEN_RANGE * range : bound;
     *grow = !(SCREEN_TOP * top > bound);
@@ -486,16 +541,54 @@ static void measured_h(const pdt_ident_screen_t *s, pdt_real_t *h, size_t n)
     }
 }
 
-/* The screen in steps of O(n) each: PH_SCREEN the answer's residual,
- * PH_SCREEN_HIGH its high pass, PH_SCREEN_BOUND the bound and the
- * samples it leaves out, PH_SCREEN_REFILL the record filled again, and
- * PH_SCREEN_RESTART the identification started again on it. h lies in the
- * scratch from the first to the third; the residual's range is kept in
- * the workspace's population part, which nothing reads once the searches
- * are done (the restart carves it again). */
-static pdt_real_t *range_kept(const pdt_ident_t *c)
+/* The screen in steps: PH_SCREEN the answer's residual, PH_SCREEN_HIGH
+ * its high pass (a block of SCREEN_BLOCK samples a step),
+ * PH_SCREEN_MEDIAN the median of its magnitude (at most
+ * SCREEN_MEDIAN_PASSES passes over the record a step), PH_SCREEN_BOUND
+ * the samples it leaves out, PH_SCREEN_REFILL the record filled again,
+ * and PH_SCREEN_RESTART the identification started again on it. h lies
+ * in the scratch from the first to the fourth.
+ *
+ * What the steps hand on lies in the workspace's population part, which
+ * nothing reads once the searches are done (the restart carves it
+ * again): first the residual's range and the median's figures (the part
+ * holds at least 44 reals), then the passes' state where it fits. Where a
+ * small population leaves the part too short for it, the high pass and
+ * the median are one step, PH_SCREEN_HIGH's, and PH_SCREEN_MEDIAN has
+ * nothing left to do. The same figures either way. */
+#define SCREEN_MEDIAN_PASSES 4u
+
+/* The figures handed on, reals at the population part's beginning. */
+#define KEPT_RANGE  0u /* of the answer's simulated output */
+#define KEPT_TOP    1u /* the largest kept |h| */
+#define KEPT_MEDIAN 2u /* the median of the kept |h| */
+#define KEPT_COUNT  3u
+
+/* The passes' state. */
+typedef struct {
+    high_run_t high;
+    median_run_t median;
+} screen_run_t;
+
+/* The passes' state after the figures, its first address aligned for it;
+ * NULL where it does not fit before the scratch. */
+static screen_run_t *run_of(const pdt_ident_t *c)
 {
-    return &c->ga.pop_cost[0];
+    void *const base = &c->ga.pop[KEPT_COUNT];
+    const uintptr_t a = (uintptr_t)sizeof(uintmax_t);
+    const uintptr_t pad = (a - ((uintptr_t)base % a)) % a;
+    const ptrdiff_t reals = c->scratch - &c->ga.pop[KEPT_COUNT];
+    if ((size_t)pad + sizeof(screen_run_t) > (size_t)reals * sizeof(pdt_real_t)) {
+        return NULL;
+    }
+    return (screen_run_t *)(void *)((unsigned char *)base + pad);
+}
+
+/* The median's figures kept for the bound. */
+static void median_keep(pdt_ident_t *c, const median_run_t *r)
+{
+    c->ga.pop[KEPT_TOP] = r->top;
+    c->ga.pop[KEPT_MEDIAN] = r->hi;
 }
 
 pdt_ident_outcome_t pdt_ident_screen_step(pdt_ident_t *c)
@@ -508,16 +601,52 @@ pdt_ident_outcome_t pdt_ident_screen_step(pdt_ident_t *c)
      * the real type) there is no answer to screen with: the result refuses
      * it. */
     if (c->cfg.no_screen || s->rounds >= PDT_IDENT_SCREEN_ROUNDS || s->settled ||
-        !(c->best.cost < PDT_REAL_MAX) || !residual(c, c->scratch, range_kept(c))) {
+        !(c->best.cost < PDT_REAL_MAX) || !residual(c, c->scratch, &c->ga.pop[KEPT_RANGE])) {
         return OUT_SKIPPED;
+    }
+    screen_run_t *const run = run_of(c);
+    if (run != NULL) {
+        high_begin(&run->high, c->scratch, s->mask, c->data.n);
     }
     return OUT_DONE;
 }
 
 pdt_ident_outcome_t pdt_ident_screen_high(pdt_ident_t *c)
 {
-    high_pass(c->scratch, c->screen.mask, c->data.n);
-    measured_h(&c->screen, c->scratch, c->data.n);
+    const size_t n = c->data.n;
+    pdt_real_t *const h = c->scratch;
+    screen_run_t *const run = run_of(c);
+    if (run == NULL) {
+        screen_run_t whole;
+        high_begin(&whole.high, h, c->screen.mask, n);
+        while (!high_block(&whole.high, h, c->screen.mask, n)) {
+            /* the next block */
+        }
+        measured_h(&c->screen, h, n);
+        median_begin(&whole.median, h, c->screen.mask, n);
+        /* As many passes as steps: the whole bisection. */
+        (void)median_steps(&whole.median, h, c->screen.mask, n, MEDIAN_STEPS);
+        median_keep(c, &whole.median);
+        return OUT_DONE;
+    }
+    if (!high_block(&run->high, h, c->screen.mask, n)) {
+        return OUT_AGAIN;
+    }
+    measured_h(&c->screen, h, n);
+    median_begin(&run->median, h, c->screen.mask, n);
+    return OUT_DONE;
+}
+
+pdt_ident_outcome_t pdt_ident_screen_median(pdt_ident_t *c)
+{
+    screen_run_t *const run = run_of(c);
+    if (run == NULL) {
+        return OUT_DONE;
+    }
+    if (!median_steps(&run->median, c->scratch, c->screen.mask, c->data.n, SCREEN_MEDIAN_PASSES)) {
+        return OUT_AGAIN;
+    }
+    median_keep(c, &run->median);
     return OUT_DONE;
 }
 
@@ -526,11 +655,12 @@ pdt_ident_outcome_t pdt_ident_screen_bound(pdt_ident_t *c)
     pdt_ident_screen_t *s = &c->screen;
     const size_t n = c->data.n;
     const pdt_real_t *h = c->scratch;
+    const pdt_real_t *const kept = c->ga.pop;
     for (size_t k = 0u; k < (n + 7u) / 8u; k++) {
         s->fresh[k] = 0u;
     }
     bool grow = false;
-    const pdt_real_t bound = bound_of(s, h, n, *range_kept(c), &grow);
+    const pdt_real_t bound = bound_of(kept[KEPT_TOP], kept[KEPT_MEDIAN], kept[KEPT_RANGE], &grow);
     const uint32_t back = restore(s, h, n, bound);
     const uint32_t added = mark(s, h, n, bound, grow);
     if (added == 0u && back == 0u && s->excluded == 0u) {

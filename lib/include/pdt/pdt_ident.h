@@ -475,9 +475,13 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
  * record's cost after a coarse one's searches, O(n)), a block of the
  * answer's uncertainty (PDT_FISHER_BLOCK = 256 samples, O(1) per sample and
  * parameter; the whole pass in one call where the population is too small
- * to hold its state), its evidence (O(n)), or one of the screen's O(n)
- * steps (its residual, its running median, its bound, the refill; a
- * restart on the filled record costs what init does). Returns PDT_RUNNING
+ * to hold its state), its evidence (O(n)), or one of the screen's
+ * steps (its residual, O(n); a block of 128 samples of its running
+ * median, O(PDT_IDENT_SCREEN_HALF) a sample; at most four passes over
+ * the record of its bound's median; the samples it leaves out, O(n); the
+ * refill, O(n); the running median and the median whole in one call
+ * where the population is too small to hold their state; a restart on
+ * the filled record costs what init does). Returns PDT_RUNNING
  * while there is work left, PDT_OK when done (also on every later call),
  * PDT_ERR_ARG for NULL or
  * max_evaluations = 0, PDT_ERR_STATE if ctx was not initialised. Once the
