@@ -596,6 +596,136 @@ static void test_ident_gain_unit_underflow(void **state)
     }
 }
 
+/* The SOPDT's gain, DC (k / b) or integrating (k / a), within the
+ * configuration's bounds where the identification answered OK. */
+static void assert_sopdt_gain_within(pdt_status_t st, const pdt_ident_config_t *cfg,
+                                     const pdt_ident_result_t *r)
+{
+    if (st != PDT_OK) {
+        assert_int_equal(st, PDT_ERR_NONFINITE);
+        return;
+    }
+    const pdt_model_sopdt_t *p = &r->model.p.sopdt;
+    const double K = p->b > R(0.0) ? (double)p->k / (double)p->b : (double)p->k / (double)p->a;
+    const double tol = 1e-6 * fmax(fabs((double)cfg->K_min), fabs((double)cfg->K_max));
+    if (!(K >= (double)cfg->K_min - tol && K <= (double)cfg->K_max + tol)) {
+        fail_msg("gain %.9g outside [%.9g, %.9g]", K, (double)cfg->K_min, (double)cfg->K_max);
+    }
+}
+
+/* fuzz_ident's inputs of finding 11 (tests/fuzz/corpus/ident/
+ * finding-gain-subnormal-bound, finding-gain-k-underflow). A SOPDT's gain
+ * parameter k is the gain times b (or a): where that product falls below
+ * the real type's normal range, k rounds by parts in 10^5 or to zero, and
+ * the gain came back outside its bounds. First, the bounds [0, 9.2e-41]
+ * with the integrator allowed (k = K a subnormal in float); second, a gain
+ * fixed at 2.3e-11 at Ts = 2.3e34 s, where the shapes' b of 5e-38 made
+ * k = K b underflow to 0. Such shapes are now refused. */
+static void test_ident_gain_parameter_underflow(void **state)
+{
+    (void)state;
+    static pdt_real_t u[22], y[22];
+    static const float ya[22] = {257.0f,
+                                 257.0f,
+                                 257.0f,
+                                 257.0f,
+                                 257.0f,
+                                 257.0f,
+                                 -2.52876499e+38f,
+                                 15.9210005f,
+                                 12594.0f,
+                                 1.51684689e-36f,
+                                 0.0f,
+                                 0.0f,
+                                 -2.30756057e+38f,
+                                 -248.0f,
+                                 13683.0f,
+                                 -276490.0f,
+                                 16.0f,
+                                 17.0f,
+                                 18.0f,
+                                 19.0f,
+                                 20.0f,
+                                 21.0f};
+    for (size_t k = 0; k < 22u; k++) {
+        u[k] = k < 16u ? R(2570.0) : R(-1.70141183e+38);
+        y[k] = (pdt_real_t)ya[k];
+    }
+    pdt_ident_config_t cfg;
+    pdt_ident_config_default(&cfg);
+    cfg.model = PDT_MODEL_SOPDT;
+    cfg.cost = PDT_COST_SIMULATION;
+    cfg.time_kind = PDT_COST_PREDICTION;
+    cfg.weight = PDT_IDENT_WEIGHT_UNIFORM;
+    cfg.delay_mode = PDT_DELAY_FRACTIONAL;
+    cfg.Ts = R(0.00999999978);
+    cfg.K_min = R(0.0);
+    cfg.K_max = (pdt_real_t)9.18284897e-41f;
+    cfg.zeta_min = R(1.87520003e-26);
+    cfg.integrating = true;
+    cfg.population = 4u;
+    cfg.max_evaluations = 61u;
+    cfg.refine_evaluations = 15u;
+    cfg.coarse = 7u;
+    cfg.seed = 2839674775u;
+    pdt_ident_result_t r;
+    for (uint32_t chunk = 1u; chunk <= 16u; chunk++) {
+        assert_sopdt_gain_within(ident_steps(&cfg, u, y, 22u, chunk, &r), &cfg, &r);
+    }
+
+    static const float yb[19] = {-19.2010002f,
+                                 1.27626841e+13f,
+                                 -5.05800009f,
+                                 7967.0f,
+                                 6189.0f,
+                                 -2.95559989e-26f,
+                                 -2.95559989e-26f,
+                                 -2.95559989e-26f,
+                                 -2.95559989e-26f,
+                                 -2.95559989e-26f,
+                                 -2.95559989e-26f,
+                                 -2.95559989e-26f,
+                                 -2.95559989e-26f,
+                                 -2.95559989e-26f,
+                                 -19472000.0f,
+                                 -2.95559989e-26f,
+                                 16.0f,
+                                 17.0f,
+                                 18.0f};
+    static pdt_real_t ones[20];
+    for (size_t k = 0; k < 20u; k++) {
+        ones[k] = R(1.0);
+    }
+    for (size_t k = 0; k < 19u; k++) {
+        u[k] = k < 16u ? R(-1.14639995e+10) : R(-2.31160005e+19);
+        y[k] = (pdt_real_t)yb[k];
+    }
+    pdt_ident_config_default(&cfg);
+    cfg.model = PDT_MODEL_SOPDT;
+    cfg.cost = PDT_COST_SIMULATION;
+    cfg.time_kind = PDT_COST_PREDICTION;
+    cfg.weight = PDT_IDENT_WEIGHT_UNIFORM;
+    cfg.delay_mode = PDT_DELAY_FRACTIONAL;
+    cfg.weights = ones;
+    cfg.Ts = (pdt_real_t)2.3130001e+34f;
+    cfg.f_lo = (pdt_real_t)2.31299997e-11f;
+    cfg.f_hi = (pdt_real_t)2.3186e-11f;
+    cfg.Td_min = (pdt_real_t)1.37000003e-12f;
+    cfg.Td_max = (pdt_real_t)2.31299997e-11f;
+    cfg.K_min = (pdt_real_t)2.31299997e-11f;
+    cfg.K_max = cfg.K_min;
+    cfg.zeta_min = R(23113000.0);
+    cfg.integrating = true;
+    cfg.population = 0u;
+    cfg.max_evaluations = 71u;
+    cfg.refine_evaluations = 4u;
+    cfg.coarse = 11u;
+    cfg.seed = 66728u;
+    for (uint32_t chunk = 1u; chunk <= 16u; chunk++) {
+        assert_sopdt_gain_within(ident_steps(&cfg, u, y, 19u, chunk, &r), &cfg, &r);
+    }
+}
+
 /* fuzz_ident's input (tests/fuzz/corpus/ident/finding-coarse-budget): a
  * FOPDT on a coarse record of half the samples, 143 evaluations in all.
  * The dead-time profile took the searches' budget to its last evaluation,
@@ -651,6 +781,7 @@ int main(void)
         cmocka_unit_test(test_ident_empty_band_writes_nothing),
         cmocka_unit_test(test_ident_gain_bounds_beyond_float),
         cmocka_unit_test(test_ident_gain_unit_underflow),
+        cmocka_unit_test(test_ident_gain_parameter_underflow),
         cmocka_unit_test(test_ident_coarse_budget),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -201,6 +201,19 @@ void pdt_ident_gain_bounds(const pdt_ident_t *c, const pdt_model_t *shape, pdt_r
     }
     pdt_real_t num, den;
     pdt_model_static_gain_ratio(shape, &num, &den);
+    /* The model's gain parameter at the bounds (a SOPDT's k = K b, or
+     * K a where it integrates; a FOPDT's K itself): where neither bound
+     * reaches the normal range, the model cannot hold a gain within them
+     * to the real type's precision (a subnormal k rounds by parts in 10^5
+     * and more, or to 0). An empty interval: the cost refuses the shape. */
+    const pdt_real_t reach = pdt_fabs(c->cfg.K_min) > pdt_fabs(c->cfg.K_max)
+                                 ? pdt_fabs(c->cfg.K_min)
+                                 : pdt_fabs(c->cfg.K_max);
+    if (!(reach * pdt_fabs(num) >= PDT_REAL_MIN_NORMAL)) {
+        *lo = PDT_R(1.0);
+        *hi = PDT_R(-1.0);
+        return;
+    }
     *lo = gain_bound(c->cfg.K_min, num, den);
     *hi = gain_bound(c->cfg.K_max, num, den);
     if (*lo == PDT_R(0.0) && *hi == PDT_R(0.0)) {
