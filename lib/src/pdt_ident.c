@@ -971,7 +971,12 @@ static const plan_t PLAN[PH_COUNT] PDT_ROM = {
                      {{OUT_AGAIN, PH_STD_PASS, 0u},
                       {OUT_DONE, PH_EVIDENCE, 0u},
                       {OUT_FAILED, PH_SCREEN, 0u}}},
-    [PH_EVIDENCE] = {HEAVY, {{OUT_DONE, PH_SCREEN, 0u}}},
+    [PH_EVIDENCE] = {HEAVY, {{OUT_BEGUN, PH_EVIDENCE_LAGS, 0u}, {OUT_SKIPPED, PH_SCREEN, 0u}}},
+    [PH_EVIDENCE_LAGS] = {HEAVY,
+                          {{OUT_AGAIN, PH_EVIDENCE_LAGS, 0u},
+                           {OUT_DONE, PH_STATE_TESTS, 0u},
+                           {OUT_SKIPPED, PH_SCREEN, 0u}}},
+    [PH_STATE_TESTS] = {HEAVY, {{OUT_DONE, PH_SCREEN, 0u}}},
     /* The screen for gross errors (pdt_ident_screen.c) and the rounds
      * begun again (here). */
     [PH_SCREEN] = {HEAVY,
@@ -1132,6 +1137,10 @@ static pdt_ident_outcome_t run_answer(pdt_ident_t *c)
         return pdt_ident_std_pass(c);
     case PH_EVIDENCE:
         return pdt_ident_std_evidence(c);
+    case PH_EVIDENCE_LAGS:
+        return pdt_ident_std_lags(c);
+    case PH_STATE_TESTS:
+        return pdt_ident_std_state(c);
     case PH_SCREEN:
         return pdt_ident_screen_step(c);
     case PH_REFIT:

@@ -110,6 +110,8 @@ enum {
     PH_STD,            /* the parameters' uncertainty: its pass begun */
     PH_STD_PASS,       /* its Fisher pass, a block of samples per step */
     PH_EVIDENCE,       /* the answer's evidence against the null model */
+    PH_EVIDENCE_LAGS,  /* its autocorrelation factor, four lags a step */
+    PH_STATE_TESTS,    /* AUTO: the tests of the initial state on its residual */
     PH_SCREEN,         /* gross errors: the answer's residual */
     PH_REFIT,          /* AUTO initial state: the search again, state estimated */
     PH_SCREEN_HIGH,    /* its high pass, a block of samples per step */
@@ -396,12 +398,19 @@ uint32_t pdt_ident_probe_group(const pdt_ident_t *c);
 
 /* ---- pdt_ident_vote.c: the answer's uncertainty */
 
-/* PH_STD begins the Fisher pass (OUT_BEGUN), or does it whole (OUT_DONE);
- * PH_STD_PASS sums a block of PDT_FISHER_BLOCK samples per step,
- * PH_EVIDENCE the evidence against the null model. */
+/* PH_STD begins the Fisher pass (OUT_BEGUN), or does it whole with the
+ * evidence and the tests (OUT_DONE); PH_STD_PASS sums a block of
+ * PDT_FISHER_BLOCK samples per step; PH_EVIDENCE begins the evidence
+ * against the null model (OUT_BEGUN; OUT_SKIPPED where the model cannot
+ * be simulated), PH_EVIDENCE_LAGS adds four lags of its autocorrelation
+ * factor a step (OUT_DONE at the end, OUT_SKIPPED where the tests of the
+ * initial state do not apply), PH_STATE_TESTS those tests on the
+ * answer's residual. */
 pdt_ident_outcome_t pdt_ident_std(pdt_ident_t *c);
 pdt_ident_outcome_t pdt_ident_std_pass(pdt_ident_t *c);
 pdt_ident_outcome_t pdt_ident_std_evidence(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_std_lags(pdt_ident_t *c);
+pdt_ident_outcome_t pdt_ident_std_state(pdt_ident_t *c);
 
 /* ---- pdt_ident_screen.c */
 

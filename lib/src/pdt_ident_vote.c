@@ -284,66 +284,133 @@ static pdt_real_t sum_sq(const pdt_real_t *x, size_t n, pdt_real_t m)
 #define EVIDENCE_LAGS 20u
 #define FIT_FLOOR     ((pdt_real_t)PDT_IDENT_FIT_FLOOR)
 
-static pdt_real_t evidence_of(const pdt_real_t *x, const pdt_real_t *y, size_t n, pdt_real_t sse)
+/* The evidence's sums, from one step to the next. */
+typedef struct {
+    pdt_real_t mx, my;  /* the means of x and y */
+    pdt_real_t vx, ss0; /* their sums of squares about them */
+    pdt_real_t c;       /* Bartlett's factor so far */
+    size_t lag;         /* the next group's first lag; past EVIDENCE_LAGS: none */
+} evidence_run_t;
+
+/* The means and the sums of squares: four passes. No lags where the
+ * statistic does not need them (it is then the real type's largest). */
+static void evidence_begin(evidence_run_t *e, const pdt_real_t *x, const pdt_real_t *y, size_t n,
+                           pdt_real_t sse)
 {
-    const pdt_real_t mx = mean_of(x, n), my = mean_of(y, n);
-    const pdt_real_t vx = sum_sq(x, n, mx), ss0 = sum_sq(y, n, my);
-    if (!(sse > PDT_R(0.0)) || !(ss0 > PDT_R(0.0))) {
-        return PDT_REAL_MAX;
+    e->mx = mean_of(x, n);
+    e->my = mean_of(y, n);
+    e->vx = sum_sq(x, n, e->mx);
+    e->ss0 = sum_sq(y, n, e->my);
+    e->c = PDT_R(1.0);
+    e->lag = 1u;
+    if (!(sse > PDT_R(0.0)) || !(e->ss0 > PDT_R(0.0))) {
+        e->lag = EVIDENCE_LAGS + 1u;
     }
-    pdt_real_t c = PDT_R(1.0);
-    for (size_t l = 1u; l <= EVIDENCE_LAGS && l < n; l += 4u) {
-        pdt_real_t rx[4], ry[4];
-        autocorr4(x, n, mx, vx, l, rx);
-        autocorr4(y, n, my, ss0, l, ry);
-        for (size_t i = 0u; i < 4u && l + i <= EVIDENCE_LAGS && l + i < n; i++) {
-            c += PDT_R(2.0) * rx[i] * ry[i];
-        }
-    }
-    c = c > PDT_R(1.0) ? c : PDT_R(1.0);
-    return (pdt_real_t)n / c * (pdt_log(ss0) - pdt_log(sse));
 }
 
-static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
+/* The next four lags of Bartlett's factor: two passes. True when no lag
+ * is left. */
+static bool evidence_lags(evidence_run_t *e, const pdt_real_t *x, const pdt_real_t *y, size_t n)
+{
+    const size_t l = e->lag;
+    if (l <= EVIDENCE_LAGS && l < n) {
+        pdt_real_t rx[4], ry[4];
+        autocorr4(x, n, e->mx, e->vx, l, rx);
+        autocorr4(y, n, e->my, e->ss0, l, ry);
+        for (size_t i = 0u; i < 4u && l + i <= EVIDENCE_LAGS && l + i < n; i++) {
+            e->c += PDT_R(2.0) * rx[i] * ry[i];
+        }
+        e->lag = l + 4u;
+    }
+    return !(e->lag <= EVIDENCE_LAGS && e->lag < n);
+}
+
+static pdt_real_t evidence_end(const evidence_run_t *e, size_t n, pdt_real_t sse)
+{
+    if (!(sse > PDT_R(0.0)) || !(e->ss0 > PDT_R(0.0))) {
+        return PDT_REAL_MAX;
+    }
+    const pdt_real_t c = e->c > PDT_R(1.0) ? e->c : PDT_R(1.0);
+    return (pdt_real_t)n / c * (pdt_log(e->ss0) - pdt_log(sse));
+}
+
+/* The answer's evidence begun: the model's simulated output into the
+ * scratch (kept there for the tests of the initial state) and the sums;
+ * false where the model cannot be simulated (no evidence). */
+static bool evidence_start(pdt_ident_t *c, evidence_run_t *e, const pdt_fisher_sums_t *fs)
 {
     pdt_discrete_t d;
     c->evidence = PDT_R(0.0);
-    if (pdt_discrete_init(&c->model, c->cfg.Ts, &d) == PDT_OK &&
-        pdt_ident_simulate(c, &d, c->scratch)) {
-        c->evidence = evidence_of(c->scratch, c->data.y, c->data.n, fs->sse);
+    if (pdt_discrete_init(&c->model, c->cfg.Ts, &d) != PDT_OK ||
+        !pdt_ident_simulate(c, &d, c->scratch)) {
+        return false;
     }
+    evidence_begin(e, c->scratch, c->data.y, c->data.n, fs->sse);
+    return true;
+}
+
+/* The statistic from the sums (or 0, none), and NO_RELATION. */
+static void evidence_set(pdt_ident_t *c, const evidence_run_t *e, const pdt_fisher_sums_t *fs)
+{
+    c->evidence = (e != NULL) ? evidence_end(e, c->data.n, fs->sse) : PDT_R(0.0);
     if (!(c->evidence >= EVIDENCE_MIN) || !(c->fit >= FIT_FLOOR)) {
         c->flags |= PDT_IDENT_FLAG_NO_RELATION;
     }
-    if ((c->cfg.initial == PDT_IDENT_INITIAL_AUTO || c->auto_state) && c->evidence > PDT_R(0.0)) {
-        /* The residual in place of the simulated output. */
-        const size_t n = c->data.n;
-        for (size_t k = 0; k < n; k++) {
-            c->scratch[k] = c->data.y[k] - c->scratch[k];
-        }
-        /* Where the trend test fails, AUTO answers it with the state
-         * estimated (PH_SCREEN begins that identification); the flag
-         * stays where it cannot. Only the answer's own free response
-         * taking up its residual (the second test) is what a start
-         * mid-transient and a structure that does not fit the plant (a
-         * lag fitted to an integrator's record from rest) leave alike: a
-         * refit would invent a state and hide the misfit, so that answer
-         * is flagged and not refitted. */
-        const bool want = pdt_ident_want_state(c);
-        const bool trend = pdt_ident_mid_transient(c->scratch, c->data.y, n);
-        const bool shape = !trend && want && pdt_ident_state_matters(c);
-        if (trend && want) {
-            c->auto_state = true;
-        }
-        if ((trend && !want) || shape) {
-            c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
-        }
+}
+
+/* The whole evidence in one step. */
+static void evidence(pdt_ident_t *c, const pdt_fisher_sums_t *fs)
+{
+    evidence_run_t e;
+    if (!evidence_start(c, &e, fs)) {
+        evidence_set(c, NULL, fs);
+        return;
+    }
+    while (!evidence_lags(&e, c->scratch, c->data.y, c->data.n)) {
+        /* the next four lags */
+    }
+    evidence_set(c, &e, fs);
+}
+
+/* Whether the tests of the initial state apply: AUTO (or its refit) and
+ * an evidence, which means the scratch holds the simulated output. */
+static bool state_tests_due(const pdt_ident_t *c)
+{
+    return (c->cfg.initial == PDT_IDENT_INITIAL_AUTO || c->auto_state) && c->evidence > PDT_R(0.0);
+}
+
+/* The tests of the initial state on the answer's residual. */
+static void state_tests(pdt_ident_t *c)
+{
+    /* The residual in place of the simulated output. */
+    const size_t n = c->data.n;
+    for (size_t k = 0; k < n; k++) {
+        c->scratch[k] = c->data.y[k] - c->scratch[k];
+    }
+    /* Where the trend test fails, AUTO answers it with the state
+     * estimated (PH_SCREEN begins that identification); the flag stays
+     * where it cannot. Only the answer's own free response taking up its
+     * residual (the second test) is what a start mid-transient and a
+     * structure that does not fit the plant (a lag fitted to an
+     * integrator's record from rest) leave alike: a refit would invent a
+     * state and hide the misfit, so that answer is flagged and not
+     * refitted. */
+    const bool want = pdt_ident_want_state(c);
+    const bool trend = pdt_ident_mid_transient(c->scratch, c->data.y, n);
+    const bool shape = !trend && want && pdt_ident_state_matters(c);
+    if (trend && want) {
+        c->auto_state = true;
+    }
+    if ((trend && !want) || shape) {
+        c->flags |= PDT_IDENT_FLAG_MID_TRANSIENT;
     }
 }
 
-/* The answer's uncertainty in steps (PH_STD, PH_STD_PASS, PH_EVIDENCE):
- * the Fisher pass in blocks of PDT_FISHER_BLOCK samples, as the
- * validation's, then the evidence. Its state lies in the workspace's
+/* The answer's uncertainty in steps (PH_STD, PH_STD_PASS, PH_EVIDENCE,
+ * PH_EVIDENCE_LAGS, PH_STATE_TESTS): the Fisher pass in blocks of
+ * PDT_FISHER_BLOCK samples, as the validation's, then the evidence (its
+ * sums, then four lags of its factor a step), then the tests of the
+ * initial state where they apply. Its state lies in the workspace's
  * population part, which nothing reads once the searches are done (a
  * restart carves it again); where a small population leaves that part
  * too short, the whole pass is one step. The same sums either way. */
@@ -351,6 +418,7 @@ typedef struct std_run {
     pdt_fisher_sums_t fs; /* first: the evidence reads it, scratch not */
     pdt_fisher_run_t R;
     pdt_fisher_matrix_t F;
+    evidence_run_t e;
 } std_run_t;
 
 /* The state in the population part, its first address aligned for it;
@@ -390,6 +458,9 @@ pdt_ident_outcome_t pdt_ident_std(pdt_ident_t *c)
         if (uncertainty(&c->model, &c->data, c->cfg.Ts, c->y0, &c->cost.cfg.u0, c, &c->std, &fs) ==
             PDT_OK) {
             evidence(c, &fs);
+            if (state_tests_due(c)) {
+                state_tests(c);
+            }
             return OUT_DONE;
         }
         return std_failed(c);
@@ -422,6 +493,26 @@ pdt_ident_outcome_t pdt_ident_std_pass(pdt_ident_t *c)
 
 pdt_ident_outcome_t pdt_ident_std_evidence(pdt_ident_t *c)
 {
-    evidence(c, &std_run_of(c)->fs);
+    std_run_t *const run = std_run_of(c);
+    if (!evidence_start(c, &run->e, &run->fs)) {
+        evidence_set(c, NULL, &run->fs);
+        return OUT_SKIPPED;
+    }
+    return OUT_BEGUN;
+}
+
+pdt_ident_outcome_t pdt_ident_std_lags(pdt_ident_t *c)
+{
+    std_run_t *const run = std_run_of(c);
+    if (!evidence_lags(&run->e, c->scratch, c->data.y, c->data.n)) {
+        return OUT_AGAIN;
+    }
+    evidence_set(c, &run->e, &run->fs);
+    return state_tests_due(c) ? OUT_DONE : OUT_SKIPPED;
+}
+
+pdt_ident_outcome_t pdt_ident_std_state(pdt_ident_t *c)
+{
+    state_tests(c);
     return OUT_DONE;
 }

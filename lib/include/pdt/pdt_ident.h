@@ -475,7 +475,9 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
  * record's cost after a coarse one's searches, O(n)), a block of the
  * answer's uncertainty (PDT_FISHER_BLOCK = 256 samples, O(1) per sample and
  * parameter; the whole pass in one call where the population is too small
- * to hold its state), its evidence (O(n)), or one of the screen's
+ * to hold its state), its evidence (its simulated output and sums, O(n);
+ * four lags of its autocorrelation factor, two passes over the record),
+ * the tests of the initial state (AUTO; O(n)), or one of the screen's
  * steps (its residual, O(n); a block of 128 samples of its running
  * median, O(PDT_IDENT_SCREEN_HALF) a sample; at most four passes over
  * the record of its bound's median; the samples it leaves out, O(n); the
