@@ -574,14 +574,10 @@ typedef struct {
  * NULL where it does not fit before the scratch. */
 static screen_run_t *run_of(const pdt_ident_t *c)
 {
-    void *const base = &c->ga.pop[KEPT_COUNT];
-    const uintptr_t a = (uintptr_t)sizeof(uintmax_t);
-    const uintptr_t pad = (a - ((uintptr_t)base % a)) % a;
-    const ptrdiff_t reals = c->scratch - &c->ga.pop[KEPT_COUNT];
-    if ((size_t)pad + sizeof(screen_run_t) > (size_t)reals * sizeof(pdt_real_t)) {
-        return NULL;
-    }
-    return (screen_run_t *)(void *)((unsigned char *)base + pad);
+    pdt_real_t *const base = &c->ga.pop[KEPT_COUNT];
+    const ptrdiff_t reals = c->scratch - base;
+    return (screen_run_t *)pdt_aligned_state(base, (size_t)reals * sizeof(pdt_real_t),
+                                             sizeof(screen_run_t));
 }
 
 /* The median's figures kept for the bound. */

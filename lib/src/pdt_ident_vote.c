@@ -425,14 +425,9 @@ typedef struct std_run {
  * NULL where it does not fit before the scratch. */
 static std_run_t *std_run_of(const pdt_ident_t *c)
 {
-    void *const base = c->ga.pop;
-    const uintptr_t a = (uintptr_t)sizeof(uintmax_t);
-    const uintptr_t pad = (a - ((uintptr_t)base % a)) % a;
     const ptrdiff_t reals = c->scratch - c->ga.pop;
-    if ((size_t)pad + sizeof(std_run_t) > (size_t)reals * sizeof(pdt_real_t)) {
-        return NULL;
-    }
-    return (std_run_t *)(void *)((unsigned char *)base + pad);
+    return (std_run_t *)pdt_aligned_state(c->ga.pop, (size_t)reals * sizeof(pdt_real_t),
+                                          sizeof(std_run_t));
 }
 
 /* The uncertainty that could not be computed: count 0, no evidence. */

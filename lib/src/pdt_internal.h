@@ -125,6 +125,20 @@ typedef struct pdt_real_align {
 } pdt_real_align_t;
 #define PDT_REAL_ALIGN offsetof(pdt_real_align_t, r)
 
+/* The first address of [base, base + room) aligned for any object
+ * (sizeof(uintmax_t)) from which size bytes fit in the room; NULL where
+ * they do not. Where a step-wise computation keeps its state in a
+ * caller's workspace. */
+static inline void *pdt_aligned_state(void *base, size_t room, size_t size)
+{
+    const uintptr_t a = (uintptr_t)sizeof(uintmax_t);
+    const uintptr_t pad = (a - ((uintptr_t)base % a)) % a;
+    if ((size_t)pad > room || size > room - (size_t)pad) {
+        return NULL;
+    }
+    return (unsigned char *)base + pad;
+}
+
 /* True when p is aligned for pdt_real_t arrays. */
 static inline bool pdt_aligned(const void *p)
 {

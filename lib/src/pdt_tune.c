@@ -1069,10 +1069,7 @@ typedef char
 /* The state in the workspace: its first address aligned for it. */
 static tune_run_t *tune_run_of(void *work)
 {
-    const uintptr_t a = (uintptr_t)sizeof(uintmax_t);
-    const uintptr_t w = (uintptr_t)work;
-    const uintptr_t pad = (a - (w % a)) % a;
-    return (tune_run_t *)(void *)((unsigned char *)work + pad);
+    return (tune_run_t *)pdt_aligned_state(work, PDT_TUNE_RUN_WORKSPACE_SIZE, sizeof(tune_run_t));
 }
 
 size_t pdt_tune_run_workspace_size(void)

@@ -312,10 +312,7 @@ typedef char
 /* The state in the workspace: its first address aligned for it. */
 static val_run_t *val_run_of(void *work)
 {
-    const uintptr_t a = (uintptr_t)sizeof(uintmax_t);
-    const uintptr_t w = (uintptr_t)work;
-    const uintptr_t pad = (a - (w % a)) % a;
-    return (val_run_t *)(void *)((unsigned char *)work + pad);
+    return (val_run_t *)pdt_aligned_state(work, PDT_VALIDATE_RUN_STATE_SIZE, sizeof(val_run_t));
 }
 
 size_t pdt_validate_run_workspace_size(size_t n)
