@@ -532,8 +532,11 @@ def time_reference(u, y, Ts, model, reps):
 
 # The identification's stages by the functions that run them
 # (lib/src/pdt_ident.c, run_stage), each counted with what it calls.
-STAGES = (("set-up (pdt_ident_init: the record's normalisation, the coarse record)",
-           ("pdt_ident_init",)),
+STAGES = (("set-up (pdt_ident_init, the coarse record)",
+           ("pdt_ident_init", "pdt_ident_coarse_start")),
+          ("the screen for gross errors (running median, its bound, the test)",
+           ("pdt_ident_screen_high", "pdt_ident_screen_median", "pdt_ident_screen_bound",
+            "pdt_ident_screen_step")),
           ("population: evaluations", ("pdt_ident_ga_eval_parent", "pdt_ident_ga_eval_offspring")),
           ("population: breeding (tournament, SBX, mutation, sharing)", ("pdt_ident_ga_breed",)),
           ("refinement of the niches (Nelder-Mead)", ("pdt_ident_refine_begin",
@@ -543,7 +546,9 @@ STAGES = (("set-up (pdt_ident_init: the record's normalisation, the coarse recor
           ("a search's finish and the vote", ("pdt_ident_finish",)),
           ("dead-time profile", ("pdt_ident_profile_step",)),
           ("the whole record after the coarse one", ("pdt_ident_coarse_fine",)),
-          ("uncertainty (Fisher information)", ("pdt_ident_std",)))
+          ("uncertainty (Fisher information)", ("pdt_ident_std", "pdt_ident_std_pass")),
+          ("the evidence and the initial state's tests",
+           ("pdt_ident_std_evidence", "pdt_ident_std_lags", "pdt_ident_std_state")))
 
 
 def stage_shares(out, total):
