@@ -233,14 +233,23 @@ def fmt(n):
     return "{:,}".format(n).replace(",", " ")
 
 
+def call_label(labels, i):
+    return labels[i] if i < len(labels) else "call %d" % (i + 1)
+
+
+def runtime_of(counter, lib):
+    """The instructions of a call outside the library: the runtime."""
+    return sum(v for k, v in counter.items() if k not in lib)
+
+
 def section(title, build, labels, fn, calls, console, lib):
     own = [int(m.group(3)) for m in OWN.finditer(console)]
     lines = ["## %s" % title, "",
              "`%s` (its `tests/target` program, as `tools/port_figures.py` builds it)." % build, ""]
     for i, (counter, total) in enumerate(calls):
-        label = labels[i] if i < len(labels) else "call %d" % (i + 1)
+        label = call_label(labels, i)
         check = (", the program's own count %s" % fmt(own[i])) if i < len(own) else ""
-        libc = sum(v for k, v in counter.items() if k not in lib)
+        libc = runtime_of(counter, lib)
         lines += ["### `%s`: %s" % (fn, label), "",
                   "%s instructions%s. The runtime (every function not in `libpdtfit.a`): "
                   "%s (%.1f %%)." %
@@ -293,9 +302,9 @@ def main():
         body += section(title, build, labels, a.function, calls, console, lib)
         for i, (counter, total) in enumerate(calls):
             kernel = counter.get("pdt_cost_kernel", 0)
-            runtime = sum(v for k, v in counter.items() if k not in lib)
+            runtime = runtime_of(counter, lib)
             summary.append("| %s | %s | %s | %.1f %% | %.1f %% | %.1f %% |" % (
-                title, labels[i] if i < len(labels) else "call %d" % (i + 1), fmt(total),
+                title, call_label(labels, i), fmt(total),
                 100.0 * kernel / total, 100.0 * runtime / total,
                 100.0 * (total - kernel - runtime) / total))
     lines += summary + [""] + body
