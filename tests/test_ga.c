@@ -526,6 +526,38 @@ static void test_share_properties(void **state)
     }
     assert_true(some_shared);
 
+    /* At the niche's edge: partners at distances just inside and just
+     * beyond sigma (the pair-once path skips the far ones without their
+     * square root), and a radius whose square is not a normal number (no
+     * pair skipped), bit for bit the in-place path, which skips none.
+     * Three individuals: their pairs are the scalar ones on every build. */
+    const pdt_real_t sig[2] = {PDT_R(0.1), PDT_R(1e-20)};
+    for (size_t c = 0; c < 2u; c++) {
+        for (int step = -40; step <= 80; step++) {
+            const pdt_real_t f = PDT_R(1.0) + (pdt_real_t)step * PDT_R(0.001);
+            const pdt_real_t d = f * sig[c] * (hi[0] - lo[0]);
+            const pdt_real_t x[3] = {PDT_R(0.0), d, -d * PDT_R(0.999)};
+            for (size_t i = 0; i < 3u; i++) {
+                genes[3u * i] = x[i];
+                genes[3u * i + 1u] = PDT_R(2.0);
+                genes[3u * i + 2u] = PDT_R(13.0);
+                cost[i] = PDT_R(1.0) + (pdt_real_t)i;
+                inplace[i] = cost[i];
+            }
+            pdt_ga_share(genes, 3u, 3u, lo, hi, cost, sig[c], PDT_R(1.0), shared);
+            pdt_ga_share(genes, 3u, 3u, lo, hi, inplace, sig[c], PDT_R(1.0), inplace);
+            for (size_t i = 0; i < 3u; i++) {
+                assert_memory_equal(&inplace[i], &shared[i], sizeof shared[i]);
+            }
+            /* The first shares a niche only with partners inside it. */
+            if (f <= PDT_R(0.99)) {
+                assert_true(shared[0] > cost[0]);
+            } else if (f >= PDT_R(1.01)) {
+                assert_true(shared[0] == cost[0]);
+            }
+        }
+    }
+
     /* n = 0 writes nothing */
     canary_fill(shared, 8 + CANARY_COUNT);
     pdt_ga_share(genes, 0u, 3u, lo, hi, cost, PDT_R(0.8), PDT_R(1.0), shared);
