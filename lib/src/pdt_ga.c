@@ -219,10 +219,10 @@ static inline pdt_real_t share_tri(const pdt_real_t *xi, const pdt_real_t *xj, s
  * pairs: d2 above (1.03125 sigma)^2, rounded, puts sqrt(d2) / sigma above
  * 1.03 after every rounding, so x < 0 and 0.5 (x + |x|) = +0, which adds
  * nothing to the counts (they start at 1). Skipping such a pair leaves
- * the sums bit for bit and saves the square root: on a core without
- * vector lanes most pairs of a search lie outside each other's niche, and
- * a square root costs an FPU 14 cycles and soft float hundreds. A radius
- * whose square is not a normal number skips nothing. */
+ * the sums bit for bit and saves the square root of every pair outside
+ * a niche: an FPU's takes 14 cycles, software floating point's hundreds
+ * of instructions. A radius whose square is not a normal number skips
+ * nothing. */
 static pdt_real_t share_far2(pdt_real_t sigma)
 {
     const pdt_real_t s = sigma * PDT_R(1.03125);
