@@ -932,6 +932,50 @@ static void test_coarse_default(void **state)
     assert_true(fabs((double)(coarse.model.p.fopdt.Td - whole.model.p.fopdt.Td)) < 0.01);
 }
 
+/* Steps until the first evaluation, each call's budget 100 evaluations;
+ * the identification then run to its end into res. */
+static uint32_t calls_before_evaluating(const pdt_ident_config_t *cfg, size_t n,
+                                        pdt_ident_result_t *res)
+{
+    pdt_ident_data_t data = {g_u, g_y, n};
+    size_t need = pdt_ident_workspace_size(cfg, n);
+    uint32_t calls = 0u;
+    assert_int_equal(pdt_ident_init(&g_ctx, cfg, &data, g_work, need), PDT_OK);
+    pdt_status_t st = PDT_RUNNING;
+    while (st == PDT_RUNNING && g_ctx.evaluations == 0u) {
+        st = pdt_ident_step(&g_ctx, 100u);
+        calls += g_ctx.evaluations == 0u ? 1u : 0u;
+    }
+    while (st == PDT_RUNNING) {
+        st = pdt_ident_step(&g_ctx, 100u);
+    }
+    assert_int_equal(st, PDT_OK);
+    assert_int_equal(pdt_ident_result(&g_ctx, res), PDT_OK);
+    return calls;
+}
+
+/* The coarse record's factor is found one shape test a call: a record of
+ * 1000 samples tries 7 (too coarse for this output), then 3, and
+ * prepares the coarse record in a third call; the caller's 3 skips the
+ * tests. The two searches are then the same bit for bit. */
+static void test_coarse_steps(void **state)
+{
+    pdt_ident_result_t found, given;
+    (void)state;
+    record_spec_t s = {
+        model_fopdt(2.0, 12.0, 4.37), (pdt_real_t)1.0, 1000u, 0.0, 0.0, 1.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    assert_int_equal(calls_before_evaluating(&cfg, s.n, &found), 3u);
+    assert_int_equal(found.coarse, 3u);
+    cfg.coarse = 3u;
+    assert_int_equal(calls_before_evaluating(&cfg, s.n, &given), 1u);
+    assert_int_equal(given.coarse, 3u);
+    assert_int_equal(found.evaluations, given.evaluations);
+    assert_memory_equal(&found.model, &given.model, sizeof found.model);
+}
+
 /* A process too fast for the decimation asked for: the coarse answer is
  * not trusted, the whole record is searched within the same budget. */
 static void test_coarse_fallback(void **state)
@@ -1600,6 +1644,7 @@ int main(void)
         cmocka_unit_test(test_control_band_off),
         cmocka_unit_test(test_control_band_no_dead_time),
         cmocka_unit_test(test_coarse_default),
+        cmocka_unit_test(test_coarse_steps),
         cmocka_unit_test(test_coarse_fallback),
         cmocka_unit_test(test_coarse_criteria),
         cmocka_unit_test(test_whole_sample_delay),

@@ -696,20 +696,26 @@ static pdt_status_t start(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
         (cfg_in.initial == PDT_IDENT_INITIAL_ESTIMATE || cfg_in.drift || pdt_ident_multi(&cfg_in))
             ? 0u
             : rest_usable(&cfg_in, &c->data, quiet);
-    /* The searches begin at PH_PREPARE, in a call of their own: the coarse
-     * record and its cost weigh as much as the checks above (a scan of a
-     * control task's budget each). */
+    /* The searches begin in calls of their own: each test of the coarse
+     * record's shape, and the coarse record with its cost, weigh as much
+     * as the checks above (a scan of a control task's budget each). */
     c->coarse.delay_max = (uint32_t)cc.delay_max;
-    c->phase = PH_PREPARE;
+    c->phase = PH_SHAPE_BEGIN;
     c->magic = IDENT_MAGIC;
     return PDT_OK;
 }
 
-/* PH_PREPARE: the searches' budget, the coarse record and its cost. */
-static pdt_ident_outcome_t prepare_search(pdt_ident_t *c)
+/* PH_SHAPE_BEGIN: the searches' budget, the coarse record's first factor. */
+static pdt_ident_outcome_t begin_search(pdt_ident_t *c)
 {
     c->vote.searches = searches_of(&c->cfg);
     c->vote.budget = c->cfg.max_evaluations / c->vote.searches;
+    return pdt_ident_coarse_first(c);
+}
+
+/* PH_PREPARE: the coarse record and its cost. */
+static pdt_ident_outcome_t prepare_search(pdt_ident_t *c)
+{
     pdt_ident_coarse_start(c);
     return OUT_DONE;
 }
@@ -885,6 +891,8 @@ static const plan_t PLAN[PH_COUNT] PDT_ROM = {
                       {OUT_GENERATION, PH_TIME_BREED, 0u},
                       {OUT_DONE, PH_BAND, 0u}}},
     [PH_GA_END] = {0u, {{OUT_RECENTRE, PH_RECENTRE, 0u}, {OUT_DONE, PH_REFINE_START, 0u}}},
+    [PH_SHAPE_BEGIN] = {0u, {{OUT_DONE, PH_SHAPE, 0u}, {OUT_SKIPPED, PH_PREPARE, 0u}}},
+    [PH_SHAPE] = {HEAVY, {{OUT_AGAIN, PH_SHAPE, 0u}, {OUT_DONE, PH_PREPARE, 0u}}},
     [PH_PREPARE] = {HEAVY, {{OUT_DONE, PH_GA_START, PH_SEARCH_END}}},
     [PH_GA_START] = {0u, {{OUT_DONE, PH_INIT_POP, 0u}, {OUT_TIME, PH_TIME_POP, 0u}}},
     [PH_BAND] = {HEAVY, {{OUT_DONE, PH_INIT_POP, 0u}}},
@@ -983,7 +991,7 @@ static const plan_t PLAN[PH_COUNT] PDT_ROM = {
                    {{OUT_REFIT, PH_REFIT, 0u},
                     {OUT_SKIPPED, PH_DONE, 0u},
                     {OUT_DONE, PH_SCREEN_HIGH, 0u}}},
-    [PH_REFIT] = {0u, {{OUT_DONE, PH_PREPARE, 0u}, {OUT_FAILED, PH_DONE, 0u}}},
+    [PH_REFIT] = {0u, {{OUT_DONE, PH_SHAPE_BEGIN, 0u}, {OUT_FAILED, PH_DONE, 0u}}},
     [PH_SCREEN_HIGH] = {HEAVY, {{OUT_AGAIN, PH_SCREEN_HIGH, 0u}, {OUT_DONE, PH_SCREEN_MEDIAN, 0u}}},
     [PH_SCREEN_MEDIAN] = {HEAVY,
                           {{OUT_AGAIN, PH_SCREEN_MEDIAN, 0u}, {OUT_DONE, PH_SCREEN_BOUND, 0u}}},
@@ -992,7 +1000,7 @@ static const plan_t PLAN[PH_COUNT] PDT_ROM = {
                           {OUT_FAILED, PH_DONE, 0u},
                           {OUT_DONE, PH_SCREEN_REFILL, 0u}}},
     [PH_SCREEN_REFILL] = {HEAVY, {{OUT_FAILED, PH_DONE, 0u}, {OUT_DONE, PH_SCREEN_RESTART, 0u}}},
-    [PH_SCREEN_RESTART] = {HEAVY, {{OUT_FAILED, PH_DONE, 0u}, {OUT_DONE, PH_PREPARE, 0u}}},
+    [PH_SCREEN_RESTART] = {HEAVY, {{OUT_FAILED, PH_DONE, 0u}, {OUT_DONE, PH_SHAPE_BEGIN, 0u}}},
 };
 
 /* What phase needs, and the phase after it when its stage returned out
@@ -1056,6 +1064,10 @@ static pdt_ident_outcome_t run_search(pdt_ident_t *c)
         return pdt_ident_ga_eval_offspring(c, true);
     case PH_GA_END:
         return pdt_ident_ga_end(c);
+    case PH_SHAPE_BEGIN:
+        return begin_search(c);
+    case PH_SHAPE:
+        return pdt_ident_coarse_factor(c);
     case PH_PREPARE:
         return prepare_search(c);
     case PH_GA_START:

@@ -86,26 +86,43 @@ static bool keeps_shape(const pdt_real_t *y, size_t n, size_t D)
     return var > noise && lost - noise <= COARSE_LOSS * (var - noise);
 }
 
-/* The decimation: 1 where the criterion or the dead-time mode has no
- * coarse record, the caller's, or the largest power-of-two fraction of
- * n / PDT_IDENT_COARSE_SAMPLES at which the output keeps its shape. */
-static size_t factor_of(const pdt_ident_t *c)
+/* PH_SHAPE_BEGIN: 1 where the criterion, the dead-time mode or the budget
+ * has no coarse record, the caller's D, or the first to test: n /
+ * PDT_IDENT_COARSE_SAMPLES, at most COARSE_MAX. The searches on the
+ * coarse record leave the polish its share of the budget: a budget too
+ * small for both searches the whole record. */
+pdt_ident_outcome_t pdt_ident_coarse_first(pdt_ident_t *c)
 {
     const pdt_ident_config_t *cfg = &c->cfg;
     const size_t n = c->data.n;
+    const uint32_t each = (cfg->max_evaluations - cfg->refine_evaluations) / c->vote.searches;
+    c->coarse.factor = 1u;
     if (cfg->cost != PDT_COST_SIMULATION || cfg->delay_mode != PDT_DELAY_FRACTIONAL ||
-        cfg->coarse == 1u) {
-        return 1u;
+        cfg->coarse == 1u || each < pdt_ident_search_need(cfg, cfg->population)) {
+        return OUT_SKIPPED;
     }
     if (cfg->coarse != 0u) {
-        return (n / cfg->coarse >= (size_t)PDT_MIN_SAMPLES) ? (size_t)cfg->coarse : 1u;
+        c->coarse.factor = (n / cfg->coarse >= (size_t)PDT_MIN_SAMPLES) ? cfg->coarse : 1u;
+        return OUT_SKIPPED;
     }
-    size_t D = n / PDT_IDENT_COARSE_SAMPLES;
-    D = D < COARSE_MAX ? D : COARSE_MAX;
-    while (D >= 2u && !keeps_shape(c->data.y, n, D)) {
-        D /= 2u;
+    const size_t D = n / PDT_IDENT_COARSE_SAMPLES;
+    if (D < 2u) {
+        return OUT_SKIPPED;
     }
-    return D >= 2u ? D : 1u;
+    c->coarse.factor = (uint32_t)(D < COARSE_MAX ? D : COARSE_MAX);
+    return OUT_DONE;
+}
+
+/* PH_SHAPE: the largest power-of-two fraction of the first D at which the
+ * output keeps its shape, one test a call (each O(n)). */
+pdt_ident_outcome_t pdt_ident_coarse_factor(pdt_ident_t *c)
+{
+    const size_t D = c->coarse.factor;
+    if (keeps_shape(c->data.y, c->data.n, D)) {
+        return OUT_DONE;
+    }
+    c->coarse.factor = (uint32_t)(D / 2u >= 2u ? D / 2u : 1u);
+    return c->coarse.factor >= 2u ? OUT_AGAIN : OUT_DONE;
 }
 
 /* The decimation D and the coarse record of n / D samples in the scratch
@@ -113,14 +130,10 @@ static size_t factor_of(const pdt_ident_t *c)
  * is searched whole (cc unchanged). */
 static size_t coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
 {
+    const size_t D = c->coarse.factor; /* PH_SHAPE's */
     c->coarse.factor = 1u;
     c->coarse.whole = false;
     c->coarse.delay_max = (uint32_t)cc->delay_max;
-    /* The searches on the coarse record leave the polish its share of
-     * the budget: a budget too small for both searches the whole record. */
-    const uint32_t each = (c->cfg.max_evaluations - c->cfg.refine_evaluations) / c->vote.searches;
-    const uint64_t need = pdt_ident_search_need(&c->cfg, c->cfg.population);
-    const size_t D = each >= need ? factor_of(c) : 1u;
     if (D < 2u) {
         return 0u;
     }

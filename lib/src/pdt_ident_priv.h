@@ -68,8 +68,11 @@ enum {
     PH_TIME_BREED,     /* its generation bred */
     PH_TIME_OFF,       /* its offspring evaluated */
     PH_GA_END,         /* decision: the spectra or the refinement */
-    PH_PREPARE,        /* init's first phase: the searches' budget, the
-                        * coarse record and its cost (a call of its own) */
+    PH_SHAPE_BEGIN,    /* init's first phase: the searches' budget, the
+                        * coarse record's first factor */
+    PH_SHAPE,          /* whether the output keeps its shape at that
+                        * factor (a call of its own each) */
+    PH_PREPARE,        /* the coarse record and its cost (a call of its own) */
     PH_GA_START,       /* a search's population drawn */
     PH_BAND,           /* CONTROL weighting: the band from the time model */
     PH_RECENTRE,       /* COMBINED: the spectra on the estimated offset */
@@ -345,8 +348,15 @@ pdt_ident_outcome_t pdt_ident_rest_start(pdt_ident_t *c);
 
 /* ---- pdt_ident_coarse.c */
 
-/* PH_PREPARE, after init prepared the whole record's cost: the
- * decimation D, the coarse record of n / D samples and its cost over the
+/* PH_SHAPE_BEGIN, once the searches' count is set: the first decimation
+ * D to test in pdt_ident_coarse_factor; OUT_SKIPPED when there is none to
+ * test (no coarse record, or the caller's D). */
+pdt_ident_outcome_t pdt_ident_coarse_first(pdt_ident_t *c);
+/* PH_SHAPE: one test of the output's shape at D: OUT_DONE with D kept, or
+ * 1 when no factor is left; OUT_AGAIN with the next D to test. */
+pdt_ident_outcome_t pdt_ident_coarse_factor(pdt_ident_t *c);
+/* PH_PREPARE, after init prepared the whole record's cost and PH_SHAPE
+ * chose D: the coarse record of n / D samples and its cost over the
  * whole one's; the whole record searched when D < 2 or that cost refuses
  * the coarse record (the whole one's prepared again). */
 void pdt_ident_coarse_start(pdt_ident_t *c);

@@ -32,14 +32,14 @@ def test_every_phase_has_a_row_a_stage_and_a_way_on():
 
 def test_every_return_is_named_before_it_is_taken():
     """PH_RETURN is reached only inside a search or a polish: from init's
-    phase (PH_PREPARE, lib/src/pdt_ident.c's start), every path to a phase
+    phase (PH_SHAPE_BEGIN, lib/src/pdt_ident.c's start), every path to a phase
     whose way is PH_RETURN passes a way that names the phase to return to
     (a walk that carries the phase named last, None before any)."""
     code = engine_plan.SEQUENCER.read_text()
-    assert "c->phase = PH_PREPARE;" in code
+    assert "c->phase = PH_SHAPE_BEGIN;" in code
     ways = {ph: w for ph, _, w in engine_plan.plan_ways(code)}
     seen = set()
-    todo = [("PH_PREPARE", None)]
+    todo = [("PH_SHAPE_BEGIN", None)]
     while todo:
         ph, then = todo.pop()
         if (ph, then) in seen or ph == "PH_DONE":

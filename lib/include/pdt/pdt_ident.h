@@ -466,9 +466,12 @@ pdt_status_t pdt_ident_init(pdt_ident_t *ctx, const pdt_ident_config_t *cfg,
  * The budget counts the samples scored: a search on a coarse record of
  * n / D samples makes D evaluations for one (each still has the fixed
  * part of discretising its model, a few hundred instructions). Or, in a
- * call of its own with no evaluation, one heavier step: the first call's
- * beginning of the searches (the coarse record and its cost, O(n), and
- * the first population), a breeding step
+ * call of its own with no evaluation, one heavier step: a test of
+ * whether the output keeps its shape at one factor of the coarse record
+ * (O(n); the first calls, one for each factor tried, at most five:
+ * 32, 16, 8, 4, 2), the beginning of the searches
+ * (the coarse record and its cost, O(n), and the first population), a
+ * breeding step
  * (O(P^2 genes) for the sharing), a preparation (of the spectra,
  * O(N_f log N_f) as in init: COMBINED re-centres them once before the
  * refinement, and the CONTROL weighting sets its band once; of the whole
