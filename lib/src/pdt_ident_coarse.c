@@ -117,7 +117,7 @@ pdt_ident_outcome_t pdt_ident_coarse_first(pdt_ident_t *c)
  * output keeps its shape, one test a call (each O(n)). */
 pdt_ident_outcome_t pdt_ident_coarse_factor(pdt_ident_t *c)
 {
-    const size_t D = c->coarse.factor;
+    const size_t D = (size_t)c->coarse.factor; /* at most COARSE_MAX */
     if (keeps_shape(c->data.y, c->data.n, D)) {
         return OUT_DONE;
     }
@@ -130,7 +130,7 @@ pdt_ident_outcome_t pdt_ident_coarse_factor(pdt_ident_t *c)
  * is searched whole (cc unchanged). */
 static size_t coarse_prepare(pdt_ident_t *c, pdt_cost_config_t *cc)
 {
-    const size_t D = c->coarse.factor; /* PH_SHAPE's */
+    const size_t D = (size_t)c->coarse.factor; /* PH_SHAPE's, at most n */
     c->coarse.factor = 1u;
     c->coarse.whole = false;
     c->coarse.delay_max = (uint32_t)cc->delay_max;
