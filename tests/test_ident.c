@@ -932,6 +932,31 @@ static void test_coarse_default(void **state)
     assert_true(fabs((double)(coarse.model.p.fopdt.Td - whole.model.p.fopdt.Td)) < 0.01);
 }
 
+/* An offspring that neither crossover nor mutation changed keeps its
+ * parent's score: it counts as an evaluation (the budgets see the same
+ * search) and scores no sample. Without crossover and with next to no
+ * mutation every offspring is a copy: the samples scored fall short of
+ * one whole record per evaluation by at least the offspring of the
+ * generations the stall rule waits. */
+static void test_copies_not_scored(void **state)
+{
+    pdt_ident_result_t res;
+    (void)state;
+    record_spec_t s = {
+        model_fopdt(2.0, 12.0, 4.37), (pdt_real_t)1.0, 600u, 0.0, 0.0, 1.0, 30.0, false, 99u};
+    make_prbs(g_dev, s.n, 10u, 8u, 7u);
+    make_record(&s);
+    pdt_ident_config_t cfg = base_config(PDT_MODEL_FOPDT, s.Ts);
+    cfg.coarse = 1u;
+    cfg.searches = 1u;
+    cfg.p_crossover = (pdt_real_t)0.0;
+    cfg.p_mutation = (pdt_real_t)1e-6;
+    identify(&cfg, s.n, &res);
+    const uint64_t waited = (uint64_t)cfg.stall_generations * PDT_IDENT_POPULATION_FOPDT;
+    assert_true(res.evaluations > waited);
+    assert_true(g_ctx.samples + (waited * s.n) <= (uint64_t)res.evaluations * s.n);
+}
+
 /* Steps until the first evaluation, each call's budget 100 evaluations;
  * the identification then run to its end into res. */
 static uint32_t calls_before_evaluating(const pdt_ident_config_t *cfg, size_t n,
@@ -1645,6 +1670,7 @@ int main(void)
         cmocka_unit_test(test_control_band_no_dead_time),
         cmocka_unit_test(test_coarse_default),
         cmocka_unit_test(test_coarse_steps),
+        cmocka_unit_test(test_copies_not_scored),
         cmocka_unit_test(test_coarse_fallback),
         cmocka_unit_test(test_coarse_criteria),
         cmocka_unit_test(test_whole_sample_delay),

@@ -127,6 +127,32 @@ static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
     return pdt_ga_tournament(c->ga.shared, a, b, pdt_rng_u32(r) & 1u);
 }
 
+/* Offspring i's score, when it is a copy of parent k or l (neither
+ * crossover nor mutation changed any of its genes): the parent's, which
+ * its evaluation would only repeat; else NaN, the mark that it is to be
+ * scored (a score is never NaN: pdt_ident_evaluate makes it the largest
+ * real). */
+static void inherit(pdt_ident_ga_t *ga, size_t G, size_t i, size_t k, size_t l)
+{
+    const pdt_real_t *x = &ga->off[i * G];
+    size_t from = k;
+    for (size_t pass = 0u; pass < 2u; pass++) {
+        const pdt_real_t *p = &ga->pop[from * G];
+        size_t j = 0u;
+        while (j < G && x[j] == p[j]) {
+            j++;
+        }
+        if (j == G) {
+            ga->off_cost[i] = ga->pop_cost[from];
+            ga->off_gain[i] = ga->pop_gain[from];
+            ga->off_offset[i] = ga->pop_offset[from];
+            return;
+        }
+        from = l;
+    }
+    ga->off_cost[i] = (pdt_real_t)NAN;
+}
+
 /* One generation of offspring from the current population. */
 pdt_ident_outcome_t pdt_ident_ga_breed(pdt_ident_t *c)
 {
@@ -137,8 +163,9 @@ pdt_ident_outcome_t pdt_ident_ga_breed(pdt_ident_t *c)
     pdt_ga_share(ga->pop, P, G, c->lo, c->hi, ga->pop_cost, c->cfg.sigma_share, PDT_R(1.0),
                  ga->shared);
     for (size_t i = 0; i < P; i += 2u) {
-        const pdt_real_t *p1 = &ga->pop[pick(c, r) * G];
-        const pdt_real_t *p2 = &ga->pop[pick(c, r) * G];
+        const size_t k = pick(c, r), l = pick(c, r);
+        const pdt_real_t *p1 = &ga->pop[k * G];
+        const pdt_real_t *p2 = &ga->pop[l * G];
         pdt_real_t *c1 = &ga->off[i * G];
         pdt_real_t *c2 = &ga->off[(i + 1u) * G];
         bool cross = pdt_rng_uniform(r) < c->cfg.p_crossover;
@@ -162,6 +189,8 @@ pdt_ident_outcome_t pdt_ident_ga_breed(pdt_ident_t *c)
             c1[j] = x1;
             c2[j] = x2;
         }
+        inherit(ga, G, i, k, l);
+        inherit(ga, G, i + 1u, l, k);
     }
     ga->next = 0u;
     return OUT_DONE;
@@ -205,10 +234,48 @@ static void survive(pdt_ident_t *c)
     }
 }
 
+/* A group of offspring: those inherit marked as copies keep their
+ * parent's score, counted as evaluations that scored no sample (the
+ * budgets, which count evaluations, see the same search); the others
+ * are scored in one pass, as eval_group scores a group. */
+static void eval_offspring_group(pdt_ident_t *c)
+{
+    pdt_ident_ga_t *ga = &c->ga;
+    const uint32_t first = ga->next, count = pdt_ident_ga_group(c), G = c->genes;
+    pdt_real_t genes[PDT_COST_MANY * 3u];
+    pdt_real_t cost[PDT_COST_MANY], gain[PDT_COST_MANY], offset[PDT_COST_MANY];
+    uint32_t which[PDT_COST_MANY];
+    uint32_t fresh = 0u;
+    for (uint32_t i = first; i < first + count; i++) {
+        if (isnan(ga->off_cost[i]) == 0) {
+            pdt_ident_counted(c, 1u, 0u);
+            continue;
+        }
+        for (uint32_t j = 0; j < G; j++) {
+            genes[(fresh * G) + j] = ga->off[(i * G) + j];
+        }
+        which[fresh] = i;
+        fresh++;
+    }
+    if (fresh == 1u) {
+        pdt_ident_evaluate(c, genes, cost, gain, offset);
+    } else if (fresh > 1u) {
+        pdt_ident_evaluate_many(c, genes, fresh, cost, gain, offset);
+    } else {
+        /* Every one a copy. */
+    }
+    for (uint32_t f = 0; f < fresh; f++) {
+        ga->off_cost[which[f]] = cost[f];
+        ga->off_gain[which[f]] = gain[f];
+        ga->off_offset[which[f]] = offset[f];
+    }
+    ga->next += count;
+}
+
 pdt_ident_outcome_t pdt_ident_ga_eval_offspring(pdt_ident_t *c, bool time)
 {
     pdt_ident_ga_t *ga = &c->ga;
-    eval_group(c, ga->off, ga->off_cost, ga->off_gain, ga->off_offset);
+    eval_offspring_group(c);
     if (ga->next == c->cfg.population) {
         survive(c);
         return generation_end(c, time);
