@@ -95,17 +95,24 @@ uint32_t pdt_ident_ga_group(const pdt_ident_t *c)
     return left < PDT_VECTOR_LANES ? left : PDT_VECTOR_LANES;
 }
 
-/* A group of individuals from index i: one evaluation each, in one pass
+/* count individuals (genes g, one after another) scored, in one pass
  * where the build has vector lanes. */
+static void score(pdt_ident_t *c, const pdt_real_t *g, uint32_t count, pdt_real_t *cost,
+                  pdt_real_t *gain, pdt_real_t *offset)
+{
+    if (count == 1u) {
+        pdt_ident_evaluate(c, g, cost, gain, offset);
+    } else {
+        pdt_ident_evaluate_many(c, g, count, cost, gain, offset);
+    }
+}
+
+/* A group of individuals from index i: one evaluation each. */
 static void eval_group(pdt_ident_t *c, pdt_real_t *genes, pdt_real_t *cost, pdt_real_t *gain,
                        pdt_real_t *offset)
 {
     const uint32_t i = c->ga.next, count = pdt_ident_ga_group(c);
-    if (count == 1u) {
-        pdt_ident_evaluate(c, &genes[i * c->genes], &cost[i], &gain[i], &offset[i]);
-    } else {
-        pdt_ident_evaluate_many(c, &genes[i * c->genes], count, &cost[i], &gain[i], &offset[i]);
-    }
+    score(c, &genes[i * c->genes], count, &cost[i], &gain[i], &offset[i]);
     c->ga.next += count;
 }
 
@@ -127,6 +134,16 @@ static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
     return pdt_ga_tournament(c->ga.shared, a, b, pdt_rng_u32(r) & 1u);
 }
 
+/* Whether offspring i has parent k's genes, bit for bit. */
+static bool copy_of(const pdt_ident_ga_t *ga, size_t G, size_t i, size_t k)
+{
+    size_t j = 0u;
+    while (j < G && ga->off[(i * G) + j] == ga->pop[(k * G) + j]) {
+        j++;
+    }
+    return j == G;
+}
+
 /* Offspring i's score, when it is a copy of parent k or l (neither
  * crossover nor mutation changed any of its genes): the parent's, which
  * its evaluation would only repeat; else NaN, the mark that it is to be
@@ -134,23 +151,17 @@ static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
  * real). */
 static void inherit(pdt_ident_ga_t *ga, size_t G, size_t i, size_t k, size_t l)
 {
-    const pdt_real_t *x = &ga->off[i * G];
     size_t from = k;
-    for (size_t pass = 0u; pass < 2u; pass++) {
-        const pdt_real_t *p = &ga->pop[from * G];
-        size_t j = 0u;
-        while (j < G && x[j] == p[j]) {
-            j++;
-        }
-        if (j == G) {
-            ga->off_cost[i] = ga->pop_cost[from];
-            ga->off_gain[i] = ga->pop_gain[from];
-            ga->off_offset[i] = ga->pop_offset[from];
+    if (!copy_of(ga, G, i, k)) {
+        if (!copy_of(ga, G, i, l)) {
+            ga->off_cost[i] = (pdt_real_t)NAN;
             return;
         }
         from = l;
     }
-    ga->off_cost[i] = (pdt_real_t)NAN;
+    ga->off_cost[i] = ga->pop_cost[from];
+    ga->off_gain[i] = ga->pop_gain[from];
+    ga->off_offset[i] = ga->pop_offset[from];
 }
 
 /* One generation of offspring from the current population. */
@@ -237,7 +248,7 @@ static void survive(pdt_ident_t *c)
 /* A group of offspring: those inherit marked as copies keep their
  * parent's score, counted as evaluations that scored no sample (the
  * budgets, which count evaluations, see the same search); the others
- * are scored in one pass, as eval_group scores a group. */
+ * are scored together. */
 static void eval_offspring_group(pdt_ident_t *c)
 {
     pdt_ident_ga_t *ga = &c->ga;
@@ -257,12 +268,8 @@ static void eval_offspring_group(pdt_ident_t *c)
         which[fresh] = i;
         fresh++;
     }
-    if (fresh == 1u) {
-        pdt_ident_evaluate(c, genes, cost, gain, offset);
-    } else if (fresh > 1u) {
-        pdt_ident_evaluate_many(c, genes, fresh, cost, gain, offset);
-    } else {
-        /* Every one a copy. */
+    if (fresh > 0u) {
+        score(c, genes, fresh, cost, gain, offset);
     }
     for (uint32_t f = 0; f < fresh; f++) {
         ga->off_cost[which[f]] = cost[f];
