@@ -134,11 +134,11 @@ static size_t pick(const pdt_ident_t *c, pdt_rng_t *r)
     return pdt_ga_tournament(c->ga.shared, a, b, pdt_rng_u32(r) & 1u);
 }
 
-/* Whether offspring i has parent k's genes, bit for bit. */
-static bool copy_of(const pdt_ident_ga_t *ga, size_t G, size_t i, size_t k)
+/* Whether genes x are genes p, bit for bit. */
+static bool same_genes(const pdt_real_t *x, const pdt_real_t *p, size_t G)
 {
     size_t j = 0u;
-    while (j < G && ga->off[(i * G) + j] == ga->pop[(k * G) + j]) {
+    while (j < G && x[j] == p[j]) {
         j++;
     }
     return j == G;
@@ -151,9 +151,10 @@ static bool copy_of(const pdt_ident_ga_t *ga, size_t G, size_t i, size_t k)
  * real). */
 static void inherit(pdt_ident_ga_t *ga, size_t G, size_t i, size_t k, size_t l)
 {
+    const pdt_real_t *x = &ga->off[i * G];
     size_t from = k;
-    if (!copy_of(ga, G, i, k)) {
-        if (!copy_of(ga, G, i, l)) {
+    if (!same_genes(x, &ga->pop[k * G], G)) {
+        if (!same_genes(x, &ga->pop[l * G], G)) {
             ga->off_cost[i] = (pdt_real_t)NAN;
             return;
         }
