@@ -998,7 +998,7 @@ static void test_coarse_steps(void **state)
     assert_int_equal(calls_before_evaluating(&cfg, s.n, &given), 1u);
     assert_int_equal(given.coarse, 3u);
     assert_int_equal(found.evaluations, given.evaluations);
-    assert_memory_equal(&found.model, &given.model, sizeof found.model);
+    assert_same_model(&found.model, &given.model);
 }
 
 /* A process too fast for the decimation asked for: the coarse answer is

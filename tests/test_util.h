@@ -58,21 +58,29 @@ static inline void assert_same_real(pdt_real_t a, pdt_real_t b, const char *what
     }
 }
 
+/* Two models field by field, bit for bit: memory compares would read the
+ * padding and a FOPDT's unused union slot, which hold whatever the stack
+ * held (equal on one machine, not on another). */
+static inline void assert_same_model(const pdt_model_t *a, const pdt_model_t *b)
+{
+    assert_int_equal(a->kind, b->kind);
+    if (a->kind == PDT_MODEL_FOPDT) {
+        assert_same_real(a->p.fopdt.K, b->p.fopdt.K, "K");
+        assert_same_real(a->p.fopdt.tau, b->p.fopdt.tau, "tau");
+        assert_same_real(a->p.fopdt.Td, b->p.fopdt.Td, "Td");
+    } else {
+        assert_same_real(a->p.sopdt.k, b->p.sopdt.k, "k");
+        assert_same_real(a->p.sopdt.a, b->p.sopdt.a, "a");
+        assert_same_real(a->p.sopdt.b, b->p.sopdt.b, "b");
+        assert_same_real(a->p.sopdt.Td, b->p.sopdt.Td, "Td");
+    }
+}
+
 /* Two identifications' answers field by field, bit for bit (the structs
  * may hold padding, which an assignment copies from wherever it was). */
 static inline void assert_same_ident(const pdt_ident_result_t *a, const pdt_ident_result_t *b)
 {
-    assert_int_equal(a->model.kind, b->model.kind);
-    if (a->model.kind == PDT_MODEL_FOPDT) {
-        assert_same_real(a->model.p.fopdt.K, b->model.p.fopdt.K, "K");
-        assert_same_real(a->model.p.fopdt.tau, b->model.p.fopdt.tau, "tau");
-        assert_same_real(a->model.p.fopdt.Td, b->model.p.fopdt.Td, "Td");
-    } else {
-        assert_same_real(a->model.p.sopdt.k, b->model.p.sopdt.k, "k");
-        assert_same_real(a->model.p.sopdt.a, b->model.p.sopdt.a, "a");
-        assert_same_real(a->model.p.sopdt.b, b->model.p.sopdt.b, "b");
-        assert_same_real(a->model.p.sopdt.Td, b->model.p.sopdt.Td, "Td");
-    }
+    assert_same_model(&a->model, &b->model);
     assert_same_real(a->u0, b->u0, "u0");
     assert_same_real(a->y0, b->y0, "y0");
     assert_same_real(a->cost, b->cost, "cost");
