@@ -398,14 +398,48 @@ static bool kink_pass(pdt_ident_t *c, uint32_t dims, const pdt_real_t *x)
 
 /* The dead-time probe after the answer's polish and its kink passes:
  * the cost at PROBE_STEPS points on either side of the answer's dead time,
- * PROBE_STEP samples apart, the other genes held. Under an input that
- * moves at nearly every sample, the interval between two whole samples
- * can hold two minima a fraction of a sample apart, closer than any
- * niche the sharing keeps apart, and two agreeing searches can both end
- * in the worse one (docs/ident-engine.md); the polish, local, does not
- * see the other. A lower point found is polished as the answer was. */
+ * PROBE_STEP samples apart, the lags scaled so that the mean delay (the
+ * dead time plus the lags' sum) stays the answer's, the damping held
+ * (moment_gene). Under an input that moves at nearly every sample, the
+ * interval between two whole samples can hold two minima a fraction of a
+ * sample apart, closer than any niche the sharing keeps apart, and two
+ * agreeing searches can both end in the worse one (docs/ident-engine.md);
+ * the polish, local, does not see the other, and with the shape held the
+ * other lies higher than the answer: a shorter dead time needs slower
+ * lags. A lower point found is polished as the answer was. */
 #define PROBE_STEPS 10u
 #define PROBE_STEP  PDT_R(0.1)
+
+/* The sum of the lags of the shape g codes, s (a SOPDT's a / b); 0 for
+ * an integrator, whose time scale the probe then holds. */
+static pdt_real_t lag_sum(const pdt_ident_t *c, const pdt_real_t *g)
+{
+    pdt_model_t m;
+    pdt_model_view_t v;
+    pdt_ident_shape(c, g, &m);
+    pdt_model_view(&m, &v);
+    if (v.lags == 1u) {
+        return v.tau;
+    }
+    return v.b > PDT_R(0.0) && v.a < v.b * PDT_REAL_MAX ? v.a / v.b : PDT_R(0.0);
+}
+
+/* The time-scale gene (gene 0: log tau, or log(1 / a), whose damping
+ * gene is scale-free) of the probe's point s seconds of dead time from its
+ * centre: the lags scaled so that their sum plus the dead time, the
+ * response's mean delay, stays; a record fixes the mean delay far better
+ * than its split into dead time and lags. Held where the lags cannot give
+ * up s (more than three quarters of their sum) or the scaled gene leaves
+ * its bounds. */
+static pdt_real_t moment_gene(const pdt_ident_t *c, pdt_real_t lags, pdt_real_t s)
+{
+    const pdt_real_t g = c->nm.probe_x[0];
+    if (!(lags > PDT_R(0.0)) || !(lags - s > PDT_R(0.25) * lags)) {
+        return g;
+    }
+    const pdt_real_t x = g + pdt_log((lags - s) / lags);
+    return x >= c->lo[0] && x <= c->hi[0] ? x : g;
+}
 
 static bool probe_begin(pdt_ident_t *c)
 {
@@ -429,6 +463,7 @@ pdt_ident_outcome_t pdt_ident_polish_probe(pdt_ident_t *c)
     pdt_real_t pts[PDT_COST_MANY * 3u];
     pdt_real_t cost[PDT_COST_MANY], gains[PDT_COST_MANY], offsets[PDT_COST_MANY];
     uint32_t m = 0;
+    const pdt_real_t lags = lag_sum(c, nm->probe_x);
     for (uint32_t i = 0; i < count; i++) {
         /* Points 1 .. PROBE_STEPS below the centre, the rest above it. */
         const uint32_t k = nm->probe + i;
@@ -439,6 +474,7 @@ pdt_ident_outcome_t pdt_ident_polish_probe(pdt_ident_t *c)
             x[j] = nm->probe_x[j];
         }
         x[G - 1u] = gene_at(c, samples_of(c, nm->probe_x[G - 1u]) + (d * PROBE_STEP));
+        x[0] = moment_gene(c, lags, d * PROBE_STEP * c->cfg.Ts);
         if (x[G - 1u] >= c->lo[G - 1u] && x[G - 1u] <= c->hi[G - 1u]) {
             m++;
         }

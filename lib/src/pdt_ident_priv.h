@@ -92,7 +92,7 @@ enum {
     PH_KINK_NM,        /* Nelder-Mead from its best point begun */
     PH_KINK_REFINE,    /* that Nelder-Mead */
     PH_PROBE_BEGIN,    /* decision: the dead-time probe or the answer */
-    PH_PROBE,          /* the dead time about a polished answer, shape held */
+    PH_PROBE,          /* the dead time about a polished answer, mean delay held */
     PH_SCAN_START,     /* frequency criterion: its dead-time scan begun */
     PH_DELAY_SCAN,     /* frequency criterion: dead time and sign from Ct */
     PH_DELAY_REFINE,   /* its golden section */
