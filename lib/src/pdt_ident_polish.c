@@ -441,10 +441,22 @@ static pdt_real_t moment_gene(const pdt_ident_t *c, pdt_real_t lags, pdt_real_t 
     return x >= c->lo[0] && x <= c->hi[0] ? x : g;
 }
 
+/* The probe's points and a stencil for the polish from its lowest, the
+ * budget probe_begin asks for. */
+static uint32_t probe_need(const pdt_ident_t *c)
+{
+    return (2u * PROBE_STEPS) + (c->genes * (c->genes + 1u)) + 2u;
+}
+
+uint32_t pdt_ident_probe_reserve(const pdt_ident_t *c)
+{
+    return has_kinks(c) ? probe_need(c) : 0u;
+}
+
 static bool probe_begin(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
-    if (pdt_ident_left(c) < (2u * PROBE_STEPS) + (c->genes * (c->genes + 1u)) + 2u) {
+    if (pdt_ident_left(c) < probe_need(c)) {
         return false;
     }
     nm->probe = 1u;

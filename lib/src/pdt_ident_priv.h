@@ -405,6 +405,10 @@ pdt_ident_outcome_t pdt_ident_polish_probe(pdt_ident_t *c);
  * together. */
 uint32_t pdt_ident_polish_group(const pdt_ident_t *c);
 uint32_t pdt_ident_probe_group(const pdt_ident_t *c);
+/* The evaluations a polish keeps back for its dead-time probe: the
+ * probe's and a polish stencil's where the probe applies (the whole
+ * record's output error, a fractional dead time), else 0. */
+uint32_t pdt_ident_probe_reserve(const pdt_ident_t *c);
 
 /* ---- pdt_ident_vote.c: the answer's uncertainty */
 

@@ -40,7 +40,7 @@
 
 /* The share of the refinement's budget the start across the answer's
  * nearest kink gets. */
-#define PROFILE_ACROSS_SHARE 3u
+#define PROFILE_ACROSS_SHARE 2u
 
 /* The grid: whole samples of the searched record from the least dead time
  * up, every `every` of them, at most PROFILE_POINTS; where `every` > 1,

@@ -139,12 +139,22 @@ static void niches_start(pdt_ident_t *c)
     nm->next = 0u;
 }
 
-/* The polish of the best with what is left, in run0. */
+/* A simplex given less than this many of its own sizes has no room to
+ * move: the polish then keeps nothing back for the probe. */
+#define NM_ROOM 4u
+
+/* The polish of the best with what is left, in run0, but for the
+ * dead-time probe's share: a Nelder-Mead that used it all would leave the
+ * answer unprobed exactly where the budget was tight, as the polishes of
+ * the dead-time profile's points on a long record are. */
 static void polish_start(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
+    const uint32_t left = pdt_ident_left(c);
+    const uint32_t keep = pdt_ident_probe_reserve(c);
+    const uint32_t room = NM_ROOM * (c->genes + 1u);
     nm->start_i = nm->nstarts;
-    simplex_start(c, &nm->run0, c->best.genes, pdt_ident_left(c));
+    simplex_start(c, &nm->run0, c->best.genes, left >= keep + room ? left - keep : left);
 }
 
 /* The refinement from the starts chosen. The cost scale may have changed
