@@ -37,6 +37,7 @@ static void ga_start(pdt_ident_t *c)
     ga->best_history = PDT_REAL_MAX;
     c->vote.base = c->evaluations;
     c->best.cost = PDT_REAL_MAX;
+    c->nm.keep_probe = false;
 }
 
 pdt_ident_outcome_t pdt_ident_ga_begin(pdt_ident_t *c)

@@ -100,6 +100,7 @@ pdt_ident_outcome_t pdt_ident_profile_end(pdt_ident_t *c, bool across)
      * searches' answers: confined to its interval, it may end on the
      * interval's edge, no basin of the whole range to put to the vote as
      * a rival. */
+    c->nm.keep_probe = false;
     const uint32_t k = c->vote.done - 1u;
     bool other = true;
     for (uint32_t i = 0u; i < k; i++) {
@@ -234,6 +235,7 @@ static pdt_ident_outcome_t scan_end(pdt_ident_t *c)
         return OUT_DONE;
     }
     pdt_ident_polish_budget(c, budget);
+    c->nm.keep_probe = true;
     for (uint32_t j = 0; j < c->genes; j++) {
         c->start[j] = start[j];
     }

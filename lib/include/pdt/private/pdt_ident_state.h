@@ -81,6 +81,8 @@ typedef struct pdt_ident_refine {
     pdt_real_t r;          /* that polish's dead time, samples */
     pdt_real_t f_kink;     /* the pinned pass's least cost */
     bool near;             /* its dead time's differences reached a kink */
+    bool keep_probe;       /* a polish of the dead-time profile's: its
+                            * Nelder-Mead keeps the probe's share back */
     uint32_t probe;        /* the dead-time probe's next point, from 1 */
     pdt_real_t probe_x[3]; /* its centre: the answer polished */
     pdt_real_t probe_f;    /* and its cost */
