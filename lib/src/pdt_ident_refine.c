@@ -146,7 +146,7 @@ static void niches_start(pdt_ident_t *c)
 /* The polish of the best with what is left, in run0; a polish of the
  * dead-time profile's but for the dead-time probe's share. Its budget is
  * the refinement's alone, from a point far from the searches' answer (or
- * a third of it across a kink), and on a long record a Nelder-Mead that
+ * half of it across a kink), and on a long record a Nelder-Mead that
  * used it all left the answer unprobed, 2 % above the optimum. The
  * searches' own polishes take everything: kept back there too, the probe's
  * share cost a benchmark seed 0.4 % of cost and its error target. */
@@ -154,7 +154,7 @@ static void polish_start(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
     const uint32_t left = pdt_ident_left(c);
-    const uint32_t keep = c->nm.keep_probe ? pdt_ident_probe_reserve(c) : 0u;
+    const uint32_t keep = nm->keep_probe ? pdt_ident_probe_reserve(c) : 0u;
     const uint32_t room = NM_ROOM * (c->genes + 1u);
     nm->start_i = nm->nstarts;
     simplex_start(c, &nm->run0, c->best.genes, left >= keep + room ? left - keep : left);
