@@ -355,6 +355,177 @@ static void test_vectors_many_and_hints(void **state)
     print_message("worst relative error, profile_many and hinted profiles: %.3g\n", worst);
 }
 
+/* m at dead time l Ts. */
+static pdt_model_t at_delay(pdt_model_t m, size_t l, pdt_real_t Ts)
+{
+    const pdt_real_t Td = (pdt_real_t)l * Ts;
+    if (m.kind == PDT_MODEL_FOPDT) {
+        m.p.fopdt.Td = Td;
+    } else {
+        m.p.sopdt.Td = Td;
+    }
+    return m;
+}
+
+/* A shape's whole-sample dead times scored from its stored response
+ * (pdt_cost_response, pdt_cost_profile_shift), on every SIMULATION
+ * configuration of the vectors: pdt_cost_profile_many's profiles of the
+ * same shapes at those dead times, bit for bit where the delay is taken
+ * in whole samples (PDT_DELAY_INTEGER) and within the vectors' tolerance
+ * otherwise (there a dead time of l Ts can round to a fraction of a
+ * sample); and at the shape's own dead time under PDT_DELAY_INTEGER, the
+ * numpy reference's profile. One to four delays a call, with and
+ * without a reference fit. */
+static void test_shift_profiles(void **state)
+{
+    double worst = 0.0;
+    size_t checked = 0u;
+    (void)state;
+    for (size_t si = 0; si < CPV_NSETS; si++) {
+        const cpv_set_t *s = &cpv_sets[si];
+        const double ys = y_scale(s);
+        for (size_t ci = 0; ci < CPV_NCFG; ci++) {
+            if (cpv_configs[ci].kind != (int)PDT_COST_SIMULATION) {
+                continue;
+            }
+            pdt_cost_t c;
+            const cpv_config_t *v = open_case(s, ci, &c);
+            const bool whole = c.cfg.delay_mode == PDT_DELAY_INTEGER;
+            const pdt_real_t Ts = c.cfg.Ts;
+            for (size_t i = 0; i < s->nshape; i++) {
+                const cpv_result_t *w = &s->result[i * CPV_NCFG + ci];
+                const pdt_model_t m = model_of(s, i, 1.0);
+                const pdt_real_t lo = (pdt_real_t)w->gain_min, hi = (pdt_real_t)w->gain_max;
+                const double own = floor((double)pdt_model_dead_time(&m) / (double)Ts + 0.5);
+                size_t delay[PDT_COST_MANY];
+                pdt_model_t shapes[PDT_COST_MANY];
+                pdt_real_t los[PDT_COST_MANY], his[PDT_COST_MANY];
+                canary_fill(g_scratch + s->n, CANARY_COUNT);
+                assert_int_equal(pdt_cost_response(&c, &m, g_scratch), PDT_OK);
+                canary_check(g_scratch + s->n, CANARY_COUNT);
+                for (size_t k = 0; k < PDT_COST_MANY; k++) {
+                    /* the shape's own delay first, then three around it */
+                    size_t l = (size_t)own + (k == 0u ? 0u : 2u * k - 1u);
+                    l = l < c.cfg.delay_min ? c.cfg.delay_min : l;
+                    l = l > c.cfg.delay_max ? c.cfg.delay_max : l;
+                    delay[k] = l;
+                    shapes[k] = at_delay(m, l, Ts);
+                    los[k] = lo;
+                    his[k] = hi;
+                }
+                const pdt_cost_hint_t hints[2] = {{0, 0, 0},
+                                                  {(pdt_real_t)w->gain, (pdt_real_t)w->offset,
+                                                   (pdt_real_t)0}};
+                for (size_t h = 0; h < 2u; h++) {
+                    for (size_t cnt = 1; cnt <= PDT_COST_MANY; cnt++) {
+                        pdt_cost_profile_t r[PDT_COST_MANY + 1u], q[PDT_COST_MANY];
+                        r[cnt].cost = (pdt_real_t)-1.0;
+                        assert_int_equal(pdt_cost_profile_shift(&c, &m, g_scratch, delay, cnt, lo,
+                                                                hi, &hints[h], r),
+                                         PDT_OK);
+                        assert_true(r[cnt].cost == (pdt_real_t)-1.0);
+                        assert_int_equal(pdt_cost_profile_many(&c, shapes, cnt, los, his,
+                                                               &hints[h], g_ysim, q),
+                                         PDT_OK);
+                        for (size_t k = 0; k < cnt; k++) {
+                            if (whole) {
+                                assert_true(r[k].ncost == q[k].ncost && r[k].gain == q[k].gain &&
+                                            r[k].offset == q[k].offset);
+                            }
+                            check_val((double)r[k].cost, (double)q[k].cost, CPV_RTOL, 0.0, &worst,
+                                      s->name, i, v->name, "shift cost");
+                            check_val((double)r[k].offset, (double)q[k].offset, CPV_RTOL, ys,
+                                      &worst, s->name, i, v->name, "shift offset");
+                            checked++;
+                        }
+                        if (whole && delay[0] == (size_t)own) {
+                            double gain = w->sign_free ? fabs((double)r[0].gain) : (double)r[0].gain;
+                            check_val((double)r[0].cost, w->cost, CPV_RTOL, 0.0, &worst, s->name,
+                                      i, v->name, "shift cost (reference)");
+                            check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0,
+                                      &worst, s->name, i, v->name, "shift gain (reference)");
+                            check_val((double)r[0].offset, w->offset, CPV_RTOL, ys, &worst,
+                                      s->name, i, v->name, "shift offset (reference)");
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert_true(checked > 0u);
+    print_message("pdt_cost_profile_shift: %zu profiles, worst relative error %.3g\n", checked,
+                  worst);
+}
+
+/* The refusals of pdt_cost_response and pdt_cost_profile_shift leave
+ * their outputs untouched. */
+static void test_shift_errors(void **state)
+{
+    const cpv_set_t *s = &cpv_sets[0];
+    pdt_cost_config_t cfg;
+    pdt_cost_t c;
+    const pdt_model_t m = model_of(s, 0, 1.0);
+    pdt_cost_profile_t r[PDT_COST_MANY];
+    size_t delay[PDT_COST_MANY];
+    (void)state;
+    load_set(s);
+    base_config(s, &cfg);
+    apply_config(&cpv_configs[1], &cfg); /* SIMULATION, whole samples */
+    init_ok(&c, &cfg, s->n);
+    for (size_t k = 0; k < PDT_COST_MANY; k++) {
+        delay[k] = c.cfg.delay_min + k;
+    }
+    memset(r, 0x5a, sizeof r);
+    for (size_t k = 0; k < s->n; k++) {
+        g_ref[k] = (pdt_real_t)0.25;
+    }
+    assert_int_equal(pdt_cost_response(NULL, &m, g_ref), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_response(&c, NULL, g_ref), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_response(&c, &m, NULL), PDT_ERR_ARG);
+    pdt_model_t bad = m;
+    bad.kind = (pdt_model_kind_t)99;
+    assert_int_equal(pdt_cost_response(&c, &bad, g_ref), PDT_ERR_ARG);
+    for (size_t k = 0; k < s->n; k++) {
+        assert_true(g_ref[k] == (pdt_real_t)0.25);
+    }
+    assert_int_equal(pdt_cost_response(&c, &m, g_scratch), PDT_OK);
+    assert_int_equal(pdt_cost_profile_shift(&c, &m, g_scratch, delay, 0u, 0, 0, NULL, r),
+                     PDT_ERR_ARG);
+    assert_int_equal(
+        pdt_cost_profile_shift(&c, &m, g_scratch, delay, PDT_COST_MANY + 1u, 0, 0, NULL, r),
+        PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_shift(NULL, &m, g_scratch, delay, 1u, 0, 0, NULL, r),
+                     PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_shift(&c, &bad, g_scratch, delay, 1u, 0, 0, NULL, r),
+                     PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_shift(&c, &m, NULL, delay, 1u, 0, 0, NULL, r), PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_shift(&c, &m, g_scratch, NULL, 1u, 0, 0, NULL, r),
+                     PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_shift(&c, &m, g_scratch, delay, 1u, 2, 1, NULL, r),
+                     PDT_ERR_BOUNDS);
+    assert_int_equal(pdt_cost_profile_shift(&c, &m, g_scratch, delay, 1u, (pdt_real_t)NAN, 1,
+                                            NULL, r),
+                     PDT_ERR_ARG);
+    /* a delay beyond the cost's bound, in the last place */
+    delay[PDT_COST_MANY - 1u] = c.cfg.delay_max + 1u;
+    assert_int_equal(
+        pdt_cost_profile_shift(&c, &m, g_scratch, delay, PDT_COST_MANY, 0, 0, NULL, r),
+        PDT_ERR_ARG);
+    for (size_t k = 0; k < sizeof r; k++) {
+        assert_int_equal(((const unsigned char *)r)[k], 0x5a);
+    }
+    /* not a SIMULATION cost: the prediction error */
+    apply_config(&cpv_configs[3], &cfg);
+    init_ok(&c, &cfg, s->n);
+    assert_int_equal(pdt_cost_response(&c, &m, g_ref), PDT_ERR_ARG);
+    delay[PDT_COST_MANY - 1u] = c.cfg.delay_min;
+    assert_int_equal(pdt_cost_profile_shift(&c, &m, g_scratch, delay, 1u, 0, 0, NULL, r),
+                     PDT_ERR_ARG);
+    for (size_t k = 0; k < s->n; k++) {
+        assert_true(g_ref[k] == (pdt_real_t)0.25);
+    }
+}
+
 /* The refusals of pdt_cost_profile_many leave out untouched. */
 static void test_many_errors(void **state)
 {
@@ -1053,6 +1224,8 @@ int main(void)
         cmocka_unit_test(test_vectors_profile),
         cmocka_unit_test(test_vectors_many_and_hints),
         cmocka_unit_test(test_many_errors),
+        cmocka_unit_test(test_shift_profiles),
+        cmocka_unit_test(test_shift_errors),
         cmocka_unit_test(test_accuracy_scales),
         cmocka_unit_test(test_vectors_simulate),
         cmocka_unit_test(test_profile_properties),

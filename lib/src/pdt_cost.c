@@ -1536,6 +1536,59 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
     return PDT_OK;
 }
 
+/* The shape's discrete model at a whole-sample dead time (the fraction
+ * 0): its coefficients are those of every such dead time. The delay is
+ * the least the cost takes, for the caller to set. */
+static pdt_status_t shift_model(const pdt_cost_t *c, const pdt_model_t *shape, pdt_discrete_t *d)
+{
+    if (!prepared(c) || shape == NULL || c->cfg.kind != PDT_COST_SIMULATION ||
+        pdt_cost_extra_on(c) ||
+        pdt_discrete_init_int(shape, c->cfg.Ts, c->cfg.delay_min, d) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    return check_dmodel(c, d);
+}
+
+pdt_status_t pdt_cost_response(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t *r)
+{
+    pdt_discrete_t d;
+    if (r == NULL || shift_model(c, shape, &d) != PDT_OK) {
+        return PDT_ERR_ARG;
+    }
+    pdt_cost_kernel_response(c->u, c->n, &d, r);
+    return PDT_OK;
+}
+
+pdt_status_t pdt_cost_profile_shift(const pdt_cost_t *c, const pdt_model_t *shape,
+                                    const pdt_real_t *r, const size_t *delay, size_t count,
+                                    pdt_real_t gain_min, pdt_real_t gain_max,
+                                    const pdt_cost_hint_t *hint, pdt_cost_profile_t *out)
+{
+    pdt_discrete_t d;
+    pdt_cost_sums_t q[PDT_COST_MANY];
+    pdt_real_t K0 = PDT_R(0.0), c0 = PDT_R(0.0);
+    if (r == NULL || delay == NULL || out == NULL || count == 0u || count > PDT_COST_MANY ||
+        shift_model(c, shape, &d) != PDT_OK || !pdt_finite(gain_min) || !pdt_finite(gain_max)) {
+        return PDT_ERR_ARG;
+    }
+    for (size_t i = 0; i < count; i++) {
+        if (delay[i] < c->cfg.delay_min || delay[i] > c->cfg.delay_max) {
+            return PDT_ERR_ARG;
+        }
+    }
+    if (gain_min > gain_max) {
+        return PDT_ERR_BOUNDS;
+    }
+    sim_reference(c, d.order, hint, &K0, &c0);
+    pdt_cost_kernel_shift(r, c->y, c->n, first_scored(c, d.order, false), delay, count, K0, c0, q);
+    for (size_t i = 0; i < count; i++) {
+        d.delay = delay[i];
+        profile_run(c, shape, &d, gain_min, gain_max, K0, c0, hint_ncost(hint), &q[i], NULL,
+                    &out[i]);
+    }
+    return PDT_OK;
+}
+
 pdt_status_t pdt_cost_profile(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t gain_min,
                               pdt_real_t gain_max, pdt_real_t *scratch, pdt_cost_profile_t *out)
 {

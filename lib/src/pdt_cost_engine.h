@@ -54,4 +54,29 @@ pdt_status_t pdt_cost_profile_many(const pdt_cost_t *c, const pdt_model_t *shape
                                    const pdt_cost_hint_t *hint, pdt_real_t *scratch,
                                    pdt_cost_profile_t *out);
 
+/* The unit-gain response of shape to the record's input from rest, its
+ * dead time aside (the normalised units; r: the record's n reals): what
+ * pdt_cost_profile_shift scores the shape's whole-sample dead times from.
+ * PDT_ERR_ARG where the cost is not a SIMULATION one without extra
+ * columns (pdt_cost_config_t.estimate_state, drift) or the shape cannot
+ * be discretised; r is then untouched. Work: one pass over the record. */
+pdt_status_t pdt_cost_response(const pdt_cost_t *c, const pdt_model_t *shape, pdt_real_t *r);
+
+/* pdt_cost_profile_many of count (1 .. PDT_COST_MANY) copies of shape
+ * (its dead time ignored) at the whole-sample delays delay[0..count-1],
+ * with one pair of gain bounds, from the shape's response r
+ * (pdt_cost_response on the same cost): the results of
+ * pdt_cost_profile_many for those shapes with dead times delay[i] Ts, bit
+ * for bit, without their discretisations and simulations. A pass over the
+ * record for each delay (one for all where the host has vector
+ * registers) that only scores; the dead-time profile of the
+ * identification scores its grid so. The cost must be a SIMULATION one
+ * without extra columns; PDT_ERR_ARG for NULL, count 0 or above
+ * PDT_COST_MANY, such a cost or a delay beyond the cost's delay bounds,
+ * PDT_ERR_BOUNDS for gain_min above gain_max; out is then untouched. */
+pdt_status_t pdt_cost_profile_shift(const pdt_cost_t *c, const pdt_model_t *shape,
+                                    const pdt_real_t *r, const size_t *delay, size_t count,
+                                    pdt_real_t gain_min, pdt_real_t gain_max,
+                                    const pdt_cost_hint_t *hint, pdt_cost_profile_t *out);
+
 #endif /* PDT_COST_ENGINE_H */

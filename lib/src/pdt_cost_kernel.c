@@ -224,6 +224,77 @@ void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t 
     *out = t;
 }
 
+/* The response the kernel's loops simulate, stored: body2's update for a
+ * second-order model, body1's for a first-order one (generic's where the
+ * model has a third input tap: the same values, the tap's zero product
+ * added exactly where it has none), so that each r[j] is the s the kernel
+ * scores j samples after the input reaches the model, whatever its
+ * delay. Once per shape, not per candidate: one loop for both orders. */
+void pdt_cost_kernel_response(const pdt_real_t *u, size_t n, const pdt_discrete_t *d,
+                              pdt_real_t *r)
+{
+    const pdt_real_t b0 = d->b[0], b1 = d->b[1], b2 = d->b[2], d1 = d->d[1];
+    const pdt_real_t e0 = d->d[0] - d1;
+    const bool two = (d->order == 2u);
+    pdt_real_t ys = PDT_R(0.0), dys = PDT_R(0.0), p1 = PDT_R(0.0), p2 = PDT_R(0.0);
+    for (size_t j = 0; j < n; j++) {
+        const pdt_real_t bu = b0 * u[j] + b1 * p1 + b2 * p2;
+        if (two) {
+            dys += (bu - e0 * dys) - d1 * ys;
+            ys += dys;
+        } else {
+            ys += bu - d->d[0] * ys;
+        }
+        r[j] = ys;
+        p2 = p1;
+        p1 = u[j];
+    }
+}
+
+/* Scoring of one sample of a stored response s against output yk: the
+ * kernel's BODY1_STEP less the simulation, the sums in the same order. */
+#define SHIFT_STEP(sk, yk)                                                                         \
+    do {                                                                                           \
+        const pdt_real_t sv = (sk);                                                                \
+        const pdt_real_t e = ((yk)-c0) - K0 * sv;                                                  \
+        s += sv;                                                                                   \
+        ss += sv * sv;                                                                             \
+        ee += e * e;                                                                               \
+        es += e * sv;                                                                              \
+    } while (0)
+
+/* Output samples [k0, kend) of a candidate whose response r reaches the
+ * output l1 samples after its input, into t: kernel_range's sums, blocks
+ * and order, without the simulation. */
+static void shift_range(const pdt_real_t *r, const pdt_real_t *y, size_t k0, size_t kend,
+                        size_t l1, pdt_real_t K0, pdt_real_t c0, pdt_cost_sums_t *t)
+{
+    size_t j = 0u;
+    if (k0 < l1) {
+        t->ee += head_sum(y, k0, (l1 < kend) ? l1 : kend, c0);
+    } else {
+        j = k0 - l1;
+    }
+    if (l1 >= kend) {
+        return;
+    }
+    const size_t jend = kend - l1;
+    const pdt_real_t *yd = y + l1;
+    while (j < jend) {
+        const size_t stop = (jend - j > KERNEL_BLOCK) ? j + KERNEL_BLOCK : jend;
+        const pdt_real_t *rp = r + j, *yp = yd + j;
+        const pdt_real_t *const rend = r + stop;
+        pdt_real_t s = PDT_R(0.0), ss = PDT_R(0.0), ee = PDT_R(0.0), es = PDT_R(0.0);
+        while (rp != rend) {
+            SHIFT_STEP(*rp, *yp);
+            rp++;
+            yp++;
+        }
+        add_sums(t, s, ss, ee, es);
+        j = stop;
+    }
+}
+
 #if PDT_COST_KERNEL_VECTOR
 /* Four candidates side by side in the lanes of a vector: where the host
  * has vector registers, one instruction serves all four, and the loop's
@@ -357,5 +428,77 @@ void pdt_cost_kernel_many(const pdt_real_t *u, const pdt_real_t *y, size_t n, si
 #endif
     for (i = 0; i < count; i++) {
         pdt_cost_kernel(u, y, n, k0, &d[i], K0, c0, &out[i]);
+    }
+}
+
+#if PDT_COST_KERNEL_VECTOR
+/* Four delays of one stored response in the lanes of a vector, from
+ * sample k on (every lane's input arrived): KV_SCORE on the gathered
+ * responses, many_body's sums and blocks. */
+static void shift_body(const pdt_real_t *r, const pdt_real_t *y, size_t k, size_t n,
+                       const size_t l1[4], pdt_real_t K0, pdt_real_t c0, pdt_cost_sums_t t[4])
+{
+    const pdt_vec4_t vk0 = PDT_VEC4(K0), vc0 = PDT_VEC4(c0);
+    pdt_vec4_t ts = PDT_VEC4(PDT_R(0.0)), tss = ts, tee = ts, tes = ts;
+    while (k < n) {
+        const size_t stop = (n - k > KERNEL_BLOCK) ? k + KERNEL_BLOCK : n;
+        pdt_vec4_t s = PDT_VEC4(PDT_R(0.0)), ss = s, ee = s, es = s;
+        for (; k < stop; k++) {
+            const pdt_vec4_t ys = {r[k - l1[0]], r[k - l1[1]], r[k - l1[2]], r[k - l1[3]]};
+            KV_SCORE(y[k]);
+        }
+        ts += s;
+        tss += ss;
+        tee += ee;
+        tes += es;
+    }
+    for (size_t i = 0; i < 4u; i++) {
+        add_sums(&t[i], ts[i], tss[i], tee[i], tes[i]);
+    }
+}
+#endif
+
+#if PDT_COST_KERNEL_VECTOR
+/* pdt_cost_kernel_shift of two to four delays: as pdt_cost_kernel_many,
+ * each lane alone until every input has arrived, then the four together
+ * (the free lanes repeat the first). */
+static void shift_many(const pdt_real_t *r, const pdt_real_t *y, size_t n, size_t k0,
+                       const size_t *delay, size_t count, pdt_real_t K0, pdt_real_t c0,
+                       pdt_cost_sums_t *out)
+{
+    size_t i, l1[4], kmax = k0;
+    pdt_cost_sums_t t[4];
+    for (i = 0; i < 4u; i++) {
+        const size_t l = delay[i < count ? i : 0u];
+        l1[i] = (l < n) ? l + 1u : n;
+        kmax = (l1[i] > kmax) ? l1[i] : kmax;
+        t[i] = (pdt_cost_sums_t){PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+    }
+    for (i = 0; i < count; i++) {
+        shift_range(r, y, k0, kmax, l1[i], K0, c0, &t[i]);
+    }
+    if (kmax < n) {
+        shift_body(r, y, kmax, n, l1, K0, c0, t);
+    }
+    for (i = 0; i < count; i++) {
+        out[i] = t[i];
+    }
+}
+#endif
+
+void pdt_cost_kernel_shift(const pdt_real_t *r, const pdt_real_t *y, size_t n, size_t k0,
+                           const size_t *delay, size_t count, pdt_real_t K0, pdt_real_t c0,
+                           pdt_cost_sums_t *out)
+{
+#if PDT_COST_KERNEL_VECTOR
+    if (count >= 2u) {
+        shift_many(r, y, n, k0, delay, count, K0, c0, out);
+        return;
+    }
+#endif
+    for (size_t i = 0; i < count; i++) {
+        pdt_cost_sums_t t = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
+        shift_range(r, y, k0, n, (delay[i] < n) ? delay[i] + 1u : n, K0, c0, &t);
+        out[i] = t;
     }
 }

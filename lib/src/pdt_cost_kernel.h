@@ -42,4 +42,19 @@ void pdt_cost_kernel_many(const pdt_real_t *u, const pdt_real_t *y, size_t n, si
                           const pdt_discrete_t *d, size_t count, pdt_real_t K0, pdt_real_t c0,
                           pdt_cost_sums_t *out);
 
+/* The unit-gain response of d to u from rest, its delay aside: r[j] is
+ * the s that pdt_cost_kernel scores j samples after the input reaches the
+ * model (output sample j + d->delay + 1), bit for bit. r: n reals. */
+void pdt_cost_kernel_response(const pdt_real_t *u, size_t n, const pdt_discrete_t *d,
+                              pdt_real_t *r);
+
+/* pdt_cost_kernel_many's sums of count (1 .. 4) candidates that share one
+ * response r (pdt_cost_kernel_response of their coefficients) and differ
+ * in their delays delay[0..count-1] only, into out[0..count-1]: the same
+ * sums without the simulation, a pass each (where the host has vector
+ * registers, one pass for all four, a lane each). */
+void pdt_cost_kernel_shift(const pdt_real_t *r, const pdt_real_t *y, size_t n, size_t k0,
+                           const size_t *delay, size_t count, pdt_real_t K0, pdt_real_t c0,
+                           pdt_cost_sums_t *out);
+
 #endif /* PDT_COST_KERNEL_H */

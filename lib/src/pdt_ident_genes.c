@@ -3,6 +3,7 @@
  * shape and its dead time) and one candidate's evaluation, with the gain
  * and the offset in closed form, which every stage calls.
  */
+#include "pdt_cost_state.h"
 #include "pdt_ident_priv.h"
 #include "pdt_internal.h"
 
@@ -303,4 +304,42 @@ void pdt_ident_evaluate_many(pdt_ident_t *c, const pdt_real_t *g, uint32_t count
             track_best(c, &g[i * G], &pr[i]);
         }
     }
+}
+
+bool pdt_ident_shift_ok(const pdt_ident_t *c)
+{
+    return c->cfg.more_count == 0u && !pdt_cost_extra_on(&c->cost);
+}
+
+bool pdt_ident_evaluate_shift(pdt_ident_t *c, const pdt_real_t *g, const size_t *delay,
+                              uint32_t count, bool fresh, pdt_real_t *cost, pdt_real_t *gain,
+                              pdt_real_t *offset)
+{
+    pdt_model_t shape;
+    pdt_cost_profile_t pr[PDT_COST_MANY];
+    pdt_real_t glo, ghi;
+    const pdt_cost_hint_t hint = {c->best.gain, c->best.offset, c->best.cost};
+    if (count == 0u || count > PDT_COST_MANY || !pdt_ident_shift_ok(c)) {
+        return false;
+    }
+    /* The response first: the later groups of this shape read it whatever
+     * becomes of this one. The shape's parameters are every genome's; its
+     * dead time, the first's, plays no part. */
+    pdt_ident_shape(c, g, &shape);
+    if (fresh && pdt_cost_response(&c->cost, &shape, c->scratch) != PDT_OK) {
+        return false;
+    }
+    pdt_ident_gain_bounds(c, &shape, &glo, &ghi);
+    if (pdt_cost_profile_shift(&c->cost, &shape, c->scratch, delay, (size_t)count, glo, ghi, &hint,
+                               pr) != PDT_OK) {
+        return false;
+    }
+    pdt_ident_counted(c, count, c->cost.n);
+    for (uint32_t i = 0; i < count; i++) {
+        take(&pr[i], true, &cost[i], &gain[i], &offset[i]);
+        if (cost[i] < PDT_REAL_MAX) {
+            track_best(c, &g[i * c->genes], &pr[i]);
+        }
+    }
+    return true;
 }

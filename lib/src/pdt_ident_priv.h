@@ -230,6 +230,24 @@ pdt_real_t pdt_ident_lags_unit(const pdt_ident_t *c, pdt_real_t a, pdt_real_t b)
 void pdt_ident_evaluate(pdt_ident_t *c, const pdt_real_t *g, pdt_real_t *cost, pdt_real_t *gain,
                         pdt_real_t *offset);
 
+/* Whether genomes of one shape at whole-sample dead times can be scored
+ * from the shape's stored response (pdt_ident_evaluate_shift): one record,
+ * and a cost without extra columns. */
+bool pdt_ident_shift_ok(const pdt_ident_t *c);
+
+/* count (1 .. PDT_COST_MANY) genomes in a row at g that differ in their
+ * dead times only, each delay[i] whole samples of the cost's record,
+ * scored from their shape's response in the scratch
+ * (pdt_cost_profile_shift) with the best before them as the reference:
+ * the results of count evaluations, at a fraction of the work. fresh: the
+ * response is computed first (the shape's first group; the scratch keeps
+ * it for the next ones until something else writes the scratch). False,
+ * with nothing scored or counted, where the cost cannot score them so:
+ * the caller evaluates them one by one. */
+bool pdt_ident_evaluate_shift(pdt_ident_t *c, const pdt_real_t *g, const size_t *delay,
+                              uint32_t count, bool fresh, pdt_real_t *cost, pdt_real_t *gain,
+                              pdt_real_t *offset);
+
 /* count (1 .. PDT_COST_MANY) genomes in a row at g, evaluated in one pass
  * over the record where the host can (pdt_cost_profile_many), with the
  * best before them as the reference: the results of count evaluations. */

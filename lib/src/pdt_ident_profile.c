@@ -143,18 +143,48 @@ pdt_ident_outcome_t pdt_ident_profile_begin(pdt_ident_t *c)
     return OUT_DONE;
 }
 
+/* Grid point i's shape (0 .. PROFILE_SHAPES - 1) and dead time (0 ..
+ * dead_times - 1). Where each shape's response scores all its dead times
+ * (pdt_ident_shift_ok), a shape's points come together, its response
+ * computed once; else a dead time's four shapes come together, a group
+ * of the host's vector lanes. */
+static void point_index(const pdt_ident_t *c, uint32_t i, uint32_t *shape, uint32_t *dt)
+{
+    const uint32_t D = dead_times(&c->profile);
+    if (pdt_ident_shift_ok(c)) {
+        *shape = i / D;
+        *dt = i % D;
+    } else {
+        *shape = i % PROFILE_SHAPES;
+        *dt = i / PROFILE_SHAPES;
+    }
+}
+
 uint32_t pdt_ident_profile_group(const pdt_ident_t *c)
 {
-    const uint32_t left = (dead_times(&c->profile) * PROFILE_SHAPES) - c->profile.next;
+    const pdt_ident_profile_t *p = &c->profile;
+    const uint32_t left = (dead_times(p) * PROFILE_SHAPES) - p->next;
+    if (pdt_ident_shift_ok(c)) {
+        /* Up to a group of the cost's at the same shape: scoring a point
+         * from the response costs a fraction of an evaluation, on every
+         * core. */
+        const uint32_t in_shape = dead_times(p) - (p->next % dead_times(p));
+        const uint32_t most = in_shape < (uint32_t)PDT_COST_MANY ? in_shape : PDT_COST_MANY;
+        return left < most ? left : most;
+    }
     return left < (uint32_t)PDT_VECTOR_LANES ? left : (uint32_t)PDT_VECTOR_LANES;
 }
 
-/* Grid point i: shape i % PROFILE_SHAPES at dead time i / PROFILE_SHAPES. */
-static pdt_real_t point_of(const pdt_ident_t *c, uint32_t i, pdt_real_t *x)
+/* Grid point i's genes in x; returns its dead time and its dead time's
+ * index in *at. */
+static pdt_real_t point_of(const pdt_ident_t *c, uint32_t i, pdt_real_t *x, uint32_t *at)
 {
     const pdt_ident_profile_t *p = &c->profile;
-    const uint32_t level = (i % PROFILE_SHAPES) + 1u, G = c->genes;
-    const uint32_t d = i / PROFILE_SHAPES;
+    const uint32_t G = c->genes;
+    uint32_t shape, d;
+    point_index(c, i, &shape, &d);
+    *at = d;
+    const uint32_t level = shape + 1u;
     const pdt_real_t f = (pdt_real_t)level / ((pdt_real_t)PROFILE_SHAPES + PDT_R(1.0));
     x[0] = c->lo[0] + ((c->hi[0] - c->lo[0]) * f);
     if (G == 3u) {
@@ -250,21 +280,31 @@ pdt_ident_outcome_t pdt_ident_profile_step(pdt_ident_t *c)
     /* Initialised: the compiler cannot see that count >= 1. */
     pdt_real_t pts[PDT_COST_MANY * 3u] = {PDT_R(0.0)};
     pdt_real_t td[PDT_COST_MANY];
+    uint32_t at[PDT_COST_MANY];
     pdt_real_t cost[PDT_COST_MANY], gains[PDT_COST_MANY], offsets[PDT_COST_MANY];
     for (uint32_t i = 0; i < count; i++) {
-        td[i] = point_of(c, p->next + i, &pts[i * G]);
+        td[i] = point_of(c, p->next + i, &pts[i * G], &at[i]);
     }
-    if (count > 1u) {
+    bool scored = false;
+    if (pdt_ident_shift_ok(c)) {
+        /* A shape's first group computes its response into the scratch;
+         * the later ones score from it. Each dead time is whole samples
+         * of the searched record (grid_of). */
+        const bool fresh = (p->next % dead_times(p)) == 0u;
+        size_t delay[PDT_COST_MANY];
+        for (uint32_t i = 0; i < count; i++) {
+            delay[i] = (size_t)pdt_ident_nearest_whole(td[i] / c->cost.cfg.Ts);
+        }
+        scored = pdt_ident_evaluate_shift(c, pts, delay, count, fresh, cost, gains, offsets);
+    }
+    if (!scored) {
         pdt_ident_evaluate_many(c, pts, count, cost, gains, offsets);
-    } else {
-        pdt_ident_evaluate(c, pts, cost, gains, offsets);
     }
     for (uint32_t i = 0; i < count; i++) {
         /* The window's points are compared at one sample, the grid's at
          * its step: near the answer each tells its own scale's basin. */
-        const uint32_t at = (p->next + i) / PROFILE_SHAPES;
         uint32_t k = 0u;
-        if (at < p->fine) {
+        if (at[i] < p->fine) {
             k = 1u;
         }
         const pdt_real_t reach = PROFILE_NEAR * (k == 1u ? c->cost.cfg.Ts : p->step);

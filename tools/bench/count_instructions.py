@@ -28,7 +28,7 @@ PROGRAM = ROOT / "tools" / "bench" / "kernel_count.c"
 OUT = ROOT / "docs" / "reports" / "kernel.md"
 TEMPLATE = pathlib.Path(__file__).with_name("kernel_report.md.in")
 CASES = ["kb_fopdt_hint", "kb_fopdt_cold", "kb_sopdt_hint", "kb_sopdt_cold",
-         "kb_fopdt_many4", "kb_sopdt_many4"]
+         "kb_fopdt_many4", "kb_sopdt_many4", "kb_fopdt_shift4", "kb_sopdt_shift4"]
 CM4 = ["-mcpu=cortex-m4", "-mthumb", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"]
 QEMU = ["qemu-system-arm", "-machine", "mps2-an386", "-cpu", "cortex-m4", "-nographic",
         "-monitor", "none", "-serial", "none", "-semihosting-config",
@@ -163,6 +163,10 @@ def main():
         "kb_sopdt_cold": "SOPDT, one candidate, no reference (`pdt_cost_profile`)",
         "kb_fopdt_many4": "FOPDT, four candidates in one pass (`pdt_cost_profile_many`)",
         "kb_sopdt_many4": "SOPDT, four candidates in one pass (`pdt_cost_profile_many`)",
+        "kb_fopdt_shift4": "FOPDT, one shape at 20 whole-sample dead times from its response "
+                           "(`pdt_cost_profile_shift`, the dead-time profile)",
+        "kb_sopdt_shift4": "SOPDT, one shape at 20 whole-sample dead times from its response "
+                           "(`pdt_cost_profile_shift`, the dead-time profile)",
     }
     lines = [
         f"| evaluation, N = 2000 | x86, `{args.base}` | x86, this commit | M4F, `{args.base}` "
@@ -177,7 +181,8 @@ def main():
     lines += [
         "",
         f"Instructions per sample per evaluation (each case: 20 evaluations of candidates "
-        f"within 2 % of the optimum's shape). x86: {gcc}, `-O3`, valgrind callgrind, "
+        f"within 2 % of the optimum's shape, or of the optimum's shape at 20 dead times, "
+        f"its response included; the base commit evaluates those one by one). x86: {gcc}, `-O3`, valgrind callgrind, "
         f"inclusive count of the case's function. M4F: {agcc}, `-Os`, {qemu}, "
         f"`-icount shift=0` (ticks x 40).",
     ]

@@ -8,9 +8,12 @@
  * each). Only the port surface, so the same source runs on both.
  *
  * Cases, each KB_REPS evaluations of a candidate near the optimum:
- *   *_hint  with the best fit so far as the reference (what the search
- *           does, pdt_cost_profile_hint);
- *   *_cold  without (pdt_cost_profile).
+ *   *_hint   with the best fit so far as the reference (what the search
+ *            does, pdt_cost_profile_hint);
+ *   *_cold   without (pdt_cost_profile);
+ *   *_many4  four a call (pdt_cost_profile_many);
+ *   *_shift4 the optimum's shape at KB_REPS whole-sample dead times from
+ *            its response, four a call (what the dead-time profile does).
  * Built with -DKB_BASELINE against a library without
  * pdt_cost_profile_hint, the hint cases call pdt_cost_profile too.
  */
@@ -145,6 +148,36 @@ static void run_many(int sopdt)
     }
 }
 
+/* Twenty whole-sample dead times (2 .. 21 s) of the optimum's shape, as
+ * the identification's dead-time profile scores them: the shape's
+ * response once (pdt_cost_response), then four dead times a call from it
+ * (pdt_cost_profile_shift); the baseline evaluates each. */
+static void run_shift(int sopdt)
+{
+    pdt_cost_profile_t p[4];
+    const pdt_model_t m = shape(sopdt, 1);
+#ifdef KB_BASELINE
+    for (unsigned i = 0; i < KB_REPS; i++) {
+        pdt_model_t at = m;
+        if (sopdt) {
+            at.p.sopdt.Td = (pdt_real_t)(2u + i);
+        } else {
+            at.p.fopdt.Td = (pdt_real_t)(2u + i);
+        }
+        (void)pdt_cost_profile(&g_cost, &at, 0, 0, g_scratch, &p[0]);
+        g_sink += p[0].cost;
+    }
+#else
+    const pdt_cost_hint_t h = {g_hint[sopdt][0], g_hint[sopdt][1], 0};
+    (void)pdt_cost_response(&g_cost, &m, g_scratch);
+    for (unsigned i = 0; i < KB_REPS; i += 4u) {
+        const size_t delay[4] = {2u + i, 3u + i, 4u + i, 5u + i};
+        (void)pdt_cost_profile_shift(&g_cost, &m, g_scratch, delay, 4u, 0, 0, &h, p);
+        g_sink += p[0].cost + p[1].cost + p[2].cost + p[3].cost;
+    }
+#endif
+}
+
 /* One function per case, called through pointers so that the host
  * compiler keeps each one for callgrind's inclusive count. */
 void kb_fopdt_hint(void);
@@ -153,6 +186,8 @@ void kb_sopdt_hint(void);
 void kb_sopdt_cold(void);
 void kb_fopdt_many4(void);
 void kb_sopdt_many4(void);
+void kb_fopdt_shift4(void);
+void kb_sopdt_shift4(void);
 void kb_fopdt_hint(void)
 {
     run(0, 1);
@@ -176,6 +211,14 @@ void kb_fopdt_many4(void)
 void kb_sopdt_many4(void)
 {
     run_many(1);
+}
+void kb_fopdt_shift4(void)
+{
+    run_shift(0);
+}
+void kb_sopdt_shift4(void)
+{
+    run_shift(1);
 }
 
 static void put(const char *s)
@@ -201,10 +244,12 @@ static void put_u64(uint64_t v)
 
 int main(void)
 {
-    static void (*volatile const cases[])(void) = {kb_fopdt_hint, kb_fopdt_cold,  kb_sopdt_hint,
-                                                   kb_sopdt_cold, kb_fopdt_many4, kb_sopdt_many4};
-    static const char *const names[] = {"kb_fopdt_hint", "kb_fopdt_cold",  "kb_sopdt_hint",
-                                        "kb_sopdt_cold", "kb_fopdt_many4", "kb_sopdt_many4"};
+    static void (*volatile const cases[])(void) = {
+        kb_fopdt_hint,  kb_fopdt_cold,  kb_sopdt_hint,   kb_sopdt_cold,
+        kb_fopdt_many4, kb_sopdt_many4, kb_fopdt_shift4, kb_sopdt_shift4};
+    static const char *const names[] = {
+        "kb_fopdt_hint",  "kb_fopdt_cold",  "kb_sopdt_hint",   "kb_sopdt_cold",
+        "kb_fopdt_many4", "kb_sopdt_many4", "kb_fopdt_shift4", "kb_sopdt_shift4"};
     pdt_port_init();
     make_record();
     if (!prepare()) {
