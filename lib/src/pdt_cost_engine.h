@@ -66,8 +66,11 @@ pdt_status_t pdt_cost_response(const pdt_cost_t *c, const pdt_model_t *shape, pd
  * (its dead time ignored) at the whole-sample delays delay[0..count-1],
  * with one pair of gain bounds, from the shape's response r
  * (pdt_cost_response on the same cost): the results of
- * pdt_cost_profile_many for those shapes with dead times delay[i] Ts, bit
- * for bit, without their discretisations and simulations. A pass over the
+ * pdt_cost_profile_many for those shapes with dead times delay[i] Ts
+ * without their discretisations and simulations, bit for bit where the
+ * cost scores the whole record and takes the dead time in whole samples
+ * (PDT_DELAY_INTEGER; in fractional mode delay[i] Ts may round to a
+ * fraction of a sample, and the results agree to rounding). A pass over the
  * record for each delay (one for all where the host has vector
  * registers) that only scores; the dead-time profile of the
  * identification scores its grid so. The cost must be a SIMULATION one

@@ -44,7 +44,10 @@ void pdt_cost_kernel_many(const pdt_real_t *u, const pdt_real_t *y, size_t n, si
 
 /* The unit-gain response of d to u from rest, its delay aside: r[j] is
  * the s that pdt_cost_kernel scores j samples after the input reaches the
- * model (output sample j + d->delay + 1), bit for bit. r: n reals. */
+ * model (output sample j + d->delay + 1), bit for bit where the kernel
+ * scores from the input's arrival on (k0 <= d->delay + 1: the whole
+ * record); after a stretch it simulates unscored, to rounding. r: n
+ * reals. */
 void pdt_cost_kernel_response(const pdt_real_t *u, size_t n, const pdt_discrete_t *d,
                               pdt_real_t *r);
 
