@@ -156,6 +156,7 @@ pdt_status_t pdt_ident_multi_prepare(const pdt_ident_config_t *cfg, const pdt_co
     return PDT_OK;
 }
 
+#if PDT_IDENT_MAX_RECORDS > 1
 /* The records' costs, the first's first. */
 static size_t costs_of(const pdt_ident_t *c, const pdt_cost_t **costs)
 {
@@ -165,16 +166,21 @@ static size_t costs_of(const pdt_ident_t *c, const pdt_cost_t **costs)
     }
     return 1u + (size_t)c->cfg.more_count;
 }
+#endif
 
 pdt_status_t pdt_ident_profile(pdt_ident_t *c, const pdt_model_t *shape, pdt_real_t glo,
                                pdt_real_t ghi, const pdt_cost_hint_t *hint, pdt_cost_profile_t *out)
 {
-    if (c->cfg.more_count == 0u) {
-        return pdt_cost_profile_hint(&c->cost, shape, glo, ghi, hint, c->scratch, out);
+#if PDT_IDENT_MAX_RECORDS > 1
+    if (c->cfg.more_count != 0u) {
+        const pdt_cost_t *costs[PDT_IDENT_MAX_RECORDS];
+        const size_t count = costs_of(c, costs);
+        return pdt_cost_joint_profile(costs, count, shape, glo, ghi, hint, c->scratch, out);
     }
-    const pdt_cost_t *costs[PDT_IDENT_MAX_RECORDS];
-    const size_t count = costs_of(c, costs);
-    return pdt_cost_joint_profile(costs, count, shape, glo, ghi, hint, c->scratch, out);
+#endif
+    /* One record (with one allowed, pdt_ident_multi_check refuses more
+     * and the joint fit is not linked). */
+    return pdt_cost_profile_hint(&c->cost, shape, glo, ghi, hint, c->scratch, out);
 }
 
 pdt_status_t pdt_ident_profile_many(pdt_ident_t *c, const pdt_model_t *shapes, size_t count,

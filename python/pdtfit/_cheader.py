@@ -20,9 +20,14 @@ def enums(path):
 
 
 def defines(path):
-    """{name: value} of every `#define PDT_NAME <integer>` in the header."""
+    """{name: value} of every `#define PDT_NAME <integer>` in the header;
+    of a name defined in several branches, the first (pdt_config.h's
+    defaults that follow SIZE_MAX give a host's size_t first)."""
     text = pathlib.Path(path).read_text(encoding="utf-8")
-    return {m: int(v) for m, v in re.findall(r"^#define\s+(PDT_\w+)\s+(\d+)u?\s", text, re.M)}
+    out = {}
+    for m, v in re.findall(r"^#define\s+(PDT_\w+)\s+(\d+)u?\s", text, re.M):
+        out.setdefault(m, int(v))
+    return out
 
 
 def status_names(path):

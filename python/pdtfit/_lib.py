@@ -120,7 +120,7 @@ FORMS = _choices(_tune["pdt_tune_form_t"], "PDT_TUNE_")
 _common = _cheader.defines(INCLUDE / "pdt_common.h")
 VERSION = "%d.%d.%d" % tuple(_common["PDT_VERSION_" + p] for p in ("MAJOR", "MINOR", "PATCH"))
 MAX_POPULATION = _cheader.defines(INCLUDE / "pdt_ident.h")["PDT_IDENT_MAX_POPULATION"]
-MAX_RECORDS = _cheader.defines(INCLUDE / "pdt_ident.h")["PDT_IDENT_MAX_RECORDS"]
+MAX_RECORDS = _cheader.defines(INCLUDE / "pdt_config.h")["PDT_IDENT_MAX_RECORDS"]
 
 
 def darray(values):

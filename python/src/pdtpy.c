@@ -30,6 +30,10 @@
 #include "pdt/pdt_ls.h"
 #include "pdt/pdt_reduce.h"
 
+#if PDT_IDENT_MAX_RECORDS < 2
+#error "pdtfit.identify_many fits several records: build with PDT_IDENT_MAX_RECORDS 2 .. 8"
+#endif
+
 /* The JSON texts are the command line's (tools/cli/json.h), so that a
  * result's as_dict() equals the program's output. */
 

@@ -8,6 +8,10 @@
 #include "csv.h"
 #include "tune_opts.h"
 
+#if PDT_IDENT_MAX_RECORDS < 2
+#error "pdtfit identify reads several records: build it with PDT_IDENT_MAX_RECORDS 2 .. 8"
+#endif
+
 enum { METHOD_GA, METHOD_ELMS, METHOD_EIV };
 enum { UNC_AUTO, UNC_FISHER, UNC_BOOTSTRAP };
 

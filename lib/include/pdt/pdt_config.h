@@ -103,6 +103,23 @@
 #error "PDT_MAX_SAMPLES too large for this size_t: 32 bytes a sample must fit"
 #endif
 
+/* Most records one identification fits together (pdt_ident.h: the first
+ * and pdt_ident_config_t.more), 1 .. 8. Default 8, or 1 where size_t has
+ * 16 bits (AVR, MSP430: RAM for one record), which leaves the joint fit
+ * of several records (pdt_cost_joint_profile) out of the link: about
+ * 4 KiB of an AVR's flash. With 1, a further record is refused
+ * (PDT_ERR_ARG). */
+#ifndef PDT_IDENT_MAX_RECORDS
+#if !defined(SIZE_MAX) || (SIZE_MAX > 0xFFFFu)
+#define PDT_IDENT_MAX_RECORDS 8u
+#else
+#define PDT_IDENT_MAX_RECORDS 1u
+#endif
+#endif
+#if (PDT_IDENT_MAX_RECORDS < 1) || (PDT_IDENT_MAX_RECORDS > 8)
+#error "PDT_IDENT_MAX_RECORDS must be between 1 and 8"
+#endif
+
 /* Candidates the identification evaluates in one pass over the record, a
  * vector lane each: 4 where GCC or Clang offers SSE2 or NEON, else 1 (a
  * Cortex-M has no lanes to use). Define as 1 to leave the vector kernel

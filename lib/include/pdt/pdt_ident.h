@@ -101,10 +101,9 @@ typedef enum pdt_ident_initial {
                                     * SIMULATION criterion only */
 } pdt_ident_initial_t;
 
-/* Most records one identification fits together: the first
+/* Most records one identification fits together, the first
  * (pdt_ident_data_t) and up to PDT_IDENT_MAX_RECORDS - 1 more
- * (pdt_ident_config_t.more). */
-#define PDT_IDENT_MAX_RECORDS 8u
+ * (pdt_ident_config_t.more): a build setting of pdt_config.h. */
 
 /* A further record of the same process (docs/several-records.md): n
  * samples of u and y every Ts seconds, in the caller's memory, unchanged

@@ -136,5 +136,19 @@ int avr_check_ident(void)
     tl_uint(&l, stack);
     TL_STR(&l, " bytes");
     t_info(&l);
-    return failed;
+    /* A 16-bit size_t makes PDT_IDENT_MAX_RECORDS 1: a second record is
+     * refused, and the joint fit is not in the program. */
+    const pdt_ident_record_t second = {u, y, AVR_IDENT_N, (pdt_real_t)TS, false, 0};
+    cfg.more = &second;
+    cfg.more_count = 1u;
+    const size_t need2 = pdt_ident_workspace_size(&cfg, AVR_IDENT_N);
+    const pdt_status_t st2 = pdt_identify(&g_avr_arena.ident.ctx, &cfg, &data, work, have, &res);
+    tl_init(&l);
+    TL_STR(&l, "identify with a second record (PDT_IDENT_MAX_RECORDS ");
+    tl_uint(&l, PDT_IDENT_MAX_RECORDS);
+    TL_STR(&l, "): workspace ");
+    tl_uint(&l, need2);
+    TL_STR(&l, ", status ");
+    tl_int(&l, st2);
+    return failed + t_verdict(PDT_IDENT_MAX_RECORDS == 1u && need2 == 0u && st2 == PDT_ERR_ARG, &l);
 }
