@@ -413,9 +413,8 @@ static void test_shift_profiles(void **state)
                     los[k] = lo;
                     his[k] = hi;
                 }
-                const pdt_cost_hint_t hints[2] = {{0, 0, 0},
-                                                  {(pdt_real_t)w->gain, (pdt_real_t)w->offset,
-                                                   (pdt_real_t)0}};
+                const pdt_cost_hint_t hints[2] = {
+                    {0, 0, 0}, {(pdt_real_t)w->gain, (pdt_real_t)w->offset, (pdt_real_t)0}};
                 for (size_t h = 0; h < 2u; h++) {
                     for (size_t cnt = 1; cnt <= PDT_COST_MANY; cnt++) {
                         pdt_cost_profile_t r[PDT_COST_MANY + 1u], q[PDT_COST_MANY];
@@ -424,9 +423,9 @@ static void test_shift_profiles(void **state)
                                                                 hi, &hints[h], r),
                                          PDT_OK);
                         assert_true(r[cnt].cost == (pdt_real_t)-1.0);
-                        assert_int_equal(pdt_cost_profile_many(&c, shapes, cnt, los, his,
-                                                               &hints[h], g_ysim, q),
-                                         PDT_OK);
+                        assert_int_equal(
+                            pdt_cost_profile_many(&c, shapes, cnt, los, his, &hints[h], g_ysim, q),
+                            PDT_OK);
                         for (size_t k = 0; k < cnt; k++) {
                             if (whole) {
                                 assert_true(r[k].ncost == q[k].ncost && r[k].gain == q[k].gain &&
@@ -439,13 +438,14 @@ static void test_shift_profiles(void **state)
                             checked++;
                         }
                         if (whole && delay[0] == (size_t)own) {
-                            double gain = w->sign_free ? fabs((double)r[0].gain) : (double)r[0].gain;
-                            check_val((double)r[0].cost, w->cost, CPV_RTOL, 0.0, &worst, s->name,
-                                      i, v->name, "shift cost (reference)");
+                            double gain =
+                                w->sign_free ? fabs((double)r[0].gain) : (double)r[0].gain;
+                            check_val((double)r[0].cost, w->cost, CPV_RTOL, 0.0, &worst, s->name, i,
+                                      v->name, "shift cost (reference)");
                             check_val(gain, w->sign_free ? fabs(w->gain) : w->gain, CPV_RTOL, 0.0,
                                       &worst, s->name, i, v->name, "shift gain (reference)");
-                            check_val((double)r[0].offset, w->offset, CPV_RTOL, ys, &worst,
-                                      s->name, i, v->name, "shift offset (reference)");
+                            check_val((double)r[0].offset, w->offset, CPV_RTOL, ys, &worst, s->name,
+                                      i, v->name, "shift offset (reference)");
                         }
                     }
                 }
@@ -503,14 +503,13 @@ static void test_shift_errors(void **state)
                      PDT_ERR_ARG);
     assert_int_equal(pdt_cost_profile_shift(&c, &m, g_scratch, delay, 1u, 2, 1, NULL, r),
                      PDT_ERR_BOUNDS);
-    assert_int_equal(pdt_cost_profile_shift(&c, &m, g_scratch, delay, 1u, (pdt_real_t)NAN, 1,
-                                            NULL, r),
-                     PDT_ERR_ARG);
+    assert_int_equal(
+        pdt_cost_profile_shift(&c, &m, g_scratch, delay, 1u, (pdt_real_t)NAN, 1, NULL, r),
+        PDT_ERR_ARG);
     /* a delay beyond the cost's bound, in the last place */
     delay[PDT_COST_MANY - 1u] = c.cfg.delay_max + 1u;
-    assert_int_equal(
-        pdt_cost_profile_shift(&c, &m, g_scratch, delay, PDT_COST_MANY, 0, 0, NULL, r),
-        PDT_ERR_ARG);
+    assert_int_equal(pdt_cost_profile_shift(&c, &m, g_scratch, delay, PDT_COST_MANY, 0, 0, NULL, r),
+                     PDT_ERR_ARG);
     for (size_t k = 0; k < sizeof r; k++) {
         assert_int_equal(((const unsigned char *)r)[k], 0x5a);
     }

@@ -230,8 +230,7 @@ void pdt_cost_kernel(const pdt_real_t *u, const pdt_real_t *y, size_t n, size_t 
  * added exactly where it has none), so that each r[j] is the s the kernel
  * scores j samples after the input reaches the model, whatever its
  * delay. Once per shape, not per candidate: one loop for both orders. */
-void pdt_cost_kernel_response(const pdt_real_t *u, size_t n, const pdt_discrete_t *d,
-                              pdt_real_t *r)
+void pdt_cost_kernel_response(const pdt_real_t *u, size_t n, const pdt_discrete_t *d, pdt_real_t *r)
 {
     const pdt_real_t b0 = d->b[0], b1 = d->b[1], b2 = d->b[2], d1 = d->d[1];
     const pdt_real_t e0 = d->d[0] - d1;
@@ -266,8 +265,8 @@ void pdt_cost_kernel_response(const pdt_real_t *u, size_t n, const pdt_discrete_
 /* Output samples [k0, kend) of a candidate whose response r reaches the
  * output l1 samples after its input, into t: kernel_range's sums, blocks
  * and order, without the simulation. */
-static void shift_range(const pdt_real_t *r, const pdt_real_t *y, size_t k0, size_t kend,
-                        size_t l1, pdt_real_t K0, pdt_real_t c0, pdt_cost_sums_t *t)
+static void shift_range(const pdt_real_t *r, const pdt_real_t *y, size_t k0, size_t kend, size_t l1,
+                        pdt_real_t K0, pdt_real_t c0, pdt_cost_sums_t *t)
 {
     size_t j = 0u;
     if (k0 < l1) {

@@ -244,12 +244,12 @@ static void put_u64(uint64_t v)
 
 int main(void)
 {
-    static void (*volatile const cases[])(void) = {
-        kb_fopdt_hint,  kb_fopdt_cold,  kb_sopdt_hint,   kb_sopdt_cold,
-        kb_fopdt_many4, kb_sopdt_many4, kb_fopdt_shift4, kb_sopdt_shift4};
-    static const char *const names[] = {
-        "kb_fopdt_hint",  "kb_fopdt_cold",  "kb_sopdt_hint",   "kb_sopdt_cold",
-        "kb_fopdt_many4", "kb_sopdt_many4", "kb_fopdt_shift4", "kb_sopdt_shift4"};
+    static void (*volatile const cases[])(void) = {kb_fopdt_hint,   kb_fopdt_cold,  kb_sopdt_hint,
+                                                   kb_sopdt_cold,   kb_fopdt_many4, kb_sopdt_many4,
+                                                   kb_fopdt_shift4, kb_sopdt_shift4};
+    static const char *const names[] = {"kb_fopdt_hint",   "kb_fopdt_cold",  "kb_sopdt_hint",
+                                        "kb_sopdt_cold",   "kb_fopdt_many4", "kb_sopdt_many4",
+                                        "kb_fopdt_shift4", "kb_sopdt_shift4"};
     pdt_port_init();
     make_record();
     if (!prepare()) {
