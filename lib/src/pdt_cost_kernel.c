@@ -284,10 +284,21 @@ static void shift_range(const pdt_real_t *r, const pdt_real_t *y, size_t k0, siz
         const pdt_real_t *rp = r + j, *yp = yd + j;
         const pdt_real_t *const rend = r + stop;
         pdt_real_t s = PDT_R(0.0), ss = PDT_R(0.0), ee = PDT_R(0.0), es = PDT_R(0.0);
-        while (rp != rend) {
+        /* As body1: single samples up to a multiple of four, then four a
+         * turn, the loop's control shared (12 instructions a sample on
+         * the Cortex-M4F one at a time, under 9 so). */
+        for (size_t k = (stop - j) & 3u; k > 0u; k--) {
             SHIFT_STEP(*rp, *yp);
             rp++;
             yp++;
+        }
+        while (rp != rend) {
+            SHIFT_STEP(rp[0], yp[0]);
+            SHIFT_STEP(rp[1], yp[1]);
+            SHIFT_STEP(rp[2], yp[2]);
+            SHIFT_STEP(rp[3], yp[3]);
+            rp += 4;
+            yp += 4;
         }
         add_sums(t, s, ss, ee, es);
         j = stop;

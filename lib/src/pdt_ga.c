@@ -83,17 +83,38 @@ static pdt_real_t clamp(pdt_real_t x, pdt_real_t lo, pdt_real_t hi)
 /* Spread factor of one child of bounded SBX. room: the distance from the
  * nearer parent to the bound on its side (>= 0), gap: the distance between
  * the parents (> 0). */
+/* Whether beta^-e1 lies below a quarter of the real type's epsilon, so
+ * that 2 - beta^-e1 rounds to 2 whatever the power's last bits: e1 >= 16
+ * and beta^16 >= 8 / eps (four squarings: within 1e-6 of beta^16 in
+ * float, so the tail is at most eps / 8 and a part in 10^6).
+ * Parents close together far from their bound, as once a search has
+ * converged: the tail's power is then not needed. */
+static bool sbx_tail_below_eps(pdt_real_t beta, pdt_real_t e1)
+{
+    pdt_real_t b16 = beta * beta;
+    b16 *= b16;
+    b16 *= b16;
+    b16 *= b16;
+    return e1 >= PDT_R(16.0) && b16 >= PDT_R(8.0) / PDT_REAL_EPS;
+}
+
 static pdt_real_t sbx_beta_q(pdt_real_t room, pdt_real_t gap, pdt_real_t eta, pdt_real_t u)
 {
     pdt_real_t e1 = eta + PDT_R(1.0);
     pdt_real_t beta = PDT_R(1.0) + PDT_R(2.0) * room / gap;
     /* tail = beta^-(eta+1) in [0, 1]: the part of the unbounded
-     * distribution beyond the bound, times two. alpha = 2 - tail. */
-    pdt_real_t tail = pdt_pow(beta, -e1);
-    pdt_real_t alpha = PDT_R(2.0) - tail;
+     * distribution beyond the bound, times two. alpha = 2 - tail: 2
+     * exactly where the tail is below the rounding, the same bits as with
+     * the power and one call of it fewer. */
+    const bool below = sbx_tail_below_eps(beta, e1);
+    pdt_real_t tail = below ? PDT_R(0.0) : pdt_pow(beta, -e1);
+    pdt_real_t alpha = below ? PDT_R(2.0) : PDT_R(2.0) - tail;
     pdt_real_t ua = u * alpha;
     if (ua <= PDT_R(1.0)) {
         return pdt_pow(ua, PDT_R(1.0) / e1);
+    }
+    if (below) {
+        tail = pdt_pow(beta, -e1);
     }
     /* 2 - u alpha written without the cancellation that loses every digit
      * when u is near 1 and alpha near 2; it is at least 2 (1 - u) > 0. */
