@@ -506,8 +506,11 @@ static pdt_ident_result_t stepping_matches_blocking(const pdt_ident_config_t *cf
     assert_same_ident(&blocking, &stepped);
     assert_true(stepped.evaluations <= cfg->max_evaluations);
     if (bound == 1u) {
-        /* One evaluation a call, or one group of the population. */
-        assert_true(calls * PDT_VECTOR_LANES >= stepped.evaluations);
+        /* One evaluation's samples of the whole record a call, or one
+         * group of the population: on a coarse record of n / D samples
+         * (and the dead-time profile's points scored from one response)
+         * a call makes up to D evaluations. */
+        assert_true((uint64_t)calls * PDT_VECTOR_LANES * n >= g_ctx2.samples);
     }
     return stepped;
 }

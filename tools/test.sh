@@ -7,7 +7,8 @@
 #      package pdtfit (pip install .) against the pdtfit program;
 #   3. the CMocka unit tests in the float build, the double build, and the
 #      float build under AddressSanitizer + UndefinedBehaviorSanitizer with
-#      the library's own expm1/log1p (PDT_MATH_FALLBACK, avr-libc's case);
+#      the library's own expm1/log1p (PDT_MATH_FALLBACK, avr-libc's case)
+#      and one vector lane (PDT_VECTOR_LANES 1, a microcontroller's);
 #   4. the Cortex-M4F build of lib/ (float and double) under -Werror, a check
 #      that it references no allocator, stdio or (float build) double-precision
 #      symbol, and its size per module;
@@ -131,8 +132,12 @@ build_and_test float -DPDT_WERROR=ON -DPDT_PYTHON_TESTS=ON -DPython3_EXECUTABLE=
 step "Python package pdtfit against the float build's program"
 PDTFIT_BIN="$out/test-float/tools/pdtfit" "$py" -m pytest -q python/tests
 build_and_test double -DPDT_WERROR=ON -DPDT_REAL_DOUBLE=ON
+# The sanitised build takes a firmware's paths: the library's own expm1
+# and log1p, and one vector lane (PDT_VECTOR_LANES 1, a Cortex-M's), so
+# that the one-candidate kernel and the per-call bounds of a build without
+# lanes are tested on the host too.
 build_and_test sanitize -DPDT_WERROR=ON -DPDT_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug \
-    -DPDT_MATH_FALLBACK=ON
+    -DPDT_MATH_FALLBACK=ON -DCMAKE_C_FLAGS=-DPDT_VECTOR_LANES=1
 # ---- portability: every host compiler (issue: every compiler, Windows) ----
 # clang builds everything (library, tools, tests, benchmarks) under its own
 # strict warnings as errors, and runs the unit tests (the certainty smoke

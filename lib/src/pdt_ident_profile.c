@@ -165,11 +165,17 @@ uint32_t pdt_ident_profile_group(const pdt_ident_t *c)
     const pdt_ident_profile_t *p = &c->profile;
     const uint32_t left = (dead_times(p) * PROFILE_SHAPES) - p->next;
     if (pdt_ident_shift_ok(c)) {
-        /* Up to a group of the cost's at the same shape: scoring a point
-         * from the response costs a fraction of an evaluation, on every
-         * core. */
+        /* Dead times of the same shape, as many as score no more samples
+         * than one evaluation of the whole record (a step's least budget,
+         * so a firmware build keeps its bound; a point from the response
+         * costs less than an evaluation), at most a group of the cost's
+         * and at least one of the host's lanes. Fixed by the record, not
+         * by the call's budget. */
+        const size_t fit = c->data.n / c->cost.n;
+        uint32_t most = fit < (size_t)PDT_COST_MANY ? (uint32_t)fit : PDT_COST_MANY;
+        most = most > (uint32_t)PDT_VECTOR_LANES ? most : (uint32_t)PDT_VECTOR_LANES;
         const uint32_t in_shape = dead_times(p) - (p->next % dead_times(p));
-        const uint32_t most = in_shape < (uint32_t)PDT_COST_MANY ? in_shape : PDT_COST_MANY;
+        most = in_shape < most ? in_shape : most;
         return left < most ? left : most;
     }
     return left < (uint32_t)PDT_VECTOR_LANES ? left : (uint32_t)PDT_VECTOR_LANES;
