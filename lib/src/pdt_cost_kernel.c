@@ -46,6 +46,41 @@ static pdt_real_t head_sum(const pdt_real_t *y, size_t k, size_t end, pdt_real_t
     return total;
 }
 
+/* head_sum of [k, end[i]) for count (1 .. 4) ends, in one pass to the
+ * farthest: each sum is taken where its range ends, from the same blocks
+ * in the same order, so each is head_sum's bit for bit. The profile's
+ * delays of one shape share their output's head this way instead of
+ * summing it once each. */
+static void head_sums(const pdt_real_t *y, size_t k, const size_t *end, size_t count, pdt_real_t c0,
+                      pdt_real_t *out)
+{
+    bool done[4] = {false, false, false, false};
+    pdt_real_t total = PDT_R(0.0), blk = PDT_R(0.0);
+    size_t bend = k + KERNEL_BLOCK;
+    for (size_t taken = 0; taken < count; taken++) {
+        size_t next = count;
+        for (size_t i = 0; i < count; i++) {
+            if (!done[i] && (next == count || end[i] < end[next])) {
+                next = i;
+            }
+        }
+        while (k < end[next]) {
+            const size_t stop = (end[next] < bend) ? end[next] : bend;
+            for (; k < stop; k++) {
+                const pdt_real_t e = y[k] - c0;
+                blk += e * e;
+            }
+            if (k == bend) {
+                total += blk;
+                blk = PDT_R(0.0);
+                bend += KERNEL_BLOCK;
+            }
+        }
+        out[next] = total + blk;
+        done[next] = true;
+    }
+}
+
 /* Any order and taps, one sample at a time: the paper's unscored samples
  * (score false) and a first-order model with a third input tap, which the
  * FOPDT discretisation never makes. ud[j] is the delayed input u(j) for
@@ -262,15 +297,30 @@ void pdt_cost_kernel_response(const pdt_real_t *u, size_t n, const pdt_discrete_
         es += e * sv;                                                                              \
     } while (0)
 
+/* The heads shift_range reads for count (1 .. 4) candidates reaching the
+ * output l1[i] samples after their input, scored over [k0, kend): one
+ * pass for all. */
+static void heads(const pdt_real_t *y, size_t k0, size_t kend, const size_t *l1, size_t count,
+                  pdt_real_t c0, pdt_real_t *head)
+{
+    size_t end[4] = {k0, k0, k0, k0};
+    for (size_t i = 0; i < count; i++) {
+        const size_t e = (l1[i] < kend) ? l1[i] : kend;
+        end[i] = (e > k0) ? e : k0;
+    }
+    head_sums(y, k0, end, count, c0, head);
+}
+
 /* Output samples [k0, kend) of a candidate whose response r reaches the
  * output l1 samples after its input, into t: kernel_range's sums, blocks
- * and order, without the simulation. */
+ * and order, without the simulation. head: head_sum of [k0, min(l1,
+ * kend)), read where k0 < l1. */
 static void shift_range(const pdt_real_t *r, const pdt_real_t *y, size_t k0, size_t kend, size_t l1,
-                        pdt_real_t K0, pdt_real_t c0, pdt_cost_sums_t *t)
+                        pdt_real_t head, pdt_real_t K0, pdt_real_t c0, pdt_cost_sums_t *t)
 {
     size_t j = 0u;
     if (k0 < l1) {
-        t->ee += head_sum(y, k0, (l1 < kend) ? l1 : kend, c0);
+        t->ee += head;
     } else {
         j = k0 - l1;
     }
@@ -484,8 +534,10 @@ static void shift_many(const pdt_real_t *r, const pdt_real_t *y, size_t n, size_
         kmax = (l1[i] > kmax) ? l1[i] : kmax;
         t[i] = (pdt_cost_sums_t){PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
     }
+    pdt_real_t head[4];
+    heads(y, k0, kmax, l1, count, c0, head);
     for (i = 0; i < count; i++) {
-        shift_range(r, y, k0, kmax, l1[i], K0, c0, &t[i]);
+        shift_range(r, y, k0, kmax, l1[i], head[i], K0, c0, &t[i]);
     }
     if (kmax < n) {
         shift_body(r, y, kmax, n, l1, K0, c0, t);
@@ -506,9 +558,15 @@ void pdt_cost_kernel_shift(const pdt_real_t *r, const pdt_real_t *y, size_t n, s
         return;
     }
 #endif
+    size_t l1[4] = {n, n, n, n};
+    pdt_real_t head[4];
+    for (size_t i = 0; i < count; i++) {
+        l1[i] = (delay[i] < n) ? delay[i] + 1u : n;
+    }
+    heads(y, k0, n, l1, count, c0, head);
     for (size_t i = 0; i < count; i++) {
         pdt_cost_sums_t t = {PDT_R(0.0), PDT_R(0.0), PDT_R(0.0), PDT_R(0.0)};
-        shift_range(r, y, k0, n, (delay[i] < n) ? delay[i] + 1u : n, K0, c0, &t);
+        shift_range(r, y, k0, n, l1[i], head[i], K0, c0, &t);
         out[i] = t;
     }
 }
