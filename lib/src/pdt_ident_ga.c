@@ -34,6 +34,7 @@ static void ga_start(pdt_ident_t *c)
     }
     ga->next = 0u;
     ga->stall = 0u;
+    ga->resolved = 0u;
     ga->best_history = PDT_REAL_MAX;
     c->vote.base = c->evaluations;
     c->best.cost = PDT_REAL_MAX;
@@ -46,6 +47,38 @@ pdt_ident_outcome_t pdt_ident_ga_begin(pdt_ident_t *c)
     /* The CONTROL weighting's first run: on the time cost, to find the
      * band. */
     return pdt_ident_control_band(&c->cfg) ? OUT_TIME : OUT_DONE;
+}
+
+/* Generations the population breeds with one niche left before its GA
+ * ends: a few, so that a generation's mutants get to seed another niche. */
+#define RESOLVED_GENERATIONS 3u
+
+/* The population has resolved its niches: all but an eighth of it (the
+ * generation's mutants, about one child in eight with two genes) lie
+ * within the sharing radius of the search's best. What such a population
+ * does next is creep down its one basin, the refinement's work, done with
+ * a fraction of the evaluations (docs/ident-engine.md). */
+static bool one_niche(const pdt_ident_t *c)
+{
+    const pdt_ident_ga_t *ga = &c->ga;
+    const uint32_t P = c->cfg.population, G = c->genes;
+    const pdt_real_t r2 = c->cfg.sigma_share * c->cfg.sigma_share;
+    pdt_real_t inv[3];
+    for (uint32_t j = 0; j < G; j++) {
+        inv[j] = PDT_R(1.0) / (c->hi[j] - c->lo[j]);
+    }
+    uint32_t far = 0u;
+    for (uint32_t i = 0; i < P && far <= P / 8u; i++) {
+        pdt_real_t d2 = PDT_R(0.0);
+        for (uint32_t j = 0; j < G; j++) {
+            const pdt_real_t d = (ga->pop[(i * G) + j] - c->best.genes[j]) * inv[j];
+            d2 += d * d;
+        }
+        if (!(d2 < r2)) {
+            far++;
+        }
+    }
+    return far <= P / 8u;
 }
 
 /* After a generation: the stall bookkeeping; another generation, or the
@@ -61,6 +94,10 @@ static pdt_ident_outcome_t generation_end(pdt_ident_t *c, bool time)
     } else {
         ga->stall++;
     }
+    /* Not in the CONTROL weighting's time-cost stage: the band is read
+     * from that stage's best as it stands, with no refinement to finish
+     * its creep. */
+    ga->resolved = (!time && one_niche(c)) ? ga->resolved + 1u : 0u;
     uint32_t ga_budget =
         c->vote.budget - c->cfg.refine_evaluations - pdt_ident_late_reserve(&c->cfg);
     if (time) {
@@ -78,7 +115,7 @@ static pdt_ident_outcome_t generation_end(pdt_ident_t *c, bool time)
                            !pdt_ident_control_band(&c->cfg) &&
                            pdt_ident_used(c) >= c->cfg.stall_generations * c->cfg.population &&
                            pdt_ident_vote_caught_up(c);
-    if (!caught_up && ga->stall < c->cfg.stall_generations &&
+    if (!caught_up && ga->resolved < RESOLVED_GENERATIONS && ga->stall < c->cfg.stall_generations &&
         pdt_ident_used(c) + c->cfg.population <= ga_budget) {
         return OUT_GENERATION;
     }

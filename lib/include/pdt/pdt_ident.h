@@ -173,7 +173,10 @@ typedef struct pdt_ident_config {
                                   * best gets the rest */
     pdt_real_t tolerance;        /* stop the GA when the best cost improved by
                                * less than this fraction over stall_generations.
-                               * Default 1e-4 */
+                               * Default 1e-4. The GA also stops once its
+                               * population has one niche left (all but an
+                               * eighth within sigma_share of its best) for
+                               * three generations */
     uint32_t stall_generations;  /* Default 10. A FOPDT search after the
                                * first also stops its GA once, after this
                                * many generations, its best lies in the

@@ -24,6 +24,7 @@ typedef struct pdt_ident_ga {
     pdt_rng_t rng;
     uint32_t next; /* next individual to evaluate */
     uint32_t stall;
+    uint32_t resolved;       /* generations in a row with one niche left */
     pdt_real_t best_history; /* best cost at the last stall check */
     pdt_real_t *pop;         /* P x genes, then P costs, gains, offsets */
     pdt_real_t *pop_cost;
