@@ -54,15 +54,16 @@ pdt_ident_outcome_t pdt_ident_ga_begin(pdt_ident_t *c)
 #define RESOLVED_GENERATIONS 3u
 
 /* The population has resolved its niches: all but an eighth of it (the
- * generation's mutants, about one child in eight with two genes) lie
- * within the sharing radius of the search's best. What such a population
- * does next is creep down its one basin, the refinement's work, done with
- * a fraction of the evaluations (docs/ident-engine.md). */
-static bool one_niche(const pdt_ident_t *c)
+ * generation's mutants) lie within `radius` of the search's best, in
+ * genes normalised by their ranges as the sharing measures them. What
+ * such a population does next is creep down its one basin, the
+ * refinement's work, done with a fraction of the evaluations
+ * (docs/ident-engine.md). */
+static bool one_niche(const pdt_ident_t *c, pdt_real_t radius)
 {
     const pdt_ident_ga_t *ga = &c->ga;
     const uint32_t P = c->cfg.population, G = c->genes;
-    const pdt_real_t r2 = c->cfg.sigma_share * c->cfg.sigma_share;
+    const pdt_real_t r2 = radius * radius;
     pdt_real_t inv[3];
     for (uint32_t j = 0; j < G; j++) {
         inv[j] = PDT_R(1.0) / (c->hi[j] - c->lo[j]);
@@ -94,10 +95,23 @@ static pdt_ident_outcome_t generation_end(pdt_ident_t *c, bool time)
     } else {
         ga->stall++;
     }
-    /* Not in the CONTROL weighting's time-cost stage: the band is read
-     * from that stage's best as it stands, with no refinement to finish
-     * its creep. */
-    ga->resolved = (!time && one_niche(c)) ? ga->resolved + 1u : 0u;
+    const bool first_order = pdt_model_kind_lags(c->cfg.model) == 1u;
+    /* One niche: under the output error, a FOPDT's population within
+     * twice the sharing radius of its best, the distance at which the
+     * refinement counts another niche (pdt_ident_refine.c). The dead time
+     * is a FOPDT's only source of other basins, and the dead-time
+     * profile that follows (output error only) scores every whole sample
+     * of it. A SOPDT's shape genes hold basins of their own, close
+     * together (an overdamped one that mimics a lag with more dead time),
+     * which no later pass looks for, and the other criteria have no
+     * profile: there the population must gather within the sharing
+     * radius itself. Not in the CONTROL weighting's time-cost stage: the
+     * band is read from that stage's best as it stands, with no
+     * refinement to finish its creep. */
+    const pdt_real_t radius = (first_order && c->cfg.cost == PDT_COST_SIMULATION)
+                                  ? PDT_R(2.0) * c->cfg.sigma_share
+                                  : c->cfg.sigma_share;
+    ga->resolved = (!time && one_niche(c, radius)) ? ga->resolved + 1u : 0u;
     uint32_t ga_budget =
         c->vote.budget - c->cfg.refine_evaluations - pdt_ident_late_reserve(&c->cfg);
     if (time) {
@@ -111,8 +125,7 @@ static pdt_ident_outcome_t generation_end(pdt_ident_t *c, bool time)
      * searches run their course: on its records the early end saved 1 to
      * 3 % and let a second search settle in a dead-time basin a fraction
      * of a sample from the optimum's (docs/ident-engine.md). */
-    const bool caught_up = pdt_model_kind_lags(c->cfg.model) == 1u &&
-                           !pdt_ident_control_band(&c->cfg) &&
+    const bool caught_up = first_order && !pdt_ident_control_band(&c->cfg) &&
                            pdt_ident_used(c) >= c->cfg.stall_generations * c->cfg.population &&
                            pdt_ident_vote_caught_up(c);
     if (!caught_up && ga->resolved < RESOLVED_GENERATIONS && ga->stall < c->cfg.stall_generations &&
@@ -120,6 +133,11 @@ static pdt_ident_outcome_t generation_end(pdt_ident_t *c, bool time)
         return OUT_GENERATION;
     }
     return OUT_DONE;
+}
+
+bool pdt_ident_ga_resolved(const pdt_ident_t *c)
+{
+    return c->ga.resolved >= RESOLVED_GENERATIONS;
 }
 
 pdt_ident_outcome_t pdt_ident_ga_end(const pdt_ident_t *c)

@@ -297,6 +297,9 @@ pdt_ident_outcome_t pdt_ident_ga_breed(pdt_ident_t *c);
 pdt_ident_outcome_t pdt_ident_ga_eval_offspring(pdt_ident_t *c, bool time);
 /* PH_GA_END: the spectra re-centred (COMBINED), else the refinement. */
 pdt_ident_outcome_t pdt_ident_ga_end(const pdt_ident_t *c);
+/* Whether the search's GA ended with its niches resolved: one niche
+ * left, the population outside it this generation's mutants. */
+bool pdt_ident_ga_resolved(const pdt_ident_t *c);
 
 /* ---- pdt_ident_band.c */
 

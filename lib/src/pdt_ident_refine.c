@@ -55,7 +55,7 @@ pdt_ident_outcome_t pdt_ident_refine_recentre(pdt_ident_t *c)
 
 /* Starting points of the refinement: the best individual, then the best of
  * each other niche (farther than twice the sharing radius from every start
- * so far), up to NM_STARTS. A GA that ends with its best in a wrong basin
+ * so far), up to NM_STARTS, unless the GA ended with its niches resolved. A GA that ends with its best in a wrong basin
  * (e.g. a SOPDT whose second lag has collapsed into the dead time) usually
  * still holds the right basin in another niche: sharing kept it alive. */
 static void refine_starts(pdt_ident_t *c)
@@ -68,7 +68,10 @@ static void refine_starts(pdt_ident_t *c)
         nm->starts[0][j] = c->best.genes[j];
     }
     nm->nstarts = 1u;
-    while (nm->nstarts < NM_STARTS) {
+    /* A population that has resolved its niches has no other: what lies
+     * beyond the radius is this generation's mutants, points at random
+     * that a simplex would only spend the budget on. */
+    while (nm->nstarts < NM_STARTS && !pdt_ident_ga_resolved(c)) {
         size_t chosen = (size_t)P;
         for (size_t i = 0; i < P; i++) {
             bool distinct = ga->pop_cost[i] < PDT_REAL_MAX;

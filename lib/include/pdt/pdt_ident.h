@@ -175,8 +175,9 @@ typedef struct pdt_ident_config {
                                * less than this fraction over stall_generations.
                                * Default 1e-4. The GA also stops once its
                                * population has one niche left (all but an
-                               * eighth within sigma_share of its best) for
-                               * three generations */
+                               * eighth within sigma_share of its best,
+                               * twice that for a FOPDT under the output
+                               * error) for three generations */
     uint32_t stall_generations;  /* Default 10. A FOPDT search after the
                                * first also stops its GA once, after this
                                * many generations, its best lies in the
