@@ -633,7 +633,7 @@ static size_t first_scored(const pdt_cost_t *c, uint8_t order, bool pred)
 }
 
 /* Normalised input u(k - back), 0 before the record. */
-static inline pdt_real_t u_dev(const pdt_cost_t *c, size_t k, size_t back)
+PDT_INLINE_TINY pdt_real_t u_dev(const pdt_cost_t *c, size_t k, size_t back)
 {
     return (k >= back) ? c->u[k - back] : PDT_R(0.0);
 }
@@ -660,7 +660,7 @@ typedef struct sim_state {
 } sim_state_t;
 
 /* One sample of the simulation: u1 = u(k-1-l); returns ysim(k). */
-static inline pdt_real_t sim_step(const pdt_discrete_t *d, sim_state_t *s, pdt_real_t u1)
+PDT_INLINE_TINY pdt_real_t sim_step(const pdt_discrete_t *d, sim_state_t *s, pdt_real_t u1)
 {
     pdt_real_t bu = d->b[0] * u1 + d->b[1] * s->p1 + d->b[2] * s->p2;
     if (d->order == 1u) {
@@ -934,7 +934,7 @@ typedef struct bsum {
     unsigned fill;
 } bsum_t;
 
-static inline void bsum_add(bsum_t *s, pdt_real_t x)
+PDT_INLINE_TINY void bsum_add(bsum_t *s, pdt_real_t x)
 {
     s->block += x;
     if (++s->fill == PDT_COST_BLOCK) {

@@ -76,7 +76,7 @@ static void basis_start(basis_t *b)
 }
 
 /* From sample k to k + 1, by A(q)'s recursion without input. */
-static inline void basis_next(const pdt_discrete_t *d, basis_t *b)
+PDT_INLINE_TINY void basis_next(const pdt_discrete_t *d, basis_t *b)
 {
     if (d->order == 1u) {
         b->y[0] -= d->d[0] * b->y[0];

@@ -48,7 +48,7 @@
 /* Samples high-passed a step: some 50 000 instructions on a Cortex-M4F. */
 #define SCREEN_BLOCK  128u
 
-static bool is_out(const uint8_t *m, size_t k)
+PDT_INLINE_TINY bool is_out(const uint8_t *m, size_t k)
 {
     return ((uint32_t)m[k >> 3u] & (1u << (k & 7u))) != 0u;
 }
