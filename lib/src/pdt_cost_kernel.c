@@ -46,17 +46,17 @@ static pdt_real_t head_sum(const pdt_real_t *y, size_t k, size_t end, pdt_real_t
     return total;
 }
 
-/* head_sum of [k, end[i]) for count (1 .. 4) ends, in one pass to the
+/* head_sum of [k0, end[i]) for count (1 .. 4) ends, in one pass to the
  * farthest: each sum is taken where its range ends, from the same blocks
  * in the same order, so each is head_sum's bit for bit. The profile's
  * delays of one shape share their output's head this way instead of
  * summing it once each. */
-static void head_sums(const pdt_real_t *y, size_t k, const size_t *end, size_t count, pdt_real_t c0,
-                      pdt_real_t *out)
+static void head_sums(const pdt_real_t *y, size_t k0, const size_t *end, size_t count,
+                      pdt_real_t c0, pdt_real_t *out)
 {
     bool done[4] = {false, false, false, false};
     pdt_real_t total = PDT_R(0.0), blk = PDT_R(0.0);
-    size_t bend = k + KERNEL_BLOCK;
+    size_t k = k0, bend = k0 + KERNEL_BLOCK;
     for (size_t taken = 0; taken < count; taken++) {
         size_t next = count;
         for (size_t i = 0; i < count; i++) {
