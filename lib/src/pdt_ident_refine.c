@@ -55,9 +55,10 @@ pdt_ident_outcome_t pdt_ident_refine_recentre(pdt_ident_t *c)
 
 /* Starting points of the refinement: the best individual, then the best of
  * each other niche (farther than twice the sharing radius from every start
- * so far), up to NM_STARTS, unless the GA ended with its niches resolved. A GA that ends with its best in a wrong basin
- * (e.g. a SOPDT whose second lag has collapsed into the dead time) usually
- * still holds the right basin in another niche: sharing kept it alive. */
+ * so far), up to NM_STARTS, unless the GA ended with its niches resolved.
+ * A GA that ends with its best in a wrong basin (e.g. a SOPDT whose second
+ * lag has collapsed into the dead time) usually still holds the right
+ * basin in another niche: sharing kept it alive. */
 static void refine_starts(pdt_ident_t *c)
 {
     pdt_ident_refine_t *nm = &c->nm;
