@@ -58,7 +58,9 @@ pdt_ident_outcome_t pdt_ident_ga_begin(pdt_ident_t *c)
  * genes normalised by their ranges as the sharing measures them. What
  * such a population does next is creep down its one basin, the
  * refinement's work, done with a fraction of the evaluations
- * (docs/ident-engine.md). */
+ * (docs/ident-engine.md). pdt_ident_distance's measure, squared and by
+ * the ranges' reciprocals: no division or root per individual, every
+ * generation. */
 static bool one_niche(const pdt_ident_t *c, pdt_real_t radius)
 {
     const pdt_ident_ga_t *ga = &c->ga;
@@ -108,7 +110,7 @@ static pdt_ident_outcome_t generation_end(pdt_ident_t *c, bool time)
      * radius itself. Not in the CONTROL weighting's time-cost stage: the
      * band is read from that stage's best as it stands, with no
      * refinement to finish its creep. */
-    const pdt_real_t radius = (first_order && c->cfg.cost == PDT_COST_SIMULATION)
+    const pdt_real_t radius = (first_order && pdt_ident_profiled(&c->cfg))
                                   ? PDT_R(2.0) * c->cfg.sigma_share
                                   : c->cfg.sigma_share;
     ga->resolved = (!time && one_niche(c, radius)) ? ga->resolved + 1u : 0u;

@@ -341,6 +341,9 @@ pdt_ident_outcome_t pdt_ident_conclude(pdt_ident_t *c);
 
 /* ---- pdt_ident_profile.c */
 
+/* Whether the criterion has the dead-time profile after its searches
+ * (the niche rule's radius depends on it, pdt_ident_ga.c). */
+bool pdt_ident_profiled(const pdt_ident_config_t *cfg);
 /* PH_PROFILE_BEGIN, when the searches have ended: OUT_DONE when the
  * profile begins; OUT_SKIPPED where it does not apply or where the budget
  * cannot pay for it. */

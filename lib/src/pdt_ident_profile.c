@@ -112,12 +112,17 @@ pdt_ident_outcome_t pdt_ident_profile_end(pdt_ident_t *c, bool across)
     return OUT_DONE;
 }
 
+/* The output error only: the searches of the other criteria do not vote,
+ * and the frequency criterion scans its dead time already. */
+bool pdt_ident_profiled(const pdt_ident_config_t *cfg)
+{
+    return cfg->cost == PDT_COST_SIMULATION;
+}
+
 pdt_ident_outcome_t pdt_ident_profile_begin(pdt_ident_t *c)
 {
     pdt_ident_profile_t *p = &c->profile;
-    /* The output error only: the searches of the other criteria do not
-     * vote, and the frequency criterion scans its dead time already. */
-    if (c->cfg.cost != PDT_COST_SIMULATION || c->vote.done == 0u) {
+    if (!pdt_ident_profiled(&c->cfg) || c->vote.done == 0u) {
         return OUT_SKIPPED;
     }
     p->td = pdt_ident_td_of_gene(c, c->vote.genes[pdt_ident_vote_best(c)][c->genes - 1u]);
